@@ -1,0 +1,70 @@
+#pragma once
+// Parameters are declared once, here in C++, as a schema: name, type,
+// default, range, unit and a one-line doc. Validation, the Python bindings,
+// the Blender UI and docs/parameters.md are all generated from it.
+#include <glm/vec4.hpp>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace pointnpr {
+
+enum class ParamType { Float, Int, Bool, Color, Enum };
+
+const char* to_string(ParamType type);
+
+struct ParamSpec {
+  std::string name;                  // snake_case identifier
+  ParamType type = ParamType::Float;
+  std::vector<double> default_value; // 1 value, or 4 for Color (RGBA, display sRGB)
+  double min = 0.0;                  // inclusive range (Float, Int; Color components)
+  double max = 1.0;
+  std::string unit;                  // "px", "m", "s", "Hz", "deg", "" ...
+  std::string doc;                   // one line, shown as tooltip and in docs
+  std::vector<std::string> items;    // Enum identifiers; the value is the index
+};
+
+// Builders keep declarations short and uniform in each filter's file.
+ParamSpec float_param(std::string name, double def, double min, double max, std::string unit, std::string doc);
+ParamSpec int_param(std::string name, int def, int min, int max, std::string unit, std::string doc);
+ParamSpec bool_param(std::string name, bool def, std::string doc);
+ParamSpec color_param(std::string name, glm::dvec4 def, std::string doc);
+ParamSpec enum_param(std::string name, std::vector<std::string> items, int def, std::string doc);
+
+// A named, documented set of parameters: a pipeline stage or a filter.
+struct Schema {
+  std::string id;      // e.g. "cartoon"
+  std::string label;   // e.g. "Cartoon"
+  std::string doc;
+  std::vector<ParamSpec> params;
+
+  const ParamSpec* find(const std::string& name) const;
+};
+
+// Validated values for one schema. Built only through validate(), so every
+// value present is known, finite and in range.
+class ParamValues {
+ public:
+  ParamValues() = default;
+  double get_float(const std::string& name) const;
+  int get_int(const std::string& name) const;
+  bool get_bool(const std::string& name) const;
+  glm::vec4 get_color(const std::string& name) const;
+  int get_enum(const std::string& name) const;
+  const std::string& get_enum_name(const std::string& name) const;
+  const std::map<std::string, std::vector<double>>& raw() const { return values_; }
+  const Schema& schema() const;
+
+ private:
+  friend ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given);
+  const std::vector<double>& at(const std::string& name, ParamType expected) const;
+  const Schema* schema_ = nullptr;
+  std::map<std::string, std::vector<double>> values_;
+};
+
+// Fills in defaults and checks every given value: unknown names, wrong
+// arity, NaN/inf and values outside [min, max] raise ParameterError naming
+// the schema, the parameter and the allowed range.
+ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given);
+
+}  // namespace pointnpr
