@@ -1,0 +1,514 @@
+// ASPRS LAS 1.0-1.4 reader (point data record formats 0-10).
+//
+// The whole file is memory-mapped; every header field is validated against
+// the file size before anything is allocated, so a corrupt header can only
+// produce a ReadError, never a huge allocation or an out-of-bounds read.
+// Point records are decoded column by column with the per-format offsets
+// fixed before each loop (no per-point dispatch).
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+
+#include "core/error.h"
+#include "io/mapped_file.h"
+#include "io/readers.h"
+
+namespace pointnpr {
+namespace {
+
+using io::load_le;
+
+constexpr size_t kVlrHeaderSize = 54;
+constexpr size_t kEvlrHeaderSize = 60;
+constexpr size_t kExtraBytesDescriptorSize = 192;
+constexpr uint16_t kMinRecordLength[11] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
+
+const char* const kLazMessage =
+    "compressed LAZ is not supported; decompress it to LAS first "
+    "(e.g. with `pdal translate` or `las2las`)";
+
+// Byte offsets of the optional fields of each point format (-1 = absent).
+struct Layout {
+  bool extended = false;  // formats 6-10
+  int gps = -1;
+  int rgb = -1;
+  int nir = -1;
+};
+
+Layout layout_for(int pf) {
+  Layout l;
+  switch (pf) {
+    case 0: break;
+    case 1: l.gps = 20; break;
+    case 2: l.rgb = 20; break;
+    case 3: l.gps = 20; l.rgb = 28; break;
+    case 4: l.gps = 20; break;
+    case 5: l.gps = 20; l.rgb = 28; break;
+    case 6: l.extended = true; l.gps = 22; break;
+    case 7: l.extended = true; l.gps = 22; l.rgb = 30; break;
+    case 8: l.extended = true; l.gps = 22; l.rgb = 30; l.nir = 36; break;
+    case 9: l.extended = true; l.gps = 22; break;
+    case 10: l.extended = true; l.gps = 22; l.rgb = 30; l.nir = 36; break;
+    default: break;
+  }
+  return l;
+}
+
+std::string fixed_string(const uint8_t* p, size_t n) {
+  size_t len = 0;
+  while (len < n && p[len] != 0) ++len;
+  std::string s(reinterpret_cast<const char*>(p), len);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.pop_back();
+  return s;
+}
+
+// One field described by the extra bytes VLR (LASF_Spec, record 4).
+struct ExtraField {
+  std::string name;
+  int base_type = 0;  // 1..10: u8 i8 u16 i16 u32 i32 u64 i64 f32 f64
+  int components = 1;
+  size_t offset = 0;  // within the point record
+  bool scaled = false;
+  double scale[3] = {1, 1, 1};
+  double add[3] = {0, 0, 0};
+};
+
+constexpr size_t kBaseTypeSize[11] = {0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
+
+class LasReader {
+ public:
+  explicit LasReader(const std::string& path) : path_(path), file_(path) {
+    d_ = file_.data();
+    size_ = file_.size();
+  }
+
+  PointData read();
+
+ private:
+  [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
+    throw ReadError(path_, reason, offset);
+  }
+
+  void parse_vlr(const std::string& user, uint16_t id, const uint8_t* payload, uint64_t len,
+                 size_t at);
+  void parse_extra_bytes(const uint8_t* payload, uint64_t len, size_t at);
+  void parse_geokeys(const uint8_t* payload, uint64_t len);
+  void decode_points(PointData& out, int pf, size_t record_length, uint64_t n,
+                     const uint8_t* base, const double scale[3], const double offset[3]);
+  void decode_extra(PointData& out, const ExtraField& f, size_t record_length, uint64_t n,
+                    const uint8_t* base);
+
+  std::string path_;
+  io::MappedFile file_;
+  const uint8_t* d_ = nullptr;
+  size_t size_ = 0;
+
+  std::string wkt_;
+  int64_t epsg_ = 0;
+  std::vector<ExtraField> extra_;
+  size_t extra_descriptor_bytes_ = 0;
+  bool have_extra_vlr_ = false;
+};
+
+void LasReader::parse_vlr(const std::string& user, uint16_t id, const uint8_t* payload,
+                          uint64_t len, size_t at) {
+  if (user == "laszip encoded" && id == 22204) fail(kLazMessage, static_cast<int64_t>(at));
+  if (user == "LASF_Projection") {
+    if (id == 2112) {
+      std::string w = fixed_string(payload, static_cast<size_t>(len));
+      if (w.find('[') != std::string::npos) wkt_ = std::move(w);  // ignore placeholders
+    } else if (id == 34735) {
+      parse_geokeys(payload, len);
+    }
+  } else if (user == "LASF_Spec" && id == 4) {
+    parse_extra_bytes(payload, len, at);
+  }
+}
+
+void LasReader::parse_geokeys(const uint8_t* p, uint64_t len) {
+  // GeoKeyDirectory: 4 header shorts, then (key, location, count, value) quads.
+  if (len < 8) return;
+  uint16_t nkeys = load_le<uint16_t>(p + 6);
+  uint64_t avail = (len - 8) / 8;
+  uint64_t count = std::min<uint64_t>(nkeys, avail);
+  int64_t projected = 0, geographic = 0;
+  for (uint64_t k = 0; k < count; ++k) {
+    const uint8_t* e = p + 8 + 8 * k;
+    uint16_t key = load_le<uint16_t>(e);
+    uint16_t location = load_le<uint16_t>(e + 2);
+    uint16_t value = load_le<uint16_t>(e + 6);
+    if (location != 0 || value == 0 || value == 32767) continue;  // not inline / user-defined
+    if (key == 3072) projected = value;   // ProjectedCSTypeGeoKey
+    if (key == 2048) geographic = value;  // GeographicTypeGeoKey
+  }
+  epsg_ = projected ? projected : geographic;
+}
+
+void LasReader::parse_extra_bytes(const uint8_t* p, uint64_t len, size_t at) {
+  if (len % kExtraBytesDescriptorSize != 0)
+    fail("extra bytes VLR has length " + std::to_string(len) +
+             ", which is not a multiple of the 192-byte descriptor size",
+         static_cast<int64_t>(at));
+  have_extra_vlr_ = true;
+  extra_.clear();
+  size_t offset = 0;
+  uint64_t count = len / kExtraBytesDescriptorSize;
+  for (uint64_t i = 0; i < count; ++i) {
+    const uint8_t* e = p + i * kExtraBytesDescriptorSize;
+    const int type = e[2];
+    const int options = e[3];
+    if (type == 0) {  // undocumented bytes: `options` holds their size
+      offset += static_cast<size_t>(options);
+      continue;
+    }
+    if (type > 30)
+      fail("extra bytes descriptor " + std::to_string(i) + " has unknown data type " +
+               std::to_string(type),
+           static_cast<int64_t>(at + i * kExtraBytesDescriptorSize));
+    ExtraField f;
+    f.base_type = (type - 1) % 10 + 1;
+    f.components = (type - 1) / 10 + 1;
+    f.name = fixed_string(e + 4, 32);
+    if (f.name.empty()) f.name = "extra_" + std::to_string(i);
+    f.offset = offset;
+    // options bit 3: scale present, bit 4: offset present (3 doubles each).
+    if (options & (8 | 16)) {
+      f.scaled = true;
+      for (int c = 0; c < 3; ++c) {
+        if (options & 8) {
+          double s = load_le<double>(e + 112 + 8 * c);
+          f.scale[c] = (s == 0.0 || !std::isfinite(s)) ? 1.0 : s;
+        }
+        if (options & 16) {
+          double o = load_le<double>(e + 136 + 8 * c);
+          f.add[c] = std::isfinite(o) ? o : 0.0;
+        }
+      }
+    }
+    offset += kBaseTypeSize[f.base_type] * static_cast<size_t>(f.components);
+    extra_.push_back(f);
+  }
+  extra_descriptor_bytes_ = offset;
+}
+
+template <class T>
+void decode_extra_typed(PointData& out, const ExtraField& f, size_t rl, uint64_t n,
+                        const uint8_t* base, const std::string& name) {
+  const int comps = f.components;
+  if (f.scaled) {
+    auto& v = out.add<double>(name, comps);
+    for (uint64_t i = 0; i < n; ++i) {
+      const uint8_t* r = base + i * rl + f.offset;
+      for (int c = 0; c < comps; ++c)
+        v[i * comps + c] =
+            static_cast<double>(load_le<T>(r + c * sizeof(T))) * f.scale[c] + f.add[c];
+    }
+  } else {
+    auto& v = out.add<T>(name, comps);
+    for (uint64_t i = 0; i < n; ++i) {
+      const uint8_t* r = base + i * rl + f.offset;
+      for (int c = 0; c < comps; ++c) v[i * comps + c] = load_le<T>(r + c * sizeof(T));
+    }
+  }
+}
+
+void LasReader::decode_extra(PointData& out, const ExtraField& f, size_t rl, uint64_t n,
+                             const uint8_t* base) {
+  std::string name = f.name;
+  while (out.has(name)) name = "extra_" + name;
+  switch (f.base_type) {
+    case 1: decode_extra_typed<uint8_t>(out, f, rl, n, base, name); break;
+    case 2: decode_extra_typed<int8_t>(out, f, rl, n, base, name); break;
+    case 3: decode_extra_typed<uint16_t>(out, f, rl, n, base, name); break;
+    case 4: decode_extra_typed<int16_t>(out, f, rl, n, base, name); break;
+    case 5: decode_extra_typed<uint32_t>(out, f, rl, n, base, name); break;
+    case 6: decode_extra_typed<int32_t>(out, f, rl, n, base, name); break;
+    case 7: decode_extra_typed<uint64_t>(out, f, rl, n, base, name); break;
+    case 8: decode_extra_typed<int64_t>(out, f, rl, n, base, name); break;
+    case 9: decode_extra_typed<float>(out, f, rl, n, base, name); break;
+    case 10: decode_extra_typed<double>(out, f, rl, n, base, name); break;
+    default: break;
+  }
+}
+
+void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
+                              const uint8_t* base, const double scale[3],
+                              const double offset[3]) {
+  const Layout lay = layout_for(pf);
+  out.positions.resize(n * 3);
+  double* pos = out.positions.data();
+  for (uint64_t i = 0; i < n; ++i) {
+    const uint8_t* r = base + i * rl;
+    pos[3 * i + 0] = static_cast<double>(load_le<int32_t>(r + 0)) * scale[0] + offset[0];
+    pos[3 * i + 1] = static_cast<double>(load_le<int32_t>(r + 4)) * scale[1] + offset[1];
+    pos[3 * i + 2] = static_cast<double>(load_le<int32_t>(r + 8)) * scale[2] + offset[2];
+  }
+
+  {
+    auto& v = out.add<float>("intensity");
+    for (uint64_t i = 0; i < n; ++i) v[i] = static_cast<float>(load_le<uint16_t>(base + i * rl + 12));
+  }
+  {
+    auto& rn = out.add<uint8_t>("return_number");
+    auto& nr = out.add<uint8_t>("number_of_returns");
+    auto& cls = out.add<uint8_t>("classification");
+    auto& ud = out.add<uint8_t>("user_data");
+    auto& sa = out.add<float>("scan_angle");
+    auto& ps = out.add<uint16_t>("point_source_id");
+    if (lay.extended) {
+      for (uint64_t i = 0; i < n; ++i) {
+        const uint8_t* r = base + i * rl;
+        rn[i] = r[14] & 0x0F;
+        nr[i] = static_cast<uint8_t>(r[14] >> 4);
+        cls[i] = r[16];
+        ud[i] = r[17];
+        sa[i] = static_cast<float>(load_le<int16_t>(r + 18) * 0.006);
+        ps[i] = load_le<uint16_t>(r + 20);
+      }
+    } else {
+      for (uint64_t i = 0; i < n; ++i) {
+        const uint8_t* r = base + i * rl;
+        rn[i] = r[14] & 0x07;
+        nr[i] = (r[14] >> 3) & 0x07;
+        cls[i] = r[15] & 0x1F;
+        sa[i] = static_cast<float>(static_cast<int8_t>(r[16]));
+        ud[i] = r[17];
+        ps[i] = load_le<uint16_t>(r + 18);
+      }
+    }
+  }
+  if (lay.gps >= 0) {
+    auto& v = out.add<double>("gps_time");
+    for (uint64_t i = 0; i < n; ++i) v[i] = load_le<double>(base + i * rl + lay.gps);
+  }
+  if (lay.rgb >= 0) {
+    // LAS stores 16-bit colour; many writers store 0-255 values instead.
+    // Decide on the file as a whole: any value above 255 means 16-bit.
+    uint16_t maxv = 0;
+    for (uint64_t i = 0; i < n; ++i) {
+      const uint8_t* r = base + i * rl + lay.rgb;
+      maxv = std::max({maxv, load_le<uint16_t>(r), load_le<uint16_t>(r + 2),
+                       load_le<uint16_t>(r + 4)});
+    }
+    if (maxv == 0) {
+      out.metadata["colors_all_zero"] = int64_t{1};
+    } else {
+      const bool sixteen = maxv > 255;
+      out.metadata["color_bits"] = int64_t{sixteen ? 16 : 8};
+      auto& v = out.add<uint8_t>("colors", 3);
+      for (uint64_t i = 0; i < n; ++i) {
+        const uint8_t* r = base + i * rl + lay.rgb;
+        for (int c = 0; c < 3; ++c) {
+          uint32_t x = load_le<uint16_t>(r + 2 * c);
+          v[3 * i + c] = static_cast<uint8_t>(sixteen ? (x * 255u + 32767u) / 65535u : x);
+        }
+      }
+    }
+  }
+  if (lay.nir >= 0) {
+    auto& v = out.add<uint16_t>("nir");
+    for (uint64_t i = 0; i < n; ++i) v[i] = load_le<uint16_t>(base + i * rl + lay.nir);
+  }
+  const size_t extra_base = kMinRecordLength[pf];
+  for (ExtraField f : extra_) {
+    f.offset += extra_base;
+    decode_extra(out, f, rl, n, base);
+  }
+}
+
+PointData LasReader::read() {
+  const std::string ext = io::file_extension(path_);
+  if (size_ == 0) fail("file is empty (0 bytes)");
+  if (size_ < 4 || std::memcmp(d_, "LASF", 4) != 0) {
+    if (ext == ".laz") fail(kLazMessage);
+    fail("not a LAS file: it does not start with the 'LASF' signature", 0);
+  }
+  if (size_ < 227)
+    fail("file is truncated: " + std::to_string(size_) +
+             " bytes is smaller than the 227-byte LAS header",
+         static_cast<int64_t>(size_));
+
+  const int vmajor = d_[24], vminor = d_[25];
+  if (vmajor != 1 || vminor > 4)
+    fail("unsupported LAS version " + std::to_string(vmajor) + "." + std::to_string(vminor) +
+             " (supported: 1.0 to 1.4)",
+         24);
+  const uint16_t header_size = load_le<uint16_t>(d_ + 94);
+  const size_t min_header = vminor >= 4 ? 375 : vminor == 3 ? 235 : 227;
+  if (header_size < min_header)
+    fail("header size " + std::to_string(header_size) + " is smaller than the " +
+             std::to_string(min_header) + " bytes LAS 1." + std::to_string(vminor) + " requires",
+         94);
+  if (header_size > size_)
+    fail("header size " + std::to_string(header_size) + " exceeds the file size " +
+             std::to_string(size_) + "; the file is truncated",
+         94);
+  const uint32_t point_offset = load_le<uint32_t>(d_ + 96);
+  const uint32_t num_vlrs = load_le<uint32_t>(d_ + 100);
+  const uint8_t pf_byte = d_[104];
+  const uint16_t record_length = load_le<uint16_t>(d_ + 105);
+  const uint32_t legacy_count = load_le<uint32_t>(d_ + 107);
+
+  if ((pf_byte & 0xC0) != 0 || ext == ".laz") fail(kLazMessage, 104);
+  const int pf = pf_byte;
+  if (pf > 10)
+    fail("unsupported point data record format " + std::to_string(pf) +
+             " (LAS defines formats 0 to 10)",
+         104);
+  if (record_length < kMinRecordLength[pf])
+    fail("point record length " + std::to_string(record_length) + " is smaller than the " +
+             std::to_string(kMinRecordLength[pf]) + " bytes point format " +
+             std::to_string(pf) + " requires",
+         105);
+  if (point_offset < header_size)
+    fail("offset to point data (" + std::to_string(point_offset) +
+             ") lies inside the header (header size " + std::to_string(header_size) + ")",
+         96);
+  if (point_offset > size_)
+    fail("offset to point data (" + std::to_string(point_offset) + ") is beyond the end of the " +
+             std::to_string(size_) + "-byte file; the file is truncated",
+         96);
+
+  double scale[3], offset[3], bounds[6];
+  for (int c = 0; c < 3; ++c) {
+    scale[c] = load_le<double>(d_ + 131 + 8 * c);
+    offset[c] = load_le<double>(d_ + 155 + 8 * c);
+    if (scale[c] == 0.0 || !std::isfinite(scale[c]))
+      fail(std::string("scale factor for ") + "XYZ"[c] + " is " + std::to_string(scale[c]) +
+               "; it must be a finite non-zero number",
+           131 + 8 * c);
+    if (!std::isfinite(offset[c]))
+      fail(std::string("offset for ") + "XYZ"[c] + " is not a finite number", 155 + 8 * c);
+  }
+  for (int k = 0; k < 6; ++k) bounds[k] = load_le<double>(d_ + 179 + 8 * k);
+
+  uint64_t count = legacy_count;
+  if (vminor >= 4) {
+    const uint64_t count64 = load_le<uint64_t>(d_ + 247);
+    if (count64 != 0) count = count64;
+  }
+
+  // Variable length records lie between the header and the point data.
+  const size_t vlr_space = point_offset - header_size;
+  if (static_cast<uint64_t>(num_vlrs) * kVlrHeaderSize > vlr_space)
+    fail("header declares " + std::to_string(num_vlrs) + " variable length records (at least " +
+             std::to_string(static_cast<uint64_t>(num_vlrs) * kVlrHeaderSize) +
+             " bytes), but only " + std::to_string(vlr_space) +
+             " bytes lie between the header and the point data; the VLR count is corrupt",
+         100);
+  size_t pos = header_size;
+  for (uint32_t i = 0; i < num_vlrs; ++i) {
+    if (pos + kVlrHeaderSize > point_offset)
+      fail("variable length record " + std::to_string(i + 1) + " of " +
+               std::to_string(num_vlrs) + " would start at byte " + std::to_string(pos) +
+               ", past the start of the point data (byte " + std::to_string(point_offset) +
+               "); the header's VLR count or a VLR length is wrong",
+           static_cast<int64_t>(pos));
+    const std::string user = fixed_string(d_ + pos + 2, 16);
+    const uint16_t id = load_le<uint16_t>(d_ + pos + 18);
+    const uint16_t len = load_le<uint16_t>(d_ + pos + 20);
+    if (pos + kVlrHeaderSize + len > point_offset)
+      fail("variable length record " + std::to_string(i + 1) + " of " +
+               std::to_string(num_vlrs) + " ('" + user + "' " + std::to_string(id) + ") is " +
+               std::to_string(len) + " bytes long and would run past the start of the point data (byte " +
+               std::to_string(point_offset) + "); the header's VLR count or a VLR length is wrong",
+           static_cast<int64_t>(pos));
+    parse_vlr(user, id, d_ + pos + kVlrHeaderSize, len, pos);
+    pos += kVlrHeaderSize + len;
+  }
+
+  // Point data.
+  const uint64_t avail = size_ - point_offset;
+  if (count > avail / record_length) {
+    // Overflow-safe: count * record_length would exceed what the file holds.
+    const long double need = static_cast<long double>(count) * record_length;
+    fail("file is truncated: the header declares " + std::to_string(count) + " points of " +
+             std::to_string(record_length) + " bytes (" +
+             std::to_string(static_cast<unsigned long long>(need)) + " bytes) starting at byte " +
+             std::to_string(point_offset) + ", but only " + std::to_string(avail) +
+             " bytes follow; the file may be an incomplete copy or download",
+         static_cast<int64_t>(size_));
+  }
+
+  // Extended VLRs (LAS 1.4) follow the point data; they may hold the WKT CRS
+  // or the extra bytes description.
+  if (vminor >= 4) {
+    const uint64_t evlr_start = load_le<uint64_t>(d_ + 235);
+    const uint32_t num_evlrs = load_le<uint32_t>(d_ + 243);
+    if (num_evlrs > 0) {
+      const uint64_t points_end = point_offset + count * record_length;
+      if (evlr_start < points_end || evlr_start > size_)
+        fail("start of extended VLRs (byte " + std::to_string(evlr_start) +
+                 ") is not between the end of the point data (byte " +
+                 std::to_string(points_end) + ") and the end of the file (byte " +
+                 std::to_string(size_) + ")",
+             235);
+      if (static_cast<uint64_t>(num_evlrs) * kEvlrHeaderSize > size_ - evlr_start)
+        fail("header declares " + std::to_string(num_evlrs) +
+                 " extended VLRs, more than fit in the " + std::to_string(size_ - evlr_start) +
+                 " bytes after byte " + std::to_string(evlr_start) +
+                 "; the file is truncated or the count is corrupt",
+             243);
+      uint64_t p = evlr_start;
+      for (uint32_t i = 0; i < num_evlrs; ++i) {
+        if (p + kEvlrHeaderSize > size_)
+          fail("extended VLR " + std::to_string(i + 1) + " of " + std::to_string(num_evlrs) +
+                   " starts past the end of the file; the file is truncated",
+               static_cast<int64_t>(p));
+        const std::string user = fixed_string(d_ + p + 2, 16);
+        const uint16_t id = load_le<uint16_t>(d_ + p + 18);
+        const uint64_t len = load_le<uint64_t>(d_ + p + 20);
+        if (len > size_ - p - kEvlrHeaderSize)
+          fail("extended VLR " + std::to_string(i + 1) + " ('" + user + "' " +
+                   std::to_string(id) + ") declares " + std::to_string(len) +
+                   " bytes, more than remain in the file; the file is truncated",
+               static_cast<int64_t>(p));
+        parse_vlr(user, id, d_ + p + kEvlrHeaderSize, len, static_cast<size_t>(p));
+        p += kEvlrHeaderSize + len;
+      }
+    }
+  }
+
+  const size_t extra_room = record_length - kMinRecordLength[pf];
+  if (extra_descriptor_bytes_ > extra_room)
+    fail("the extra bytes VLR describes " + std::to_string(extra_descriptor_bytes_) +
+         " bytes per point, but point records only have " + std::to_string(extra_room) +
+         " bytes beyond point format " + std::to_string(pf));
+
+  PointData out;
+  decode_points(out, pf, record_length, count, d_ + point_offset, scale, offset);
+
+  auto& md = out.metadata;
+  md["format"] = std::string("las");
+  md["version"] = std::to_string(vmajor) + "." + std::to_string(vminor);
+  md["point_format"] = static_cast<int64_t>(pf);
+  md["point_record_length"] = static_cast<int64_t>(record_length);
+  md["point_count"] = static_cast<int64_t>(count);
+  md["scale"] = std::vector<double>{scale[0], scale[1], scale[2]};
+  md["offset"] = std::vector<double>{offset[0], offset[1], offset[2]};
+  md["bounds_min"] = std::vector<double>{bounds[1], bounds[3], bounds[5]};
+  md["bounds_max"] = std::vector<double>{bounds[0], bounds[2], bounds[4]};
+  md["system_identifier"] = fixed_string(d_ + 26, 32);
+  md["generating_software"] = fixed_string(d_ + 58, 32);
+  md["file_source_id"] = static_cast<int64_t>(load_le<uint16_t>(d_ + 4));
+  md["creation_year"] = static_cast<int64_t>(load_le<uint16_t>(d_ + 92));
+  md["creation_day"] = static_cast<int64_t>(load_le<uint16_t>(d_ + 90));
+  md["vlr_count"] = static_cast<int64_t>(num_vlrs);
+  if (!wkt_.empty()) md["crs_wkt"] = wkt_;
+  if (epsg_ != 0) md["crs_epsg"] = epsg_;
+  if (extra_room > extra_descriptor_bytes_)
+    md["extra_bytes_undescribed"] = static_cast<int64_t>(extra_room - extra_descriptor_bytes_);
+  if (pf == 4 || pf == 5 || pf == 9 || pf == 10) md["waveform_ignored"] = int64_t{1};
+  return out;
+}
+
+}  // namespace
+
+PointData read_las(const std::string& path) {
+  LasReader reader(path);
+  return reader.read();
+}
+
+}  // namespace pointnpr

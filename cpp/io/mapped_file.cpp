@@ -1,0 +1,81 @@
+#include "io/mapped_file.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <fstream>
+
+#include "core/error.h"
+
+#if defined(__unix__) || defined(__APPLE__)
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#define POINTNPR_HAVE_MMAP 1
+#endif
+
+namespace pointnpr::io {
+
+MappedFile::MappedFile(const std::string& path) : path_(path) {
+#ifdef POINTNPR_HAVE_MMAP
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw ReadError(path, std::string("cannot open file: ") + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    int e = errno;
+    ::close(fd);
+    throw ReadError(path, std::string("cannot stat file: ") + std::strerror(e));
+  }
+  if (S_ISDIR(st.st_mode)) {
+    ::close(fd);
+    throw ReadError(path, "is a directory, not a point cloud file");
+  }
+  if (!S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw ReadError(path, "is not a regular file");
+  }
+  size_ = static_cast<size_t>(st.st_size);
+  if (size_ > 0) {
+    void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (p == MAP_FAILED) {
+      int e = errno;
+      ::close(fd);
+      throw ReadError(path, std::string("cannot map file into memory: ") + std::strerror(e));
+    }
+    ::madvise(p, size_, MADV_SEQUENTIAL);
+    map_ = p;
+    data_ = static_cast<const uint8_t*>(p);
+  }
+  ::close(fd);
+#else
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) throw ReadError(path, "cannot open file");
+  std::streamoff n = in.tellg();
+  if (n < 0) throw ReadError(path, "cannot determine file size");
+  fallback_.resize(static_cast<size_t>(n));
+  in.seekg(0);
+  if (n > 0 && !in.read(reinterpret_cast<char*>(fallback_.data()), n))
+    throw ReadError(path, "cannot read file");
+  data_ = fallback_.data();
+  size_ = fallback_.size();
+#endif
+}
+
+MappedFile::~MappedFile() {
+#ifdef POINTNPR_HAVE_MMAP
+  if (map_) ::munmap(map_, size_);
+#endif
+}
+
+std::string file_extension(const std::string& path) {
+  size_t slash = path.find_last_of("/\\");
+  size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+}  // namespace pointnpr::io

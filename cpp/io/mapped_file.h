@@ -1,0 +1,53 @@
+#pragma once
+// Read-only view of a whole file: memory-mapped on POSIX, read into memory
+// elsewhere. Readers index into data() with explicit bounds checks.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace pointnpr::io {
+
+class MappedFile {
+ public:
+  // Throws ReadError (naming the path) when the file cannot be opened.
+  explicit MappedFile(const std::string& path);
+  ~MappedFile();
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+
+  const uint8_t* data() const { return data_; }
+  size_t size() const { return size_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  const uint8_t* data_ = nullptr;
+  size_t size_ = 0;
+  void* map_ = nullptr;            // mmap'd region (POSIX)
+  std::vector<uint8_t> fallback_;  // whole-file copy where mmap is unavailable
+};
+
+// Little-endian loads from unaligned memory (all supported hosts are little-endian).
+template <class T>
+inline T load_le(const uint8_t* p) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return v;
+}
+
+// Big-endian loads (PLY binary_big_endian, PCD never needs it).
+template <class T>
+inline T load_be(const uint8_t* p) {
+  uint8_t b[sizeof(T)];
+  for (size_t i = 0; i < sizeof(T); ++i) b[i] = p[sizeof(T) - 1 - i];
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return v;
+}
+
+// Lower-cased extension including the dot (".las"), or "" if none.
+std::string file_extension(const std::string& path);
+
+}  // namespace pointnpr::io

@@ -1,0 +1,60 @@
+#include "io/point_data.h"
+
+#include <cmath>
+
+namespace pointnpr {
+
+size_t Attribute::num_points() const {
+  size_t n = std::visit([](const auto& v) { return v.size(); }, values);
+  return components > 0 ? n / static_cast<size_t>(components) : 0;
+}
+
+const Attribute* PointData::find(const std::string& name) const {
+  for (const Attribute& a : attributes)
+    if (a.name == name) return &a;
+  return nullptr;
+}
+
+Attribute* PointData::find(const std::string& name) {
+  for (Attribute& a : attributes)
+    if (a.name == name) return &a;
+  return nullptr;
+}
+
+void PointData::remove(const std::string& name) {
+  for (auto it = attributes.begin(); it != attributes.end(); ++it) {
+    if (it->name == name) {
+      attributes.erase(it);
+      return;
+    }
+  }
+}
+
+size_t PointData::drop_nonfinite_points() {
+  const size_t n = num_points();
+  std::vector<uint8_t> keep(n);
+  size_t kept = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double* p = &positions[3 * i];
+    keep[i] = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+    kept += keep[i];
+  }
+  if (kept == n) return 0;
+  auto compact = [&](auto& v, size_t comps) {
+    size_t w = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (!keep[i]) continue;
+      for (size_t c = 0; c < comps; ++c) v[w * comps + c] = v[i * comps + c];
+      ++w;
+    }
+    v.resize(w * comps);
+    v.shrink_to_fit();
+  };
+  compact(positions, 3);
+  for (Attribute& a : attributes)
+    std::visit([&](auto& v) { compact(v, static_cast<size_t>(a.components)); }, a.values);
+  metadata["dropped_nonfinite"] = static_cast<int64_t>(n - kept);
+  return n - kept;
+}
+
+}  // namespace pointnpr

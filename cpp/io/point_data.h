@@ -1,0 +1,81 @@
+#pragma once
+// In-memory result of reading a point cloud file: exact double positions,
+// named per-point attributes of their natural type, and file metadata.
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace pointnpr {
+
+// One per-point attribute: `components` values per point, stored row-major
+// (point i, component c at index i * components + c).
+using AttributeValues =
+    std::variant<std::vector<uint8_t>, std::vector<int8_t>, std::vector<uint16_t>,
+                 std::vector<int16_t>, std::vector<uint32_t>, std::vector<int32_t>,
+                 std::vector<uint64_t>, std::vector<int64_t>, std::vector<float>,
+                 std::vector<double>>;
+
+struct Attribute {
+  std::string name;
+  int components = 1;
+  AttributeValues values;
+
+  // Number of points covered (values / components).
+  size_t num_points() const;
+};
+
+// Metadata values: text, integers, reals, or short lists of reals
+// (scale, offset, bounds).
+using MetadataValue = std::variant<std::string, int64_t, double, std::vector<double>>;
+
+struct PointData {
+  // N*3 georeferenced coordinates (LAS: raw integer * scale + offset).
+  std::vector<double> positions;
+  // Ordered by appearance; names are unique. Standard names:
+  //   "colors" uint8 x3 (8-bit sRGB), "alpha" uint8, "intensity" float32,
+  //   "classification" uint8, "return_number" uint8, "number_of_returns" uint8,
+  //   "gps_time" float64, "nir" uint16, "scan_angle" float32 (degrees),
+  //   "normals" float32 x3, plus format-specific extras.
+  // A deque so that references returned by add() stay valid as more are added.
+  std::deque<Attribute> attributes;
+  // "format" ("las", "ply", "pcd", "text"), "version", "point_format",
+  // "crs_wkt", "crs_epsg", "scale", "offset", ... (see docs/python_api.md).
+  std::map<std::string, MetadataValue> metadata;
+
+  size_t num_points() const { return positions.size() / 3; }
+  const Attribute* find(const std::string& name) const;
+  Attribute* find(const std::string& name);
+  bool has(const std::string& name) const { return find(name) != nullptr; }
+
+  // Typed access; nullptr when absent or of another type.
+  template <class T>
+  const std::vector<T>* get(const std::string& name) const {
+    const Attribute* a = find(name);
+    return a ? std::get_if<std::vector<T>>(&a->values) : nullptr;
+  }
+
+  // Adds (or replaces) an attribute; values.size() must be num_points() * components.
+  template <class T>
+  std::vector<T>& add(const std::string& name, int components = 1) {
+    Attribute* a = find(name);
+    if (!a) {
+      attributes.push_back(Attribute{name, components, std::vector<T>{}});
+      a = &attributes.back();
+    }
+    a->components = components;
+    a->values = std::vector<T>(num_points() * static_cast<size_t>(components));
+    return std::get<std::vector<T>>(a->values);
+  }
+
+  void remove(const std::string& name);
+
+  // Removes points whose position is not finite (NaN/inf); returns how many
+  // were removed and records "dropped_nonfinite" in metadata if any.
+  size_t drop_nonfinite_points();
+};
+
+}  // namespace pointnpr
