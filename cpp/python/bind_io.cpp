@@ -1,0 +1,171 @@
+// Python bindings of the point cloud readers: pointnpr.read(path) -> PointData
+// with numpy arrays, and pointnpr.ReadError (a ValueError).
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "core/error.h"
+#include "io/readers.h"
+#include "python/bindings.h"
+
+namespace py = pybind11;
+
+namespace pointnpr::python {
+namespace {
+
+// Python-side result: arrays are created once, at read time.
+struct PyPointData {
+  py::array positions;
+  py::dict attributes;
+  py::dict metadata;
+  size_t num_points() const { return static_cast<size_t>(positions.shape(0)); }
+};
+
+// Moves a vector into a numpy array of shape (n,) or (n, comps) without copying.
+template <class T>
+py::array to_numpy(std::vector<T>&& v, size_t n, size_t comps) {
+  std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(n)};
+  if (comps != 1) shape.push_back(static_cast<py::ssize_t>(comps));
+  if (v.empty()) return py::array_t<T>(shape);
+  auto* heap = new std::vector<T>(std::move(v));
+  py::capsule owner(heap, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  std::vector<py::ssize_t> strides{static_cast<py::ssize_t>(comps * sizeof(T))};
+  if (comps != 1) strides.push_back(static_cast<py::ssize_t>(sizeof(T)));
+  return py::array_t<T>(shape, strides, heap->data(), owner);
+}
+
+py::object metadata_value(const MetadataValue& v) {
+  return std::visit(
+      [](const auto& x) -> py::object {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, std::vector<double>>)
+          return py::tuple(py::cast(x));
+        else
+          return py::cast(x);
+      },
+      v);
+}
+
+PyPointData convert(PointData&& d) {
+  PyPointData out;
+  const size_t n = d.num_points();
+  for (Attribute& a : d.attributes) {
+    const size_t comps = static_cast<size_t>(a.components);
+    out.attributes[py::str(a.name)] =
+        std::visit([&](auto& v) { return to_numpy(std::move(v), n, comps); }, a.values);
+  }
+  for (const auto& [key, value] : d.metadata) out.metadata[py::str(key)] = metadata_value(value);
+  out.positions = to_numpy(std::move(d.positions), n, 3);
+  return out;
+}
+
+PyObject* g_read_error = nullptr;  // leaked on purpose: lives as long as the process
+
+bool is_exception_type(PyObject* t, PyObject* base) {
+  return PyType_Check(t) && PyType_IsSubtype(reinterpret_cast<PyTypeObject*>(t),
+                                             reinterpret_cast<PyTypeObject*>(base));
+}
+
+}  // namespace
+
+void bind_io(py::module_& m) {
+  // ReadError is a ValueError and, when the core has bound its common base
+  // class (pointnpr.Error) before this, also one of those.
+  py::tuple bases = py::make_tuple(py::handle(PyExc_ValueError));
+  if (py::hasattr(m, "Error")) {
+    py::object base = m.attr("Error");
+    if (is_exception_type(base.ptr(), PyExc_Exception) &&
+        !is_exception_type(base.ptr(), PyExc_ValueError))
+      bases = py::make_tuple(base, py::handle(PyExc_ValueError));
+  }
+  g_read_error = PyErr_NewException("pointnpr._pointnpr.ReadError", bases.ptr(), nullptr);
+  if (!g_read_error) throw py::error_already_set();
+  py::setattr(g_read_error, "__doc__",
+              py::str("A point cloud file could not be read. The message names the file, the "
+                      "reason and, where it applies, the byte offset; the same are available "
+                      "as .file, .reason and .byte_offset (-1 when not applicable)."));
+  m.add_object("ReadError", py::handle(g_read_error));
+  // Registered after bind_core's Error translator, so it is tried first.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const ReadError& e) {
+      py::object inst = py::handle(g_read_error)(e.what());
+      inst.attr("file") = py::str(e.file());
+      inst.attr("reason") = py::str(e.reason());
+      inst.attr("byte_offset") = py::int_(e.byte_offset());
+      PyErr_SetObject(g_read_error, inst.ptr());
+    }
+  });
+
+  py::class_<PyPointData>(m, "PointData",
+                          "Contents of a point cloud file: exact float64 positions, named "
+                          "per-point attributes (numpy arrays) and file metadata.")
+      .def(py::init([](py::array_t<double, py::array::c_style | py::array::forcecast> positions,
+                       py::object attributes, py::object metadata) {
+             if (positions.ndim() != 2 || positions.shape(1) != 3)
+               throw py::value_error("positions must have shape (N, 3)");
+             PyPointData d;
+             d.positions = positions;
+             const auto n = positions.shape(0);
+             if (!attributes.is_none()) {
+               for (auto item : py::dict(attributes)) {
+                 py::array a = py::array::ensure(item.second);
+                 if (!a || a.ndim() < 1 || a.shape(0) != n)
+                   throw py::value_error("attribute '" + py::str(item.first).cast<std::string>() +
+                                         "' must be an array with one row per point");
+                 d.attributes[item.first] = a;
+               }
+             }
+             if (!metadata.is_none()) d.metadata = py::dict(metadata);
+             return d;
+           }),
+           py::arg("positions"), py::arg("attributes") = py::none(),
+           py::arg("metadata") = py::none())
+      .def_readonly("positions", &PyPointData::positions,
+                    "(N, 3) float64 georeferenced coordinates")
+      .def_readonly("attributes", &PyPointData::attributes,
+                    "dict name -> numpy array with one row per point (\"colors\" (N,3) uint8, "
+                    "\"intensity\" (N,) float32, \"classification\" (N,) uint8, "
+                    "\"normals\" (N,3) float32, ...)")
+      .def_readonly("metadata", &PyPointData::metadata,
+                    "dict: \"format\", \"version\", \"point_format\", \"crs_wkt\", \"crs_epsg\", "
+                    "\"scale\", \"offset\", ... (whatever the file provides)")
+      .def_property_readonly("num_points", &PyPointData::num_points)
+      .def("__len__", &PyPointData::num_points)
+      .def(
+          "to_cloud",
+          [](py::object self) { return py::module_::import("pointnpr.io").attr("to_cloud")(self); },
+          "PointCloud with the attributes the renderer uses (colors, intensity, classification)")
+      .def("__repr__", [](const PyPointData& d) {
+        std::string fmt = d.metadata.contains("format")
+                              ? py::str(d.metadata["format"]).cast<std::string>()
+                              : std::string("?");
+        std::string names;
+        for (auto item : d.attributes)
+          names += (names.empty() ? "" : ", ") + py::str(item.first).cast<std::string>();
+        return "<PointData " + fmt + ", " + std::to_string(d.num_points()) +
+               " points, attributes: [" + names + "]>";
+      });
+
+  m.def(
+      "read",
+      [](py::object path) {
+        const std::string p = py::str(py::module_::import("os").attr("fsdecode")(path));
+        PointData data;
+        {
+          py::gil_scoped_release release;
+          data = read_point_cloud(p);
+        }
+        return convert(std::move(data));
+      },
+      py::arg("path"),
+      "Reads a point cloud file (.las, .ply, .pcd, .xyz/.pts/.txt/.csv) into a PointData. "
+      "Raises ReadError (a ValueError) with the file, the reason and the byte offset.");
+}
+
+}  // namespace pointnpr::python
