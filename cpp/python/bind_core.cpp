@@ -1,0 +1,141 @@
+#include <pybind11/stl.h>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "gl/device.h"
+#include "gl/shaders.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "render/filter.h"
+#include "render/style.h"
+
+namespace py = pybind11;
+
+namespace pointnpr::python {
+
+std::map<std::string, std::vector<double>> to_raw_params(const Schema& schema, const py::dict& values) {
+  std::map<std::string, std::vector<double>> raw;
+  for (auto [key, value] : values) {
+    const std::string name = py::str(key);
+    const ParamSpec* spec = schema.find(name);
+    std::vector<double> v;
+    if (spec && spec->type == ParamType::Enum && py::isinstance<py::str>(value)) {
+      const std::string item = py::str(value);
+      auto it = std::find(spec->items.begin(), spec->items.end(), item);
+      if (it == spec->items.end()) {
+        std::string items;
+        for (const auto& s : spec->items) items += (items.empty() ? "'" : ", '") + s + "'";
+        throw ParameterError(schema.id + "." + name + " = '" + item + "' is not one of " + items);
+      }
+      v.push_back(double(it - spec->items.begin()));
+    } else if (py::isinstance<py::str>(value)) {
+      throw ParameterError(schema.id + "." + name + " expects a number, got a string");
+    } else if (py::isinstance<py::sequence>(value)) {
+      for (auto item : value.cast<py::sequence>()) v.push_back(item.cast<double>());
+      // Colors may be given as RGB; alpha defaults to 1.
+      if (spec && spec->type == ParamType::Color && v.size() == 3) v.push_back(1.0);
+    } else {
+      v.push_back(value.cast<double>());
+    }
+    raw[name] = std::move(v);
+  }
+  return raw;
+}
+
+namespace {
+py::object param_value(const ParamSpec& spec, const std::vector<double>& v) {
+  switch (spec.type) {
+    case ParamType::Float: return py::float_(v[0]);
+    case ParamType::Int: return py::int_(int(v[0]));
+    case ParamType::Bool: return py::bool_(v[0] != 0.0);
+    case ParamType::Enum: return py::str(spec.items.at(size_t(v[0])));
+    case ParamType::Color: return py::make_tuple(v[0], v[1], v[2], v[3]);
+  }
+  return py::none();
+}
+}  // namespace
+
+py::dict schema_to_dict(const Schema& schema, const char* kind) {
+  py::list params;
+  for (const auto& p : schema.params) {
+    py::dict d;
+    d["name"] = p.name;
+    d["type"] = to_string(p.type);
+    d["default"] = param_value(p, p.default_value);
+    d["min"] = p.min;
+    d["max"] = p.max;
+    d["unit"] = p.unit;
+    d["doc"] = p.doc;
+    d["items"] = p.items;
+    params.append(d);
+  }
+  py::dict out;
+  out["id"] = schema.id;
+  out["label"] = schema.label;
+  out["doc"] = schema.doc;
+  out["kind"] = kind;
+  out["params"] = params;
+  return out;
+}
+
+py::dict values_to_dict(const ParamValues& values) {
+  py::dict out;
+  for (const auto& p : values.schema().params) out[py::str(p.name)] = param_value(p, values.raw().at(p.name));
+  return out;
+}
+
+void bind_core(py::module_& m) {
+  // Later registrations are tried first, so subclasses come after Error.
+  auto& error = py::register_exception<Error>(m, "Error", PyExc_RuntimeError);
+  py::register_exception<ParameterError>(m, "ParameterError", PyExc_ValueError);
+  py::register_exception<GLError>(m, "GLError", error.ptr());
+
+  m.def("schemas", [] {
+    py::list out;
+    out.append(schema_to_dict(rasterize_schema(), "stage"));
+    for (const FilterInfo* f : registered_filters()) out.append(schema_to_dict(f->schema, "filter"));
+    out.append(schema_to_dict(inpaint_schema(), "stage"));
+    out.append(schema_to_dict(composite_schema(), "stage"));
+    return out;
+  }, "Parameter schemas of every pipeline stage and filter (the single source of truth).");
+
+  m.def("set_shader_dir", &gl::set_shader_dir, "Folder the GLSL sources are read from.");
+  m.def("shader_dir", &gl::shader_dir);
+  m.def("gl_info", [] {
+    const gl::DeviceInfo& info = gl::Device::instance().info();
+    py::dict d;
+    d["vendor"] = info.vendor;
+    d["renderer"] = info.renderer;
+    d["version"] = info.version;
+    d["platform"] = info.egl_platform;
+    d["software"] = info.software;
+    d["int64_atomics"] = info.int64_atomics;
+    d["max_texture_size"] = info.max_texture_size;
+    return d;
+  }, "Creates the headless GL context if needed and describes it.");
+  m.def("shutdown", [] {
+    py::gil_scoped_release release;
+    gl::Device::shutdown();
+  }, "Releases the GL context and its thread (it is re-created on next use).");
+
+  m.def("save_image", [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> pixels,
+                         bool srgb) {
+    if (pixels.ndim() != 2 && pixels.ndim() != 3) throw Error("save_image expects an (H,W) or (H,W,C) array");
+    Image image;
+    image.height = int(pixels.shape(0));
+    image.width = int(pixels.shape(1));
+    image.channels = pixels.ndim() == 3 ? int(pixels.shape(2)) : 1;
+    image.pixels.assign(pixels.data(), pixels.data() + pixels.size());
+    py::gil_scoped_release release;
+    write_image(path, image, srgb);
+  }, py::arg("path"), py::arg("pixels"), py::arg("srgb") = true,
+     "Writes bottom-row-first float pixels through OpenImageIO (linear -> sRGB when srgb=True).");
+  m.def("load_image", [](const std::string& path) {
+    Image image = read_image(path);
+    py::array_t<float> out({image.height, image.width, image.channels});
+    std::copy(image.pixels.begin(), image.pixels.end(), out.mutable_data());
+    return out;
+  }, py::arg("path"), "Reads an image through OpenImageIO as (H,W,C) float32, bottom row first.");
+}
+
+}  // namespace pointnpr::python

@@ -1,0 +1,254 @@
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "render/renderer.h"
+
+namespace py = pybind11;
+
+namespace pointnpr::python {
+
+namespace {
+
+template <class T>
+using CArray = py::array_t<T, py::array::c_style | py::array::forcecast>;
+
+glm::dmat4 to_dmat4(const py::object& obj, const char* what) {
+  CArray<double> a = py::cast<CArray<double>>(py::module_::import("numpy").attr("asarray")(obj, "float64"));
+  if (a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) throw ParameterError(std::string(what) + " must be a 4x4 matrix");
+  glm::dmat4 m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m[c][r] = a.at(r, c);  // numpy row-major -> glm column-major
+  return m;
+}
+
+std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::object& colors,
+                                       const py::object& intensity, const py::object& classification,
+                                       const py::object& point_index, uint32_t chunk_size) {
+  CArray<double> pos = positions.cast<CArray<double>>();
+  if (pos.ndim() != 2 || pos.shape(1) != 3) throw Error("positions must be an (N,3) array");
+  const size_t n = size_t(pos.shape(0));
+  PointCloudInput in;
+  in.positions = {pos.data(), n * 3};
+  CArray<uint8_t> col;
+  if (!colors.is_none()) {
+    py::array any = py::array::ensure(colors);
+    if (!any) throw Error("colors must be an array");
+    if (any.dtype().kind() == 'f') {
+      // Float colours are display sRGB in [0,1].
+      auto f = py::module_::import("numpy").attr("clip")(any, 0.0, 1.0);
+      any = py::array::ensure(py::module_::import("numpy").attr("rint")(f * py::float_(255.0)));
+    }
+    col = any.cast<CArray<uint8_t>>();
+    if (col.ndim() != 2 || (col.shape(1) != 3 && col.shape(1) != 4) || size_t(col.shape(0)) != n)
+      throw Error("colors must be an (N,3) or (N,4) array");
+    in.colors = {col.data(), size_t(col.size())};
+    in.color_channels = int(col.shape(1));
+  }
+  CArray<float> inten;
+  if (!intensity.is_none()) {
+    inten = intensity.cast<CArray<float>>();
+    in.intensity = {inten.data(), size_t(inten.size())};
+  }
+  CArray<uint8_t> cls;
+  if (!classification.is_none()) {
+    cls = classification.cast<CArray<uint8_t>>();
+    in.classification = {cls.data(), size_t(cls.size())};
+  }
+  CArray<uint32_t> idx;
+  if (!point_index.is_none()) {
+    idx = point_index.cast<CArray<uint32_t>>();
+    in.point_index = {idx.data(), size_t(idx.size())};
+  }
+  py::gil_scoped_release release;
+  return std::make_shared<PointCloud>(in, chunk_size);
+}
+
+ParamValues validated(const Schema& schema, const py::object& values) {
+  if (values.is_none()) return validate(schema, {});
+  return validate(schema, to_raw_params(schema, values.cast<py::dict>()));
+}
+
+Style make_style(const py::object& rasterize, const py::object& filters, const py::object& inpaint) {
+  Style style;
+  style.rasterize = validated(rasterize_schema(), rasterize);
+  style.inpaint = validated(inpaint_schema(), inpaint);
+  if (!filters.is_none()) {
+    for (auto item : filters.cast<py::sequence>()) {
+      py::object step = py::reinterpret_borrow<py::object>(item);
+      std::string id;
+      py::dict params;
+      if (py::isinstance<py::str>(step)) {
+        id = step.cast<std::string>();
+      } else {
+        auto t = step.cast<py::sequence>();
+        if (t.size() != 2) throw ParameterError("a filter step is 'id' or ('id', {params})");
+        id = t[0].cast<std::string>();
+        params = t[1].is_none() ? py::dict() : t[1].cast<py::dict>();
+      }
+      const FilterInfo& info = find_filter(id);
+      style.add_filter(id, to_raw_params(info.schema, params));
+    }
+  }
+  return style;
+}
+
+template <class T>
+py::array_t<T> image_array(const std::vector<T>& data, int h, int w, int channels) {
+  std::vector<py::ssize_t> shape = {h, w};
+  if (channels > 1) shape.push_back(channels);
+  py::array_t<T> out(shape);
+  std::memcpy(out.mutable_data(), data.data(), data.size() * sizeof(T));
+  return out;
+}
+
+}  // namespace
+
+void bind_render(py::module_& m) {
+  py::register_exception<RenderCancelled>(m, "RenderCancelled", m.attr("Error").ptr());
+
+  py::class_<PointCloud, std::shared_ptr<PointCloud>>(m, "PointCloud",
+      "Immutable point cloud split into chunks with double origins and float offsets.")
+      .def(py::init(&make_cloud), py::arg("positions"), py::arg("colors") = py::none(),
+           py::arg("intensity") = py::none(), py::arg("classification") = py::none(),
+           py::arg("point_index") = py::none(), py::arg("chunk_size") = 16384)
+      .def_property_readonly("num_points", &PointCloud::size)
+      .def_property_readonly("num_chunks", [](const PointCloud& c) { return c.chunks().size(); })
+      .def_property_readonly("id", &PointCloud::id)
+      .def_property_readonly("bounds", [](const PointCloud& c) {
+        auto lo = c.bounds_min(), hi = c.bounds_max();
+        return py::make_tuple(py::make_tuple(lo.x, lo.y, lo.z), py::make_tuple(hi.x, hi.y, hi.z));
+      })
+      .def("has", [](const PointCloud& c, const std::string& name) {
+        if (name == "colors") return c.has(Attribute::Color);
+        if (name == "intensity") return c.has(Attribute::Intensity);
+        if (name == "classification") return c.has(Attribute::Classification);
+        throw ParameterError("unknown attribute '" + name + "' (colors, intensity, classification)");
+      })
+      .def_property_readonly("point_index", [](const PointCloud& c) {
+        return image_array(c.point_index(), 1, int(c.size()), 1).reshape({py::ssize_t(c.size())});
+      }, "Stable point ids in the cloud's internal (Morton) order.");
+
+  py::class_<Style>(m, "Style", "A segment's pipeline: rasterize -> filters -> depth inpainting.")
+      .def(py::init(&make_style), py::arg("rasterize") = py::none(), py::arg("filters") = py::none(),
+           py::arg("inpaint") = py::none())
+      .def_property_readonly("rasterize", [](const Style& s) { return values_to_dict(s.rasterize); })
+      .def_property_readonly("inpaint", [](const Style& s) { return values_to_dict(s.inpaint); })
+      .def_property_readonly("filters", [](const Style& s) {
+        py::list out;
+        for (const auto& f : s.filters) out.append(py::make_tuple(f.info->schema.id, values_to_dict(f.params)));
+        return out;
+      });
+
+  py::class_<Scene>(m, "Scene", "Segments in layering order (later segments on top).")
+      .def(py::init<>())
+      .def("add_segment", [](Scene& scene, const std::string& name, const Style& style, const py::list& instances) {
+        Segment seg;
+        seg.name = name;
+        seg.style = style;
+        for (auto item : instances) {
+          py::object inst = py::reinterpret_borrow<py::object>(item);
+          Instance i;
+          if (py::isinstance<PointCloud>(inst)) {
+            i.cloud = inst.cast<std::shared_ptr<PointCloud>>();
+          } else {
+            auto t = inst.cast<py::sequence>();
+            i.cloud = t[0].cast<std::shared_ptr<PointCloud>>();
+            i.world_from_object = to_dmat4(t[1], "world_from_object");
+          }
+          seg.instances.push_back(std::move(i));
+        }
+        scene.segments.push_back(std::move(seg));
+        return scene.segments.size() - 1;
+      }, py::arg("name"), py::arg("style"), py::arg("instances"))
+      .def_property_readonly("num_segments", [](const Scene& s) { return s.segments.size(); });
+
+  py::class_<Camera>(m, "Camera", "Camera composed in double precision (Blender's camera model).")
+      .def_static("perspective", [](const py::object& world_from_camera, double lens, double sensor_width,
+                                    double sensor_height, const std::string& fit, double shift_x, double shift_y,
+                                    double clip_start, double clip_end, int width, int height, double pixel_aspect) {
+        return Camera::perspective(to_dmat4(world_from_camera, "world_from_camera"), lens, sensor_width,
+                                   sensor_height, parse_sensor_fit(fit), shift_x, shift_y, clip_start, clip_end,
+                                   {width, height}, pixel_aspect);
+      }, py::arg("world_from_camera"), py::arg("lens") = 50.0, py::arg("sensor_width") = 36.0,
+         py::arg("sensor_height") = 24.0, py::arg("sensor_fit") = "AUTO", py::arg("shift_x") = 0.0,
+         py::arg("shift_y") = 0.0, py::arg("clip_start") = 0.1, py::arg("clip_end") = 1000.0,
+         py::arg("width") = 1920, py::arg("height") = 1080, py::arg("pixel_aspect") = 1.0)
+      .def_static("orthographic", [](const py::object& world_from_camera, double ortho_scale, const std::string& fit,
+                                     double shift_x, double shift_y, double clip_start, double clip_end, int width,
+                                     int height, double pixel_aspect) {
+        return Camera::orthographic_camera(to_dmat4(world_from_camera, "world_from_camera"), ortho_scale,
+                                           parse_sensor_fit(fit), shift_x, shift_y, clip_start, clip_end,
+                                           {width, height}, pixel_aspect);
+      }, py::arg("world_from_camera"), py::arg("ortho_scale") = 10.0, py::arg("sensor_fit") = "AUTO",
+         py::arg("shift_x") = 0.0, py::arg("shift_y") = 0.0, py::arg("clip_start") = 0.1,
+         py::arg("clip_end") = 1000.0, py::arg("width") = 1920, py::arg("height") = 1080,
+         py::arg("pixel_aspect") = 1.0)
+      .def_static("from_matrices", [](const py::object& view, const py::object& projection) {
+        return Camera::from_matrices(to_dmat4(view, "view_matrix"), to_dmat4(projection, "projection_matrix"));
+      }, py::arg("view_matrix"), py::arg("projection_matrix"))
+      .def_readonly("orthographic_projection", &Camera::orthographic)
+      .def_readonly("clip_start", &Camera::clip_start)
+      .def_readonly("clip_end", &Camera::clip_end);
+
+  py::class_<RenderResult>(m, "RenderResult")
+      .def_property_readonly("color", [](const RenderResult& r) { return image_array(r.color, r.height, r.width, 4); })
+      .def_property_readonly("depth", [](const RenderResult& r) { return image_array(r.depth, r.height, r.width, 1); })
+      .def_property_readonly("segment_index", [](const RenderResult& r) {
+        return image_array(r.segment_index, r.height, r.width, 1);
+      })
+      .def_readonly("stats", &RenderResult::stats)
+      .def_readonly("warnings", &RenderResult::warnings)
+      .def_readonly("width", &RenderResult::width)
+      .def_readonly("height", &RenderResult::height);
+
+  py::class_<Renderer>(m, "Renderer", "Renders scenes with the core's headless GL context; keeps point data on "
+                                      "the GPU between frames.")
+      .def(py::init([] {
+        py::gil_scoped_release release;
+        return std::make_unique<Renderer>();
+      }))
+      .def("render", [](Renderer& self, const Scene& scene, const Camera& camera, int width, int height, double time,
+                        const py::object& composite, const py::object& background, const std::string& rasterizer,
+                        const py::object& progress) {
+        RenderSettings s;
+        s.width = width;
+        s.height = height;
+        s.time = time;
+        if (!std::isfinite(time)) throw ParameterError("time must be finite");
+        s.composite = validated(composite_schema(), composite);
+        auto bg = background.cast<std::vector<double>>();
+        if (bg.size() != 4) throw ParameterError("background must be RGBA (4 values)");
+        s.background = {bg[0], bg[1], bg[2], bg[3]};
+        s.rasterizer = parse_rasterizer(rasterizer);
+        if (!progress.is_none()) {
+          // Borrowed: `progress` outlives this call. Called with the GIL held.
+          PyObject* fn = progress.ptr();
+          s.progress = [fn](double f, const std::string& what) {
+            py::gil_scoped_acquire gil;
+            py::object r = py::reinterpret_borrow<py::object>(fn)(f, what);
+            return r.is_none() || r.cast<bool>();
+          };
+        }
+        py::gil_scoped_release release;
+        return self.render(scene, camera, s);
+      }, py::arg("scene"), py::arg("camera"), py::arg("width"), py::arg("height"), py::arg("time") = 0.0,
+         py::arg("composite") = py::none(), py::arg("background") = std::vector<double>{0, 0, 0, 0},
+         py::arg("rasterizer") = "compute", py::arg("progress") = py::none())
+      .def("cached_clouds", &Renderer::cached_clouds, py::call_guard<py::gil_scoped_release>())
+      .def("uploaded_attributes", [](const Renderer& r, const PointCloud& c) {
+        const uint32_t mask = r.uploaded_attributes(c.id());
+        py::list out;
+        if (mask & uint32_t(Attribute::Color)) out.append("colors");
+        if (mask & uint32_t(Attribute::Intensity)) out.append("intensity");
+        if (mask & uint32_t(Attribute::Classification)) out.append("classification");
+        return out;
+      })
+      .def("upload_count", &Renderer::upload_count, py::call_guard<py::gil_scoped_release>());
+}
+
+}  // namespace pointnpr::python

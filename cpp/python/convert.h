@@ -1,0 +1,20 @@
+#pragma once
+// Conversions shared by the binding units.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/params.h"
+
+namespace pointnpr::python {
+
+// Python dict {name: number | bool | str (enum item) | sequence (color)} ->
+// raw values for validate(); unknown enum items raise ParameterError.
+std::map<std::string, std::vector<double>> to_raw_params(const Schema& schema, const pybind11::dict& values);
+pybind11::dict schema_to_dict(const Schema& schema, const char* kind);
+pybind11::dict values_to_dict(const ParamValues& values);
+
+}  // namespace pointnpr::python

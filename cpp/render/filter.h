@@ -1,0 +1,72 @@
+#pragma once
+// Image filters of a segment's pipeline. A filter is one .cpp in filters/
+// that declares its Schema and registers itself, plus its GLSL in shaders/.
+//
+// Images handed to filters are RGBA32F, straight alpha, display-referred
+// sRGB values in [0,1]; alpha is coverage (0 = background). Filters process
+// only `ctx.rect` (the segment's screen bounds grown by the footprints of the
+// filters so far), and may read up to their own footprint beyond it.
+#include <functional>
+#include <glm/glm.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/params.h"
+#include "gl/objects.h"
+#include "gl/shaders.h"
+
+namespace pointnpr {
+
+// Pixel rectangle [min, max) in image coordinates (row 0 = bottom).
+struct Rect {
+  glm::ivec2 min{0, 0};
+  glm::ivec2 max{0, 0};
+  bool empty() const { return max.x <= min.x || max.y <= min.y; }
+  glm::ivec2 size() const { return glm::max(max - min, glm::ivec2(0)); }
+  Rect grown(int by, glm::ivec2 limit) const;
+  Rect united(const Rect& o) const;
+};
+
+struct FilterContext {
+  gl::ShaderLibrary* shaders = nullptr;
+  const gl::Texture* input = nullptr;      // color after the previous step
+  const gl::Texture* output = nullptr;     // where this filter writes
+  const gl::Texture* raster_depth = nullptr;  // linear view depth, +inf = empty
+  // Scratch images of the same size for multi-pass filters (contents
+  // undefined on entry; valid wherever the filter writes them).
+  std::function<const gl::Texture&(int index)> scratch;
+  Rect rect;                 // pixels this filter must write
+  glm::ivec2 image_size{0, 0};
+  double time = 0.0;         // scene time in seconds (animation)
+  uint32_t segment_seed = 0; // stable per segment, for noise
+};
+
+class Filter {
+ public:
+  virtual ~Filter() = default;
+  // How many pixels beyond its input's covered area the filter can write
+  // (and read): the segment's rect is grown by this before the filter runs.
+  virtual int footprint(const ParamValues& params) const = 0;
+  virtual void apply(const FilterContext& ctx, const ParamValues& params) const = 0;
+};
+
+struct FilterInfo {
+  Schema schema;
+  std::function<std::unique_ptr<Filter>()> create;
+};
+
+// All filters linked into the core, in registration order sorted by id.
+const std::vector<const FilterInfo*>& registered_filters();
+const FilterInfo& find_filter(const std::string& id);  // throws ParameterError
+
+// Used by each filter's .cpp: `static FilterRegistration reg{{schema, factory}};`
+struct FilterRegistration {
+  explicit FilterRegistration(FilterInfo info);
+};
+
+// Dispatches `program` (local size 16x16, uniform ivec2 u_rect_min and
+// u_rect_max) over `rect`.
+void dispatch_rect(const gl::Program& program, const Rect& rect);
+
+}  // namespace pointnpr

@@ -1,0 +1,130 @@
+#include "scene/point_cloud.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "core/error.h"
+
+namespace pointnpr {
+
+namespace {
+std::atomic<uint64_t> g_next_cloud_id{1};
+
+// Spreads the low 21 bits of v so that three can be interleaved.
+uint64_t spread_bits(uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+}  // namespace
+
+PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : id_(g_next_cloud_id++) {
+  if (in.positions.size() % 3 != 0) throw Error("positions must be an N x 3 array");
+  const size_t n = in.positions.size() / 3;
+  if (n > std::numeric_limits<uint32_t>::max() / 2) throw Error("point cloud too large (more than 2^31 points)");
+  if (in.color_channels != 3 && in.color_channels != 4) throw Error("colors must have 3 or 4 channels");
+  if (!in.colors.empty() && in.colors.size() != n * size_t(in.color_channels))
+    throw Error("colors must have one row per point (" + std::to_string(n) + ")");
+  if (!in.intensity.empty() && in.intensity.size() != n) throw Error("intensity must have one value per point");
+  if (!in.classification.empty() && in.classification.size() != n)
+    throw Error("classification must have one value per point");
+  if (!in.point_index.empty() && in.point_index.size() != n) throw Error("point_index must have one value per point");
+  if (max_chunk_points == 0) throw Error("max_chunk_points must be positive");
+
+  const double* p = in.positions.data();
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  for (size_t i = 0; i < n; ++i) {
+    glm::dvec3 q(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+      throw Error("point " + std::to_string(i) + " has a non-finite coordinate");
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  if (n == 0) lo = hi = glm::dvec3(0.0);
+  bounds_min_ = lo;
+  bounds_max_ = hi;
+
+  // Morton order: points close in space are close in memory, so chunks are
+  // compact boxes (good culling) and rasterization touches memory coherently.
+  const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-12));
+  const double scale = double((1u << 21) - 1) / std::max({extent.x, extent.y, extent.z});
+  std::vector<std::pair<uint64_t, uint32_t>> order(n);
+  for (size_t i = 0; i < n; ++i) {
+    const uint64_t qx = uint64_t((p[3 * i] - lo.x) * scale);
+    const uint64_t qy = uint64_t((p[3 * i + 1] - lo.y) * scale);
+    const uint64_t qz = uint64_t((p[3 * i + 2] - lo.z) * scale);
+    order[i] = {spread_bits(qx) | spread_bits(qy) << 1 | spread_bits(qz) << 2, uint32_t(i)};
+  }
+  // Sorting by (code, index) is a total order: the layout is deterministic.
+  std::sort(order.begin(), order.end());
+
+  local_positions_.resize(n);
+  point_index_.resize(n);
+  if (!in.colors.empty()) colors_.resize(n);
+  if (!in.intensity.empty()) intensity_.resize(n);
+  if (!in.classification.empty()) classification_.resize(n);
+
+  for (size_t first = 0; first < n; first += max_chunk_points) {
+    const size_t count = std::min<size_t>(max_chunk_points, n - first);
+    glm::dvec3 clo(std::numeric_limits<double>::max()), chi(-std::numeric_limits<double>::max());
+    for (size_t k = first; k < first + count; ++k) {
+      const uint32_t i = order[k].second;
+      glm::dvec3 q(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+      clo = glm::min(clo, q);
+      chi = glm::max(chi, q);
+    }
+    PointChunk chunk;
+    chunk.origin = (clo + chi) * 0.5;
+    chunk.first = uint32_t(first);
+    chunk.count = uint32_t(count);
+    chunk.local_min = glm::vec3(clo - chunk.origin);
+    chunk.local_max = glm::vec3(chi - chunk.origin);
+    for (size_t k = first; k < first + count; ++k) {
+      const uint32_t i = order[k].second;
+      glm::dvec3 q(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+      local_positions_[k] = glm::vec3(q - chunk.origin);
+      point_index_[k] = in.point_index.empty() ? i : in.point_index[i];
+      if (!in.colors.empty()) {
+        const uint8_t* c = in.colors.data() + size_t(in.color_channels) * i;
+        const uint32_t a = in.color_channels == 4 ? c[3] : 255u;
+        colors_[k] = uint32_t(c[0]) | uint32_t(c[1]) << 8 | uint32_t(c[2]) << 16 | a << 24;
+      }
+      if (!in.intensity.empty()) intensity_[k] = in.intensity[i];
+      if (!in.classification.empty()) classification_[k] = in.classification[i];
+    }
+    // Float rounding of the offsets can leave a point just outside the box.
+    const glm::vec3 pad(1e-4f);
+    chunk.local_min -= pad * glm::max(glm::vec3(1.0f), glm::abs(chunk.local_min));
+    chunk.local_max += pad * glm::max(glm::vec3(1.0f), glm::abs(chunk.local_max));
+    chunks_.push_back(chunk);
+  }
+}
+
+bool PointCloud::has(Attribute a) const {
+  switch (a) {
+    case Attribute::Color: return !colors_.empty();
+    case Attribute::Intensity: return !intensity_.empty();
+    case Attribute::Classification: return !classification_.empty();
+  }
+  return false;
+}
+
+std::vector<double> PointCloud::positions_double() const {
+  std::vector<double> out(size() * 3);
+  for (const auto& c : chunks_)
+    for (uint32_t k = c.first; k < c.first + c.count; ++k) {
+      const glm::dvec3 q = c.origin + glm::dvec3(local_positions_[k]);
+      out[3 * k] = q.x;
+      out[3 * k + 1] = q.y;
+      out[3 * k + 2] = q.z;
+    }
+  return out;
+}
+
+}  // namespace pointnpr

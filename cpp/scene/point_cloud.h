@@ -1,0 +1,67 @@
+#pragma once
+// A point cloud as the renderer sees it: spatially coherent chunks, each with
+// a double-precision origin and float offsets, so precision never depends on
+// where the cloud sits in the world (georeferenced scans at 1e6 m included).
+#include <atomic>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace pointnpr {
+
+// Attributes a style can ask for; each is uploaded to the GPU only when some
+// style rendering the cloud needs it.
+enum class Attribute : uint32_t { Color = 1, Intensity = 2, Classification = 4 };
+
+struct PointChunk {
+  glm::dvec3 origin;     // world offset of this chunk (object space of the cloud)
+  uint32_t first = 0;    // range into the cloud's (reordered) arrays
+  uint32_t count = 0;
+  glm::vec3 local_min;   // bounds of the float offsets
+  glm::vec3 local_max;
+};
+
+struct PointCloudInput {
+  std::span<const double> positions;         // N*3
+  std::span<const uint8_t> colors;            // N*channels, sRGB, or empty
+  int color_channels = 3;                     // 3 (RGB) or 4 (RGBA)
+  std::span<const float> intensity;           // N or empty
+  std::span<const uint8_t> classification;    // N or empty
+  std::span<const uint32_t> point_index;      // N or empty (then 0..N-1)
+};
+
+class PointCloud {
+ public:
+  // Copies and reorders the input into chunks. Throws Error on inconsistent
+  // sizes or non-finite coordinates.
+  explicit PointCloud(const PointCloudInput& input, uint32_t max_chunk_points = 16384);
+
+  uint64_t id() const { return id_; }   // unique per cloud in the process
+  size_t size() const { return local_positions_.size(); }
+  const std::vector<PointChunk>& chunks() const { return chunks_; }
+  const std::vector<glm::vec3>& local_positions() const { return local_positions_; }
+  const std::vector<uint32_t>& colors() const { return colors_; }          // packed RGBA8, sRGB
+  const std::vector<float>& intensity() const { return intensity_; }
+  const std::vector<uint32_t>& classification() const { return classification_; }
+  const std::vector<uint32_t>& point_index() const { return point_index_; }  // stable ids
+  bool has(Attribute a) const;
+  glm::dvec3 bounds_min() const { return bounds_min_; }
+  glm::dvec3 bounds_max() const { return bounds_max_; }
+  // Reconstructs world-space (object-space) positions in double, in the
+  // cloud's internal order.
+  std::vector<double> positions_double() const;
+
+ private:
+  uint64_t id_;
+  std::vector<PointChunk> chunks_;
+  std::vector<glm::vec3> local_positions_;
+  std::vector<uint32_t> colors_;
+  std::vector<float> intensity_;
+  std::vector<uint32_t> classification_;
+  std::vector<uint32_t> point_index_;
+  glm::dvec3 bounds_min_{0.0}, bounds_max_{0.0};
+};
+
+}  // namespace pointnpr

@@ -1,0 +1,73 @@
+"""PointNPR: non-photorealistic rendering of 3D scans.
+
+Importable in plain Python (scripts, tests, farms) and as a Blender add-on.
+The Blender part loads only when ``bpy`` is importable.
+"""
+import atexit as _atexit
+import os as _os
+
+from . import _pointnpr
+from ._pointnpr import (  # noqa: F401  (the public API)
+    Camera,
+    Error,
+    GLError,
+    ParameterError,
+    PointCloud,
+    RenderCancelled,
+    Renderer,
+    RenderResult,
+    Scene,
+    Style,
+    gl_info,
+    load_image,
+    save_image,
+    schemas,
+)
+
+try:  # the readers are bound by cpp/python/bind_io.cpp
+    from ._pointnpr import PointData, ReadError, read  # noqa: F401
+except ImportError:  # pragma: no cover - only while the readers are absent
+    pass
+
+bl_info = {
+    "name": "PointNPR",
+    "author": "PointNPR developers",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "Render Properties > Render Engine > PointNPR; File > Import > Point Cloud",
+    "description": "Non-photorealistic, segment-based rendering of point clouds",
+    "category": "Render",
+}
+
+# Shaders are installed next to the compiled module.
+_pointnpr.set_shader_dir(_os.path.join(_os.path.dirname(_os.path.abspath(__file__)), "shaders"))
+_atexit.register(_pointnpr.shutdown)
+
+
+def schema(schema_id):
+    """The parameter schema of one stage or filter (see schemas())."""
+    for s in schemas():
+        if s["id"] == schema_id:
+            return s
+    raise KeyError(f"no schema named {schema_id!r}")
+
+
+try:
+    import bpy as _bpy  # noqa: F401
+
+    _IN_BLENDER = True
+except ImportError:
+    _IN_BLENDER = False
+
+
+def register():
+    """Blender add-on entry point."""
+    from . import blender
+
+    blender.register()
+
+
+def unregister():
+    from . import blender
+
+    blender.unregister()

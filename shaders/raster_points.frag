@@ -1,0 +1,13 @@
+flat in vec4 v_color;
+flat in float v_depth;
+flat in float v_diameter;
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out float o_depth;
+
+// Same coverage rule as raster_points.glsl's covers().
+void main() {
+  vec2 offset = (gl_PointCoord - 0.5) * v_diameter;
+  if (v_diameter >= 2.0 && dot(offset, offset) > 0.25 * v_diameter * v_diameter) discard;
+  o_color = v_color;
+  o_depth = v_depth;
+}
