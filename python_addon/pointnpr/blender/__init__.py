@@ -1,0 +1,38 @@
+"""PointNPR inside Blender: render engine, styles as node trees, importer.
+
+``pointnpr.register()`` / ``pointnpr.unregister()`` forward here.
+unregister() undoes everything register() did, so the add-on can be
+enabled and disabled repeatedly in one session.
+"""
+
+from . import engine, importer, nodes, settings, sync, ui
+
+# Order matters: node classes before the properties that point to trees,
+# the engine before the panels that name it.
+_modules = (nodes, settings, engine, ui, importer)
+_registered = []
+
+
+def register():
+    if _registered:
+        return
+    try:
+        for module in _modules:
+            module.register()
+            _registered.append(module)
+    except Exception:
+        unregister()
+        raise
+
+
+def unregister():
+    while _registered:
+        module = _registered.pop()
+        module.unregister()
+
+
+def is_registered():
+    return bool(_registered)
+
+
+__all__ = ("engine", "importer", "nodes", "settings", "sync", "ui", "register", "unregister")

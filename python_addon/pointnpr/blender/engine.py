@@ -1,0 +1,316 @@
+"""The PointNPR render engine: final renders (F12, blender -b -f/-a) and
+viewport renders (Rendered shading)."""
+
+import math
+import traceback
+
+import bpy
+import numpy as np
+
+from . import nodes, sync
+
+ENGINE_ID = "POINTNPR"
+SEGMENT_PASS = "Segment Index"
+
+_renderer = [None]
+
+
+def _core():
+    import pointnpr
+    return pointnpr
+
+
+def renderer():
+    """The one pointnpr.Renderer of this Blender session (lazily created)."""
+    if _renderer[0] is None:
+        _renderer[0] = _core().Renderer()
+    return _renderer[0]
+
+
+def release():
+    _renderer[0] = None
+    sync.clear_cache()
+
+
+# ---------------------------------------------------------------------------
+# Helpers shared by final and viewport renders
+
+def _matrix64(matrix):
+    return np.array([list(row) for row in matrix], dtype=np.float64)
+
+
+def render_size(scene):
+    r = scene.render
+    scale = r.resolution_percentage / 100.0
+    return max(1, int(r.resolution_x * scale)), max(1, int(r.resolution_y * scale))
+
+
+def scene_time(scene):
+    r = scene.render
+    fps = r.fps / (r.fps_base or 1.0)
+    return (scene.frame_current + scene.frame_subframe) / fps
+
+
+def scene_frame(scene):
+    return scene.frame_current + scene.frame_subframe
+
+
+def background(scene):
+    if scene.render.film_transparent:
+        return (0.0, 0.0, 0.0, 0.0)
+    world = scene.world
+    if world is None:
+        return (0.0, 0.0, 0.0, 1.0)
+    c = world.color
+    return (float(c[0]), float(c[1]), float(c[2]), 1.0)
+
+
+def _camera_world_matrix(cam_obj):
+    m = _matrix64(cam_obj.matrix_world)
+    # Blender normalises the camera's axes (scale does not zoom).
+    for col in range(3):
+        length = np.linalg.norm(m[:3, col])
+        if length > 0:
+            m[:3, col] /= length
+    return m
+
+
+def make_camera(depsgraph, cam_obj, width, height):
+    """pointnpr.Camera for a camera object and a render size."""
+    core = _core()
+    if cam_obj is None:
+        raise RuntimeError("The scene has no active camera")
+    cam_obj = cam_obj.evaluated_get(depsgraph)
+    scene = depsgraph.scene
+    cam = cam_obj.data
+    if cam_obj.type != 'CAMERA':
+        raise RuntimeError("Active camera '%s' is not a camera object" % cam_obj.name)
+    world_from_camera = _camera_world_matrix(cam_obj)
+    r = scene.render
+    aspect_x, aspect_y = float(r.pixel_aspect_x), float(r.pixel_aspect_y)
+    if cam.type == 'PANO':
+        raise RuntimeError("Panoramic cameras are not supported by PointNPR")
+    if abs(aspect_x - aspect_y) > 1e-9:
+        # Non-square pixels: let Blender build its projection and pass matrices.
+        proj = cam_obj.calc_matrix_camera(depsgraph, x=width, y=height,
+                                          scale_x=aspect_x, scale_y=aspect_y)
+        view = np.linalg.inv(world_from_camera)
+        return core.Camera.from_matrices(view, _matrix64(proj))
+    common = dict(sensor_fit=cam.sensor_fit, shift_x=float(cam.shift_x), shift_y=float(cam.shift_y),
+                  clip_start=float(cam.clip_start), clip_end=float(cam.clip_end))
+    if cam.type == 'ORTHO':
+        return core.Camera.orthographic(world_from_camera, ortho_scale=float(cam.ortho_scale), **common)
+    return core.Camera.perspective(world_from_camera, lens=float(cam.lens),
+                                   sensor_width=float(cam.sensor_width),
+                                   sensor_height=float(cam.sensor_height), **common)
+
+
+def _set_pass(render_pass, array):
+    flat = np.ascontiguousarray(array, dtype=np.float32).reshape(-1)
+    rect = render_pass.rect
+    try:
+        rect.foreach_set(flat)
+    except (AttributeError, TypeError):
+        render_pass.rect = flat.reshape(-1, render_pass.channels).tolist()
+
+
+def _find_pass(layer, name, view):
+    found = layer.passes.find_by_name(name, view)
+    if found is None:
+        for p in layer.passes:
+            if p.name == name:
+                return p
+    return found
+
+
+def do_render(scene_depsgraph, camera, width, height, progress=None, trust_cache=False):
+    """Sync and render; returns (pointnpr render result, SyncResult)."""
+    scene = scene_depsgraph.scene
+    synced = sync.build_scene(scene_depsgraph, scene_frame(scene), trust_cache=trust_cache)
+    composite, rasterizer = sync.scene_settings(scene)
+    result = renderer().render(synced.scene, camera, width, height, time=scene_time(scene),
+                               composite=composite, background=background(scene),
+                               rasterizer=rasterizer, progress=progress)
+    return result, synced
+
+
+# ---------------------------------------------------------------------------
+# Viewport drawing
+
+def _image_shader():
+    import gpu
+    for name in ('IMAGE', '2D_IMAGE'):
+        try:
+            return gpu.shader.from_builtin(name)
+        except (ValueError, SystemError):
+            continue
+    raise RuntimeError("no builtin image shader")
+
+
+class _ViewportImage:
+    """An RGBA float texture drawn over the whole region."""
+
+    def __init__(self, color):
+        import gpu
+        h, w = color.shape[:2]
+        flat = np.ascontiguousarray(color, dtype=np.float32).reshape(-1)
+        buf = gpu.types.Buffer('FLOAT', flat.size, flat)
+        self.texture = gpu.types.GPUTexture((w, h), format='RGBA16F', data=buf)
+        self.size = (w, h)
+
+    def draw(self):
+        from gpu_extras.batch import batch_for_shader
+        w, h = self.size
+        shader = _image_shader()
+        batch = batch_for_shader(shader, 'TRI_FAN', {
+            "pos": ((0, 0), (w, 0), (w, h), (0, h)),
+            "texCoord": ((0, 0), (1, 0), (1, 1), (0, 1)),
+        })
+        shader.bind()
+        shader.uniform_sampler("image", self.texture)
+        batch.draw(shader)
+
+
+# ---------------------------------------------------------------------------
+
+class PointNPRRenderEngine(bpy.types.RenderEngine):
+    bl_idname = ENGINE_ID
+    bl_label = "PointNPR"
+    bl_use_preview = False
+    bl_use_postprocess = True
+
+    # -- passes ------------------------------------------------------------
+    def update_render_passes(self, scene=None, renderlayer=None):
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", 'COLOR')
+        if renderlayer is not None and renderlayer.use_pass_z:
+            self.register_pass(scene, renderlayer, "Depth", 1, "Z", 'VALUE')
+        self.register_pass(scene, renderlayer, SEGMENT_PASS, 1, "X", 'VALUE')
+
+    # -- final render ------------------------------------------------------
+    def render(self, depsgraph):
+        try:
+            self._render(depsgraph)
+        except Exception as exc:  # never let an exception reach Blender
+            cancelled = getattr(_core(), "RenderCancelled", None)
+            if cancelled is not None and isinstance(exc, cancelled):
+                return
+            message = "PointNPR: %s" % (exc,)
+            traceback.print_exc()
+            try:
+                self.report({'ERROR'}, message)
+            except Exception:
+                pass
+            if hasattr(self, "error_set"):
+                try:
+                    self.error_set(message)
+                except Exception:
+                    pass
+
+    def _render(self, depsgraph):
+        scene = depsgraph.scene
+        view_layer = depsgraph.view_layer
+        width, height = render_size(scene)
+        cam_obj = self.camera_override or scene.camera
+        camera = make_camera(depsgraph, cam_obj, width, height)
+
+        def progress(fraction, text):
+            try:
+                self.update_progress(min(max(float(fraction), 0.0), 1.0))
+                self.update_stats("PointNPR", str(text))
+            except Exception:
+                pass
+            return not self.test_break()
+
+        self.update_stats("PointNPR", "Syncing scene")
+        result, synced = do_render(depsgraph, camera, width, height, progress=progress)
+        for warning in list(synced.warnings) + list(getattr(result, "warnings", ())):
+            self.report({'WARNING'}, "PointNPR: %s" % warning)
+
+        rr = self.begin_result(0, 0, width, height, layer=view_layer.name)
+        try:
+            view = self.active_view_get() or ""
+            layer = rr.layers[0]
+            _set_pass(_find_pass(layer, "Combined", view), result.color)
+            if view_layer.use_pass_z:
+                depth_pass = _find_pass(layer, "Depth", view)
+                if depth_pass is not None:
+                    _set_pass(depth_pass, result.depth)
+            seg_pass = _find_pass(layer, SEGMENT_PASS, view)
+            if seg_pass is not None:
+                _set_pass(seg_pass, result.segment_index.astype(np.float32))
+        finally:
+            self.end_result(rr)
+        self.update_progress(1.0)
+
+    # -- viewport ----------------------------------------------------------
+    def view_update(self, context, depsgraph):
+        try:
+            first = not getattr(self, "_pointnpr_synced", False)
+            for update in depsgraph.updates:
+                id_ = update.id
+                if isinstance(id_, bpy.types.Object) and update.is_updated_geometry:
+                    sync.invalidate(id_.name)
+                elif isinstance(id_, (bpy.types.Mesh,)) or \
+                        (hasattr(bpy.types, "PointCloud") and isinstance(id_, bpy.types.PointCloud)):
+                    sync.invalidate(id_.name)
+            if first:
+                # Geometry may have changed while another engine was active.
+                for obj in depsgraph.objects:
+                    sync.invalidate(obj.name)
+            self._pointnpr_synced = True
+            self._pointnpr_dirty = True
+        except Exception as exc:
+            traceback.print_exc()
+            self._pointnpr_error = str(exc)
+
+    def view_draw(self, context, depsgraph):
+        import gpu
+        region = context.region
+        rv3d = context.region_data
+        scene = depsgraph.scene
+        width, height = region.width, region.height
+        if width < 1 or height < 1:
+            return
+        view = _matrix64(rv3d.view_matrix)
+        proj = _matrix64(rv3d.window_matrix)
+        key = (width, height, view.tobytes(), proj.tobytes(), nodes.generation(),
+               scene_frame(scene), tuple(background(scene)))
+        image = getattr(self, "_pointnpr_image", None)
+        if getattr(self, "_pointnpr_dirty", True) or key != getattr(self, "_pointnpr_key", None) \
+                or image is None:
+            try:
+                camera = _core().Camera.from_matrices(view, proj)
+                result, synced = do_render(depsgraph, camera, width, height, trust_cache=True)
+                image = _ViewportImage(result.color)
+                self._pointnpr_image = image
+                self._pointnpr_key = key
+                self._pointnpr_dirty = False
+                self._pointnpr_error = None
+                self.update_stats("", "PointNPR: %d segments, %d points" %
+                                  (len(synced.segment_names), synced.num_points))
+            except Exception as exc:
+                traceback.print_exc()
+                self._pointnpr_image = None
+                self._pointnpr_key = key
+                self._pointnpr_dirty = False
+                self._pointnpr_error = str(exc)
+                self.update_stats("", "PointNPR error: %s" % exc)
+                return
+        if image is None:
+            return
+        gpu.state.blend_set('ALPHA_PREMULT')
+        self.bind_display_space_shader(scene)
+        try:
+            image.draw()
+        finally:
+            self.unbind_display_space_shader()
+            gpu.state.blend_set('NONE')
+
+
+def register():
+    bpy.utils.register_class(PointNPRRenderEngine)
+
+
+def unregister():
+    bpy.utils.unregister_class(PointNPRRenderEngine)
+    release()

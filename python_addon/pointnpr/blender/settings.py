@@ -1,0 +1,67 @@
+"""Scene and collection properties.
+
+Scene.pointnpr holds the composite settings, generated from
+``pointnpr.schema("composite")``, plus the rasterizer choice.
+Collection.pointnpr_style and Scene.pointnpr_default_style point to styles.
+"""
+
+import bpy
+
+from . import nodes
+
+RASTERIZERS = (
+    ("compute", "Compute", "Splats rasterized by compute shaders with 64-bit atomics"),
+    ("gl_points", "GL Points", "Splats drawn as OpenGL points"),
+)
+
+_classes = []
+
+
+def _reserved_group_names():
+    names = set(dir(bpy.types.PropertyGroup))
+    names.update(p.identifier for p in bpy.types.PropertyGroup.bl_rna.properties)
+    names.add("rasterizer")
+    return names
+
+
+def build_settings_class(schema):
+    reserved = _reserved_group_names()
+    annotations = {}
+    params = []
+    for param in schema.get("params", ()):
+        pid = nodes.property_identifier(param["name"], reserved)
+        annotations[pid] = nodes.make_property(param, update=nodes.on_property_update)
+        params.append((dict(param), pid))
+    annotations["rasterizer"] = bpy.props.EnumProperty(
+        name="Rasterizer", items=RASTERIZERS, default="compute",
+        description="How points are rasterized", update=nodes.on_property_update)
+    return type("PointNPRSceneSettings", (bpy.types.PropertyGroup,), {
+        "__annotations__": annotations,
+        "__doc__": schema.get("doc", "PointNPR scene settings"),
+        "pointnpr_params": tuple(params),
+    })
+
+
+def register():
+    import pointnpr
+    cls = build_settings_class(pointnpr.schema("composite"))
+    bpy.utils.register_class(cls)
+    _classes.append(cls)
+    bpy.types.Scene.pointnpr = bpy.props.PointerProperty(type=cls, name="PointNPR")
+    bpy.types.Scene.pointnpr_default_style = bpy.props.PointerProperty(
+        type=bpy.types.NodeTree, name="Default Style", poll=nodes.poll_style_tree,
+        update=nodes.on_property_update,
+        description="Style of collections that have none and inherit none")
+    bpy.types.Collection.pointnpr_style = bpy.props.PointerProperty(
+        type=bpy.types.NodeTree, name="Style", poll=nodes.poll_style_tree,
+        update=nodes.on_property_update,
+        description="PointNPR style of this collection's points (empty: inherit the parent's)")
+
+
+def unregister():
+    del bpy.types.Collection.pointnpr_style
+    del bpy.types.Scene.pointnpr_default_style
+    del bpy.types.Scene.pointnpr
+    for cls in reversed(_classes):
+        bpy.utils.unregister_class(cls)
+    _classes.clear()

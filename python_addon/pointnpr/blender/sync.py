@@ -1,0 +1,338 @@
+"""Blender scene -> pointnpr.Scene.
+
+Segments are collections. Every visible object with points belongs to the
+segment of (the first scene collection among) its users_collection; objects
+directly in the scene collection form a segment named after it. Segment
+order is the depth-first (pre-order) order of the collection hierarchy;
+objects within a segment are sorted by name.
+
+Point clouds are cached per object at module level, so geometry is uploaded
+once and reused across frames and viewport redraws.
+"""
+
+import zlib
+
+import bpy
+import numpy as np
+
+from . import nodes
+
+# color_source value -> cloud attribute it needs
+_SOURCE_ATTRIBUTE = {
+    "rgb": "colors",
+    "intensity": "intensity",
+    "classification": "classification",
+    "constant": None,
+}
+
+_COLOR_TYPES = {'BYTE_COLOR', 'FLOAT_COLOR'}
+
+
+def _core():
+    import pointnpr
+    return pointnpr
+
+
+# ---------------------------------------------------------------------------
+# Collections, segments and styles
+
+def collection_order(scene):
+    """[(collection, style tree or None)] in depth-first pre-order, starting
+    with the scene collection; styles inherited from the parent where a
+    collection has none, then the scene's default style."""
+    scene = getattr(scene, "original", scene)
+    default = getattr(scene, "pointnpr_default_style", None)
+    if not nodes.is_style_tree(default):
+        default = None
+    order = []
+    seen = set()
+
+    def visit(coll, inherited):
+        if coll.name in seen and coll is not scene.collection:
+            return
+        seen.add(coll.name)
+        own = getattr(coll, "pointnpr_style", None)
+        style = own if nodes.is_style_tree(own) else inherited
+        order.append((coll, style))
+        for child in coll.children:
+            visit(child, style)
+
+    visit(scene.collection, default)
+    return order
+
+
+def resolve_style(scene, collection):
+    """The style tree a collection renders with (own, inherited, scene default) or None."""
+    for coll, style in collection_order(scene):
+        if coll == collection or coll.name == getattr(collection, "name", None):
+            return style
+    return None
+
+
+def required_attribute(style_desc):
+    """Cloud attribute the style's rasterize stage reads, or None."""
+    source = style_desc["rasterize"].get("color_source")
+    if source is None:
+        try:
+            param = next(p for p in _core().schema("rasterize")["params"] if p["name"] == "color_source")
+            source = nodes._enum_default(param)
+        except Exception:
+            source = "rgb"
+    return _SOURCE_ATTRIBUTE.get(source)
+
+
+# ---------------------------------------------------------------------------
+# Geometry -> numpy
+
+def has_points(obj):
+    data = getattr(obj, "data", None)
+    if obj.type == 'MESH':
+        return data is not None and len(data.vertices) > 0
+    if obj.type == 'POINTCLOUD':
+        return data is not None and len(data.points) > 0
+    return False
+
+
+def read_positions(obj):
+    data = obj.data
+    if obj.type == 'MESH':
+        n = len(data.vertices)
+        co = np.empty(n * 3, dtype=np.float32)
+        data.vertices.foreach_get("co", co)
+    else:
+        n = len(data.points)
+        co = np.empty(n * 3, dtype=np.float32)
+        data.points.foreach_get("co", co)
+    return co.reshape(n, 3)
+
+
+def _point_attributes(data):
+    return getattr(data, "attributes", None) or ()
+
+
+def _first_color_attribute(data):
+    colors = getattr(data, "color_attributes", None)
+    candidates = colors if colors is not None else _point_attributes(data)
+    for attr in candidates:
+        if attr.data_type in _COLOR_TYPES and attr.domain == 'POINT' and not attr.name.startswith("."):
+            return attr
+    return None
+
+
+def linear_to_srgb(x):
+    x = np.clip(x, 0.0, 1.0)
+    return np.where(x <= 0.0031308, x * 12.92, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
+
+
+def srgb_to_linear(x):
+    x = np.clip(x, 0.0, 1.0)
+    return np.where(x <= 0.04045, x / 12.92, np.power((x + 0.055) / 1.055, 2.4))
+
+
+def read_colors(obj):
+    """(N,3) uint8 display sRGB from the first point colour attribute, or None."""
+    attr = _first_color_attribute(obj.data)
+    if attr is None:
+        return None
+    n = len(attr.data)
+    values = np.empty(n * 4, dtype=np.float32)
+    try:
+        attr.data.foreach_get("color_srgb", values)
+    except (AttributeError, TypeError):
+        # Older Blender: 'color' is scene-linear for both colour types.
+        attr.data.foreach_get("color", values)
+        values = linear_to_srgb(values)
+    rgb = values.reshape(n, 4)[:, :3]
+    return np.clip(np.rint(rgb * 255.0), 0, 255).astype(np.uint8)
+
+
+def read_intensity(obj):
+    attrs = _point_attributes(obj.data)
+    attr = attrs.get("intensity") if attrs else None
+    if attr is None or attr.domain != 'POINT' or attr.data_type != 'FLOAT':
+        return None
+    values = np.empty(len(attr.data), dtype=np.float32)
+    attr.data.foreach_get("value", values)
+    return values
+
+
+def read_classification(obj):
+    attrs = _point_attributes(obj.data)
+    attr = attrs.get("classification") if attrs else None
+    if attr is None or attr.domain != 'POINT' or attr.data_type not in {'INT', 'INT8'}:
+        return None
+    values = np.empty(len(attr.data), dtype=np.int32)
+    attr.data.foreach_get("value", values)
+    return np.clip(values, 0, 255).astype(np.uint8)
+
+
+_READERS = {
+    "colors": read_colors,
+    "intensity": read_intensity,
+    "classification": read_classification,
+}
+
+
+# ---------------------------------------------------------------------------
+# Cloud cache
+
+class _CacheEntry:
+    __slots__ = ("key", "cloud", "data_name", "missing")
+
+    def __init__(self, key, cloud, data_name, missing):
+        self.key = key
+        self.cloud = cloud
+        self.data_name = data_name
+        self.missing = missing
+
+
+_cloud_cache = {}   # object name -> _CacheEntry
+_stats = {"uploads": 0, "hits": 0}
+
+
+def cache_stats():
+    return dict(_stats, objects=len(_cloud_cache))
+
+
+def clear_cache():
+    _cloud_cache.clear()
+    _stats["uploads"] = _stats["hits"] = 0
+
+
+def invalidate(name):
+    """Forget the cloud of object ``name`` (or of objects using data ``name``)."""
+    _cloud_cache.pop(name, None)
+    for key in [k for k, e in _cloud_cache.items() if e.data_name == name]:
+        del _cloud_cache[key]
+
+
+def cloud_for(obj, attribute, trust_cache=False):
+    """(pointnpr.PointCloud, warning or None) for evaluated object ``obj``
+    with the one attribute the style needs (or None).
+
+    The cache key is the object name, the attribute, and a CRC32 of the
+    coordinates and attribute bytes. With ``trust_cache`` (viewport, where
+    depsgraph updates invalidate entries) a cached cloud is reused without
+    reading the geometry again."""
+    name = obj.name
+    entry = _cloud_cache.get(name)
+    if trust_cache and entry is not None and entry.key[0] == attribute:
+        _stats["hits"] += 1
+        return entry.cloud, entry.missing
+    positions = read_positions(obj)
+    values = _READERS[attribute](obj) if attribute else None
+    crc = zlib.crc32(positions.tobytes())
+    if values is not None:
+        crc = zlib.crc32(values.tobytes(), crc)
+    key = (attribute, positions.shape[0], crc)
+    if entry is not None and entry.key == key:
+        _stats["hits"] += 1
+        return entry.cloud, entry.missing
+    kwargs = {}
+    missing = None
+    if attribute:
+        if values is None:
+            missing = "object '%s' has no %s attribute the style asks for" % (name, attribute)
+        else:
+            kwargs[attribute] = values
+    cloud = _core().PointCloud(positions.astype(np.float64), **kwargs)
+    _cloud_cache[name] = _CacheEntry(key, cloud, getattr(obj.data, "name", None), missing)
+    _stats["uploads"] += 1
+    return cloud, missing
+
+
+# ---------------------------------------------------------------------------
+# Scene building
+
+class SyncResult:
+    def __init__(self):
+        self.scene = None
+        self.segment_names = []   # index = segment index in the render
+        self.warnings = []
+        self.num_objects = 0
+        self.num_points = 0
+
+
+def _matrix64(matrix):
+    return np.array([list(row) for row in matrix], dtype=np.float64)
+
+
+def _owner_collection(obj, order_index):
+    """The first of the object's users_collection that is part of the scene."""
+    original = getattr(obj, "original", obj)
+    for coll in original.users_collection:
+        idx = order_index.get(coll.name)
+        if idx is not None:
+            return idx
+    return None
+
+
+def visible_instances(depsgraph):
+    """[(evaluated object, world matrix 4x4 float64, segment-owner object)]"""
+    out = []
+    for inst in depsgraph.object_instances:
+        if inst.is_instance:
+            obj = inst.instance_object
+            owner = inst.parent
+        else:
+            obj = inst.object
+            owner = obj
+        if obj is None or obj.type not in {'MESH', 'POINTCLOUD'}:
+            continue
+        if not has_points(obj):
+            continue
+        out.append((obj, _matrix64(inst.matrix_world), owner))
+    return out
+
+
+def build_scene(depsgraph, frame, trust_cache=False):
+    """SyncResult with a pointnpr.Scene of the depsgraph's visible point objects
+    and styles evaluated at ``frame``."""
+    core = _core()
+    result = SyncResult()
+    scene = depsgraph.scene
+    order = collection_order(scene)
+    order_index = {coll.name: i for i, (coll, _style) in enumerate(order)}
+    members = {}   # order index -> [(obj, matrix)]
+    for obj, matrix, owner in visible_instances(depsgraph):
+        idx = _owner_collection(owner, order_index)
+        if idx is None:
+            idx = 0
+        members.setdefault(idx, []).append((obj, matrix))
+
+    core_scene = core.Scene()
+    style_cache = {}
+    for idx in sorted(members):
+        coll, tree = order[idx]
+        key = tree.name if tree is not None else None
+        if key not in style_cache:
+            desc = nodes.read_style(tree, frame)
+            result.warnings.extend(desc["warnings"])
+            style_cache[key] = (nodes.make_core_style(desc), required_attribute(desc))
+        style, attribute = style_cache[key]
+        instances = []
+        for obj, matrix in sorted(members[idx], key=lambda m: m[0].name):
+            cloud, missing = cloud_for(obj, attribute, trust_cache=trust_cache)
+            if missing:
+                result.warnings.append(missing)
+            instances.append((cloud, matrix))
+            result.num_objects += 1
+            result.num_points += cloud.num_points
+        core_scene.add_segment(coll.name, style, instances)
+        result.segment_names.append(coll.name)
+    result.scene = core_scene
+    return result
+
+
+def scene_settings(scene):
+    """Composite settings dict and rasterizer name from Scene.pointnpr."""
+    settings = getattr(scene, "pointnpr", None)
+    if settings is None:
+        return {}, "compute"
+    composite = {}
+    for param, pid in getattr(settings, "pointnpr_params", ()):
+        value = getattr(settings, pid)
+        if param["type"] == "color":
+            value = tuple(value)
+        composite[param["name"]] = value
+    return composite, settings.rasterizer

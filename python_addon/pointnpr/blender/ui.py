@@ -1,0 +1,250 @@
+"""Panels and operators: render settings, a collection's style (drawn
+inline, so no node editor is needed), and Blender's own panels made
+available for the PointNPR engine."""
+
+import bpy
+
+from . import nodes, sync
+from .engine import ENGINE_ID
+
+
+def _engine_is_ours(context):
+    return context.engine == ENGINE_ID
+
+
+# ---------------------------------------------------------------------------
+# Operators
+
+class POINTNPR_OT_new_style(bpy.types.Operator):
+    """Create a PointNPR style (Rasterize -> Output) and assign it"""
+    bl_idname = "pointnpr.new_style"
+    bl_label = "New Style"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    target: bpy.props.EnumProperty(
+        name="Target",
+        items=(("COLLECTION", "Collection", "The active collection"),
+               ("SCENE", "Scene", "The scene's default style"),
+               ("NONE", "None", "Only create the style")),
+        default="COLLECTION")
+
+    def execute(self, context):
+        name = "Style"
+        coll = getattr(context, "collection", None)
+        if self.target == 'COLLECTION' and coll is not None:
+            name = coll.name + " Style"
+        tree = nodes.new_style(name)
+        if self.target == 'COLLECTION':
+            if coll is None:
+                self.report({'WARNING'}, "No active collection: style created unassigned")
+            else:
+                coll.pointnpr_style = tree
+        elif self.target == 'SCENE':
+            context.scene.pointnpr_default_style = tree
+        return {'FINISHED'}
+
+
+def _filter_items(_self, _context):
+    items = []
+    for cls in nodes.node_classes():
+        if cls.pointnpr_role == nodes.ROLE_FILTER:
+            items.append((cls.pointnpr_schema_id, cls.bl_label, cls.bl_description))
+    inpaint = nodes.find_node_class(nodes.ROLE_INPAINT, "inpaint")
+    if inpaint is not None:
+        items.append(("inpaint", inpaint.bl_label, inpaint.bl_description))
+    return items or [("", "None", "")]
+
+
+class POINTNPR_OT_add_step(bpy.types.Operator):
+    """Add a filter (or depth inpainting) before the style's Output"""
+    bl_idname = "pointnpr.add_step"
+    bl_label = "Add Step"
+    bl_options = {'REGISTER', 'UNDO'}
+    bl_property = "step"
+
+    tree: bpy.props.StringProperty(name="Style")
+    step: bpy.props.EnumProperty(name="Step", items=_filter_items)
+
+    def execute(self, context):
+        tree = bpy.data.node_groups.get(self.tree)
+        if not nodes.is_style_tree(tree):
+            self.report({'ERROR'}, "No PointNPR style named '%s'" % self.tree)
+            return {'CANCELLED'}
+        role = nodes.ROLE_INPAINT if self.step == "inpaint" else nodes.ROLE_FILTER
+        nodes.append_node(tree, role, self.step)
+        nodes.bump_generation()
+        return {'FINISHED'}
+
+    def invoke(self, context, event):
+        context.window_manager.invoke_search_popup(self)
+        return {'RUNNING_MODAL'}
+
+
+class POINTNPR_OT_remove_step(bpy.types.Operator):
+    """Remove this step from the style, relinking its neighbours"""
+    bl_idname = "pointnpr.remove_step"
+    bl_label = "Remove Step"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    tree: bpy.props.StringProperty(name="Style")
+    node: bpy.props.StringProperty(name="Node")
+
+    def execute(self, context):
+        tree = bpy.data.node_groups.get(self.tree)
+        node = tree.nodes.get(self.node) if nodes.is_style_tree(tree) else None
+        if node is None:
+            self.report({'ERROR'}, "Node not found")
+            return {'CANCELLED'}
+        prev = node.inputs[0].links[0].from_socket if node.inputs and node.inputs[0].is_linked else None
+        nexts = [l.to_socket for l in node.outputs[0].links] if node.outputs else []
+        tree.nodes.remove(node)
+        if prev is not None:
+            for sock in nexts:
+                tree.links.new(prev, sock)
+        nodes.bump_generation()
+        return {'FINISHED'}
+
+
+# ---------------------------------------------------------------------------
+# Drawing a style inline
+
+def draw_style(layout, tree):
+    chain = nodes.style_chain(tree)
+    if nodes.find_output_node(tree) is None:
+        layout.label(text="Style has no Output node", icon='ERROR')
+    for node in chain:
+        box = layout.box()
+        row = box.row()
+        row.label(text=node.label or node.bl_label, icon='NODE')
+        if node.pointnpr_role != nodes.ROLE_RASTERIZE:
+            op = row.operator(POINTNPR_OT_remove_step.bl_idname, text="", icon='X', emboss=False)
+            op.tree = tree.name
+            op.node = node.name
+        nodes.draw_node_properties(node, box.column())
+    op = layout.operator(POINTNPR_OT_add_step.bl_idname, icon='ADD')
+    op.tree = tree.name
+
+
+class PointNPRPanel:
+    bl_space_type = 'PROPERTIES'
+    bl_region_type = 'WINDOW'
+    COMPAT_ENGINES = {ENGINE_ID}
+
+    @classmethod
+    def poll(cls, context):
+        return _engine_is_ours(context)
+
+
+class RENDER_PT_pointnpr(PointNPRPanel, bpy.types.Panel):
+    bl_label = "PointNPR"
+    bl_context = "render"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = True
+        scene = context.scene
+        settings = scene.pointnpr
+        col = layout.column()
+        for _param, pid in settings.pointnpr_params:
+            col.prop(settings, pid)
+        col.prop(settings, "rasterizer")
+        col.prop(scene.render, "film_transparent", text="Transparent Film")
+        if scene.world is not None:
+            col.prop(scene.world, "color", text="Background")
+        col = layout.column()
+        col.prop(context.view_layer, "use_pass_z", text="Depth Pass")
+        layout.separator()
+        layout.use_property_split = False
+        layout.label(text="Default Style")
+        layout.template_ID(scene, "pointnpr_default_style", new=POINTNPR_OT_new_style.bl_idname)
+
+
+class COLLECTION_PT_pointnpr_style(PointNPRPanel, bpy.types.Panel):
+    bl_label = "PointNPR Style"
+    bl_context = "collection"
+
+    @classmethod
+    def poll(cls, context):
+        return _engine_is_ours(context) and getattr(context, "collection", None) is not None
+
+    def draw(self, context):
+        layout = self.layout
+        coll = context.collection
+        scene = context.scene
+        layout.template_ID(coll, "pointnpr_style", new=POINTNPR_OT_new_style.bl_idname)
+        tree = coll.pointnpr_style
+        if nodes.is_style_tree(tree):
+            draw_style(layout, tree)
+            return
+        inherited = sync.resolve_style(scene, coll)
+        if inherited is not None:
+            layout.label(text="Inherits '%s'" % inherited.name, icon='LINKED')
+            draw_style(layout, inherited)
+        else:
+            layout.label(text="Built-in default style (plain rasterize)", icon='INFO')
+
+
+# ---------------------------------------------------------------------------
+# Blender's own panels
+
+_EXCLUDED_PANEL_WORDS = ("freestyle", "gpencil", "PARTICLE_", "PHYSICS_", "TEXTURE_", "lightprobe",
+                         "MATERIAL_", "EEVEE_", "DATA_PT_light", "DATA_PT_spot", "DATA_PT_area",
+                         "DATA_PT_falloff", "NODE_DATA_PT_light", "DATA_PT_preview")
+_EXTRA_PANELS = ("RENDER_PT_color_management", "RENDER_PT_color_management_curves",
+                 "RENDER_PT_format", "RENDER_PT_frame_range", "RENDER_PT_output",
+                 "RENDER_PT_post_processing", "RENDER_PT_stamp", "RENDER_PT_time_stretching",
+                 "RENDER_PT_color_management_display_settings", "RENDER_PT_format_presets",
+                 "RENDER_PT_output_color_management")
+_added_panels = []
+
+
+def _compatible_builtin_panels():
+    """Blender panels that work for any engine: those that declare the
+    generic 'BLENDER_RENDER' engine, minus features PointNPR does not use."""
+    panels = []
+    for panel in bpy.types.Panel.__subclasses__():
+        engines = getattr(panel, "COMPAT_ENGINES", None)
+        if not isinstance(engines, set):
+            continue
+        name = panel.__name__
+        if name in _EXTRA_PANELS:
+            panels.append(panel)
+            continue
+        if 'BLENDER_RENDER' in engines and not any(w in name for w in _EXCLUDED_PANEL_WORDS):
+            panels.append(panel)
+    return panels
+
+
+def add_engine_to_builtin_panels():
+    for panel in _compatible_builtin_panels():
+        if ENGINE_ID not in panel.COMPAT_ENGINES:
+            panel.COMPAT_ENGINES.add(ENGINE_ID)
+            _added_panels.append(panel)
+
+
+def remove_engine_from_builtin_panels():
+    for panel in _added_panels:
+        panel.COMPAT_ENGINES.discard(ENGINE_ID)
+    _added_panels.clear()
+
+
+_classes = (
+    POINTNPR_OT_new_style,
+    POINTNPR_OT_add_step,
+    POINTNPR_OT_remove_step,
+    RENDER_PT_pointnpr,
+    COLLECTION_PT_pointnpr_style,
+)
+
+
+def register():
+    for cls in _classes:
+        bpy.utils.register_class(cls)
+    add_engine_to_builtin_panels()
+
+
+def unregister():
+    remove_engine_from_builtin_panels()
+    for cls in reversed(_classes):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,171 @@
+"""Scene building and image helpers for the in-Blender tests."""
+
+import os
+
+import bpy
+import numpy as np
+
+from pointnpr.blender import nodes
+
+WIDTH, HEIGHT = 64, 48
+RED = (1.0, 0.0, 0.0, 1.0)
+GREEN = (0.0, 1.0, 0.0, 1.0)
+BLUE = (0.0, 0.0, 1.0, 1.0)
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+IO_DATA = os.path.join(REPO, "tests", "data", "io")
+
+
+def reset_scene():
+    """An empty scene rendered by PointNPR with plain colour management."""
+    scene = bpy.context.scene
+    for ob in list(bpy.data.objects):
+        bpy.data.objects.remove(ob, do_unlink=True)
+    for coll in list(bpy.data.collections):
+        bpy.data.collections.remove(coll)
+    for blocks in (bpy.data.meshes, bpy.data.cameras, bpy.data.lights, bpy.data.node_groups,
+                   bpy.data.actions, bpy.data.materials):
+        for block in list(blocks):
+            blocks.remove(block)
+    for img in list(bpy.data.images):
+        if img.type == 'IMAGE':
+            bpy.data.images.remove(img)
+    scene.render.engine = 'POINTNPR'
+    r = scene.render
+    r.resolution_x, r.resolution_y, r.resolution_percentage = WIDTH, HEIGHT, 100
+    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
+    r.fps, r.fps_base = 24, 1.0
+    r.film_transparent = False
+    r.use_border = False
+    r.image_settings.file_format = 'PNG'
+    r.image_settings.color_mode = 'RGBA'
+    r.image_settings.color_depth = '8'
+    for flag in dir(r):
+        if flag.startswith("use_stamp") and flag != "use_stamp_labels":
+            try:
+                setattr(r, flag, False)
+            except (AttributeError, TypeError):
+                pass
+    scene.view_settings.view_transform = 'Standard'
+    scene.view_settings.look = 'None'
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    scene.display_settings.display_device = 'sRGB'
+    scene.sequencer_colorspace_settings.name = 'sRGB'
+    if scene.world is None:
+        scene.world = bpy.data.worlds.new("World")
+    scene.world.color = (0.0, 0.0, 0.0)
+    scene.frame_start, scene.frame_end = 1, 10
+    scene.frame_set(1)
+    scene.use_nodes = False
+    scene.view_layers[0].use_pass_z = False
+    scene.pointnpr_default_style = None
+    for _param, prop in scene.pointnpr.pointnpr_params:
+        scene.pointnpr.property_unset(prop)
+    scene.pointnpr.rasterizer = "compute"
+    return scene
+
+
+def add_camera(location=(0.0, 0.0, 10.0), ortho=False, lens=50.0):
+    scene = bpy.context.scene
+    cam = bpy.data.cameras.new("Camera")
+    cam.lens = lens
+    cam.sensor_width = 36.0
+    cam.sensor_fit = 'AUTO'
+    cam.clip_start, cam.clip_end = 0.1, 100.0
+    if ortho:
+        cam.type = 'ORTHO'
+        cam.ortho_scale = 8.0
+    obj = bpy.data.objects.new("Camera", cam)
+    obj.location = location
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    return obj
+
+
+def new_collection(name, parent=None):
+    coll = bpy.data.collections.new(name)
+    (parent or bpy.context.scene.collection).children.link(coll)
+    return coll
+
+
+def grid_points(half, step, z):
+    ticks = np.arange(-half, half + step * 0.5, step)
+    xs, ys = np.meshgrid(ticks, ticks)
+    return np.stack([xs.ravel(), ys.ravel(), np.full(xs.size, z)], axis=1)
+
+
+def add_points(name, coll, positions, colors=None, intensity=None):
+    mesh = bpy.data.meshes.new(name)
+    mesh.vertices.add(len(positions))
+    mesh.vertices.foreach_set("co", np.asarray(positions, dtype=np.float32).ravel())
+    if colors is not None:
+        attr = mesh.color_attributes.new("Col", 'BYTE_COLOR', 'POINT')
+        rgba = np.ones((len(positions), 4), dtype=np.float32)
+        rgba[:, :3] = np.asarray(colors, dtype=np.float32)
+        attr.data.foreach_set("color_srgb", rgba.ravel())
+    if intensity is not None:
+        attr = mesh.attributes.new("intensity", 'FLOAT', 'POINT')
+        attr.data.foreach_set("value", np.asarray(intensity, dtype=np.float32))
+    mesh.update()
+    obj = bpy.data.objects.new(name, mesh)
+    coll.objects.link(obj)
+    return obj
+
+
+def pid(name):
+    return nodes.property_identifier(name)
+
+
+def constant_style(name, color, point_size=6.0):
+    tree = nodes.new_style(name)
+    rast = tree.nodes["Rasterize"]
+    rast.color_source = "constant"
+    setattr(rast, pid("color"), color)
+    rast.point_size = point_size
+    return tree
+
+
+def render_to_png(path):
+    bpy.context.scene.render.filepath = path
+    bpy.ops.render.render(write_still=True)
+    assert os.path.exists(path), "render wrote no image"
+    return path
+
+
+def load_png(path):
+    """(H, W, 4) float pixels of an image file, bottom row first (display values)."""
+    img = bpy.data.images.load(path, check_existing=False)
+    try:
+        w, h = img.size
+        px = np.empty(w * h * 4, dtype=np.float32)
+        img.pixels.foreach_get(px)
+        return px.reshape(h, w, 4)
+    finally:
+        bpy.data.images.remove(img)
+
+
+def render_pixels(tmp_path, name="render.png"):
+    path = render_to_png(str(tmp_path / name))
+    with open(path, "rb") as f:
+        data = f.read()
+    return load_png(path), data
+
+
+def two_planes_scene(mode="depth_test"):
+    """'Near' (red, z=2, first segment) in front of 'Far' (blue, z=0, larger,
+    second segment), seen from a camera at z=10 looking down."""
+    scene = reset_scene()
+    add_camera()
+    near = new_collection("Near")
+    far = new_collection("Far")
+    add_points("NearPoints", near, grid_points(1.0, 0.05, 2.0))
+    add_points("FarPoints", far, grid_points(3.0, 0.05, 0.0))
+    near.pointnpr_style = constant_style("Red", RED)
+    far.pointnpr_style = constant_style("Blue", BLUE)
+    scene.pointnpr.mode = mode
+    return scene, near, far
+
+
+def is_color(pixel, rgb, tol=0.2):
+    return all(abs(float(pixel[i]) - rgb[i]) < tol for i in range(3))

@@ -1,0 +1,283 @@
+import math
+import os
+import subprocess
+import sys
+
+import bpy
+import numpy as np
+import pointnpr
+import pytest
+from pointnpr.blender import nodes, sync
+
+import helpers
+from helpers import BLUE, GREEN, HEIGHT, RED, WIDTH, is_color
+
+CENTRE = (HEIGHT // 2, WIDTH // 2)   # (row, column)
+FAR_ONLY = (HEIGHT // 2, 10)         # inside the far plane, outside the near one
+CORNER = (1, 1)                      # outside both planes
+
+
+@pytest.mark.parametrize("mode", ["depth_test", "inpaint"])
+def test_nearer_segment_wins(tmp_path, mode):
+    helpers.two_planes_scene(mode)
+    px, _ = helpers.render_pixels(tmp_path)
+    assert px.shape == (HEIGHT, WIDTH, 4)
+    assert is_color(px[CENTRE], RED), px[CENTRE]
+    assert is_color(px[FAR_ONLY], BLUE), px[FAR_ONLY]
+    assert is_color(px[CORNER], (0, 0, 0)), px[CORNER]
+    assert px[CORNER][3] > 0.99  # opaque world background
+
+
+def test_layering_puts_later_segment_on_top(tmp_path):
+    # Same scene, composite by order only: 'Far' comes after 'Near'.
+    helpers.two_planes_scene("layering")
+    px, _ = helpers.render_pixels(tmp_path)
+    assert is_color(px[CENTRE], BLUE), px[CENTRE]
+
+
+def test_segment_order_is_collection_order():
+    scene, near, far = helpers.two_planes_scene()
+    sub = helpers.new_collection("Sub", near)
+    helpers.add_points("B", sub, helpers.grid_points(0.2, 0.1, 1.0))
+    helpers.add_points("A", sub, helpers.grid_points(0.2, 0.1, 1.0))
+    helpers.add_points("Loose", scene.collection, helpers.grid_points(0.2, 0.1, 1.0))
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    synced = sync.build_scene(depsgraph, 1.0)
+    assert synced.segment_names == [scene.collection.name, "Near", "Sub", "Far"]
+    assert synced.num_objects == 5
+
+
+def test_background_world_color_and_transparency(tmp_path):
+    scene, _, _ = helpers.two_planes_scene()
+    scene.world.color = (0.0, 1.0, 0.0)
+    px, _ = helpers.render_pixels(tmp_path, "world.png")
+    assert is_color(px[CORNER], GREEN), px[CORNER]
+    scene.render.film_transparent = True
+    px, _ = helpers.render_pixels(tmp_path, "transparent.png")
+    assert px[CORNER][3] < 0.01
+    assert px[CENTRE][3] > 0.99
+
+
+def test_child_inherits_parent_style(tmp_path):
+    scene = helpers.reset_scene()
+    helpers.add_camera()
+    parent = helpers.new_collection("Parent")
+    child = helpers.new_collection("Child", parent)
+    helpers.add_points("P", child, helpers.grid_points(1.5, 0.05, 0.0),
+                       colors=np.tile([[1.0, 0.0, 1.0]], (61 * 61, 1)))
+    style = helpers.constant_style("Green", GREEN, point_size=5.0)
+    parent.pointnpr_style = style
+    inherited, inherited_bytes = helpers.render_pixels(tmp_path, "inherited.png")
+    assert is_color(inherited[CENTRE], GREEN), inherited[CENTRE]
+    child.pointnpr_style = style
+    explicit, explicit_bytes = helpers.render_pixels(tmp_path, "explicit.png")
+    assert np.array_equal(inherited, explicit)
+    # Without any style, the points' own (magenta) colours are used.
+    child.pointnpr_style = None
+    parent.pointnpr_style = None
+    default, _ = helpers.render_pixels(tmp_path, "default.png")
+    assert is_color(default[CENTRE], (1.0, 0.0, 1.0)), default[CENTRE]
+    # The scene's default style applies when no collection has one.
+    scene.pointnpr_default_style = style
+    scene_default, _ = helpers.render_pixels(tmp_path, "scene_default.png")
+    assert np.array_equal(scene_default, explicit)
+
+
+def _warp_schema():
+    schema = pointnpr.schema("warp")
+    params = [p for p in schema["params"] if p["type"] == "float" and p["max"] > p["min"]]
+    assert params, "warp has no float parameter"
+    return schema, params
+
+
+def _animated_warp_scene():
+    scene = helpers.reset_scene()
+    helpers.add_camera()
+    coll = helpers.new_collection("Warped")
+    rng = np.random.default_rng(3)
+    helpers.add_points("W", coll, helpers.grid_points(1.2, 0.05, 0.0),
+                       colors=rng.random((49 * 49, 3)))
+    tree = nodes.new_style("Warp Style")
+    tree.nodes["Rasterize"].point_size = 4.0
+    warp = nodes.append_node(tree, nodes.ROLE_FILTER, "warp", name="Warp")
+    coll.pointnpr_style = tree
+    _schema, params = _warp_schema()
+    # Keyframe every float parameter from its low end to its high end.
+    for p in params:
+        prop = nodes.property_identifier(p["name"])
+        lo = p["min"] + 0.1 * (p["max"] - p["min"])
+        hi = p["min"] + 0.6 * (p["max"] - p["min"])
+        setattr(warp, prop, lo)
+        warp.keyframe_insert(prop, frame=1)
+        setattr(warp, prop, hi)
+        warp.keyframe_insert(prop, frame=10)
+    return scene, tree, params
+
+
+def test_keyframed_warp_changes_between_frames(tmp_path):
+    scene, tree, params = _animated_warp_scene()
+    scene.frame_set(1)
+    f1, f1_bytes = helpers.render_pixels(tmp_path, "f1.png")
+    scene.frame_set(10)
+    f10, f10_bytes = helpers.render_pixels(tmp_path, "f10.png")
+    scene.frame_set(1)
+    again, again_bytes = helpers.render_pixels(tmp_path, "f1b.png")
+    assert f1_bytes == again_bytes
+    assert f1_bytes != f10_bytes
+    assert np.abs(f1 - f10).max() > 0.1
+    # The style read for each frame follows the keyframes.
+    p = params[0]
+    v1 = nodes.read_style(tree, 1.0)["filters"][0][1][p["name"]]
+    v10 = nodes.read_style(tree, 10.0)["filters"][0][1][p["name"]]
+    assert math.isclose(v1, p["min"] + 0.1 * (p["max"] - p["min"]), rel_tol=1e-4, abs_tol=1e-5)
+    assert math.isclose(v10, p["min"] + 0.6 * (p["max"] - p["min"]), rel_tol=1e-4, abs_tol=1e-5)
+
+
+def _pass_pixels(scene, socket_name, tmp_path):
+    """Render, writing one Render Layers output to a float EXR through a
+    File Output node; returns its first channel (H, W), bottom row first."""
+    scene.use_nodes = True
+    tree = scene.node_tree
+    for n in list(tree.nodes):
+        tree.nodes.remove(n)
+    rl = tree.nodes.new("CompositorNodeRLayers")
+    comp = tree.nodes.new("CompositorNodeComposite")
+    out = tree.nodes.new("CompositorNodeOutputFile")
+    out.base_path = str(tmp_path)
+    out.format.file_format = 'OPEN_EXR'
+    out.format.color_depth = '32'
+    out.file_slots[0].path = socket_name.replace(" ", "_") + "_"
+    tree.links.new(rl.outputs["Image"], comp.inputs["Image"])
+    names = [o.name for o in rl.outputs if o.enabled]
+    assert socket_name in names, names
+    tree.links.new(rl.outputs[socket_name], out.inputs[0])
+    bpy.ops.render.render()
+    path = str(tmp_path / (socket_name.replace(" ", "_") + "_%04d.exr" % scene.frame_current))
+    assert os.path.exists(path), os.listdir(str(tmp_path))
+    img = bpy.data.images.load(path, check_existing=False)
+    try:
+        w, h = img.size
+        assert (w, h) == (WIDTH, HEIGHT)
+        px = np.empty(w * h * 4, dtype=np.float32)
+        img.pixels.foreach_get(px)
+    finally:
+        bpy.data.images.remove(img)
+    return px.reshape(h, w, 4)[:, :, 0]
+
+
+def test_depth_and_segment_index_passes(tmp_path):
+    scene, _, _ = helpers.two_planes_scene()
+    scene.view_layers[0].use_pass_z = True
+    depth = _pass_pixels(scene, "Depth", tmp_path)
+    # Camera at z=10: the near plane (z=2) is 8 units away, the far one 10.
+    assert abs(depth[CENTRE] - 8.0) < 0.05, depth[CENTRE]
+    assert abs(depth[FAR_ONLY] - 10.0) < 0.05, depth[FAR_ONLY]
+    assert depth[CORNER] > 1e6
+    index = _pass_pixels(scene, "Segment Index", tmp_path)
+    assert index[CENTRE] == 0.0     # Near is the first segment
+    assert index[FAR_ONLY] == 1.0   # Far the second
+    assert index[CORNER] == -1.0    # background
+    assert set(np.unique(index)) <= {-1.0, 0.0, 1.0}
+
+
+def test_depth_pass_absent_when_disabled():
+    scene, _, _ = helpers.two_planes_scene()
+    scene.view_layers[0].use_pass_z = False
+    scene.use_nodes = True
+    rl = scene.node_tree.nodes.new("CompositorNodeRLayers")
+    names = [o.name for o in rl.outputs if o.enabled]
+    assert "Segment Index" in names
+    assert "Depth" not in names
+
+
+def test_render_error_is_reported_not_raised(tmp_path):
+    scene, _, _ = helpers.two_planes_scene()
+    scene.camera.data.type = 'PANO'
+    scene.render.filepath = str(tmp_path / "pano.png")
+    # Must not crash Blender; the operator reports the error.
+    try:
+        bpy.ops.render.render(write_still=True)
+    except RuntimeError as exc:
+        assert "Panoramic" in str(exc)
+    scene.camera.data.type = 'PERSP'
+    px, _ = helpers.render_pixels(tmp_path, "after.png")
+    assert is_color(px[CENTRE], RED)
+
+
+def test_cloud_cache_reuses_uploads():
+    helpers.two_planes_scene()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    sync.clear_cache()
+    sync.build_scene(depsgraph, 1.0)
+    uploads = sync.cache_stats()["uploads"]
+    assert uploads == 2
+    sync.build_scene(depsgraph, 2.0)
+    assert sync.cache_stats()["uploads"] == uploads
+    # Changing coordinates gives a new cloud.
+    obj = bpy.data.objects["NearPoints"]
+    obj.data.vertices[0].co.z += 0.5
+    obj.data.update()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    sync.build_scene(depsgraph, 2.0)
+    assert sync.cache_stats()["uploads"] == uploads + 1
+
+
+def test_orthographic_camera(tmp_path):
+    scene, _, _ = helpers.two_planes_scene()
+    scene.camera.data.type = 'ORTHO'
+    scene.camera.data.ortho_scale = 4.0   # 4 units across: the far plane fills it
+    px, _ = helpers.render_pixels(tmp_path, "ortho.png")
+    assert is_color(px[CENTRE], RED), px[CENTRE]
+    assert is_color(px[CORNER], BLUE), px[CORNER]
+
+
+def test_resolution_percentage(tmp_path):
+    scene, _, _ = helpers.two_planes_scene()
+    scene.render.resolution_percentage = 50
+    px, _ = helpers.render_pixels(tmp_path, "half.png")
+    assert px.shape[:2] == (HEIGHT // 2, WIDTH // 2)
+    assert is_color(px[HEIGHT // 4, WIDTH // 4], RED)
+
+
+def _blender_render(blend, out_pattern, frame_args):
+    env = dict(os.environ)
+    env["POINTNPR_BUILD_DIR"] = os.environ["POINTNPR_BUILD_DIR"]
+    enable = os.path.join(os.path.dirname(os.path.abspath(__file__)), "enable_addon.py")
+    cmd = [bpy.app.binary_path, "-b", "--factory-startup", blend, "--python-exit-code", "1",
+           "--python", enable, "-o", out_pattern, "-F", "PNG"] + frame_args
+    proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stdout.decode(errors="replace")[-3000:]
+    return proc.stdout.decode(errors="replace")
+
+
+def test_same_blend_renders_identically_in_two_processes(tmp_path):
+    scene, tree, _params = _animated_warp_scene()
+    scene.frame_end = 2
+    blend = str(tmp_path / "scene.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend, copy=True)
+    outputs = []
+    for run in range(2):
+        pattern = str(tmp_path / ("run%d_####" % run))
+        log = _blender_render(blend, pattern, ["-f", "1"])
+        path = str(tmp_path / ("run%d_0001.png" % run))
+        assert os.path.exists(path), log[-3000:]
+        with open(path, "rb") as f:
+            outputs.append(f.read())
+    assert outputs[0] == outputs[1]
+    # The same frame rendered in this process matches too (pixels).
+    scene.frame_set(1)
+    here, _ = helpers.render_pixels(tmp_path, "here.png")
+    assert np.array_equal(here, helpers.load_png(str(tmp_path / "run0_0001.png")))
+
+
+def test_animation_render_writes_every_frame(tmp_path):
+    scene, _, _ = _animated_warp_scene()
+    scene.frame_start, scene.frame_end = 1, 3
+    blend = str(tmp_path / "anim.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend, copy=True)
+    _blender_render(blend, str(tmp_path / "anim_####"), ["-a"])
+    frames = [str(tmp_path / ("anim_%04d.png" % f)) for f in (1, 2, 3)]
+    assert all(os.path.exists(f) for f in frames)
+    images = [helpers.load_png(f) for f in frames]
+    assert not np.array_equal(images[0], images[2])
