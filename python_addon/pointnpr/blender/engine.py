@@ -13,6 +13,8 @@ ENGINE_ID = "POINTNPR"
 SEGMENT_PASS = "Segment Index"
 
 _renderer = [None]
+# Counters for diagnostics and tests.
+stats = {"final_renders": 0, "viewport_renders": 0, "viewport_draws": 0}
 
 
 def _core():
@@ -241,6 +243,7 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
         finally:
             self.end_result(rr)
         self.update_progress(1.0)
+        stats["final_renders"] += 1
 
     # -- viewport ----------------------------------------------------------
     def view_update(self, context, depsgraph):
@@ -282,6 +285,7 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
                 camera = _core().Camera.from_matrices(view, proj)
                 result, synced = do_render(depsgraph, camera, width, height, trust_cache=True)
                 image = _ViewportImage(result.color)
+                stats["viewport_renders"] += 1
                 self._pointnpr_image = image
                 self._pointnpr_key = key
                 self._pointnpr_dirty = False
@@ -302,6 +306,7 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
         self.bind_display_space_shader(scene)
         try:
             image.draw()
+            stats["viewport_draws"] += 1
         finally:
             self.unbind_display_space_shader()
             gpu.state.blend_set('NONE')

@@ -31,7 +31,8 @@ ASPRS_CLASSES = {
     18: "High Noise",
 }
 
-FILE_EXTENSIONS = ("las", "laz", "ply")
+# What pointnpr.read accepts (its ReadError lists them for unknown extensions).
+FILE_EXTENSIONS = ("las", "ply", "pcd", "xyz", "pts", "txt", "csv")
 
 
 def class_name(code):
@@ -148,7 +149,7 @@ def import_point_cloud(context, filepath, split_by_classification=False, recentr
 
 
 class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
-    """Import a point cloud (LAS, PLY) as vertex-only meshes"""
+    """Import a point cloud (LAS, PLY, PCD, XYZ) as vertex-only meshes"""
     bl_idname = "import_scene.pointnpr_cloud"
     bl_label = "Import Point Cloud"
     bl_options = {'REGISTER', 'UNDO'}
@@ -181,7 +182,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
 
 
 def menu_func_import(self, context):
-    self.layout.operator(IMPORT_SCENE_OT_pointnpr_cloud.bl_idname, text="Point Cloud (.las, .ply)")
+    self.layout.operator(IMPORT_SCENE_OT_pointnpr_cloud.bl_idname, text="Point Cloud (.las, .ply, .pcd, .xyz)")
 
 
 def register():
