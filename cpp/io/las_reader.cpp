@@ -285,7 +285,9 @@ void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
   }
   if (lay.rgb >= 0) {
     // LAS stores 16-bit colour; many writers store 0-255 values instead.
-    // Decide on the file as a whole: any value above 255 means 16-bit.
+    // Decide on the file as a whole: any value above 255 means 16-bit, which
+    // is then reduced with v >> 8: exact for both common ways of widening
+    // 8-bit colour (c * 256 and c * 257) and within one level otherwise.
     uint16_t maxv = 0;
     for (uint64_t i = 0; i < n; ++i) {
       const uint8_t* r = base + i * rl + lay.rgb;
@@ -302,7 +304,7 @@ void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
         const uint8_t* r = base + i * rl + lay.rgb;
         for (int c = 0; c < 3; ++c) {
           uint32_t x = load_le<uint16_t>(r + 2 * c);
-          v[3 * i + c] = static_cast<uint8_t>(sixteen ? (x * 255u + 32767u) / 65535u : x);
+          v[3 * i + c] = static_cast<uint8_t>(sixteen ? x >> 8 : x);
         }
       }
     }
@@ -423,10 +425,11 @@ PointData LasReader::read() {
   const uint64_t avail = size_ - point_offset;
   if (count > avail / record_length) {
     // Overflow-safe: count * record_length would exceed what the file holds.
-    const long double need = static_cast<long double>(count) * record_length;
+    const std::string need = count <= std::numeric_limits<uint64_t>::max() / record_length
+                                 ? std::to_string(count * record_length)
+                                 : std::string("more than 2^64");
     fail("file is truncated: the header declares " + std::to_string(count) + " points of " +
-             std::to_string(record_length) + " bytes (" +
-             std::to_string(static_cast<unsigned long long>(need)) + " bytes) starting at byte " +
+             std::to_string(record_length) + " bytes (" + need + " bytes) starting at byte " +
              std::to_string(point_offset) + ", but only " + std::to_string(avail) +
              " bytes follow; the file may be an incomplete copy or download",
          static_cast<int64_t>(size_));
