@@ -5,6 +5,7 @@
 // regions get outlines, so lone points do not sprout rings.
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "render/filter.h"
 
@@ -19,26 +20,39 @@ class Cartoon final : public Filter {
     return int(std::ceil(2.0 * kSurroundRatio * p.get_float("edge_sigma")));
   }
   int footprint(const ParamValues& p) const override {
-    return std::max(p.get_int("outline_width"), p.get_int("fill_gaps")) + kernel_radius(p);
+    // Writes up to outline_width outside; reads its kernel beyond that.
+    return p.get_int("outline_width") + std::max(p.get_int("fill_gaps"), kernel_radius(p));
   }
 
   void apply(const FilterContext& ctx, const ParamValues& p) const override {
-    const gl::Texture& smooth = ctx.scratch(0);
-    const gl::Texture& edges = ctx.scratch(1);
-    const int radius = std::max(kernel_radius(p), p.get_int("fill_gaps"));
-    // Pass 1 also runs on the ring the outlines read.
-    const Rect smooth_rect = ctx.rect.grown(p.get_int("outline_width"), ctx.image_size);
-    {
-      const gl::Program& prog = ctx.shaders->compute("cartoon.comp", {"PASS_SMOOTH"});
+    const int fill = p.get_int("fill_gaps");
+    const float sigma = float(p.get_float("edge_sigma"));
+    const float fill_sigma = float(fill) * 0.5f;
+    const int radius = std::max(kernel_radius(p), fill);
+    // The blurred sums are also read on the ring the outlines look into.
+    const Rect sums_rect = ctx.rect.grown(p.get_int("outline_width"), ctx.image_size);
+    const gl::Texture* sums[4] = {&ctx.scratch(0), &ctx.scratch(1), &ctx.scratch(2), &ctx.scratch(3)};
+    for (const char* pass : {"PASS_BLUR_X", "PASS_BLUR_Y"}) {
+      const bool x = std::string(pass) == "PASS_BLUR_X";
+      const gl::Program& prog = ctx.shaders->compute("cartoon.comp", {pass});
       prog.use();
-      glUniform1f(prog.location("u_sigma"), float(p.get_float("edge_sigma")));
+      glUniform1f(prog.location("u_sigma"), sigma);
+      glUniform1f(prog.location("u_fill_sigma"), fill_sigma);
       glUniform1i(prog.location("u_radius"), radius);
-      glUniform1i(prog.location("u_fill_gaps"), p.get_int("fill_gaps"));
-      glBindImageTexture(0, ctx.input->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-      glBindImageTexture(2, smooth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-      glBindImageTexture(3, edges.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-      dispatch_rect(prog, smooth_rect);
+      if (x) {
+        glBindImageTexture(0, ctx.input->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+      } else {
+        glBindImageTexture(4, sums[0]->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(5, sums[1]->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+      }
+      glBindImageTexture(2, sums[x ? 0 : 2]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+      glBindImageTexture(3, sums[x ? 1 : 3]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+      // The vertical pass reads rows the horizontal pass must have written.
+      dispatch_rect(prog, x ? sums_rect.grown(radius, ctx.image_size) : sums_rect);
     }
+    // Total weight of the 2D fill kernel, to turn sums into a coverage fraction.
+    double norm = 0.0;
+    for (int i = -radius; i <= radius; ++i) norm += fill > 0 ? std::exp(-double(i * i) / (2.0 * fill_sigma * fill_sigma)) : 0.0;
     const gl::Program& prog = ctx.shaders->compute("cartoon.comp", {"PASS_COMPOSE"});
     prog.use();
     const glm::vec4 edge = p.get_color("edge_color");
@@ -47,12 +61,12 @@ class Cartoon final : public Filter {
     glUniform1f(prog.location("u_edge_sensitivity"), float(p.get_float("edge_sensitivity")));
     glUniform1f(prog.location("u_edge_strength"), float(p.get_float("edge_strength")));
     glUniform1i(prog.location("u_outline_width"), p.get_int("outline_width"));
-    glUniform1i(prog.location("u_fill_gaps"), p.get_int("fill_gaps"));
+    glUniform1f(prog.location("u_fill_norm"), float(norm * norm));
     glUniform4f(prog.location("u_edge_color"), edge.r, edge.g, edge.b, edge.a);
     glBindImageTexture(0, ctx.input->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(1, ctx.output->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, smooth.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(3, edges.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(4, sums[2]->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(5, sums[3]->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     dispatch_rect(prog, ctx.rect);
   }
 };

@@ -1,0 +1,286 @@
+// Renderer behaviour on synthetic scenes with known ground truth.
+#include <gtest/gtest.h>
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "gl/device.h"
+#include "gl/gl.h"
+#include "scene_builders.h"
+
+using namespace pointnpr;
+using namespace pointnpr::test;
+
+namespace {
+
+constexpr glm::ivec2 kSize{320, 240};
+
+// Seed 000 Fig. 12 set-up: a sparse near segment (cartoon: outlines and
+// filled gaps) in front of a dense far one that is drawn later.
+Scene fig12_scene(glm::dvec3 offset = glm::dvec3(0.0)) {
+  Scene scene;
+  const Style cartoon = style_with({{"point_size", {3}}}, {{"cartoon", {}}});
+  scene.segments.push_back(segment("near", plane_cloud(-1.2, 0.4, -0.6, 0.6, -5, 0.03, {230, 60, 40}, offset, 0.02),
+                                   cartoon));
+  scene.segments.push_back(segment("far", plane_cloud(-2, 3, -1.5, 1.5, -10, 0.05, {40, 60, 230}, offset),
+                                   style_with({{"point_size", {3}}})));
+  return scene;
+}
+
+// Pixels well inside the near plane's projection whose front segment is not
+// the near one. Ground truth from the camera model: half-width at 5 m is
+// 5 * 18 / 50 = 1.8 m over 160 px.
+int wrong_front_pixels(const RenderResult& r) {
+  int wrong = 0;
+  const double px_per_m = 160.0 / 1.8;
+  for (int y = 0; y < r.height; ++y)
+    for (int x = 0; x < r.width; ++x) {
+      const double wx = (x + 0.5 - 160.0) / px_per_m, wy = (y + 0.5 - 120.0) / px_per_m;
+      const double margin = 3.0 / px_per_m;
+      const bool near_inside = wx > -1.2 + margin && wx < 0.4 - margin && wy > -0.6 + margin && wy < 0.6 - margin;
+      if (near_inside && r.segment_index[size_t(y) * size_t(r.width) + size_t(x)] != 0) ++wrong;
+    }
+  return wrong;
+}
+
+bool same_bytes(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+size_t count_differing(const std::vector<float>& a, const std::vector<float>& b) {
+  size_t n = 0;
+  for (size_t i = 0; i < a.size(); ++i) n += a[i] != b[i];
+  return n;
+}
+
+}  // namespace
+
+TEST(Render, CompositingModesOrderAsInFig12) {
+  Renderer renderer;
+  const Camera cam = front_camera({0, 0, 0}, kSize);
+  const Scene scene = fig12_scene();
+  const int layering = wrong_front_pixels(renderer.render(scene, cam, settings(kSize, "layering")));
+  const int depth_test = wrong_front_pixels(renderer.render(scene, cam, settings(kSize, "depth_test")));
+  const int inpaint = wrong_front_pixels(renderer.render(scene, cam, settings(kSize, "inpaint")));
+  // About 130 x 100 pixels lie inside the near plane.
+  EXPECT_GT(layering, 10000);
+  EXPECT_GT(layering, depth_test);
+  EXPECT_GT(depth_test, 500);  // filled gaps without depth let the far plane through
+  EXPECT_LT(inpaint * 20, depth_test) << "layering " << layering << " depth test " << depth_test;
+}
+
+TEST(Render, InpaintingWithoutCoveredNeighboursKeepsBackgroundDepth) {
+  // One point, displaced 20 px by a warp: its new pixels have no covered
+  // pixel within the inpainting radius. Listing 1 would divide 0 by 0.
+  Renderer renderer;
+  std::vector<double> pos = {0.0, 0.0, -5.0};
+  PointCloudInput in;
+  in.positions = pos;
+  auto cloud = std::make_shared<PointCloud>(in);
+  Scene scene;
+  scene.segments.push_back(segment(
+      "lonely", cloud,
+      style_with({{"point_size", {2}}, {"color_source", {3}}},
+                 {{"warp", {{"amplitude", {20}}, {"wavelength", {4096}}, {"direction", {90}}, {"phase", {90}}}}},
+                 {{"radius", {2}}})));
+  const RenderResult r = renderer.render(scene, front_camera({0, 0, 0}, kSize), settings(kSize, "inpaint"));
+  int drawn = 0;
+  for (size_t i = 0; i < r.depth.size(); ++i) {
+    ASSERT_FALSE(std::isnan(r.depth[i])) << "pixel " << i;
+    ASSERT_FALSE(std::isnan(r.color[4 * i + 3])) << "pixel " << i;
+    if (r.color[4 * i + 3] > 0.0f) {
+      ++drawn;
+      EXPECT_EQ(r.depth[i], kBackgroundDepth) << "pixel " << i;
+    }
+  }
+  EXPECT_GE(drawn, 1);
+  // The point's own pixel was moved away.
+  EXPECT_EQ(r.color[4 * (120 * 320 + 160) + 3], 0.0f);
+}
+
+TEST(Render, WarpAnimatesWithTimeAndIsDeterministic) {
+  Renderer renderer;
+  const Camera cam = front_camera({0, 0, 0}, kSize);
+  Scene scene;
+  scene.segments.push_back(segment("wave", plane_cloud(-1, 1, -0.6, 0.6, -5, 0.02, {200, 200, 40}),
+                                   style_with({{"point_size", {3}}}, {{"warp", {{"amplitude", {8}}, {"wavelength", {60}}}}})));
+  const RenderResult t0 = renderer.render(scene, cam, settings(kSize, "inpaint", 0.0));
+  const RenderResult t0_again = renderer.render(scene, cam, settings(kSize, "inpaint", 0.0));
+  const RenderResult t1 = renderer.render(scene, cam, settings(kSize, "inpaint", 0.375));
+  EXPECT_TRUE(same_bytes(t0.color, t0_again.color));
+  EXPECT_TRUE(same_bytes(t0.depth, t0_again.depth));
+  EXPECT_GT(count_differing(t0.color, t1.color), 1000u);
+}
+
+TEST(Render, TranslationByAMillionMetresChangesNothing) {
+  Renderer renderer;
+  const glm::dvec3 offset(1e6, 5e6, 0.0);
+  const RenderResult at_origin = renderer.render(fig12_scene(), front_camera({0, 0, 0}, kSize), settings(kSize));
+  const RenderResult far_away = renderer.render(fig12_scene(offset), front_camera(offset, kSize), settings(kSize));
+  EXPECT_EQ(count_differing(at_origin.color, far_away.color), 0u);
+  EXPECT_EQ(at_origin.segment_index, far_away.segment_index);
+}
+
+TEST(Render, SegmentsOneCentimetreApartAtOneKilometreCompositeInOrder) {
+  Renderer renderer;
+  const Camera cam = front_camera({0, 0, 0}, kSize, 0.01, 5000.0);
+  auto front = plane_cloud(-400, 400, -300, 300, -1000.0, 2.0, {255, 0, 0});
+  auto back = plane_cloud(-400, 400, -300, 300, -1000.01, 2.0, {0, 0, 255});
+  for (RasterizerKind kind : {RasterizerKind::Compute, RasterizerKind::GlPoints}) {
+    for (const char* mode : {"depth_test", "inpaint"}) {
+      for (bool back_last : {true, false}) {
+        Scene scene;
+        const Style s = style_with({{"point_size", {4}}});
+        scene.segments.push_back(back_last ? segment("front", front, s) : segment("back", back, s));
+        scene.segments.push_back(back_last ? segment("back", back, s) : segment("front", front, s));
+        const int front_index = back_last ? 0 : 1;
+        const RenderResult r = renderer.render(scene, cam, settings(kSize, mode, 0.0, kind));
+        size_t covered = 0, wrong = 0;
+        for (int32_t idx : r.segment_index) {
+          covered += idx >= 0;
+          wrong += idx >= 0 && idx != front_index;
+        }
+        EXPECT_GT(covered, size_t(kSize.x * kSize.y) * 9 / 10);
+        EXPECT_EQ(wrong, 0u) << mode << (kind == RasterizerKind::Compute ? " compute" : " gl_points");
+      }
+    }
+  }
+}
+
+TEST(Render, ComputeAndGlPointsRasterizersAgree) {
+  Renderer renderer;
+  const Camera cam = front_camera({0, 0, 0}, kSize);
+  Scene scene;
+  scene.segments.push_back(segment("a", plane_cloud(-1.2, 0.4, -0.6, 0.6, -5, 0.03, {230, 60, 40}, {}, 0.02),
+                                   style_with({{"point_size", {3}}})));
+  scene.segments.push_back(segment("b", plane_cloud(-2, 3, -1.5, 1.5, -10, 0.11, {40, 60, 230}, {}, 0.05),
+                                   style_with({{"point_size", {5}}})));
+  const RenderResult c = renderer.render(scene, cam, settings(kSize, "depth_test", 0.0, RasterizerKind::Compute));
+  const RenderResult g = renderer.render(scene, cam, settings(kSize, "depth_test", 0.0, RasterizerKind::GlPoints));
+  size_t either = 0, mismatch = 0, index_mismatch = 0;
+  for (size_t i = 0; i < c.segment_index.size(); ++i) {
+    const bool cc = c.color[4 * i + 3] > 0, gc = g.color[4 * i + 3] > 0;
+    either += cc || gc;
+    mismatch += cc != gc;
+    index_mismatch += c.segment_index[i] != g.segment_index[i];
+  }
+  ASSERT_GT(either, 20000u);
+  // Tolerance: 0.5% of covered pixels (splat borders exactly on pixel centres).
+  EXPECT_LE(mismatch * 200, either) << mismatch << " of " << either;
+  EXPECT_LE(index_mismatch * 200, either) << index_mismatch << " of " << either;
+}
+
+TEST(Render, ChunksBehindTheCameraAreCulled) {
+  Renderer renderer;
+  Scene scene;
+  scene.segments.push_back(segment("behind", plane_cloud(-1, 1, -1, 1, 5, 0.05, {255, 255, 255}),
+                                   style_with({{"point_size", {2}}})));
+  const RenderResult r = renderer.render(scene, front_camera({0, 0, 0}, kSize), settings(kSize));
+  EXPECT_GT(r.stats.at("chunks_total"), 0.0);
+  EXPECT_EQ(r.stats.at("chunks_culled"), r.stats.at("chunks_total"));
+  for (int32_t idx : r.segment_index) ASSERT_EQ(idx, -1);
+}
+
+TEST(Render, OnlyAttributesTheStyleUsesAreUploadedOnce) {
+  Renderer renderer;
+  auto cloud = plane_cloud(-1, 1, -1, 1, -5, 0.05, {10, 20, 30});
+  const Camera cam = front_camera({0, 0, 0}, kSize);
+  Scene constant;
+  constant.segments.push_back(segment("c", cloud, style_with({{"color_source", {3}}})));
+  renderer.render(constant, cam, settings(kSize));
+  EXPECT_EQ(renderer.uploaded_attributes(cloud->id()), 0u);  // positions only
+  const uint64_t uploads_after_positions = renderer.upload_count();
+  Scene rgb;
+  rgb.segments.push_back(segment("c", cloud, style_with({})));
+  renderer.render(rgb, cam, settings(kSize));
+  EXPECT_EQ(renderer.uploaded_attributes(cloud->id()), uint32_t(Attribute::Color));
+  EXPECT_EQ(renderer.upload_count(), uploads_after_positions + 1);
+  renderer.render(rgb, cam, settings(kSize));  // redraw: nothing new
+  EXPECT_EQ(renderer.upload_count(), uploads_after_positions + 1);
+  EXPECT_EQ(renderer.cached_clouds(), 1u);
+}
+
+TEST(Render, MissingAttributeFallsBackToConstantColorWithAWarning) {
+  Renderer renderer;
+  std::vector<double> pos = {0, 0, -5};
+  PointCloudInput in;
+  in.positions = pos;
+  Scene scene;
+  scene.segments.push_back(segment("no colors", std::make_shared<PointCloud>(in),
+                                   style_with({{"point_size", {4}}, {"color", {0, 1, 0, 1}}})));
+  const RenderResult r = renderer.render(scene, front_camera({0, 0, 0}, kSize), settings(kSize));
+  ASSERT_EQ(r.warnings.size(), 1u);
+  const float* c = &r.color[4 * (120 * 320 + 160)];
+  EXPECT_FLOAT_EQ(c[1], 1.0f);
+  EXPECT_FLOAT_EQ(c[0], 0.0f);
+}
+
+TEST(Render, BackgroundGoesUnderThePremultipliedImage) {
+  Renderer renderer;
+  Scene empty;
+  RenderSettings s = settings(kSize);
+  s.background = {0.2, 0.4, 0.6, 1.0};
+  const RenderResult r = renderer.render(empty, front_camera({0, 0, 0}, kSize), s);
+  EXPECT_FLOAT_EQ(r.color[0], 0.2f);
+  EXPECT_FLOAT_EQ(r.color[2], 0.6f);
+  EXPECT_FLOAT_EQ(r.color[3], 1.0f);
+  EXPECT_EQ(r.depth[0], kBackgroundDepth);
+}
+
+TEST(Render, ProgressCanCancel) {
+  Renderer renderer;
+  RenderSettings s = settings(kSize);
+  int calls = 0;
+  s.progress = [&calls](double, const std::string&) { return ++calls < 2; };
+  EXPECT_THROW(renderer.render(fig12_scene(), front_camera({0, 0, 0}, kSize), s), RenderCancelled);
+  EXPECT_EQ(calls, 2);
+}
+
+TEST(Render, InvalidSizesAreRefused) {
+  Renderer renderer;
+  EXPECT_THROW(renderer.render(Scene{}, front_camera({0, 0, 0}, kSize), settings({0, 10})), ParameterError);
+  EXPECT_THROW(renderer.render(Scene{}, front_camera({0, 0, 0}, kSize), settings({40000, 10})), ParameterError);
+}
+
+TEST(GLDevice, TheHostsCurrentContextAndItsStateSurviveARender) {
+  // Stand in for Blender: a context of our own, current on this thread.
+  EGLDisplay display = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  ASSERT_NE(display, EGL_NO_DISPLAY);
+  ASSERT_TRUE(eglInitialize(display, nullptr, nullptr));
+  ASSERT_TRUE(eglBindAPI(EGL_OPENGL_API));
+  const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+                            EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  EGLContext host = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
+  ASSERT_NE(host, EGL_NO_CONTEXT);
+  ASSERT_TRUE(eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, host));
+  glClearColor(0.25f, 0.5f, 0.75f, 1.0f);
+  GLuint host_fbo = 0;
+  glGenFramebuffers(1, &host_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, host_fbo);
+
+  Renderer renderer;
+  renderer.render(fig12_scene(), front_camera({0, 0, 0}, kSize), settings(kSize));
+
+  EXPECT_EQ(eglGetCurrentContext(), host);
+  GLfloat clear[4];
+  glGetFloatv(GL_COLOR_CLEAR_VALUE, clear);
+  EXPECT_FLOAT_EQ(clear[0], 0.25f);
+  EXPECT_FLOAT_EQ(clear[2], 0.75f);
+  GLint bound = 0;
+  glGetIntegerv(GL_FRAMEBUFFER_BINDING, &bound);
+  EXPECT_EQ(GLuint(bound), host_fbo);
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+  glDeleteFramebuffers(1, &host_fbo);
+  eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  eglDestroyContext(display, host);
+}
+
+TEST(GLDevice, DescribesItsContext) {
+  const gl::DeviceInfo& info = gl::Device::instance().info();
+  EXPECT_NE(info.version.find("4."), std::string::npos);
+  EXPECT_FALSE(info.renderer.empty());
+  EXPECT_GE(info.max_texture_size, 4096);
+}

@@ -1,0 +1,114 @@
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/error.h"
+#include "scene/camera.h"
+#include "scene/point_cloud.h"
+
+using namespace pointnpr;
+
+TEST(PointCloud, ChunksKeepEveryPointAndItsStableIndex) {
+  std::vector<double> pos;
+  for (int i = 0; i < 50000; ++i) pos.insert(pos.end(), {double(i % 97), double(i % 89) * 0.5, double(i) * 1e-3});
+  PointCloudInput in;
+  in.positions = pos;
+  PointCloud cloud(in, 4096);
+  ASSERT_EQ(cloud.size(), 50000u);
+  EXPECT_GE(cloud.chunks().size(), 13u);
+  std::vector<int> seen(50000, 0);
+  const auto back = cloud.positions_double();
+  for (size_t k = 0; k < cloud.size(); ++k) {
+    const uint32_t i = cloud.point_index()[k];
+    ++seen[i];
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(back[3 * k + size_t(c)], pos[3 * i + size_t(c)], 1e-4);
+  }
+  for (int s : seen) ASSERT_EQ(s, 1);
+}
+
+TEST(PointCloud, GeoreferencedCoordinatesKeepMillimetres) {
+  // Aerial LiDAR in UTM: 1e6 m offsets. Float alone would round to 6 cm.
+  std::vector<double> pos;
+  for (int i = 0; i < 1000; ++i) pos.insert(pos.end(), {637000.123 + i * 0.001, 5e6 + 0.007 * i, 120.5});
+  PointCloudInput in;
+  in.positions = pos;
+  PointCloud cloud(in, 256);
+  const auto back = cloud.positions_double();
+  for (size_t k = 0; k < cloud.size(); ++k) {
+    const uint32_t i = cloud.point_index()[k];
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(back[3 * k + size_t(c)], pos[3 * i + size_t(c)], 1e-5);
+  }
+}
+
+TEST(PointCloud, RejectsInconsistentInput) {
+  std::vector<double> pos = {0, 0, 0, 1, 1};
+  PointCloudInput in;
+  in.positions = pos;
+  EXPECT_THROW(PointCloud{in}, Error);
+  std::vector<double> nan_pos = {0, 0, std::nan("")};
+  in.positions = nan_pos;
+  EXPECT_THROW(PointCloud{in}, Error);
+  std::vector<double> ok = {0, 0, 0};
+  std::vector<uint8_t> colors = {1, 2};
+  in.positions = ok;
+  in.colors = colors;
+  EXPECT_THROW(PointCloud{in}, Error);
+}
+
+TEST(PointCloud, EmptyCloudIsValid) {
+  PointCloudInput in;
+  PointCloud cloud(in);
+  EXPECT_EQ(cloud.size(), 0u);
+  EXPECT_TRUE(cloud.chunks().empty());
+}
+
+TEST(Camera, PerspectiveFollowsBlenderSensorFit) {
+  // 50 mm lens on a 36 mm sensor: a point at x = 0.36 m, 1 m away, lands at
+  // ndc x = 0.36 * 50 / 18 = 1.0 (the right image edge) for horizontal fit.
+  const Camera c = Camera::perspective(glm::dmat4(1.0), 50, 36, 24, SensorFit::Auto, 0, 0, 0.1, 100, {1920, 1080});
+  glm::dvec4 clip = c.projection * c.view_from_world * glm::dvec4(0.36, 0.0, -1.0, 1.0);
+  EXPECT_NEAR(clip.x / clip.w, 1.0, 1e-12);
+  // Portrait image: AUTO fits the sensor to the larger (vertical) side.
+  const Camera p = Camera::perspective(glm::dmat4(1.0), 50, 36, 24, SensorFit::Auto, 0, 0, 0.1, 100, {1080, 1920});
+  clip = p.projection * glm::dvec4(0.0, 0.36, -1.0, 1.0);
+  EXPECT_NEAR(clip.y / clip.w, 1.0, 1e-12);
+  // Vertical fit uses the sensor height.
+  const Camera v = Camera::perspective(glm::dmat4(1.0), 50, 36, 24, SensorFit::Vertical, 0, 0, 0.1, 100, {1920, 1080});
+  clip = v.projection * glm::dvec4(0.0, 0.24, -1.0, 1.0);
+  EXPECT_NEAR(clip.y / clip.w, 1.0, 1e-12);
+}
+
+TEST(Camera, ShiftMovesTheImageByAFractionOfTheLargerSide) {
+  const Camera c = Camera::perspective(glm::dmat4(1.0), 50, 36, 24, SensorFit::Auto, 0.25, 0, 0.1, 100, {1000, 500});
+  const glm::dvec4 clip = c.projection * glm::dvec4(0.0, 0.0, -1.0, 1.0);
+  EXPECT_NEAR(clip.x / clip.w, -0.5, 1e-12);  // shift 0.25 of 1000 px = 250 px = half the NDC half-width
+}
+
+TEST(Camera, OrthographicScaleSpansTheLargerSide) {
+  const Camera c = Camera::orthographic_camera(glm::dmat4(1.0), 10.0, SensorFit::Auto, 0, 0, 0.1, 100, {800, 400});
+  const glm::dvec4 clip = c.projection * glm::dvec4(5.0, 0.0, -3.0, 1.0);
+  EXPECT_NEAR(clip.x / clip.w, 1.0, 1e-12);
+  EXPECT_TRUE(c.orthographic);
+}
+
+TEST(Camera, FromMatricesRecoversTheClipRange) {
+  const glm::dmat4 persp = glm::perspective(0.8, 1.5, 0.05, 250.0);
+  const Camera c = Camera::from_matrices(glm::dmat4(1.0), persp);
+  EXPECT_FALSE(c.orthographic);
+  EXPECT_NEAR(c.clip_start, 0.05, 1e-9);
+  EXPECT_NEAR(c.clip_end, 250.0, 1e-6);
+  const Camera o = Camera::from_matrices(glm::dmat4(1.0), glm::ortho(-2.0, 2.0, -1.0, 1.0, 0.5, 80.0));
+  EXPECT_TRUE(o.orthographic);
+  EXPECT_NEAR(o.clip_start, 0.5, 1e-9);
+  EXPECT_NEAR(o.clip_end, 80.0, 1e-9);
+}
+
+TEST(Camera, RejectsInvalidParameters) {
+  EXPECT_THROW(Camera::perspective(glm::dmat4(1.0), 0, 36, 24, SensorFit::Auto, 0, 0, 0.1, 100, {10, 10}),
+               ParameterError);
+  EXPECT_THROW(Camera::perspective(glm::dmat4(1.0), 50, 36, 24, SensorFit::Auto, 0, 0, 1.0, 0.5, {10, 10}),
+               ParameterError);
+  EXPECT_THROW(Camera::perspective(glm::dmat4(1.0), 50, 36, 24, SensorFit::Auto, 0, 0, 0.1, 10, {0, 10}),
+               ParameterError);
+  EXPECT_THROW(parse_sensor_fit("SIDEWAYS"), ParameterError);
+}
