@@ -122,85 +122,206 @@ def setup_viewport():
     return window, area, region
 
 
-def screenshot(window, area):
-    if os.path.exists(OUT_PNG):
-        os.remove(OUT_PNG)
+def screenshot(window, area, path=OUT_PNG):
+    if os.path.exists(path):
+        os.remove(path)
     override = {"window": window, "screen": window.screen, "area": area}
     if hasattr(bpy.context, "temp_override"):
         with bpy.context.temp_override(**override):
-            bpy.ops.screen.screenshot(filepath=OUT_PNG)
+            bpy.ops.screen.screenshot(filepath=path)
     else:  # Blender < 3.2
-        bpy.ops.screen.screenshot(override, filepath=OUT_PNG)
-    return os.path.exists(OUT_PNG)
+        bpy.ops.screen.screenshot(override, filepath=path)
+    return os.path.exists(path)
 
 
-def check(window, region):
+def read_view(window, region):
+    """The 3D viewport's pixels (rows bottom first) from the screenshot."""
     img = bpy.data.images.load(OUT_PNG, check_existing=False)
     w, h = img.size
     px = np.empty(w * h * 4, dtype=np.float32)
     img.pixels.foreach_get(px)
     bpy.data.images.remove(img)
     px = px.reshape(h, w, 4)
-    log("screenshot %dx%d, window %dx%d, region at (%d, %d) size %dx%d" % (
-        w, h, window.width, window.height, region.x, region.y, region.width, region.height))
     # Region coordinates are window pixels from the bottom left, as are the
     # image rows (bottom row first); scale in case of HiDPI.
     sx, sy = w / float(window.width), h / float(window.height)
     x0, y0 = int(region.x * sx), int(region.y * sy)
     x1, y1 = int((region.x + region.width) * sx), int((region.y + region.height) * sy)
-    view = px[y0:y1, x0:x1, :3]
-    red = (view[:, :, 0] > 0.8) & (view[:, :, 1] < 0.2) & (view[:, :, 2] < 0.2)
-    blue = (view[:, :, 2] > 0.8) & (view[:, :, 0] < 0.2) & (view[:, :, 1] < 0.2)
-    n = view.shape[0] * view.shape[1]
-    red_frac, blue_frac = red.mean(), blue.mean()
-    log("viewport area: %d px, red %.3f, blue %.3f, std %.3f" % (n, red_frac, blue_frac, view.std()))
-    ok = True
-    if n < 10000:
-        log("viewport area too small")
-        ok = False
-    if view.std() < 0.05:
-        log("viewport area is uniform (empty)")
-        ok = False
-    if red_frac < 0.02 or blue_frac < 0.02:
-        log("segment colours not visible")
-        ok = False
-    # Red must be on the left of blue (segments where the camera sees them).
-    if ok:
-        red_x = np.nonzero(red)[1].mean()
-        blue_x = np.nonzero(blue)[1].mean()
-        log("mean x: red %.1f, blue %.1f" % (red_x, blue_x))
-        if not red_x < blue_x:
-            ok = False
-    return ok
+    return px[y0:y1, x0:x1, :3]
 
+
+def mask(view, rgb):
+    hi = [c > 0.5 for c in rgb]
+    m = np.ones(view.shape[:2], dtype=bool)
+    for i in range(3):
+        m &= (view[:, :, i] > 0.8) if hi[i] else (view[:, :, i] < 0.2)
+    return m
+
+
+def centroid(m):
+    ys, xs = np.nonzero(m)
+    return xs.mean(), ys.mean()
+
+
+def check_first(view):
+    red, blue = mask(view, (1, 0, 0)), mask(view, (0, 0, 1))
+    n = view.shape[0] * view.shape[1]
+    log("viewport area: %d px, red %.3f, blue %.3f, std %.3f" % (n, red.mean(), blue.mean(), view.std()))
+    if n < 10000:
+        return "viewport area too small"
+    if view.std() < 0.05:
+        return "viewport area is uniform (empty)"
+    if red.mean() < 0.02 or blue.mean() < 0.02:
+        return "segment colours not visible"
+    (rx, ry), (bx, by) = centroid(red), centroid(blue)
+    log("centroids: red (%.1f, %.1f), blue (%.1f, %.1f)" % (rx, ry, bx, by))
+    if not rx < bx:
+        return "red segment is not left of blue"
+    state["blue_y"] = by
+    return None
+
+
+def check_restyled(view):
+    red, green = mask(view, (1, 0, 0)), mask(view, (0, 1, 0))
+    log("after restyle: red %.3f, green %.3f" % (red.mean(), green.mean()))
+    if green.mean() < 0.02 or red.mean() > 0.001:
+        return "style change did not reach the viewport"
+    return None
+
+
+def check_moved(view):
+    blue = mask(view, (0, 0, 1))
+    if blue.mean() < 0.01:
+        return "blue segment vanished after editing its mesh"
+    _bx, by = centroid(blue)
+    log("blue centroid y: %.1f -> %.1f" % (state["blue_y"], by))
+    if not by > state["blue_y"] + 20:
+        return "mesh edit did not reach the viewport (stale cached cloud?)"
+    return None
+
+
+def restyle():
+    tree = bpy.data.collections["Red"].pointnpr_style
+    setattr(tree.nodes["Rasterize"], nodes.property_identifier("color"), (0.0, 1.0, 0.0, 1.0))
+
+
+def move_blue_points():
+    mesh = bpy.data.objects["BluePoints"].data
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    co[:, 1] += 1.0
+    mesh.vertices.foreach_set("co", co.ravel())
+    mesh.update()
+
+
+# Panel draw() calls are recorded, so a broken panel fails the test.
+panel_calls = {}
+
+
+def watch_panel(cls):
+    original = cls.draw
+
+    def draw(self, context):
+        try:
+            original(self, context)
+            panel_calls.setdefault(cls.__name__, []).append(None)
+        except Exception as exc:
+            panel_calls.setdefault(cls.__name__, []).append(repr(exc))
+            raise
+    cls.draw = draw
+
+
+def show_properties(tab):
+    for area in state["window"].screen.areas:
+        if area.type == 'PROPERTIES':
+            area.spaces.active.context = tab
+            area.tag_redraw()
+            return True
+    return False
+
+
+STEPS = [
+    # (name, action before waiting, check on the screenshot)
+    ("initial", None, check_first),
+    ("restyle", restyle, check_restyled),
+    ("move", move_blue_points, check_moved),
+]
 
 state = {"phase": "setup", "ticks": 0, "window": None, "area": None, "region": None,
-         "renders_at_shot": 0}
+         "step": 0, "renders": 0, "wait_ticks": 0}
 
 
 def tick():
     try:
         if time.time() - START > TIMEOUT_S:
-            log("timed out in phase %s (viewport renders: %s)" % (state["phase"], engine.stats))
+            log("timed out in phase %s (engine stats: %s)" % (state["phase"], engine.stats))
             finish(1)
         state["ticks"] += 1
         if state["phase"] == "setup":
             pointnpr.register()
+            from pointnpr.blender import ui
+            watch_panel(ui.RENDER_PT_pointnpr)
+            watch_panel(ui.COLLECTION_PT_pointnpr_style)
             build_scene()
             state["window"], state["area"], state["region"] = setup_viewport()
-            state["phase"] = "wait"
-            return 0.5
-        if state["phase"] == "wait":
+            state["phase"] = "act"
+            return 1.0
+        if state["phase"] == "act":
+            name, action, _check = STEPS[state["step"]]
+            # Wait for a viewport render made after the action.
+            state["renders"] = engine.stats["viewport_renders"] if action is not None else 0
+            if action is not None:
+                action()
             state["area"].tag_redraw()
-            if engine.stats["viewport_draws"] >= 2 and state["ticks"] > 6:
+            state["wait_ticks"] = 0
+            state["phase"] = "wait"
+            return 0.3
+        if state["phase"] == "wait":
+            state["wait_ticks"] += 1
+            state["area"].tag_redraw()
+            if engine.stats["viewport_renders"] > state["renders"] and state["wait_ticks"] > 3:
                 state["phase"] = "shoot"
-            return 0.5
+            return 0.3
         if state["phase"] == "shoot":
-            log("engine stats: %s" % engine.stats)
+            name, _action, check = STEPS[state["step"]]
+            log("step %s, engine stats: %s" % (name, engine.stats))
             if not screenshot(state["window"], state["area"]):
                 log("screenshot failed")
                 finish(1)
-            finish(0 if check(state["window"], state["region"]) else 1)
+            error = check(read_view(state["window"], state["region"]))
+            if error:
+                log("step %s: %s" % (name, error))
+                finish(1)
+            state["step"] += 1
+            if state["step"] < len(STEPS):
+                state["phase"] = "act"
+                return 0.3
+            # Our panels in the Properties editor.
+            coll = bpy.data.collections["Red"]
+            layer = bpy.context.view_layer.layer_collection.children[coll.name]
+            bpy.context.view_layer.active_layer_collection = layer
+            if not show_properties('RENDER'):
+                log("no Properties editor")
+                finish(1)
+            state["phase"] = "panels_render"
+            return 1.0
+        if state["phase"] == "panels_render":
+            show_properties('COLLECTION')
+            state["phase"] = "panels_collection"
+            return 1.0
+        if state["phase"] == "panels_collection":
+            log("panel draws: %s" % {k: len(v) for k, v in panel_calls.items()})
+            # For a human look at the panels; not checked.
+            screenshot(state["window"], state["area"], os.path.splitext(OUT_PNG)[0] + "_panels.png")
+            errors = [e for calls in panel_calls.values() for e in calls if e]
+            if errors:
+                log("panel errors: %s" % errors)
+                finish(1)
+            if not all(panel_calls.get(n) for n in ("RENDER_PT_pointnpr", "COLLECTION_PT_pointnpr_style")):
+                log("panels were not drawn")
+                finish(1)
+            finish(0)
     except Exception:
         traceback.print_exc()
         finish(1)

@@ -1,7 +1,7 @@
 """The PointNPR render engine: final renders (F12, blender -b -f/-a) and
 viewport renders (Rendered shading)."""
 
-import math
+import time
 import traceback
 
 import bpy
@@ -164,9 +164,9 @@ class _ViewportImage:
         from gpu_extras.batch import batch_for_shader
         w, h = self.size
         shader = _image_shader()
-        batch = batch_for_shader(shader, 'TRI_FAN', {
-            "pos": ((0, 0), (w, 0), (w, h), (0, h)),
-            "texCoord": ((0, 0), (1, 0), (1, 1), (0, 1)),
+        batch = batch_for_shader(shader, 'TRI_STRIP', {
+            "pos": ((0, 0), (w, 0), (0, h), (w, h)),
+            "texCoord": ((0, 0), (1, 0), (0, 1), (1, 1)),
         })
         shader.bind()
         shader.uniform_sampler("image", self.texture)
@@ -284,7 +284,9 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
             try:
                 camera = _core().Camera.from_matrices(view, proj)
                 result, synced = do_render(depsgraph, camera, width, height, trust_cache=True)
+                t0 = time.perf_counter()
                 image = _ViewportImage(result.color)
+                stats["viewport_upload_ms"] = (time.perf_counter() - t0) * 1000.0
                 stats["viewport_renders"] += 1
                 self._pointnpr_image = image
                 self._pointnpr_key = key

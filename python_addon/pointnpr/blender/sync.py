@@ -88,8 +88,11 @@ def has_points(obj):
     data = getattr(obj, "data", None)
     if obj.type == 'MESH':
         return data is not None and len(data.vertices) > 0
-    if obj.type == 'POINTCLOUD':
-        return data is not None and len(data.points) > 0
+    if obj.type == 'POINTCLOUD' and data is not None:
+        if hasattr(data, "points"):
+            return len(data.points) > 0
+        attr = data.attributes.get("position")
+        return attr is not None and len(attr.data) > 0
     return False
 
 
@@ -99,10 +102,15 @@ def read_positions(obj):
         n = len(data.vertices)
         co = np.empty(n * 3, dtype=np.float32)
         data.vertices.foreach_get("co", co)
-    else:
+    elif hasattr(data, "points"):
         n = len(data.points)
         co = np.empty(n * 3, dtype=np.float32)
         data.points.foreach_get("co", co)
+    else:  # point cloud without the legacy 'points' collection
+        attr = data.attributes["position"]
+        n = len(attr.data)
+        co = np.empty(n * 3, dtype=np.float32)
+        attr.data.foreach_get("vector", co)
     return co.reshape(n, 3)
 
 
