@@ -1,0 +1,149 @@
+"""The Python API of the core, used without Blender."""
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import pointnpr
+from conftest import BUILD_DIR, plane
+
+
+def test_schemas_describe_every_stage_and_filter():
+    ids = [s["id"] for s in pointnpr.schemas()]
+    assert ids[0] == "rasterize" and "inpaint" in ids and "composite" in ids
+    assert {"cartoon", "warp"} <= set(ids)
+    warp = pointnpr.schema("warp")
+    amp = next(p for p in warp["params"] if p["name"] == "amplitude")
+    assert amp["type"] == "float" and amp["unit"] == "px" and amp["min"] == 0.0 and amp["doc"]
+    mode = next(p for p in pointnpr.schema("composite")["params"] if p["name"] == "mode")
+    assert mode["items"] == ["layering", "depth_test", "inpaint"] and mode["default"] == "inpaint"
+
+
+def test_style_validates_against_the_schema():
+    style = pointnpr.Style(rasterize={"point_size": 4, "color_source": "constant", "color": (1, 0, 0)},
+                           filters=[("cartoon", {"levels": 3}), "warp"], inpaint={"radius": 6})
+    assert style.rasterize["point_size"] == 4.0
+    assert style.rasterize["color"] == (1.0, 0.0, 0.0, 1.0)
+    assert [f[0] for f in style.filters] == ["cartoon", "warp"]
+    assert style.filters[0][1]["levels"] == 3
+    with pytest.raises(ValueError, match="radius"):
+        pointnpr.Style(inpaint={"radius": 0})
+    with pytest.raises(ValueError, match="finite"):
+        pointnpr.Style(rasterize={"point_size": float("nan")})
+    with pytest.raises(ValueError, match="not one of"):
+        pointnpr.Style(rasterize={"color_source": "rainbow"})
+    with pytest.raises(ValueError, match="unknown filter"):
+        pointnpr.Style(filters=["sepia_deluxe"])
+    with pytest.raises(pointnpr.ParameterError):
+        pointnpr.Style(filters=[("warp", {"amplitud": 3})])
+
+
+def test_point_cloud_from_numpy(renderer):
+    pos = np.random.default_rng(1).random((1000, 3)) * 10 + np.array([6.5e5, 5.1e6, 100.0])
+    cloud = pointnpr.PointCloud(pos, colors=np.zeros((1000, 3), np.uint8),
+                                intensity=np.arange(1000, dtype=np.float32))
+    assert cloud.num_points == 1000
+    assert cloud.has("colors") and cloud.has("intensity") and not cloud.has("classification")
+    lo, hi = cloud.bounds
+    assert np.allclose(lo, pos.min(axis=0)) and np.allclose(hi, pos.max(axis=0))
+    assert sorted(cloud.point_index.tolist()) == list(range(1000))
+    with pytest.raises(RuntimeError, match="N,3"):
+        pointnpr.PointCloud(np.zeros((10, 2)))
+    float_colors = pointnpr.PointCloud(pos, colors=np.full((1000, 3), 0.5, np.float32))
+    assert float_colors.has("colors")
+
+
+def test_render_result_arrays(renderer, two_planes, camera):
+    r = renderer.render(two_planes, camera, 320, 240, background=(0.0, 0.0, 0.0, 0.0))
+    assert r.color.shape == (240, 320, 4) and r.color.dtype == np.float32
+    assert r.depth.shape == (240, 320) and r.segment_index.shape == (240, 320)
+    assert r.segment_index[120, 100] == 0 and r.depth[120, 100] == pytest.approx(5.0, abs=0.05)
+    assert r.segment_index[120, 260] == 1 and r.depth[120, 260] == pytest.approx(10.0, abs=0.05)
+    assert r.segment_index[5, 5] == -1 and r.depth[5, 5] == 1e10 and r.color[5, 5, 3] == 0.0
+    assert r.stats["points_drawn"] > 0 and "total_ms" in r.stats
+    # Combined is scene-linear: an sRGB 230 red comes back as its linear value.
+    assert r.color[120, 260, 2] == pytest.approx(((230 / 255 + 0.055) / 1.055) ** 2.4, abs=2e-3)
+
+
+def test_progress_reports_and_cancels(renderer, two_planes, camera):
+    seen = []
+    renderer.render(two_planes, camera, 320, 240, progress=lambda f, what: seen.append((f, what)))
+    assert seen[0] == (0.0, "near") and seen[-1][0] == 1.0
+    with pytest.raises(pointnpr.RenderCancelled):
+        renderer.render(two_planes, camera, 320, 240, progress=lambda f, what: False)
+
+
+def test_bad_render_arguments_raise(renderer, two_planes, camera):
+    with pytest.raises(ValueError):
+        renderer.render(two_planes, camera, 0, 240)
+    with pytest.raises(ValueError, match="rasterizer"):
+        renderer.render(two_planes, camera, 320, 240, rasterizer="raytrace")
+    with pytest.raises(ValueError, match="mode"):
+        renderer.render(two_planes, camera, 320, 240, composite={"mode": "magic"})
+    with pytest.raises(ValueError):
+        pointnpr.Camera.perspective(np.eye(3))
+
+
+def test_viewport_camera_from_matrices(renderer, two_planes):
+    # A GL projection equivalent to the 50 mm camera renders the same image.
+    n, f = 0.1, 1000.0
+    right = n * 18.0 / 50.0
+    top = right * 240 / 320
+    proj = np.array([[n / right, 0, 0, 0], [0, n / top, 0, 0],
+                     [0, 0, -(f + n) / (f - n), -2 * f * n / (f - n)], [0, 0, -1, 0]])
+    a = renderer.render(two_planes, pointnpr.Camera.from_matrices(np.eye(4), proj), 320, 240)
+    b = renderer.render(two_planes, pointnpr.Camera.perspective(np.eye(4), width=320, height=240), 320, 240)
+    assert np.mean(a.segment_index != b.segment_index) < 0.001
+
+
+def test_image_round_trip_through_openimageio(tmp_path):
+    img = np.zeros((4, 6, 4), np.float32)
+    img[0, :, 0] = 1.0  # bottom row red
+    img[..., 3] = 1.0
+    path = str(tmp_path / "x.png")
+    pointnpr.save_image(path, img)
+    back = pointnpr.load_image(path)
+    assert back.shape == (4, 6, 4)
+    assert back[0, 0, 0] == pytest.approx(1.0) and back[3, 0, 0] == pytest.approx(0.0)
+
+
+RENDER_SCRIPT = textwrap.dedent("""
+    import sys, hashlib, numpy as np
+    sys.path.insert(0, sys.argv[1])
+    import pointnpr
+    from conftest import plane
+    scene = pointnpr.Scene()
+    scene.add_segment("a", pointnpr.Style(rasterize={"point_size": 3}, filters=["cartoon", "warp"]),
+                      [plane(-1.2, 0.4, -0.6, 0.6, -5, 0.03, (230, 60, 40))])
+    scene.add_segment("b", pointnpr.Style(rasterize={"point_size": 3}), [plane(-2, 3, -1.5, 1.5, -10, 0.05, (40, 60, 230))])
+    cam = pointnpr.Camera.perspective(np.eye(4), width=320, height=240)
+    r = pointnpr.Renderer().render(scene, cam, 320, 240, time=1.25)
+    print(hashlib.sha256(r.color.tobytes() + r.depth.tobytes() + r.segment_index.tobytes()).hexdigest())
+""")
+
+
+def test_same_scene_renders_identical_bytes_in_separate_processes():
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(__file__))
+    digests = [subprocess.run([sys.executable, "-c", RENDER_SCRIPT, os.path.abspath(BUILD_DIR)], env=env,
+                              capture_output=True, text=True, check=True).stdout.strip() for _ in range(2)]
+    assert len(digests[0]) == 64 and digests[0] == digests[1]
+
+
+def test_missing_shaders_raise_a_gl_error_naming_the_path(tmp_path):
+    script = textwrap.dedent(f"""
+        import sys, numpy as np
+        sys.path.insert(0, {os.path.abspath(BUILD_DIR)!r})
+        import pointnpr
+        pointnpr._pointnpr.set_shader_dir({str(tmp_path)!r})
+        s = pointnpr.Scene()
+        s.add_segment("a", pointnpr.Style(), [pointnpr.PointCloud(np.zeros((1, 3)) - [0, 0, 5])])
+        try:
+            pointnpr.Renderer().render(s, pointnpr.Camera.perspective(np.eye(4)), 64, 64)
+        except pointnpr.GLError as e:
+            print("GLError:", e)
+    """)
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True).stdout
+    assert "GLError: shader file not found" in out and str(tmp_path) in out
