@@ -4,19 +4,19 @@
 
 namespace pointnpr {
 
-size_t Attribute::num_points() const {
+size_t PointAttribute::num_points() const {
   size_t n = std::visit([](const auto& v) { return v.size(); }, values);
   return components > 0 ? n / static_cast<size_t>(components) : 0;
 }
 
-const Attribute* PointData::find(const std::string& name) const {
-  for (const Attribute& a : attributes)
+const PointAttribute* PointData::find(const std::string& name) const {
+  for (const PointAttribute& a : attributes)
     if (a.name == name) return &a;
   return nullptr;
 }
 
-Attribute* PointData::find(const std::string& name) {
-  for (Attribute& a : attributes)
+PointAttribute* PointData::find(const std::string& name) {
+  for (PointAttribute& a : attributes)
     if (a.name == name) return &a;
   return nullptr;
 }
@@ -51,7 +51,7 @@ size_t PointData::drop_nonfinite_points() {
     v.shrink_to_fit();
   };
   compact(positions, 3);
-  for (Attribute& a : attributes)
+  for (PointAttribute& a : attributes)
     std::visit([&](auto& v) { compact(v, static_cast<size_t>(a.components)); }, a.values);
   metadata["dropped_nonfinite"] = static_cast<int64_t>(n - kept);
   return n - kept;

@@ -19,7 +19,7 @@ using AttributeValues =
                  std::vector<uint64_t>, std::vector<int64_t>, std::vector<float>,
                  std::vector<double>>;
 
-struct Attribute {
+struct PointAttribute {
   std::string name;
   int components = 1;
   AttributeValues values;
@@ -41,29 +41,29 @@ struct PointData {
   //   "gps_time" float64, "nir" uint16, "scan_angle" float32 (degrees),
   //   "normals" float32 x3, plus format-specific extras.
   // A deque so that references returned by add() stay valid as more are added.
-  std::deque<Attribute> attributes;
+  std::deque<PointAttribute> attributes;
   // "format" ("las", "ply", "pcd", "text"), "version", "point_format",
   // "crs_wkt", "crs_epsg", "scale", "offset", ... (see docs/python_api.md).
   std::map<std::string, MetadataValue> metadata;
 
   size_t num_points() const { return positions.size() / 3; }
-  const Attribute* find(const std::string& name) const;
-  Attribute* find(const std::string& name);
+  const PointAttribute* find(const std::string& name) const;
+  PointAttribute* find(const std::string& name);
   bool has(const std::string& name) const { return find(name) != nullptr; }
 
   // Typed access; nullptr when absent or of another type.
   template <class T>
   const std::vector<T>* get(const std::string& name) const {
-    const Attribute* a = find(name);
+    const PointAttribute* a = find(name);
     return a ? std::get_if<std::vector<T>>(&a->values) : nullptr;
   }
 
   // Adds (or replaces) an attribute; values.size() must be num_points() * components.
   template <class T>
   std::vector<T>& add(const std::string& name, int components = 1) {
-    Attribute* a = find(name);
+    PointAttribute* a = find(name);
     if (!a) {
-      attributes.push_back(Attribute{name, components, std::vector<T>{}});
+      attributes.push_back(PointAttribute{name, components, std::vector<T>{}});
       a = &attributes.back();
     }
     a->components = components;

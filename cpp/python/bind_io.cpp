@@ -53,7 +53,7 @@ py::object metadata_value(const MetadataValue& v) {
 PyPointData convert(PointData&& d) {
   PyPointData out;
   const size_t n = d.num_points();
-  for (Attribute& a : d.attributes) {
+  for (PointAttribute& a : d.attributes) {
     const size_t comps = static_cast<size_t>(a.components);
     out.attributes[py::str(a.name)] =
         std::visit([&](auto& v) { return to_numpy(std::move(v), n, comps); }, a.values);
@@ -142,14 +142,20 @@ void bind_io(py::module_& m) {
           [](py::object self) { return py::module_::import("pointnpr.io").attr("to_cloud")(self); },
           "PointCloud with the attributes the renderer uses (colors, intensity, classification)")
       .def("__repr__", [](const PyPointData& d) {
-        std::string fmt = d.metadata.contains("format")
-                              ? py::str(d.metadata["format"]).cast<std::string>()
-                              : std::string("?");
-        std::string names;
-        for (auto item : d.attributes)
-          names += (names.empty() ? "" : ", ") + py::str(item.first).cast<std::string>();
-        return "<PointData " + fmt + ", " + std::to_string(d.num_points()) +
-               " points, attributes: [" + names + "]>";
+        std::string r = "<PointData ";
+        r += d.metadata.contains("format") ? py::str(d.metadata["format"]).cast<std::string>()
+                                           : std::string("?");
+        r += ", ";
+        r += std::to_string(d.num_points());
+        r += " points, attributes: [";
+        bool first = true;
+        for (auto item : d.attributes) {
+          if (!first) r += ", ";
+          first = false;
+          r += py::str(item.first).cast<std::string>();
+        }
+        r += "]>";
+        return r;
       });
 
   m.def(

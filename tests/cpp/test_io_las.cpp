@@ -292,7 +292,7 @@ TEST(IoLasGenerated, Format6ExtendedFieldsAndExtraBytes) {
   EXPECT_DOUBLE_EQ(height[0], -150 * 0.01 + 100.0);
   EXPECT_DOUBLE_EQ(height[3], -147 * 0.01 + 100.0);
   EXPECT_EQ(attr<uint8_t>(d, "tag")[1], 201);
-  const Attribute* normal = d.find("normal");
+  const PointAttribute* normal = d.find("normal");
   ASSERT_NE(normal, nullptr);
   EXPECT_EQ(normal->components, 3);
   const auto& nv = attr<float>(d, "normal");

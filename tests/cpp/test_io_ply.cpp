@@ -87,7 +87,7 @@ TEST(IoPly, DetailsOfOddFiles) {
   PointData pts = read_point_cloud(data_path("malformed/ply_assimp_points.ply"));
   EXPECT_EQ(attr<uint8_t>(pts, "colors")[3 * 1 + 1], 0);
   EXPECT_EQ(attr<uint8_t>(pts, "colors")[3 * 1 + 2], 255);
-  const Attribute* n = pts.find("normals");
+  const PointAttribute* n = pts.find("normals");
   ASSERT_NE(n, nullptr);
   EXPECT_EQ(n->components, 3);
   EXPECT_EQ(attr<float>(pts, "normals"), (std::vector<float>{0, 1, 0, 0, 0, 1, 1, 0, 0, 1, 1, 0}));
