@@ -321,6 +321,26 @@ def tick():
             if not all(panel_calls.get(n) for n in ("RENDER_PT_pointnpr", "COLLECTION_PT_pointnpr_style")):
                 log("panels were not drawn")
                 finish(1)
+            # Interactive F12: the render runs as a job, off the main thread.
+            bpy.context.preferences.view.render_display_type = 'NONE'
+            state["final_before"] = engine.stats["final_renders"]
+            override = {"window": state["window"], "screen": state["window"].screen,
+                        "area": state["area"]}
+            if hasattr(bpy.context, "temp_override"):
+                with bpy.context.temp_override(**override):
+                    bpy.ops.render.render('INVOKE_DEFAULT')
+            else:
+                bpy.ops.render.render(override, 'INVOKE_DEFAULT')
+            state["phase"] = "f12"
+            return 0.5
+        if state["phase"] == "f12":
+            running = bpy.app.is_job_running('RENDER') if hasattr(bpy.app, "is_job_running") else False
+            if running or engine.stats["final_renders"] <= state["final_before"]:
+                return 0.5
+            result = bpy.data.images.get("Render Result")
+            log("F12 done: %s, render result %s" % (engine.stats, result is not None))
+            if result is None:
+                finish(1)
             finish(0)
     except Exception:
         traceback.print_exc()

@@ -358,20 +358,22 @@ def style_chain(tree):
 _PATH_RE = re.compile(r'^nodes\["((?:[^"\\]|\\.)*)"\]\.([A-Za-z_][A-Za-z0-9_]*)$')
 
 
-def _action_fcurves(action):
+def _action_fcurves(anim, action):
+    """The F-Curves animating the tree: its slot's channelbags for layered
+    actions (Blender 4.4+), else the legacy flat list."""
+    slot = getattr(anim, "action_slot", None)
+    layers = getattr(action, "layers", None)
+    if slot is not None and layers is not None and len(layers) > 0:
+        curves = []
+        for layer in layers:
+            for strip in layer.strips:
+                find = getattr(strip, "channelbag", None)
+                bag = find(slot) if find is not None else None
+                if bag is not None:
+                    curves.extend(bag.fcurves)
+        return curves
     fcurves = getattr(action, "fcurves", None)
-    if fcurves is not None:
-        try:
-            return list(fcurves)
-        except Exception:
-            pass
-    # Layered actions (Blender 4.4+): gather every channelbag's curves.
-    curves = []
-    for layer in getattr(action, "layers", ()):
-        for strip in getattr(layer, "strips", ()):
-            for bag in getattr(strip, "channelbags", ()):
-                curves.extend(bag.fcurves)
-    return curves
+    return list(fcurves) if fcurves is not None else []
 
 
 def animated_values(tree):
@@ -381,7 +383,7 @@ def animated_values(tree):
     if action is None:
         return {}
     found = {}
-    for fc in _action_fcurves(action):
+    for fc in _action_fcurves(anim, action):
         if getattr(fc, "mute", False):
             continue
         m = _PATH_RE.match(fc.data_path)
