@@ -1,0 +1,49 @@
+"""Writes docs/parameters.md from the C++ parameter schemas (the single
+source of truth). tests/python/test_docs.py fails when the committed file
+is out of date; regenerate on purpose with:
+
+    PYTHONPATH=build python3 scripts/gen_param_docs.py > docs/parameters.md
+"""
+import pointnpr
+
+
+def _value(p, v):
+    if p["type"] == "color":
+        return "(" + ", ".join(f"{c:g}" for c in v) + ")"
+    if p["type"] == "float":
+        return f"{v:g}"
+    return str(v)
+
+
+def _range(p):
+    if p["type"] == "enum":
+        return " / ".join(f"`{i}`" for i in p["items"])
+    if p["type"] == "bool":
+        return "on / off"
+    if p["type"] == "color":
+        return "RGBA in [0, 1]"
+    return f"{p['min']:g} to {p['max']:g}"
+
+
+def render():
+    lines = [
+        "# Parameters",
+        "",
+        "Generated from the C++ schemas by `scripts/gen_param_docs.py`; do not edit by hand.",
+        "Every parameter appears with the same name, range and doc in the Python API",
+        "(`pointnpr.Style`), in the Blender style nodes and here.",
+        "",
+    ]
+    for s in pointnpr.schemas():
+        lines += [f"## {s['label']} (`{s['id']}`, {s['kind']})", "", s["doc"], "",
+                  "| parameter | type | default | range | unit | description |",
+                  "|---|---|---|---|---|---|"]
+        for p in s["params"]:
+            lines.append(f"| `{p['name']}` | {p['type']} | {_value(p, p['default'])} | {_range(p)} | "
+                         f"{p['unit'] or ''} | {p['doc']} |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    print(render())
