@@ -28,7 +28,8 @@ glm::dmat4 to_dmat4(const py::object& obj, const char* what) {
 
 std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::object& colors,
                                        const py::object& intensity, const py::object& classification,
-                                       const py::object& point_index, uint32_t chunk_size) {
+                                       const py::object& point_index, const py::object& normals,
+                                       uint32_t chunk_size) {
   CArray<double> pos = positions.cast<CArray<double>>();
   if (pos.ndim() != 2 || pos.shape(1) != 3) throw Error("positions must be an (N,3) array");
   const size_t n = size_t(pos.shape(0));
@@ -63,6 +64,11 @@ std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::ob
   if (!point_index.is_none()) {
     idx = point_index.cast<CArray<uint32_t>>();
     in.point_index = {idx.data(), size_t(idx.size())};
+  }
+  CArray<float> nrm;
+  if (!normals.is_none()) {
+    nrm = normals.cast<CArray<float>>();
+    in.normals = {nrm.data(), size_t(nrm.size())};
   }
   py::gil_scoped_release release;
   return std::make_shared<PointCloud>(in, chunk_size);
@@ -115,7 +121,7 @@ void bind_render(py::module_& m) {
       "Immutable point cloud split into chunks with double origins and float offsets.")
       .def(py::init(&make_cloud), py::arg("positions"), py::arg("colors") = py::none(),
            py::arg("intensity") = py::none(), py::arg("classification") = py::none(),
-           py::arg("point_index") = py::none(), py::arg("chunk_size") = 16384)
+           py::arg("point_index") = py::none(), py::arg("normals") = py::none(), py::arg("chunk_size") = 16384)
       .def_property_readonly("num_points", &PointCloud::size)
       .def_property_readonly("num_chunks", [](const PointCloud& c) { return c.chunks().size(); })
       .def_property_readonly("id", &PointCloud::id)
@@ -127,7 +133,8 @@ void bind_render(py::module_& m) {
         if (name == "colors") return c.has(Attribute::Color);
         if (name == "intensity") return c.has(Attribute::Intensity);
         if (name == "classification") return c.has(Attribute::Classification);
-        throw ParameterError("unknown attribute '" + name + "' (colors, intensity, classification)");
+        if (name == "normals") return c.has(Attribute::Normal);
+        throw ParameterError("unknown attribute '" + name + "' (colors, intensity, classification, normals)");
       })
       .def_property_readonly("point_index", [](const PointCloud& c) {
         return image_array(c.point_index(), 1, int(c.size()), 1).reshape({py::ssize_t(c.size())});

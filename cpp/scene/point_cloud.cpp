@@ -35,6 +35,7 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
   if (!in.classification.empty() && in.classification.size() != n)
     throw Error("classification must have one value per point");
   if (!in.point_index.empty() && in.point_index.size() != n) throw Error("point_index must have one value per point");
+  if (!in.normals.empty() && in.normals.size() != n * 3) throw Error("normals must be an N x 3 array");
   if (max_chunk_points == 0) throw Error("max_chunk_points must be positive");
 
   const double* p = in.positions.data();
@@ -69,6 +70,7 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
   if (!in.colors.empty()) colors_.resize(n);
   if (!in.intensity.empty()) intensity_.resize(n);
   if (!in.classification.empty()) classification_.resize(n);
+  if (!in.normals.empty()) normals_.resize(n);
 
   for (size_t first = 0; first < n; first += max_chunk_points) {
     const size_t count = std::min<size_t>(max_chunk_points, n - first);
@@ -97,6 +99,8 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
       }
       if (!in.intensity.empty()) intensity_[k] = in.intensity[i];
       if (!in.classification.empty()) classification_[k] = in.classification[i];
+      if (!in.normals.empty())
+        normals_[k] = glm::vec3(in.normals[3 * i], in.normals[3 * i + 1], in.normals[3 * i + 2]);
     }
     // Float rounding of the offsets can leave a point just outside the box.
     const glm::vec3 pad(1e-4f);
@@ -111,6 +115,7 @@ bool PointCloud::has(Attribute a) const {
     case Attribute::Color: return !colors_.empty();
     case Attribute::Intensity: return !intensity_.empty();
     case Attribute::Classification: return !classification_.empty();
+    case Attribute::Normal: return !normals_.empty();
   }
   return false;
 }

@@ -13,7 +13,7 @@ namespace pointnpr {
 
 // Attributes a style can ask for; each is uploaded to the GPU only when some
 // style rendering the cloud needs it.
-enum class Attribute : uint32_t { Color = 1, Intensity = 2, Classification = 4 };
+enum class Attribute : uint32_t { Color = 1, Intensity = 2, Classification = 4, Normal = 8 };
 
 struct PointChunk {
   glm::dvec3 origin;     // world offset of this chunk (object space of the cloud)
@@ -30,6 +30,7 @@ struct PointCloudInput {
   std::span<const float> intensity;           // N or empty
   std::span<const uint8_t> classification;    // N or empty
   std::span<const uint32_t> point_index;      // N or empty (then 0..N-1)
+  std::span<const float> normals;             // N*3 or empty
 };
 
 class PointCloud {
@@ -46,6 +47,7 @@ class PointCloud {
   const std::vector<float>& intensity() const { return intensity_; }
   const std::vector<uint32_t>& classification() const { return classification_; }
   const std::vector<uint32_t>& point_index() const { return point_index_; }  // stable ids
+  const std::vector<glm::vec3>& normals() const { return normals_; }
   bool has(Attribute a) const;
   glm::dvec3 bounds_min() const { return bounds_min_; }
   glm::dvec3 bounds_max() const { return bounds_max_; }
@@ -61,6 +63,7 @@ class PointCloud {
   std::vector<float> intensity_;
   std::vector<uint32_t> classification_;
   std::vector<uint32_t> point_index_;
+  std::vector<glm::vec3> normals_;
   glm::dvec3 bounds_min_{0.0}, bounds_max_{0.0};
 };
 

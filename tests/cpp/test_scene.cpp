@@ -55,6 +55,21 @@ TEST(PointCloud, RejectsInconsistentInput) {
   EXPECT_THROW(PointCloud{in}, Error);
 }
 
+TEST(PointCloud, NormalsFollowTheirPointsIntoChunkOrder) {
+  std::vector<double> pos;
+  std::vector<float> normals;
+  for (int i = 0; i < 3000; ++i) {
+    pos.insert(pos.end(), {double(i % 50), double(i / 50), 0.0});
+    normals.insert(normals.end(), {float(i), 0.0f, 1.0f});
+  }
+  PointCloudInput in;
+  in.positions = pos;
+  in.normals = normals;
+  PointCloud cloud(in, 512);
+  ASSERT_TRUE(cloud.has(Attribute::Normal));
+  for (size_t k = 0; k < cloud.size(); ++k) EXPECT_EQ(cloud.normals()[k].x, float(cloud.point_index()[k]));
+}
+
 TEST(PointCloud, EmptyCloudIsValid) {
   PointCloudInput in;
   PointCloud cloud(in);
