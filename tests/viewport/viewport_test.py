@@ -1,6 +1,6 @@
 """Viewport (Rendered shading) test; needs a display, e.g. Xvfb:
 
-    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup \
+    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --python-exit-code 1 \
         --python tests/viewport/viewport_test.py -- <builddir> <out.png>
 
 Builds a scene with two styled segments (red points left, blue points
