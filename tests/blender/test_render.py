@@ -7,7 +7,7 @@ import bpy
 import numpy as np
 import pointnpr
 import pytest
-from pointnpr.blender import nodes, sync
+from pointnpr.blender import engine, nodes, sync
 
 import helpers
 from helpers import BLUE, GREEN, HEIGHT, RED, WIDTH, is_color
@@ -281,3 +281,181 @@ def test_animation_render_writes_every_frame(tmp_path):
     assert all(os.path.exists(f) for f in frames)
     images = [helpers.load_png(f) for f in frames]
     assert not np.array_equal(images[0], images[2])
+
+
+@pytest.mark.parametrize("rasterizer", ["compute", "gl_points"])
+def test_rasterizer_choice(tmp_path, rasterizer):
+    scene, _, _ = helpers.two_planes_scene("depth_test")
+    scene.pointnpr.rasterizer = rasterizer
+    px, _ = helpers.render_pixels(tmp_path, rasterizer + ".png")
+    assert is_color(px[CENTRE], RED), px[CENTRE]
+    assert is_color(px[FAR_ONLY], BLUE), px[FAR_ONLY]
+
+
+def _schema_filters():
+    return [s["id"] for s in pointnpr.schemas() if s["kind"] == "filter"]
+
+
+@pytest.mark.parametrize("filter_id", _schema_filters())
+def test_every_filter_node_renders(tmp_path, filter_id):
+    """Rasterize -> <filter> -> Inpaint Depth -> Output with default values."""
+    scene, near, far = helpers.two_planes_scene("inpaint")
+    tree = near.pointnpr_style
+    nodes.append_node(tree, nodes.ROLE_FILTER, filter_id, name="F")
+    nodes.append_node(tree, nodes.ROLE_INPAINT, "inpaint", name="Inpaint")
+    desc = nodes.read_style(tree, 1.0)
+    assert [f[0] for f in desc["filters"]] == [filter_id] and desc["inpaint"] is not None
+    px, _ = helpers.render_pixels(tmp_path, filter_id + ".png")
+    # The far segment is untouched by the near one's filter.
+    assert is_color(px[FAR_ONLY], BLUE), px[FAR_ONLY]
+    assert bpy.context.scene.render.engine == 'POINTNPR'
+
+
+def _red_columns(px, row):
+    return np.nonzero([is_color(p, RED) for p in px[row]])[0]
+
+
+def test_camera_shift_and_pixel_aspect(tmp_path):
+    scene, near, _ = helpers.two_planes_scene()
+    base, _ = helpers.render_pixels(tmp_path, "base.png")
+    cols = _red_columns(base, CENTRE[0])
+    assert len(cols) > 4
+    # shift_x = 0.25 moves the view right by a quarter of the width: the
+    # image content moves left by 16 px.
+    scene.camera.data.shift_x = 0.25
+    shifted, _ = helpers.render_pixels(tmp_path, "shift.png")
+    moved = _red_columns(shifted, CENTRE[0])
+    assert abs((cols.mean() - moved.mean()) - WIDTH * 0.25) < 1.5
+    scene.camera.data.shift_x = 0.0
+    # Pixels twice as wide as tall, horizontal sensor fit (Blender's
+    # viewplane): the same columns, twice the rows.
+    scene.camera.location.z = 20.0
+    near.pointnpr_style.nodes["Rasterize"].point_size = 1.0   # measure geometry, not splats
+    square, _ = helpers.render_pixels(tmp_path, "square.png")
+    scene.render.pixel_aspect_x = 2.0
+    wide, _ = helpers.render_pixels(tmp_path, "aspect.png")
+    rows = lambda px: np.nonzero([is_color(p, RED) for p in px[:, WIDTH // 2]])[0]  # noqa: E731
+    assert abs(len(_red_columns(wide, CENTRE[0])) - len(_red_columns(square, CENTRE[0]))) <= 1
+    assert abs(len(rows(wide)) - 2 * len(rows(square))) <= 2, (len(rows(wide)), len(rows(square)))
+
+
+def test_hidden_and_excluded_objects_are_not_rendered(tmp_path):
+    scene, near, far = helpers.two_planes_scene()
+    bpy.data.objects["NearPoints"].hide_render = True
+    px, _ = helpers.render_pixels(tmp_path, "hidden.png")
+    assert is_color(px[CENTRE], BLUE), px[CENTRE]
+    bpy.data.objects["NearPoints"].hide_render = False
+    layer = bpy.context.view_layer.layer_collection.children["Far"]
+    layer.exclude = True
+    px, _ = helpers.render_pixels(tmp_path, "excluded.png")
+    assert is_color(px[CENTRE], RED) and is_color(px[FAR_ONLY], (0, 0, 0)), px[FAR_ONLY]
+    layer.exclude = False
+
+
+def test_intensity_attribute_is_read_only_when_needed(tmp_path):
+    scene = helpers.reset_scene()
+    helpers.add_camera()
+    coll = helpers.new_collection("I")
+    pts = helpers.grid_points(1.5, 0.05, 0.0)
+    ramp = (pts[:, 0] - pts[:, 0].min()) / np.ptp(pts[:, 0])
+    helpers.add_points("Ramp", coll, pts, colors=np.tile([[1.0, 0.0, 0.0]], (len(pts), 1)),
+                       intensity=ramp * 1000.0)
+    tree = nodes.new_style("Intensity")
+    tree.nodes["Rasterize"].color_source = "intensity"
+    tree.nodes["Rasterize"].point_size = 5.0
+    coll.pointnpr_style = tree
+    px, _ = helpers.render_pixels(tmp_path, "intensity.png")
+    row = px[CENTRE[0]]
+    left, right = row[WIDTH // 2 - 12][:3], row[WIDTH // 2 + 12][:3]
+    # Grey levels from intensity, increasing to the right; not the red colours.
+    assert abs(left[0] - left[2]) < 0.05 and abs(right[0] - right[2]) < 0.05
+    assert right.mean() > left.mean() + 0.1
+    assert sync.required_attribute(nodes.read_style(tree, 1.0)) == "intensity"
+
+
+def _red_box(color):
+    red = (color[..., 0] > 0.8) & (color[..., 1] < 0.2) & (color[..., 2] < 0.2)
+    ys, xs = np.nonzero(red)
+    assert len(xs), "no red pixel"
+    return xs.min(), xs.max(), ys.min(), ys.max()
+
+
+@pytest.mark.parametrize("config", [
+    {},
+    {"sensor_fit": 'VERTICAL'},
+    {"sensor_fit": 'HORIZONTAL', "lens": 35.0},
+    {"shift_x": 0.2, "shift_y": -0.1},
+    {"pixel_aspect_x": 2.0},
+    {"pixel_aspect_y": 1.5, "sensor_fit": 'VERTICAL'},
+    {"type": 'ORTHO', "ortho_scale": 5.0},
+    {"type": 'ORTHO', "ortho_scale": 5.0, "shift_x": 0.1, "pixel_aspect_x": 1.5},
+    {"resolution": (48, 64)},
+])
+def test_camera_matches_blender_projection(config):
+    """The engine's camera frames the scene exactly like Blender's own
+    projection (Object.calc_matrix_camera) for the same settings."""
+    scene, near, _ = helpers.two_planes_scene("depth_test")
+    scene.camera.location.z = 20.0
+    near.pointnpr_style.nodes["Rasterize"].point_size = 1.0
+    cam = scene.camera.data
+    w, h = config.get("resolution", (WIDTH, HEIGHT))
+    scene.render.resolution_x, scene.render.resolution_y = w, h
+    for key, value in config.items():
+        if key.startswith("pixel_aspect"):
+            setattr(scene.render, key, value)
+        elif key != "resolution":
+            setattr(cam, key, value)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    synced = sync.build_scene(depsgraph, 1.0)
+    ours = engine.make_camera(depsgraph, scene.camera, w, h)
+    proj = scene.camera.calc_matrix_camera(depsgraph, x=w, y=h, scale_x=scene.render.pixel_aspect_x,
+                                           scale_y=scene.render.pixel_aspect_y)
+    view = np.linalg.inv(engine._camera_world_matrix(scene.camera))
+    blender = pointnpr.Camera.from_matrices(view, np.array(proj, dtype=np.float64))
+    kwargs = dict(composite={"mode": "depth_test"})
+    a = engine.renderer().render(synced.scene, ours, w, h, **kwargs)
+    b = engine.renderer().render(synced.scene, blender, w, h, **kwargs)
+    box_a, box_b = _red_box(a.color), _red_box(b.color)
+    assert all(abs(int(p) - int(q)) <= 1 for p, q in zip(box_a, box_b)), (box_a, box_b)
+
+
+def _mesh_to_points_modifier(obj):
+    tree = bpy.data.node_groups.new("To Points", 'GeometryNodeTree')
+    if hasattr(tree, "interface"):  # Blender 4.x
+        tree.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
+        tree.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
+    else:
+        tree.inputs.new('NodeSocketGeometry', "Geometry")
+        tree.outputs.new('NodeSocketGeometry', "Geometry")
+    gin = tree.nodes.new('NodeGroupInput')
+    gout = tree.nodes.new('NodeGroupOutput')
+    to_points = tree.nodes.new('GeometryNodeMeshToPoints')
+    tree.links.new(gin.outputs[0], to_points.inputs["Mesh"])
+    tree.links.new(to_points.outputs["Points"], gout.inputs[0])
+    mod = obj.modifiers.new("To Points", 'NODES')
+    mod.node_group = tree
+    return mod
+
+
+def test_geometry_nodes_point_cloud_is_rendered(tmp_path):
+    """A mesh turned into a point cloud by geometry nodes renders in its
+    object's collection (Blender's PointCloud geometry)."""
+    scene, near, far = helpers.two_planes_scene()
+    obj = bpy.data.objects["NearPoints"]
+    _mesh_to_points_modifier(obj)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    types = {(o.type, o.name) for o, _m, _owner in sync.visible_instances(depsgraph)}
+    assert ('POINTCLOUD', "NearPoints") in types
+    synced = sync.build_scene(depsgraph, 1.0)
+    assert synced.segment_names == ["Near", "Far"]
+    px, _ = helpers.render_pixels(tmp_path, "gn.png")
+    assert is_color(px[CENTRE], RED), px[CENTRE]
+
+
+def test_passes_written_with_foreach_set(tmp_path):
+    helpers.two_planes_scene()
+    bpy.context.scene.view_layers[0].use_pass_z = True
+    before = dict(engine.stats)
+    helpers.render_pixels(tmp_path)
+    assert engine.stats["final_renders"] == before["final_renders"] + 1
+    assert engine.stats["slow_pass_writes"] == 0

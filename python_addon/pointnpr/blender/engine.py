@@ -14,7 +14,7 @@ SEGMENT_PASS = "Segment Index"
 
 _renderer = [None]
 # Counters for diagnostics and tests.
-stats = {"final_renders": 0, "viewport_renders": 0, "viewport_draws": 0}
+stats = {"final_renders": 0, "viewport_renders": 0, "viewport_draws": 0, "slow_pass_writes": 0}
 
 
 def _core():
@@ -89,17 +89,13 @@ def make_camera(depsgraph, cam_obj, width, height):
         raise RuntimeError("Active camera '%s' is not a camera object" % cam_obj.name)
     world_from_camera = _camera_world_matrix(cam_obj)
     r = scene.render
-    aspect_x, aspect_y = float(r.pixel_aspect_x), float(r.pixel_aspect_y)
     if cam.type == 'PANO':
         raise RuntimeError("Panoramic cameras are not supported by PointNPR")
-    if abs(aspect_x - aspect_y) > 1e-9:
-        # Non-square pixels: let Blender build its projection and pass matrices.
-        proj = cam_obj.calc_matrix_camera(depsgraph, x=width, y=height,
-                                          scale_x=aspect_x, scale_y=aspect_y)
-        view = np.linalg.inv(world_from_camera)
-        return core.Camera.from_matrices(view, _matrix64(proj))
     common = dict(sensor_fit=cam.sensor_fit, shift_x=float(cam.shift_x), shift_y=float(cam.shift_y),
-                  clip_start=float(cam.clip_start), clip_end=float(cam.clip_end))
+                  clip_start=float(cam.clip_start), clip_end=float(cam.clip_end),
+                  width=int(width), height=int(height),
+                  # Blender's ycor: the core scales the image height by it.
+                  pixel_aspect=float(r.pixel_aspect_y) / float(r.pixel_aspect_x))
     if cam.type == 'ORTHO':
         return core.Camera.orthographic(world_from_camera, ortho_scale=float(cam.ortho_scale), **common)
     return core.Camera.perspective(world_from_camera, lens=float(cam.lens),
@@ -108,12 +104,20 @@ def make_camera(depsgraph, cam_obj, width, height):
 
 
 def _set_pass(render_pass, array):
-    flat = np.ascontiguousarray(array, dtype=np.float32).reshape(-1)
+    """Copy an (H, W[, C]) float image into a render pass (same row order)."""
+    channels = render_pass.channels
+    pixels = np.ascontiguousarray(array, dtype=np.float32).reshape(-1, channels)
     rect = render_pass.rect
-    try:
-        rect.foreach_set(flat)
-    except (AttributeError, TypeError):
-        render_pass.rect = flat.reshape(-1, render_pass.channels).tolist()
+    # bpy_prop_array.foreach_set takes the (pixels, channels) shape in 3.x;
+    # try the flat layout too before the slow sequence assignment.
+    for data in (pixels, pixels.reshape(-1)):
+        try:
+            rect.foreach_set(data)
+            return
+        except (AttributeError, TypeError, ValueError):
+            continue
+    stats["slow_pass_writes"] += 1
+    render_pass.rect = pixels
 
 
 def _find_pass(layer, name, view):

@@ -194,7 +194,7 @@ class _CacheEntry:
         self.missing = missing
 
 
-_cloud_cache = {}   # object name -> _CacheEntry
+_cloud_cache = {}   # (object type, object name) -> _CacheEntry
 _stats = {"uploads": 0, "hits": 0}
 
 
@@ -208,9 +208,9 @@ def clear_cache():
 
 
 def invalidate(name):
-    """Forget the cloud of object ``name`` (or of objects using data ``name``)."""
-    _cloud_cache.pop(name, None)
-    for key in [k for k, e in _cloud_cache.items() if e.data_name == name]:
+    """Forget the clouds of object ``name`` (its mesh and any point cloud its
+    modifiers make) or of objects using data ``name``."""
+    for key in [k for k, e in _cloud_cache.items() if k[1] == name or e.data_name == name]:
         del _cloud_cache[key]
 
 
@@ -223,7 +223,10 @@ def cloud_for(obj, attribute, trust_cache=False):
     depsgraph updates invalidate entries) a cached cloud is reused without
     reading the geometry again."""
     name = obj.name
-    entry = _cloud_cache.get(name)
+    # Geometry-nodes output appears as an instance named like its object
+    # but of another type: the type is part of the key.
+    cache_key = (obj.type, name)
+    entry = _cloud_cache.get(cache_key)
     if trust_cache and entry is not None and entry.key[0] == attribute:
         _stats["hits"] += 1
         return entry.cloud, entry.missing
@@ -244,7 +247,7 @@ def cloud_for(obj, attribute, trust_cache=False):
         else:
             kwargs[attribute] = values
     cloud = _core().PointCloud(positions.astype(np.float64), **kwargs)
-    _cloud_cache[name] = _CacheEntry(key, cloud, getattr(obj.data, "name", None), missing)
+    _cloud_cache[cache_key] = _CacheEntry(key, cloud, getattr(obj.data, "name", None), missing)
     _stats["uploads"] += 1
     return cloud, missing
 
@@ -279,12 +282,11 @@ def visible_instances(depsgraph):
     """[(evaluated object, world matrix 4x4 float64, segment-owner object)]"""
     out = []
     for inst in depsgraph.object_instances:
-        if inst.is_instance:
-            obj = inst.instance_object
-            owner = inst.parent
-        else:
-            obj = inst.object
-            owner = obj
+        # For instances (collection instances, geometry-nodes output such
+        # as a PointCloud made from a mesh) 'object' is the instanced
+        # evaluated object and 'parent' the object that instances it.
+        obj = inst.object
+        owner = inst.parent if inst.is_instance and inst.parent is not None else obj
         if obj is None or obj.type not in {'MESH', 'POINTCLOUD'}:
             continue
         if not has_points(obj):
