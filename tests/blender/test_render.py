@@ -459,3 +459,23 @@ def test_passes_written_with_foreach_set(tmp_path):
     helpers.render_pixels(tmp_path)
     assert engine.stats["final_renders"] == before["final_renders"] + 1
     assert engine.stats["slow_pass_writes"] == 0
+
+
+def test_scene_without_points_renders_background(tmp_path):
+    scene = helpers.reset_scene()
+    helpers.add_camera()
+    scene.world.color = (0.0, 0.0, 1.0)
+    helpers.new_collection("Empty")
+    px, _ = helpers.render_pixels(tmp_path, "empty.png")
+    assert all(is_color(px[rc], BLUE) for rc in (CENTRE, CORNER, FAR_ONLY))
+
+
+def test_style_without_output_falls_back_to_default(tmp_path):
+    scene, near, far = helpers.two_planes_scene()
+    tree = near.pointnpr_style
+    tree.nodes.remove(tree.nodes["Output"])
+    desc = nodes.read_style(tree, 1.0)
+    assert desc["warnings"] and desc["rasterize"] == {}
+    px, _ = helpers.render_pixels(tmp_path, "no_output.png")
+    # Default style: the points' own colours; these have none -> not red.
+    assert not is_color(px[CENTRE], RED)

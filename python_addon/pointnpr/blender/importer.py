@@ -178,6 +178,11 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
             return {'CANCELLED'}
         points = sum(len(o.data.vertices) for o in objects)
         self.report({'INFO'}, "Imported %d points into %d object(s)" % (points, len(objects)))
+        if not self.recentre and objects:
+            far = max(max(abs(c) for c in o.bound_box[i]) for o in objects for i in range(8))
+            if far > 1.0e5:
+                self.report({'WARNING'}, "Coordinates up to %.0f kept without recentring: "
+                            "single-precision vertices lose detail at that magnitude" % far)
         return {'FINISHED'}
 
 
