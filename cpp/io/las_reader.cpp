@@ -88,7 +88,7 @@ class LasReader {
 
  private:
   [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
-    throw ReadError(path_, reason, offset);
+    throw ReadError(path_, io::printable(reason), offset);
   }
 
   void parse_vlr(const std::string& user, uint16_t id, const uint8_t* payload, uint64_t len,

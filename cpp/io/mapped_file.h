@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace pointnpr::io {
@@ -45,6 +46,27 @@ inline T load_be(const uint8_t* p) {
   T v;
   std::memcpy(&v, b, sizeof(T));
   return v;
+}
+
+// `s` with bytes outside printable ASCII written as \xNN, cut to `max`
+// characters: error messages quote file contents, which may be binary.
+inline std::string printable(std::string_view s, size_t max = 2000) {
+  static const char* hex = "0123456789abcdef";
+  std::string r;
+  for (unsigned char c : s) {
+    if (r.size() >= max) {
+      r += "...";
+      break;
+    }
+    if (c >= 0x20 && c < 0x7F) {
+      r += static_cast<char>(c);
+    } else {
+      r += "\\x";
+      r += hex[c >> 4];
+      r += hex[c & 15];
+    }
+  }
+  return r;
 }
 
 // Lower-cased extension including the dot (".las"), or "" if none.

@@ -87,7 +87,7 @@ class PcdReader {
 
  private:
   [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
-    throw ReadError(path_, reason, offset);
+    throw ReadError(path_, io::printable(reason), offset);
   }
   void parse_header();
   void plan(PointData& out);

@@ -179,7 +179,7 @@ class PlyReader {
 
  private:
   [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
-    throw ReadError(path_, reason, offset);
+    throw ReadError(path_, io::printable(reason), offset);
   }
   void parse_header();
   void plan_vertex();

@@ -72,7 +72,7 @@ PointData read_text(const std::string& path) {
   const char* d = reinterpret_cast<const char*>(file.data());
   const size_t size = file.size();
   auto fail = [&](const std::string& reason, int64_t at = -1) -> void {
-    throw ReadError(path, reason, at);
+    throw ReadError(path, io::printable(reason), at);
   };
   if (size == 0) fail("file is empty (0 bytes)");
   const std::string ext = io::file_extension(path);

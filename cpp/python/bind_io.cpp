@@ -38,12 +38,21 @@ py::array to_numpy(std::vector<T>&& v, size_t n, size_t comps) {
   return py::array_t<T>(shape, strides, heap->data(), owner);
 }
 
+// Text from files (names, software ids, WKT) need not be valid UTF-8.
+py::str safe_str(const std::string& s) {
+  PyObject* o = PyUnicode_DecodeUTF8(s.data(), static_cast<Py_ssize_t>(s.size()), "replace");
+  if (!o) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(o);
+}
+
 py::object metadata_value(const MetadataValue& v) {
   return std::visit(
       [](const auto& x) -> py::object {
         using T = std::decay_t<decltype(x)>;
         if constexpr (std::is_same_v<T, std::vector<double>>)
           return py::tuple(py::cast(x));
+        else if constexpr (std::is_same_v<T, std::string>)
+          return safe_str(x);
         else
           return py::cast(x);
       },
@@ -55,10 +64,10 @@ PyPointData convert(PointData&& d) {
   const size_t n = d.num_points();
   for (PointAttribute& a : d.attributes) {
     const size_t comps = static_cast<size_t>(a.components);
-    out.attributes[py::str(a.name)] =
+    out.attributes[safe_str(a.name)] =
         std::visit([&](auto& v) { return to_numpy(std::move(v), n, comps); }, a.values);
   }
-  for (const auto& [key, value] : d.metadata) out.metadata[py::str(key)] = metadata_value(value);
+  for (const auto& [key, value] : d.metadata) out.metadata[safe_str(key)] = metadata_value(value);
   out.positions = to_numpy(std::move(d.positions), n, 3);
   return out;
 }
@@ -94,9 +103,9 @@ void bind_io(py::module_& m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const ReadError& e) {
-      py::object inst = py::handle(g_read_error)(e.what());
-      inst.attr("file") = py::str(e.file());
-      inst.attr("reason") = py::str(e.reason());
+      py::object inst = py::handle(g_read_error)(safe_str(e.what()));
+      inst.attr("file") = safe_str(e.file());
+      inst.attr("reason") = safe_str(e.reason());
       inst.attr("byte_offset") = py::int_(e.byte_offset());
       PyErr_SetObject(g_read_error, inst.ptr());
     }

@@ -204,3 +204,28 @@ def test_to_cloud():
     cloud2 = pio.to_cloud(pointnpr.read(DATA / "tinyply_elephant.ply"))
     assert cloud2.num_points == 19753
     assert not cloud2.has("colors")
+
+
+def test_pcd_and_text():
+    mug = pointnpr.read(DATA / "mug_crop.pcd")
+    assert mug.metadata["format"] == "pcd" and mug.metadata["organized"] == 1
+    assert mug.num_points == 4749  # 4800 minus the NaN (missing) pixels
+    assert np.isfinite(mug.positions).all()
+    assert mug.attributes["colors"].shape == (4749, 3)
+    txt = pointnpr.read(DATA / "malformed" / "text_pdal_crlf_test.txt")
+    assert txt.metadata["format"] == "text"
+    np.testing.assert_array_equal(txt.attributes["intensity"], np.arange(10, dtype=np.float32))
+
+
+def test_binary_garbage_in_names_and_messages(tmp_path):
+    p = tmp_path / "names.ply"
+    p.write_bytes(b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                  b"property float z\nproperty float t\xe9mp\xff\nend_header\n1 2 3 4\n")
+    d = pointnpr.read(p)
+    (name,) = [k for k in d.attributes if k.startswith("t")]
+    assert d.attributes[name][0] == 4.0
+    bad = tmp_path / "bad.ply"
+    bad.write_bytes(b"ply\nformat ascii 1.0\n\xff\xfe\x00garbage\nend_header\n")
+    with pytest.raises(pointnpr.ReadError) as info:
+        pointnpr.read(bad)
+    assert "\\xff\\xfe\\x00garbage" in str(info.value)
