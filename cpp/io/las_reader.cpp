@@ -11,6 +11,8 @@
 #include <limits>
 #include <string>
 
+#include <tbb/parallel_for.h>
+
 #include "core/error.h"
 #include "io/mapped_file.h"
 #include "io/readers.h"
@@ -233,63 +235,112 @@ void LasReader::decode_extra(PointData& out, const ExtraField& f, size_t rl, uin
   }
 }
 
+// Output columns of the standard fields; null where the format lacks them.
+struct Columns {
+  double* pos;
+  float* intensity;
+  uint8_t* return_number;
+  uint8_t* number_of_returns;
+  uint8_t* classification;
+  uint8_t* user_data;
+  float* scan_angle;
+  uint16_t* point_source_id;
+  double* gps_time;
+  uint8_t* colors;
+  uint16_t* nir;
+};
+
+// Decodes records [begin, end) of point format PF in one pass; the layout is
+// a compile-time constant, so the loop has no per-point dispatch.
+template <int PF>
+void decode_range(const uint8_t* base, size_t rl, uint64_t begin, uint64_t end,
+                  const double scale[3], const double offset[3], bool sixteen_bit_color,
+                  const Columns& c) {
+  constexpr bool ext = PF >= 6;
+  constexpr int gps = PF == 0 || PF == 2 ? -1 : ext ? 22 : 20;
+  constexpr int rgb = PF == 2 ? 20 : (PF == 3 || PF == 5) ? 28 : (PF == 7 || PF == 8 || PF == 10) ? 30 : -1;
+  constexpr int nir = (PF == 8 || PF == 10) ? 36 : -1;
+  const double sx = scale[0], sy = scale[1], sz = scale[2];
+  const double ox = offset[0], oy = offset[1], oz = offset[2];
+  const int shift = sixteen_bit_color ? 8 : 0;
+  for (uint64_t i = begin; i < end; ++i) {
+    const uint8_t* r = base + i * rl;
+    c.pos[3 * i + 0] = static_cast<double>(load_le<int32_t>(r + 0)) * sx + ox;
+    c.pos[3 * i + 1] = static_cast<double>(load_le<int32_t>(r + 4)) * sy + oy;
+    c.pos[3 * i + 2] = static_cast<double>(load_le<int32_t>(r + 8)) * sz + oz;
+    c.intensity[i] = static_cast<float>(load_le<uint16_t>(r + 12));
+    if constexpr (ext) {
+      c.return_number[i] = r[14] & 0x0F;
+      c.number_of_returns[i] = static_cast<uint8_t>(r[14] >> 4);
+      c.classification[i] = r[16];
+      c.user_data[i] = r[17];
+      c.scan_angle[i] = static_cast<float>(load_le<int16_t>(r + 18) * 0.006);
+      c.point_source_id[i] = load_le<uint16_t>(r + 20);
+    } else {
+      c.return_number[i] = r[14] & 0x07;
+      c.number_of_returns[i] = (r[14] >> 3) & 0x07;
+      c.classification[i] = r[15] & 0x1F;
+      c.scan_angle[i] = static_cast<float>(static_cast<int8_t>(r[16]));
+      c.user_data[i] = r[17];
+      c.point_source_id[i] = load_le<uint16_t>(r + 18);
+    }
+    if constexpr (gps >= 0) c.gps_time[i] = load_le<double>(r + gps);
+    if constexpr (rgb >= 0) {
+      if (c.colors) {
+        c.colors[3 * i + 0] = static_cast<uint8_t>(load_le<uint16_t>(r + rgb) >> shift);
+        c.colors[3 * i + 1] = static_cast<uint8_t>(load_le<uint16_t>(r + rgb + 2) >> shift);
+        c.colors[3 * i + 2] = static_cast<uint8_t>(load_le<uint16_t>(r + rgb + 4) >> shift);
+      }
+    }
+    if constexpr (nir >= 0) c.nir[i] = load_le<uint16_t>(r + nir);
+  }
+}
+
+using DecodeFn = void (*)(const uint8_t*, size_t, uint64_t, uint64_t, const double*, const double*,
+                          bool, const Columns&);
+constexpr DecodeFn kDecoders[11] = {decode_range<0>, decode_range<1>, decode_range<2>,
+                                    decode_range<3>, decode_range<4>, decode_range<5>,
+                                    decode_range<6>, decode_range<7>, decode_range<8>,
+                                    decode_range<9>, decode_range<10>};
+
+// Runs fn(begin, end) over [0, n) in blocks, in parallel for large clouds.
+template <class Fn>
+void for_blocks(uint64_t n, const Fn& fn) {
+  constexpr uint64_t kBlock = 1 << 16;
+  if (n <= kBlock) {
+    fn(uint64_t{0}, n);
+    return;
+  }
+  const uint64_t blocks = (n + kBlock - 1) / kBlock;
+  tbb::parallel_for(uint64_t{0}, blocks, [&](uint64_t b) {
+    fn(b * kBlock, std::min(n, (b + 1) * kBlock));
+  });
+}
+
 void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
                               const uint8_t* base, const double scale[3],
                               const double offset[3]) {
   const Layout lay = layout_for(pf);
   out.positions.resize(n * 3);
-  double* pos = out.positions.data();
-  for (uint64_t i = 0; i < n; ++i) {
-    const uint8_t* r = base + i * rl;
-    pos[3 * i + 0] = static_cast<double>(load_le<int32_t>(r + 0)) * scale[0] + offset[0];
-    pos[3 * i + 1] = static_cast<double>(load_le<int32_t>(r + 4)) * scale[1] + offset[1];
-    pos[3 * i + 2] = static_cast<double>(load_le<int32_t>(r + 8)) * scale[2] + offset[2];
-  }
-
-  {
-    auto& v = out.add<float>("intensity");
-    for (uint64_t i = 0; i < n; ++i) v[i] = static_cast<float>(load_le<uint16_t>(base + i * rl + 12));
-  }
-  {
-    auto& rn = out.add<uint8_t>("return_number");
-    auto& nr = out.add<uint8_t>("number_of_returns");
-    auto& cls = out.add<uint8_t>("classification");
-    auto& ud = out.add<uint8_t>("user_data");
-    auto& sa = out.add<float>("scan_angle");
-    auto& ps = out.add<uint16_t>("point_source_id");
-    if (lay.extended) {
-      for (uint64_t i = 0; i < n; ++i) {
-        const uint8_t* r = base + i * rl;
-        rn[i] = r[14] & 0x0F;
-        nr[i] = static_cast<uint8_t>(r[14] >> 4);
-        cls[i] = r[16];
-        ud[i] = r[17];
-        sa[i] = static_cast<float>(load_le<int16_t>(r + 18) * 0.006);
-        ps[i] = load_le<uint16_t>(r + 20);
-      }
-    } else {
-      for (uint64_t i = 0; i < n; ++i) {
-        const uint8_t* r = base + i * rl;
-        rn[i] = r[14] & 0x07;
-        nr[i] = (r[14] >> 3) & 0x07;
-        cls[i] = r[15] & 0x1F;
-        sa[i] = static_cast<float>(static_cast<int8_t>(r[16]));
-        ud[i] = r[17];
-        ps[i] = load_le<uint16_t>(r + 18);
-      }
-    }
-  }
-  if (lay.gps >= 0) {
-    auto& v = out.add<double>("gps_time");
-    for (uint64_t i = 0; i < n; ++i) v[i] = load_le<double>(base + i * rl + lay.gps);
-  }
+  Columns c{};
+  c.pos = out.positions.data();
+  c.intensity = out.add<float>("intensity").data();
+  c.return_number = out.add<uint8_t>("return_number").data();
+  c.number_of_returns = out.add<uint8_t>("number_of_returns").data();
+  c.classification = out.add<uint8_t>("classification").data();
+  c.user_data = out.add<uint8_t>("user_data").data();
+  c.scan_angle = out.add<float>("scan_angle").data();
+  c.point_source_id = out.add<uint16_t>("point_source_id").data();
+  if (lay.gps >= 0) c.gps_time = out.add<double>("gps_time").data();
+  bool sixteen = false;
   if (lay.rgb >= 0) {
     // LAS stores 16-bit colour; many writers store 0-255 values instead.
     // Decide on the file as a whole: any value above 255 means 16-bit, which
     // is then reduced with v >> 8: exact for both common ways of widening
     // 8-bit colour (c * 256 and c * 257) and within one level otherwise.
+    // The scan stops at the first such value (at once for most 16-bit files).
     uint16_t maxv = 0;
-    for (uint64_t i = 0; i < n; ++i) {
+    for (uint64_t i = 0; i < n && maxv <= 255; ++i) {
       const uint8_t* r = base + i * rl + lay.rgb;
       maxv = std::max({maxv, load_le<uint16_t>(r), load_le<uint16_t>(r + 2),
                        load_le<uint16_t>(r + 4)});
@@ -297,22 +348,15 @@ void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
     if (maxv == 0) {
       out.metadata["colors_all_zero"] = int64_t{1};
     } else {
-      const bool sixteen = maxv > 255;
+      sixteen = maxv > 255;
       out.metadata["color_bits"] = int64_t{sixteen ? 16 : 8};
-      auto& v = out.add<uint8_t>("colors", 3);
-      for (uint64_t i = 0; i < n; ++i) {
-        const uint8_t* r = base + i * rl + lay.rgb;
-        for (int c = 0; c < 3; ++c) {
-          uint32_t x = load_le<uint16_t>(r + 2 * c);
-          v[3 * i + c] = static_cast<uint8_t>(sixteen ? x >> 8 : x);
-        }
-      }
+      c.colors = out.add<uint8_t>("colors", 3).data();
     }
   }
-  if (lay.nir >= 0) {
-    auto& v = out.add<uint16_t>("nir");
-    for (uint64_t i = 0; i < n; ++i) v[i] = load_le<uint16_t>(base + i * rl + lay.nir);
-  }
+  if (lay.nir >= 0) c.nir = out.add<uint16_t>("nir").data();
+  const DecodeFn decode = kDecoders[pf];
+  for_blocks(n, [&](uint64_t b, uint64_t e) { decode(base, rl, b, e, scale, offset, sixteen, c); });
+
   const size_t extra_base = kMinRecordLength[pf];
   for (ExtraField f : extra_) {
     f.offset += extra_base;
