@@ -232,6 +232,19 @@ def watch_panel(cls):
     cls.draw = draw
 
 
+def watch_node_buttons():
+    original = nodes._StyleNodeMixin.draw_buttons
+
+    def draw_buttons(self, context, layout):
+        try:
+            original(self, context, layout)
+            panel_calls.setdefault("node draw_buttons", []).append(None)
+        except Exception as exc:
+            panel_calls.setdefault("node draw_buttons", []).append(repr(exc))
+            raise
+    nodes._StyleNodeMixin.draw_buttons = draw_buttons
+
+
 def show_properties(tab):
     for area in state["window"].screen.areas:
         if area.type == 'PROPERTIES':
@@ -263,6 +276,8 @@ def tick():
             from pointnpr.blender import ui
             watch_panel(ui.RENDER_PT_pointnpr)
             watch_panel(ui.COLLECTION_PT_pointnpr_style)
+            watch_panel(ui.NODE_PT_pointnpr_style)
+            watch_node_buttons()
             build_scene()
             state["window"], state["area"], state["region"] = setup_viewport()
             state["phase"] = "act"
@@ -320,6 +335,28 @@ def tick():
                 finish(1)
             if not all(panel_calls.get(n) for n in ("RENDER_PT_pointnpr", "COLLECTION_PT_pointnpr_style")):
                 log("panels were not drawn")
+                finish(1)
+            # The style in a node editor (the 3D viewport, checked, becomes
+            # one). Its sidebar opens on the "Tool" tab, so the PointNPR
+            # panel (tab "Node") is not drawn and not required here.
+            area = state["area"]
+            area.type = 'NODE_EDITOR'
+            space = area.spaces.active
+            space.tree_type = nodes.TREE_IDNAME
+            space.node_tree = bpy.data.collections["Red"].pointnpr_style
+            space.show_region_ui = True
+            area.tag_redraw()
+            state["phase"] = "node_editor"
+            return 1.0
+        if state["phase"] == "node_editor":
+            log("node editor draws: %s" % {k: len(v) for k, v in panel_calls.items()})
+            screenshot(state["window"], state["area"], os.path.splitext(OUT_PNG)[0] + "_nodes.png")
+            errors = [e for calls in panel_calls.values() for e in calls if e]
+            if errors:
+                log("draw errors: %s" % errors)
+                finish(1)
+            if not panel_calls.get("node draw_buttons"):
+                log("style nodes not drawn in the node editor")
                 finish(1)
             # Interactive F12: the render runs as a job, off the main thread.
             bpy.context.preferences.view.render_display_type = 'NONE'

@@ -185,6 +185,37 @@ class COLLECTION_PT_pointnpr_style(PointNPRPanel, bpy.types.Panel):
             layout.label(text="Built-in default style (plain rasterize)", icon='INFO')
 
 
+class NODE_PT_pointnpr_style(bpy.types.Panel):
+    """Node editor sidebar: which collections use the edited style."""
+    bl_space_type = 'NODE_EDITOR'
+    bl_region_type = 'UI'
+    bl_category = "Node"
+    bl_label = "PointNPR Style"
+
+    @classmethod
+    def poll(cls, context):
+        space = context.space_data
+        return space is not None and nodes.is_style_tree(getattr(space, "edit_tree", None))
+
+    def draw(self, context):
+        layout = self.layout
+        tree = context.space_data.edit_tree
+        users = [c.name for c in bpy.data.collections if c.pointnpr_style == tree]
+        if context.scene.pointnpr_default_style == tree:
+            users.insert(0, "Scene default")
+        col = layout.column(align=True)
+        if users:
+            col.label(text="Used by:")
+            for name in users:
+                col.label(text=name, icon='OUTLINER_COLLECTION')
+        else:
+            col.label(text="Not assigned to a collection", icon='INFO')
+        if not nodes.style_chain(tree):
+            layout.label(text="Link Rasterize -> ... -> Output", icon='ERROR')
+        op = layout.operator(POINTNPR_OT_add_step.bl_idname, icon='ADD')
+        op.tree = tree.name
+
+
 # ---------------------------------------------------------------------------
 # Blender's own panels
 
@@ -235,6 +266,7 @@ _classes = (
     POINTNPR_OT_remove_step,
     RENDER_PT_pointnpr,
     COLLECTION_PT_pointnpr_style,
+    NODE_PT_pointnpr_style,
 )
 
 
