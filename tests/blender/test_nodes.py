@@ -184,3 +184,45 @@ def test_animation_clamped_to_hard_range(scene):
     hi = next(p for p in hi if p["name"] == "point_size")["max"]
     assert fc.evaluate(10.0) > hi
     assert nodes.read_style(tree, 10.0)["rasterize"]["point_size"] == hi
+
+
+def test_style_operators(scene):
+    coll = helpers.new_collection("OpColl")
+    layer = bpy.context.view_layer.layer_collection.children["OpColl"]
+    bpy.context.view_layer.active_layer_collection = layer
+    assert bpy.ops.pointnpr.new_style(target='COLLECTION') == {'FINISHED'}
+    tree = coll.pointnpr_style
+    assert nodes.is_style_tree(tree)
+    assert [n.pointnpr_role for n in nodes.style_chain(tree)] == [nodes.ROLE_RASTERIZE]
+    assert bpy.ops.pointnpr.new_style(target='SCENE') == {'FINISHED'}
+    assert nodes.is_style_tree(scene.pointnpr_default_style)
+    assert scene.pointnpr_default_style != tree
+    filters = [s["id"] for s in pointnpr.schemas() if s["kind"] == "filter"]
+    for step in filters + ["inpaint"]:
+        assert bpy.ops.pointnpr.add_step(tree=tree.name, step=step) == {'FINISHED'}
+    chain = nodes.style_chain(tree)
+    assert [n.pointnpr_schema_id for n in chain] == ["rasterize"] + filters + ["inpaint"]
+    # Removing a middle step relinks its neighbours.
+    middle = chain[1]
+    assert bpy.ops.pointnpr.remove_step(tree=tree.name, node=middle.name) == {'FINISHED'}
+    assert [n.pointnpr_schema_id for n in nodes.style_chain(tree)] == \
+        ["rasterize"] + filters[1:] + ["inpaint"]
+    with pytest.raises(RuntimeError):
+        bpy.ops.pointnpr.add_step(tree="no such style", step=filters[0])
+
+
+def test_collection_style_pointer_accepts_only_style_trees(scene):
+    coll = helpers.new_collection("PollColl")
+    other = bpy.data.node_groups.new("Geometry", 'GeometryNodeTree')
+    assert not nodes.poll_style_tree(None, other)
+    assert nodes.poll_style_tree(None, nodes.new_style("Ok"))
+    # Python can bypass the UI's poll: such a tree is ignored (the parent's
+    # style, here the scene default, applies).
+    default = nodes.new_style("Default")
+    scene.pointnpr_default_style = default
+    try:
+        coll.pointnpr_style = other
+    except (TypeError, ValueError):
+        pass
+    from pointnpr.blender import sync
+    assert sync.resolve_style(scene, coll) == default
