@@ -378,6 +378,44 @@ TEST(IoLasGenerated, AllPointFormatsReadWithStandardLengths) {
   }
 }
 
+TEST(IoLasGenerated, ManyPointsAcrossParallelBlocks) {
+  const size_t n = 200003;  // several decoding blocks, last one partial
+  LasSpec s;
+  s.version_minor = 4;
+  s.point_format = 7;
+  s.offset[0] = 500000.0;
+  s.points.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    LasPoint& p = s.points[i];
+    p.x = static_cast<int32_t>(i * 3);
+    p.y = -static_cast<int32_t>(i);
+    p.z = static_cast<int32_t>(i % 1000);
+    p.intensity = static_cast<uint16_t>(i);
+    p.classification = static_cast<uint8_t>(i % 256);
+    p.gps_time = static_cast<double>(i) * 0.5;
+    for (int c = 0; c < 3; ++c) p.rgb[c] = static_cast<uint16_t>((i + c) % 256);
+  }
+  s.points[n - 1].rgb[2] = 256;  // only the very last value says "16-bit"
+  PointData d = read_point_cloud(write_file("many.las", make_las(s)));
+  ASSERT_EQ(d.num_points(), n);
+  EXPECT_EQ(md_int(d, "color_bits"), 16);
+  const auto& cls = attr<uint8_t>(d, "classification");
+  const auto& inten = attr<float>(d, "intensity");
+  const auto& gps = attr<double>(d, "gps_time");
+  const auto& col = attr<uint8_t>(d, "colors");
+  size_t bad = 0;
+  for (size_t i = 0; i < n; ++i) {
+    bad += d.positions[3 * i] != static_cast<double>(i * 3) * 0.01 + 500000.0;
+    bad += d.positions[3 * i + 1] != static_cast<double>(-static_cast<int32_t>(i)) * 0.01;
+    bad += cls[i] != i % 256;
+    bad += inten[i] != static_cast<float>(static_cast<uint16_t>(i));
+    bad += gps[i] != static_cast<double>(i) * 0.5;
+    bad += col[3 * i] != 0;  // values < 256 in a 16-bit file are dark
+  }
+  EXPECT_EQ(bad, 0u);
+  EXPECT_EQ(col[3 * (n - 1) + 2], 1);
+}
+
 TEST(IoLasGenerated, RecordLongerThanFormatWithoutDescription) {
   LasSpec s = spec_with_points(2, 3, 2);
   s.record_length = 40;
