@@ -36,7 +36,9 @@ def reset_scene():
     r.pixel_aspect_x = r.pixel_aspect_y = 1.0
     r.fps, r.fps_base = 24, 1.0
     r.film_transparent = False
+    r.dither_intensity = 0.0   # exact 8-bit values, independent of position
     r.use_border = False
+    r.use_crop_to_border = False
     r.image_settings.file_format = 'PNG'
     r.image_settings.color_mode = 'RGBA'
     r.image_settings.color_depth = '8'

@@ -479,3 +479,23 @@ def test_style_without_output_falls_back_to_default(tmp_path):
     px, _ = helpers.render_pixels(tmp_path, "no_output.png")
     # Default style: the points' own colours; these have none -> not red.
     assert not is_color(px[CENTRE], RED)
+
+
+@pytest.mark.parametrize("crop", [True, False])
+def test_border_render(tmp_path, crop):
+    scene, _, _ = helpers.two_planes_scene()
+    full, _ = helpers.render_pixels(tmp_path, "full.png")
+    r = scene.render
+    r.use_border = True
+    r.use_crop_to_border = crop
+    r.border_min_x, r.border_max_x = 0.25, 0.75
+    r.border_min_y, r.border_max_y = 0.125, 0.5
+    x0, x1, y0, y1 = 16, 48, 6, 24
+    part, _ = helpers.render_pixels(tmp_path, "border.png")
+    if crop:
+        assert part.shape[:2] == (y1 - y0, x1 - x0)
+        assert np.array_equal(part, full[y0:y1, x0:x1])
+    else:
+        assert part.shape == full.shape
+        assert np.array_equal(part[y0:y1, x0:x1], full[y0:y1, x0:x1])
+        assert part[CORNER][3] == 0.0   # outside the border: nothing rendered

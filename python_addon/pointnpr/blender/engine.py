@@ -232,18 +232,31 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
         for warning in list(synced.warnings) + list(getattr(result, "warnings", ())):
             self.report({'WARNING'}, "PointNPR: %s" % warning)
 
-        rr = self.begin_result(0, 0, width, height, layer=view_layer.name)
+        # Border render: Blender's result covers only the border rectangle
+        # (same integer rounding as Blender's display rectangle).
+        x0, y0, x1, y1 = 0, 0, width, height
+        r = scene.render
+        if r.use_border:
+            x0, x1 = int(r.border_min_x * width), int(r.border_max_x * width)
+            y0, y1 = int(r.border_min_y * height), int(r.border_max_y * height)
+            if x1 <= x0 or y1 <= y0:
+                return
+
+        def crop(image):
+            return image[y0:y1, x0:x1]
+
+        rr = self.begin_result(0, 0, x1 - x0, y1 - y0, layer=view_layer.name)
         try:
             view = self.active_view_get() or ""
             layer = rr.layers[0]
-            _set_pass(_find_pass(layer, "Combined", view), result.color)
+            _set_pass(_find_pass(layer, "Combined", view), crop(result.color))
             if view_layer.use_pass_z:
                 depth_pass = _find_pass(layer, "Depth", view)
                 if depth_pass is not None:
-                    _set_pass(depth_pass, result.depth)
+                    _set_pass(depth_pass, crop(result.depth))
             seg_pass = _find_pass(layer, SEGMENT_PASS, view)
             if seg_pass is not None:
-                _set_pass(seg_pass, result.segment_index.astype(np.float32))
+                _set_pass(seg_pass, crop(result.segment_index).astype(np.float32))
         finally:
             self.end_result(rr)
         self.update_progress(1.0)
