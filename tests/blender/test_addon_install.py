@@ -1,0 +1,58 @@
+"""The package installs and enables like any Blender add-on (zip through
+Preferences > Add-ons > Install), in a separate Blender process."""
+import os
+import shutil
+import subprocess
+import zipfile
+
+import bpy
+
+SCRIPT = r'''
+import sys, addon_utils, bpy
+
+def engines():
+    """{'POINTNPR'} when the engine can be selected, else empty."""
+    render = bpy.context.scene.render
+    try:
+        render.engine = 'POINTNPR'
+    except TypeError:
+        return set()
+    render.engine = 'BLENDER_WORKBENCH'
+    return {'POINTNPR'}
+
+bpy.ops.preferences.addon_install(filepath=sys.argv[-1], overwrite=True)
+mod = addon_utils.enable("pointnpr", default_set=True, handle_error=None)
+assert mod is not None, "enable failed"
+assert "POINTNPR" in engines()
+assert hasattr(bpy.types.Scene, "pointnpr")
+print("BL_INFO", mod.bl_info["name"], mod.bl_info["blender"])
+addon_utils.disable("pointnpr", default_set=True)
+assert not hasattr(bpy.types.Scene, "pointnpr")
+assert "POINTNPR" not in engines()
+addon_utils.enable("pointnpr", default_set=True)
+assert hasattr(bpy.types.Scene, "pointnpr") and "POINTNPR" in engines()
+print("ADDON_OK")
+'''
+
+
+def test_zip_installs_and_enables(tmp_path):
+    package = os.path.join(os.environ["POINTNPR_BUILD_DIR"], "pointnpr")
+    archive = tmp_path / "pointnpr-addon.zip"
+    with zipfile.ZipFile(archive, "w", zipfile.ZIP_DEFLATED) as z:
+        for root, dirs, files in os.walk(package):
+            dirs[:] = [d for d in dirs if d != "__pycache__"]
+            for name in files:
+                path = os.path.join(root, name)
+                z.write(path, os.path.join("pointnpr", os.path.relpath(path, package)))
+    user = tmp_path / "user"
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(user), BLENDER_USER_CONFIG=str(user / "config"))
+    script = tmp_path / "install.py"
+    script.write_text(SCRIPT)
+    proc = subprocess.run(
+        [bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1",
+         "--python", str(script), "--", str(archive)],
+        env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=300)
+    out = proc.stdout.decode(errors="replace")
+    assert proc.returncode == 0 and "ADDON_OK" in out, out[-3000:]
+    assert (user / "addons" / "pointnpr" / "blender" / "engine.py").exists()
+    shutil.rmtree(user, ignore_errors=True)
