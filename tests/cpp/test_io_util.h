@@ -22,15 +22,30 @@ inline std::string data_path(const std::string& rel) {
   return std::string(POINTNPR_TEST_DATA_DIR) + "/io/" + rel;
 }
 
+// Generated files go to a per-process folder, removed when the tests end.
+inline std::filesystem::path scratch_path() {
+  return std::filesystem::temp_directory_path() /
+         ("pointnpr_io_tests_" + std::to_string(::getpid()));
+}
+
 inline std::filesystem::path scratch_dir() {
   static const std::filesystem::path dir = [] {
-    auto d = std::filesystem::temp_directory_path() /
-             ("pointnpr_io_tests_" + std::to_string(::getpid()));
+    auto d = scratch_path();
     std::filesystem::create_directories(d);
     return d;
   }();
   return dir;
 }
+
+class ScratchCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ec;
+    std::filesystem::remove_all(scratch_path(), ec);
+  }
+};
+inline ::testing::Environment* const kScratchCleanup =
+    ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
 
 inline std::string write_file(const std::string& name, const std::string& bytes) {
   const std::string path = (scratch_dir() / name).string();
