@@ -220,6 +220,10 @@ def test_cloud_cache_reuses_uploads():
     depsgraph = bpy.context.evaluated_depsgraph_get()
     sync.build_scene(depsgraph, 2.0)
     assert sync.cache_stats()["uploads"] == uploads + 1
+    # Deleted objects leave the cache.
+    bpy.data.objects.remove(obj)
+    sync.build_scene(bpy.context.evaluated_depsgraph_get(), 2.0)
+    assert sync.cache_stats()["objects"] == 1
 
 
 def test_orthographic_camera(tmp_path):

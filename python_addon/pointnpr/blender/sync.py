@@ -214,6 +214,13 @@ def invalidate(name):
         del _cloud_cache[key]
 
 
+def prune_cache():
+    """Drop the clouds of objects that no longer exist (frees their GPU memory)."""
+    names = set(bpy.data.objects.keys())
+    for key in [k for k in _cloud_cache if k[1] not in names]:
+        del _cloud_cache[key]
+
+
 def cloud_for(obj, attribute, trust_cache=False):
     """(pointnpr.PointCloud, warning or None) for evaluated object ``obj``
     with the one attribute the style needs (or None).
@@ -331,6 +338,7 @@ def build_scene(depsgraph, frame, trust_cache=False):
         core_scene.add_segment(coll.name, style, instances)
         result.segment_names.append(coll.name)
     result.scene = core_scene
+    prune_cache()
     return result
 
 
