@@ -2,6 +2,48 @@
 
 ``pointnpr.read(path)`` returns a ``PointData``; ``to_cloud(data)`` (also
 available as ``data.to_cloud()``) turns it into the renderer's ``PointCloud``.
+
+Formats: LAS 1.0-1.4 (point formats 0-10; LAZ is refused with a hint to
+decompress it), PLY (ascii / binary little and big endian; the vertex
+element), PCD (ascii / binary / binary_compressed; NaN points of organized
+clouds dropped) and delimited text (.xyz .pts .txt .csv .asc).
+
+``PointData.positions`` is an (N, 3) float64 array of exact georeferenced
+coordinates (LAS: integer * scale + offset). ``PointData.attributes`` holds
+what the file has, one row per point:
+
+=====================  ==============  =========================================
+name                   dtype, shape    from
+=====================  ==============  =========================================
+colors                 uint8 (N, 3)    LAS RGB (16-bit files reduced with >> 8),
+                                       PLY red/green/blue, PCD rgb/rgba, text
+alpha                  uint8 (N,)      PLY alpha
+intensity              float32 (N,)    LAS, PLY/PCD/text "intensity"
+classification         uint8 (N,)      LAS (formats 6-10: all 8 bits), PLY/text
+return_number,         uint8 (N,)      LAS
+number_of_returns
+user_data              uint8 (N,)      LAS
+scan_angle             float32 (N,)    LAS, degrees
+point_source_id        uint16 (N,)     LAS
+gps_time               float64 (N,)    LAS formats 1, 3-10
+nir                    uint16 (N,)     LAS formats 8, 10
+normals                float32 (N, 3)  PLY nx/ny/nz, PCD normal_x/y/z, text
+<extra bytes name>     native / f64    LAS extra bytes VLR (float64 when scaled)
+<property name>        float32         any other PLY/PCD/text scalar
+=====================  ==============  =========================================
+
+``PointData.metadata`` always has "format" ("las", "ply", "pcd", "text") and
+"point_count"; LAS adds "version", "point_format", "point_record_length",
+"scale", "offset", "bounds_min", "bounds_max", "crs_wkt" and "crs_epsg" (when
+the file has them), "color_bits" (8 or 16), "colors_all_zero" (colour fields
+present but all zero: no "colors" attribute), "extra_bytes_undescribed",
+"waveform_ignored"; PLY adds "encoding", "elements", "comments"; PCD adds
+"encoding", "width", "height", "organized"; any reader adds
+"dropped_nonfinite" when it removed points with NaN/inf coordinates.
+
+``pointnpr.ReadError`` (a ValueError) names the file, the reason and, where it
+applies, the byte offset; also available as ``.file``, ``.reason`` and
+``.byte_offset``.
 """
 import numpy as _np
 
