@@ -170,7 +170,9 @@ void bind_io(py::module_& m) {
   m.def(
       "read",
       [](py::object path) {
-        const std::string p = py::str(py::module_::import("os").attr("fsdecode")(path));
+        // Raw bytes of the path (os.fsencode), so that any file name the OS
+        // accepts can be opened.
+        const std::string p = py::module_::import("os").attr("fsencode")(path).cast<std::string>();
         PointData data;
         {
           py::gil_scoped_release release;

@@ -229,3 +229,15 @@ def test_binary_garbage_in_names_and_messages(tmp_path):
     with pytest.raises(pointnpr.ReadError) as info:
         pointnpr.read(bad)
     assert "\\xff\\xfe\\x00garbage" in str(info.value)
+
+
+def test_unusual_file_names(tmp_path):
+    src = (DATA / "malformed" / "ply_pdal_simple_binary.ply").read_bytes()
+    p = tmp_path / "Wolkë punkt 点.ply"
+    p.write_bytes(src)
+    assert pointnpr.read(p).num_points == 3
+    assert pointnpr.read(os.fsencode(p)).num_points == 3
+    raw = os.path.join(os.fsencode(tmp_path), b"bad\xff.ply")
+    with open(raw, "wb") as f:
+        f.write(src)
+    assert pointnpr.read(raw).num_points == 3
