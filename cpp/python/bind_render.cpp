@@ -183,8 +183,10 @@ void bind_render(py::module_& m) {
                                    {width, height}, pixel_aspect);
       }, py::arg("world_from_camera"), py::arg("lens") = 50.0, py::arg("sensor_width") = 36.0,
          py::arg("sensor_height") = 24.0, py::arg("sensor_fit") = "AUTO", py::arg("shift_x") = 0.0,
-         py::arg("shift_y") = 0.0, py::arg("clip_start") = 0.1, py::arg("clip_end") = 1000.0,
-         py::arg("width") = 1920, py::arg("height") = 1080, py::arg("pixel_aspect") = 1.0)
+         py::arg("shift_y") = 0.0, py::arg("clip_start") = 0.1, py::arg("clip_end") = 1000.0, py::kw_only(),
+         py::arg("width"), py::arg("height"), py::arg("pixel_aspect") = 1.0,
+         "Blender's perspective camera. width/height are the render size in pixels (they decide the sensor fit "
+         "and aspect); pixel_aspect = pixel height / pixel width (Blender: pixel_aspect_y / pixel_aspect_x).")
       .def_static("orthographic", [](const py::object& world_from_camera, double ortho_scale, const std::string& fit,
                                      double shift_x, double shift_y, double clip_start, double clip_end, int width,
                                      int height, double pixel_aspect) {
@@ -193,8 +195,8 @@ void bind_render(py::module_& m) {
                                            {width, height}, pixel_aspect);
       }, py::arg("world_from_camera"), py::arg("ortho_scale") = 10.0, py::arg("sensor_fit") = "AUTO",
          py::arg("shift_x") = 0.0, py::arg("shift_y") = 0.0, py::arg("clip_start") = 0.1,
-         py::arg("clip_end") = 1000.0, py::arg("width") = 1920, py::arg("height") = 1080,
-         py::arg("pixel_aspect") = 1.0)
+         py::arg("clip_end") = 1000.0, py::kw_only(), py::arg("width"), py::arg("height"),
+         py::arg("pixel_aspect") = 1.0, "Blender's orthographic camera; width/height/pixel_aspect as for perspective().")
       .def_static("from_matrices", [](const py::object& view, const py::object& projection) {
         return Camera::from_matrices(to_dmat4(view, "view_matrix"), to_dmat4(projection, "projection_matrix"));
       }, py::arg("view_matrix"), py::arg("projection_matrix"))

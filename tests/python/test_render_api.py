@@ -84,7 +84,9 @@ def test_bad_render_arguments_raise(renderer, two_planes, camera):
     with pytest.raises(ValueError, match="mode"):
         renderer.render(two_planes, camera, 320, 240, composite={"mode": "magic"})
     with pytest.raises(ValueError):
-        pointnpr.Camera.perspective(np.eye(3))
+        pointnpr.Camera.perspective(np.eye(3), width=320, height=240)
+    with pytest.raises(TypeError):  # the render size is required: no silent 16:9 default
+        pointnpr.Camera.perspective(np.eye(4))
 
 
 def test_viewport_camera_from_matrices(renderer, two_planes):
@@ -141,7 +143,7 @@ def test_missing_shaders_raise_a_gl_error_naming_the_path(tmp_path):
         s = pointnpr.Scene()
         s.add_segment("a", pointnpr.Style(), [pointnpr.PointCloud(np.zeros((1, 3)) - [0, 0, 5])])
         try:
-            pointnpr.Renderer().render(s, pointnpr.Camera.perspective(np.eye(4)), 64, 64)
+            pointnpr.Renderer().render(s, pointnpr.Camera.perspective(np.eye(4), width=64, height=64), 64, 64)
         except pointnpr.GLError as e:
             print("GLError:", e)
     """)
