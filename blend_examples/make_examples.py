@@ -1,16 +1,20 @@
-"""Builds the example .blend files from the scans in tests/data/io.
+"""Builds the example .blend files from real scans in data/ and tests/data/io.
 
     blender -b --factory-startup --python-exit-code 1 \
         --python blend_examples/make_examples.py -- <builddir> [outdir]
 
-<builddir> holds the assembled add-on package (<builddir>/pointnpr). Writes
-<outdir>/warsaw_styles.blend (default outdir: this folder) and a preview
-render of frame 1 next to it. Opening or rendering the .blend needs the
-add-on enabled, e.g.
+<builddir> holds the assembled add-on package (<builddir>/pointnpr). Writes,
+into <outdir> (default: this folder), each scene's .blend and a preview
+render next to it:
+* urban_lidarhd.blend: aerial LiDAR (IGN LiDAR HD), ground / buildings /
+  vegetation as three differently styled segments that overlap in depth;
+* warsaw_styles.blend: style inheritance and a keyframed warp;
+* lion_benchmark.blend: 342k points, three styled segments, 1920x1080
+  (the benchmark scene of docs/performance.md; no preview).
+Opening or rendering a .blend needs the add-on enabled, e.g.
 
-    blender -b blend_examples/warsaw_styles.blend \
-        --python tests/blender/enable_addon.py -o //render_#### -a
-    (with POINTNPR_BUILD_DIR=<builddir>)
+    POINTNPR_BUILD_DIR=<builddir> blender -b blend_examples/urban_lidarhd.blend \
+        --python scripts/enable_addon.py -o //render_#### -a
 
 The scene shows what the add-on does:
 * File > Import > Point Cloud with "Split by classification": one collection
@@ -36,6 +40,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 OUT_DIR = os.path.abspath(argv[1]) if len(argv) > 1 else HERE
 REPO = os.path.dirname(HERE)
 SCAN = os.path.join(REPO, "tests", "data", "io", "warsaw_small.las")
+URBAN_SCAN = os.path.join(REPO, "data", "lidarhd_myria3d_870000_6618000_subset.las")
+LION_SCAN = os.path.join(REPO, "data", "lion_takanawa.ply")
 
 sys.path.insert(0, BUILD_DIR)
 import pointnpr  # noqa: E402
@@ -58,19 +64,128 @@ def set_params(node, **values):
         setattr(node, nodes.property_identifier(name), value)
 
 
-def main():
+def new_scene(width, height, world_color, frames=48):
+    """Empties the file and sets up a PointNPR scene (Standard view transform,
+    so scan colours come out as authored)."""
     clear()
     scene = bpy.context.scene
     scene.render.engine = 'POINTNPR'
-    scene.render.resolution_x, scene.render.resolution_y = 960, 540
+    scene.render.resolution_x, scene.render.resolution_y = width, height
     scene.render.resolution_percentage = 100
-    scene.frame_start, scene.frame_end = 1, 48
+    scene.frame_start, scene.frame_end = 1, frames
     scene.render.fps = 24
     scene.view_settings.view_transform = 'Standard'
     if scene.world is None:
         scene.world = bpy.data.worlds.new("World")
-    scene.world.color = (0.9, 0.9, 0.85)
+    scene.world.color = world_color
     scene.pointnpr.mode = "inpaint"
+    return scene
+
+
+def add_camera(scene, target, offset, lens=35.0, clip_end=1000.0):
+    cam_data = bpy.data.cameras.new("Camera")
+    cam_data.lens = lens
+    cam_data.clip_start, cam_data.clip_end = 0.1, clip_end
+    cam = bpy.data.objects.new("Camera", cam_data)
+    cam.location = Vector(target) + Vector(offset)
+    cam.rotation_euler = (Vector(target) - cam.location).to_track_quat('-Z', 'Y').to_euler()
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    return cam
+
+
+def save(scene, name, preview_frame=None):
+    os.makedirs(OUT_DIR, exist_ok=True)
+    blend = os.path.join(OUT_DIR, name + ".blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend, compress=True)
+    print("wrote", blend)
+    if preview_frame is not None:
+        scene.render.filepath = os.path.join(OUT_DIR, name + "_preview.png")
+        scene.frame_set(preview_frame)
+        scene.render.resolution_percentage = 50   # small preview; the .blend keeps 100 %
+        bpy.ops.render.render(write_still=True)
+        print("wrote", scene.render.filepath)
+
+
+def make_urban():
+    """Seed 000's urban map in small: the three classes of an IGN LiDAR HD
+    tile as segments. From the oblique camera, trees stand in front of roofs
+    and roofs in front of the ground, so depth compositing matters."""
+    scene = new_scene(1280, 720, (0.93, 0.91, 0.86))
+    bpy.ops.import_scene.pointnpr_cloud(filepath=URBAN_SCAN, split_by_classification=True)
+    root = bpy.data.collections["lidarhd_myria3d_870000_6618000_subset"]
+
+    ground = nodes.new_style("Ground Toon")
+    set_params(ground.nodes["Rasterize"], size_mode="world", world_size=0.55, color_source="rgb")
+    cartoon = nodes.append_node(ground, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
+    set_params(cartoon, levels=6, outline_width=0, edge_strength=0.6)
+    root.pointnpr_style = ground  # "Ground (2)" has none of its own: it inherits this
+
+    buildings = nodes.new_style("Ink Buildings")
+    set_params(buildings.nodes["Rasterize"], size_mode="world", world_size=0.5, color_source="rgb")
+    ink = nodes.append_node(buildings, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
+    set_params(ink, levels=4, outline_width=2, edge_color=(0.1, 0.08, 0.08, 1.0))
+    nodes.append_node(buildings, nodes.ROLE_INPAINT, "inpaint", name="Inpaint Depth")
+
+    trees = nodes.new_style("Trees White Outline")
+    set_params(trees.nodes["Rasterize"], size_mode="world", world_size=0.6, color_source="rgb")
+    toon = nodes.append_node(trees, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
+    set_params(toon, levels=4, outline_width=1, fill_gaps=4, edge_color=(1.0, 1.0, 1.0, 1.0))
+    warp = nodes.append_node(trees, nodes.ROLE_FILTER, "warp", name="Warp")
+    set_params(warp, amplitude=2.0, wavelength=90.0, speed=0.5)
+    nodes.append_node(trees, nodes.ROLE_INPAINT, "inpaint", name="Inpaint Depth")
+
+    for coll in root.children:
+        if coll.name.startswith("Building"):
+            coll.pointnpr_style = buildings
+        elif coll.name.startswith("Unclassified"):
+            coll.pointnpr_style = trees
+
+    lo, hi = scene_bounds()
+    centre = (lo + hi) / 2
+    extent = max((hi - lo).x, (hi - lo).y)
+    add_camera(scene, centre, (-0.45 * extent, -0.6 * extent, 0.38 * extent), lens=35.0,
+               clip_end=10.0 * extent)
+    save(scene, "urban_lidarhd", preview_frame=1)
+
+
+def make_lion_benchmark():
+    """The 300k+ point benchmark scene: the lion scan split by height into
+    three segments (plinth, body, head) with three styles, at 1920x1080."""
+    scene = new_scene(1920, 1080, (1.0, 1.0, 1.0), frames=24)
+    data = pointnpr.read(LION_SCAN)
+    positions = data.positions
+    colors = data.attributes["colors"]
+    z = positions[:, 2]
+    parts = [("Plinth", z < -2.6, None), ("Body", (z >= -2.6) & (z < -1.0), "cartoon"),
+             ("Head", z >= -1.0, "warp")]
+    from pointnpr.blender import importer
+    root = bpy.data.collections.new("lion_takanawa")
+    scene.collection.children.link(root)
+    for name, mask, filter_id in parts:
+        coll = bpy.data.collections.new(name)
+        root.children.link(coll)
+        mesh = importer.create_point_mesh(name, positions[mask], colors[mask])
+        coll.objects.link(bpy.data.objects.new(name, mesh))
+        style = nodes.new_style(name + " Style")
+        set_params(style.nodes["Rasterize"], point_size=3.0, color_source="rgb")
+        if filter_id:
+            nodes.append_node(style, nodes.ROLE_FILTER, filter_id, name=filter_id.title())
+        coll.pointnpr_style = style
+    add_camera(scene, (-2.9, 3.9, -1.2), (5.5, -5.5, 2.7), lens=35.0, clip_end=100.0)
+    save(scene, "lion_benchmark")
+
+
+def scene_bounds():
+    points = [o.matrix_world @ v.co for o in bpy.data.objects if o.type == 'MESH'
+              for v in list(o.data.vertices)[::10]]
+    lo = Vector(tuple(min(p[i] for p in points) for i in range(3)))
+    hi = Vector(tuple(max(p[i] for p in points) for i in range(3)))
+    return lo, hi
+
+
+def make_warsaw():
+    scene = new_scene(960, 540, (0.9, 0.9, 0.85))
 
     bpy.ops.import_scene.pointnpr_cloud(filepath=SCAN, split_by_classification=True)
     root = bpy.data.collections["warsaw_small"]
@@ -97,29 +212,12 @@ def main():
             coll.pointnpr_style = veg
 
     # Camera looking at the scan from the south-west, above.
-    points = [o.matrix_world @ v.co for o in bpy.data.objects if o.type == 'MESH'
-              for v in list(o.data.vertices)[::10]]
-    lo = Vector(tuple(min(p[i] for p in points) for i in range(3)))
-    hi = Vector(tuple(max(p[i] for p in points) for i in range(3)))
+    lo, hi = scene_bounds()
     centre = (lo + hi) / 2
     extent = max((hi - lo).x, (hi - lo).y)
-    cam_data = bpy.data.cameras.new("Camera")
-    cam_data.lens = 35.0
-    cam_data.clip_start, cam_data.clip_end = 0.1, 10.0 * extent
-    cam = bpy.data.objects.new("Camera", cam_data)
-    cam.location = centre + Vector((-0.8 * extent, -0.9 * extent, 0.7 * extent))
-    cam.rotation_euler = (centre - cam.location).to_track_quat('-Z', 'Y').to_euler()
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-
-    os.makedirs(OUT_DIR, exist_ok=True)
-    blend = os.path.join(OUT_DIR, "warsaw_styles.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=blend, compress=True)
-    scene.render.filepath = os.path.join(OUT_DIR, "warsaw_styles_preview.png")
-    scene.frame_set(24)
-    scene.render.resolution_percentage = 50   # small preview; the .blend keeps 100 %
-    bpy.ops.render.render(write_still=True)
-    print("wrote", blend, scene.render.filepath)
+    add_camera(scene, centre, (-0.8 * extent, -0.9 * extent, 0.7 * extent), clip_end=10.0 * extent)
+    save(scene, "warsaw_styles", preview_frame=24)
 
 
-main()
+for make in (make_urban, make_warsaw, make_lion_benchmark):
+    make()

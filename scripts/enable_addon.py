@@ -1,0 +1,19 @@
+"""Enables PointNPR from a build folder without installing the add-on, for
+headless renders of a .blend that uses it:
+
+    POINTNPR_BUILD_DIR=$PWD/build blender -b scene.blend --python scripts/enable_addon.py -o //out_#### -a
+
+(Blender prints "Engine 'POINTNPR' not available" while loading the file,
+before this script runs; the render itself uses PointNPR.) With the add-on
+installed in Blender's preferences this script is not needed.
+"""
+import os
+import sys
+
+build_dir = os.environ.get("POINTNPR_BUILD_DIR")
+if not build_dir:
+    build_dir = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build")
+sys.path.insert(0, os.path.abspath(build_dir))
+import pointnpr  # noqa: E402
+
+pointnpr.register()
