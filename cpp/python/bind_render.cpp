@@ -112,6 +112,17 @@ py::array_t<T> image_array(const std::vector<T>& data, int h, int w, int channel
   return out;
 }
 
+// A read-only view into a result's buffer that keeps the result alive: the
+// frame's pixels are not copied again on their way to numpy.
+template <class T>
+py::array_t<T> result_view(const std::vector<T>& data, int h, int w, int channels, py::handle owner) {
+  std::vector<py::ssize_t> shape = {h, w};
+  if (channels > 1) shape.push_back(channels);
+  py::array_t<T> out(shape, data.data(), owner);
+  py::detail::array_proxy(out.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return out;
+}
+
 }  // namespace
 
 void bind_render(py::module_& m) {
@@ -205,11 +216,18 @@ void bind_render(py::module_& m) {
       .def_readonly("clip_end", &Camera::clip_end);
 
   py::class_<RenderResult>(m, "RenderResult")
-      .def_property_readonly("color", [](const RenderResult& r) { return image_array(r.color, r.height, r.width, 4); })
-      .def_property_readonly("depth", [](const RenderResult& r) { return image_array(r.depth, r.height, r.width, 1); })
-      .def_property_readonly("segment_index", [](const RenderResult& r) {
-        return image_array(r.segment_index, r.height, r.width, 1);
-      })
+      .def_property_readonly("color", [](py::object self) {
+        const auto& r = self.cast<const RenderResult&>();
+        return result_view(r.color, r.height, r.width, 4, self);
+      }, "(H,W,4) float32 scene-linear premultiplied RGBA, bottom row first (read-only view)")
+      .def_property_readonly("depth", [](py::object self) {
+        const auto& r = self.cast<const RenderResult&>();
+        return result_view(r.depth, r.height, r.width, 1, self);
+      }, "(H,W) float32 linear view depth, 1e10 = background (read-only view)")
+      .def_property_readonly("segment_index", [](py::object self) {
+        const auto& r = self.cast<const RenderResult&>();
+        return result_view(r.segment_index, r.height, r.width, 1, self);
+      }, "(H,W) int32 front segment, -1 = background (read-only view)")
       .def_readonly("stats", &RenderResult::stats)
       .def_readonly("warnings", &RenderResult::warnings)
       .def_readonly("width", &RenderResult::width)

@@ -14,6 +14,48 @@
 
 namespace pointnpr {
 
+namespace {
+template <class T>
+std::vector<T> take(std::vector<std::vector<T>>& list, size_t size) {
+  for (auto it = list.begin(); it != list.end(); ++it)
+    if (it->size() == size) {
+      std::vector<T> v = std::move(*it);
+      list.erase(it);
+      return v;
+    }
+  return std::vector<T>(size);
+}
+template <class T>
+void keep(std::vector<std::vector<T>>& list, std::vector<T>&& v) {
+  constexpr size_t kMaxKept = 6;  // a few frames' worth, in flight at once
+  if (!v.empty() && list.size() < kMaxKept) list.push_back(std::move(v));
+}
+}  // namespace
+
+std::vector<float> BufferPool::take_floats(size_t size) {
+  std::lock_guard lock(mutex_);
+  return take(floats_, size);
+}
+std::vector<int32_t> BufferPool::take_ints(size_t size) {
+  std::lock_guard lock(mutex_);
+  return take(ints_, size);
+}
+void BufferPool::give(std::vector<float>&& v) {
+  std::lock_guard lock(mutex_);
+  keep(floats_, std::move(v));
+}
+void BufferPool::give(std::vector<int32_t>&& v) {
+  std::lock_guard lock(mutex_);
+  keep(ints_, std::move(v));
+}
+
+RenderResult::~RenderResult() {
+  if (!pool) return;
+  pool->give(std::move(color));
+  pool->give(std::move(depth));
+  pool->give(std::move(segment_index));
+}
+
 RasterizerKind parse_rasterizer(const std::string& s) {
   if (s == "compute") return RasterizerKind::Compute;
   if (s == "gl_points") return RasterizerKind::GlPoints;
@@ -64,6 +106,7 @@ struct FrameTargets {
 
 struct Renderer::Impl {
   gl::ShaderLibrary shaders;
+  std::shared_ptr<BufferPool> pool = std::make_shared<BufferPool>();
   std::map<uint64_t, GpuCloud> clouds;
   FrameTargets targets;
   uint64_t uploads = 0;
@@ -447,9 +490,10 @@ struct Renderer::Impl {
     const size_t pixels = size_t(s.width) * size_t(s.height);
     result.width = s.width;
     result.height = s.height;
-    result.color.resize(pixels * 4);
-    result.depth.resize(pixels);
-    result.segment_index.resize(pixels);
+    result.pool = pool;
+    result.color = pool->take_floats(pixels * 4);
+    result.depth = pool->take_floats(pixels);
+    result.segment_index = pool->take_ints(pixels);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glGetTextureImage(targets.accum.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(pixels * 16), result.color.data());
     glGetTextureImage(targets.accum_depth.id(), 0, GL_RED, GL_FLOAT, GLsizei(pixels * 4), result.depth.data());

@@ -4,6 +4,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,28 @@ struct RenderSettings {
   std::function<bool(double fraction, const std::string& what)> progress;
 };
 
+// Frame-sized buffers handed back by finished results, so the next frame
+// writes into memory that is already mapped (fresh 30+ MB allocations are
+// mmapped and page-faulted anew every frame otherwise).
+class BufferPool {
+ public:
+  std::vector<float> take_floats(size_t size);
+  std::vector<int32_t> take_ints(size_t size);
+  void give(std::vector<float>&& v);
+  void give(std::vector<int32_t>&& v);
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::vector<float>> floats_;
+  std::vector<std::vector<int32_t>> ints_;
+};
+
 struct RenderResult {
+  RenderResult() = default;
+  RenderResult(RenderResult&&) = default;
+  RenderResult& operator=(RenderResult&&) = default;
+  ~RenderResult();  // returns the pixel buffers to the renderer's pool
+
   int width = 0;
   int height = 0;
   std::vector<float> color;           // w*h*4, scene-linear premultiplied RGBA, row 0 = bottom
@@ -40,6 +62,7 @@ struct RenderResult {
   std::vector<int32_t> segment_index; // w*h, front segment, -1 = background
   std::map<std::string, double> stats;
   std::vector<std::string> warnings;
+  std::shared_ptr<BufferPool> pool;
 };
 
 constexpr float kBackgroundDepth = 1e10f;  // Blender's convention for empty depth
