@@ -81,14 +81,19 @@ constexpr size_t kBaseTypeSize[11] = {0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
 
 class LasReader {
  public:
-  explicit LasReader(const std::string& path) : path_(path), file_(path) {
-    d_ = file_.data();
-    size_ = file_.size();
+  explicit LasReader(const std::string& path) : path_(path), file_(path) { init(); }
+  LasReader(const std::string& name, const uint8_t* data, size_t size)
+      : path_(name), file_(name, data, size) {
+    init();
   }
 
   PointData read();
 
  private:
+  void init() {
+    d_ = file_.data();
+    size_ = file_.size();
+  }
   [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
     throw ReadError(path_, io::printable(reason), offset);
   }
@@ -555,6 +560,11 @@ PointData LasReader::read() {
 
 PointData read_las(const std::string& path) {
   LasReader reader(path);
+  return reader.read();
+}
+
+PointData read_las_memory(const uint8_t* data, size_t size, const std::string& name) {
+  LasReader reader(name, data, size);
   return reader.read();
 }
 

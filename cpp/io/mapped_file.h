@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -14,6 +15,10 @@ class MappedFile {
  public:
   // Throws ReadError (naming the path) when the file cannot be opened.
   explicit MappedFile(const std::string& path);
+  // A view of bytes owned by the caller (which must outlive this object);
+  // `name` stands for the path in messages and extension checks.
+  MappedFile(const std::string& name, const uint8_t* data, size_t size)
+      : path_(name), data_(data), size_(size) {}
   ~MappedFile();
   MappedFile(const MappedFile&) = delete;
   MappedFile& operator=(const MappedFile&) = delete;
@@ -67,6 +72,15 @@ inline std::string printable(std::string_view s, size_t max = 2000) {
     }
   }
   return r;
+}
+
+// Double to float without undefined behaviour: values beyond float's range
+// become +-inf (a file may hold doubles too large for a float attribute).
+inline float narrow_float(double v) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  if (v > kMax) return std::numeric_limits<float>::infinity();
+  if (v < -kMax) return -std::numeric_limits<float>::infinity();
+  return static_cast<float>(v);
 }
 
 // Lower-cased extension including the dot (".las"), or "" if none.

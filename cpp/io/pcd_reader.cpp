@@ -21,6 +21,7 @@ namespace pointnpr {
 namespace {
 
 using io::load_le;
+using io::narrow_float;
 
 struct Field {
   std::string name;
@@ -79,13 +80,18 @@ double load_value(const Field& f, const uint8_t* p) {
 
 class PcdReader {
  public:
-  explicit PcdReader(const std::string& path) : path_(path), file_(path) {
-    d_ = file_.data();
-    size_ = file_.size();
+  explicit PcdReader(const std::string& path) : path_(path), file_(path) { init(); }
+  PcdReader(const std::string& name, const uint8_t* data, size_t size)
+      : path_(name), file_(name, data, size) {
+    init();
   }
   PointData read();
 
  private:
+  void init() {
+    d_ = file_.data();
+    size_ = file_.size();
+  }
   [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
     throw ReadError(path_, io::printable(reason), offset);
   }
@@ -254,14 +260,14 @@ void PcdReader::store(size_t fi, size_t c, size_t i, double v, uint32_t bits) {
   switch (role_[fi]) {
     case Role::Skip: break;
     case Role::Position: positions_[3 * i + comp_[fi]] = v; break;
-    case Role::Normal: normals_[3 * i + comp_[fi]] = static_cast<float>(v); break;
+    case Role::Normal: normals_[3 * i + comp_[fi]] = narrow_float(v); break;
     case Role::Color:
       colors_[3 * i + 0] = static_cast<uint8_t>(bits >> 16);
       colors_[3 * i + 1] = static_cast<uint8_t>(bits >> 8);
       colors_[3 * i + 2] = static_cast<uint8_t>(bits);
       break;
-    case Role::Intensity: intensity_[i] = static_cast<float>(v); break;
-    case Role::Other: other_[fi][i * fields_[fi].count + c] = static_cast<float>(v); break;
+    case Role::Intensity: intensity_[i] = narrow_float(v); break;
+    case Role::Other: other_[fi][i * fields_[fi].count + c] = narrow_float(v); break;
   }
 }
 
@@ -407,7 +413,7 @@ PointData PcdReader::read() {
             if (ok && dv >= 0 && dv <= 4294967295.0 && dv == std::floor(dv))
               bits = static_cast<uint32_t>(dv);
             else if (ok)
-              bits = std::bit_cast<uint32_t>(static_cast<float>(dv));
+              bits = std::bit_cast<uint32_t>(narrow_float(dv));
           } else {
             if (b < e && *b == '+') ++b;
             auto r = std::from_chars(b, e, v);
@@ -439,6 +445,11 @@ PointData PcdReader::read() {
 
 PointData read_pcd(const std::string& path) {
   PcdReader reader(path);
+  return reader.read();
+}
+
+PointData read_pcd_memory(const uint8_t* data, size_t size, const std::string& name) {
+  PcdReader reader(name, data, size);
   return reader.read();
 }
 

@@ -13,6 +13,7 @@
 #include <limits>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "core/error.h"
@@ -21,6 +22,8 @@
 
 namespace pointnpr {
 namespace {
+
+using io::narrow_float;
 
 static_assert(std::endian::native == std::endian::little, "PLY reader assumes a little-endian host");
 
@@ -59,6 +62,20 @@ size_t type_size(PType t) {
 
 bool is_integer_type(PType t) { return t != PType::F32 && t != PType::F64; }
 
+// Whether an ascii value is an integer within the range of integer type t.
+bool fits_integer(PType t, double v) {
+  if (v != std::floor(v)) return false;  // also false for NaN
+  switch (t) {
+    case PType::I8: return v >= -128 && v <= 127;
+    case PType::U8: return v >= 0 && v <= 255;
+    case PType::I16: return v >= -32768 && v <= 32767;
+    case PType::U16: return v >= 0 && v <= 65535;
+    case PType::I32: return v >= -2147483648.0 && v <= 2147483647.0;
+    case PType::U32: return v >= 0 && v <= 4294967295.0;
+    default: return true;
+  }
+}
+
 struct Property {
   std::string name;
   bool is_list = false;
@@ -96,7 +113,7 @@ struct Sink {
     if (d)
       d[i * stride + comp] = v;
     else if (f)
-      f[i * stride + comp] = static_cast<float>(v);
+      f[i * stride + comp] = narrow_float(v);
   }
 };
 
@@ -130,7 +147,7 @@ void decode_column_typed(const uint8_t* base, size_t record, size_t n, const Sin
       s.d[i * s.stride + s.comp] = static_cast<double>(load<T, BE>(base + i * record));
   } else if (s.f) {
     for (size_t i = 0; i < n; ++i)
-      s.f[i * s.stride + s.comp] = static_cast<float>(load<T, BE>(base + i * record));
+      s.f[i * s.stride + s.comp] = narrow_float(static_cast<double>(load<T, BE>(base + i * record)));
   }
 }
 
@@ -163,6 +180,7 @@ struct VertexPlan {
   std::vector<int> comp;         // component for Position / Normal / Color
   std::vector<size_t> other_idx; // index into others for Role::Other
   std::vector<std::string> others;
+  std::vector<PType> other_types;  // kept in the output (doubles while decoding)
   PType color_type = PType::U8;
   PType alpha_type = PType::U8;
   bool has_normals = false, has_colors = false, has_alpha = false;
@@ -171,13 +189,18 @@ struct VertexPlan {
 
 class PlyReader {
  public:
-  explicit PlyReader(const std::string& path) : path_(path), file_(path) {
-    d_ = file_.data();
-    size_ = file_.size();
+  explicit PlyReader(const std::string& path) : path_(path), file_(path) { init(); }
+  PlyReader(const std::string& name, const uint8_t* data, size_t size)
+      : path_(name), file_(name, data, size) {
+    init();
   }
   PointData read();
 
  private:
+  void init() {
+    d_ = file_.data();
+    size_ = file_.size();
+  }
   [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
     throw ReadError(path_, io::printable(reason), offset);
   }
@@ -205,7 +228,7 @@ class PlyReader {
   // Decoding targets.
   double* positions_ = nullptr;
   std::vector<float> normals_, colors_, alpha_, intensity_, classification_;
-  std::vector<std::vector<float>> others_;
+  std::vector<std::vector<double>> others_;
 };
 
 void PlyReader::parse_header() {
@@ -386,6 +409,7 @@ void PlyReader::plan_vertex() {
       if (name == r) name = "ply_" + name;
     plan_.other_idx[i] = plan_.others.size();
     plan_.others.push_back(name);
+    plan_.other_types.push_back(v.props[i].type);
   }
 }
 
@@ -397,7 +421,7 @@ void PlyReader::allocate(PointData& out, uint64_t n) {
   if (plan_.has_alpha) alpha_.assign(n, 0.f);
   if (plan_.has_intensity) intensity_.assign(n, 0.f);
   if (plan_.has_classification) classification_.assign(n, 0.f);
-  others_.assign(plan_.others.size(), std::vector<float>(n, 0.f));
+  others_.assign(plan_.others.size(), std::vector<double>(n, 0.0));
 }
 
 Sink PlyReader::sink_for(size_t i) {
@@ -410,7 +434,7 @@ Sink PlyReader::sink_for(size_t i) {
     case Role::Alpha: s.f = alpha_.data(); break;
     case Role::Intensity: s.f = intensity_.data(); break;
     case Role::Classification: s.f = classification_.data(); break;
-    case Role::Other: s.f = others_[plan_.other_idx[i]].data(); break;
+    case Role::Other: s.d = others_[plan_.other_idx[i]].data(); break;
   }
   return s;
 }
@@ -535,6 +559,11 @@ void PlyReader::read_ascii(PointData& out) {
             fail("invalid number '" + std::string(tok.substr(0, 40)) + "' for property '" +
                      p.name + "' in record " + std::to_string(r) + " of element '" + e.name + "'",
                  at);
+          if (is_integer_type(p.type) && !fits_integer(p.type, v))
+            fail("value '" + std::string(tok.substr(0, 40)) + "' of property '" + p.name +
+                     "' in record " + std::to_string(r) + " of element '" + e.name +
+                     "' is not an integer in the range of its type",
+                 at);
           sinks[pi].put(r, v);
           continue;
         }
@@ -602,9 +631,33 @@ void PlyReader::finish(PointData& out) {
     auto& v = out.add<uint8_t>("classification");
     for (size_t i = 0; i < v.size(); ++i) v[i] = to_u8(classification_[i]);
   }
+  // Other properties keep their type (values were range-checked on input).
   for (size_t k = 0; k < plan_.others.size(); ++k) {
-    auto& v = out.add<float>(plan_.others[k]);
-    v = std::move(others_[k]);
+    const std::vector<double>& src = others_[k];
+    auto convert = [&](auto tag) {
+      using T = decltype(tag);
+      auto& v = out.add<T>(plan_.others[k]);
+      for (size_t i = 0; i < src.size(); ++i) {
+        if constexpr (std::is_same_v<T, float>)
+          v[i] = narrow_float(src[i]);
+        else
+          v[i] = static_cast<T>(src[i]);
+      }
+    };
+    switch (plan_.other_types[k]) {
+      case PType::I8: convert(int8_t{}); break;
+      case PType::U8: convert(uint8_t{}); break;
+      case PType::I16: convert(int16_t{}); break;
+      case PType::U16: convert(uint16_t{}); break;
+      case PType::I32: convert(int32_t{}); break;
+      case PType::U32: convert(uint32_t{}); break;
+      case PType::F32: convert(float{}); break;
+      case PType::F64: {
+        auto& v = out.add<double>(plan_.others[k]);
+        v = std::move(others_[k]);
+        break;
+      }
+    }
   }
 }
 
@@ -641,6 +694,11 @@ PointData PlyReader::read() {
 
 PointData read_ply(const std::string& path) {
   PlyReader reader(path);
+  return reader.read();
+}
+
+PointData read_ply_memory(const uint8_t* data, size_t size, const std::string& name) {
+  PlyReader reader(name, data, size);
   return reader.read();
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // Point cloud file readers. All throw pointnpr::ReadError (core/error.h) with
 // the file, a reason a user can act on and, where it applies, the byte offset.
+#include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "io/point_data.h"
@@ -19,5 +21,21 @@ PointData read_ply(const std::string& path);
 PointData read_pcd(const std::string& path);
 // Whitespace/comma separated text: x y z [r g b | intensity ...].
 PointData read_text(const std::string& path);
+
+// The same readers on bytes in memory (fuzzing, embedded data). `name` takes
+// the place of the path in messages and in extension-dependent choices
+// (".laz", ".pts"). The bytes must stay valid during the call.
+PointData read_las_memory(const uint8_t* data, size_t size, const std::string& name);
+PointData read_ply_memory(const uint8_t* data, size_t size, const std::string& name);
+PointData read_pcd_memory(const uint8_t* data, size_t size, const std::string& name);
+PointData read_text_memory(const uint8_t* data, size_t size, const std::string& name);
+
+// Writes `data` to `path`, the format chosen by the extension: ".ply"
+// (binary little endian) or ".las" (LAS 1.4, point format 6, 7 or 8).
+// Throws pointnpr::Error when the data cannot be represented or the file
+// cannot be written; a partly written file is removed.
+void write_point_cloud(const std::string& path, const PointData& data);
+void write_ply(const std::string& path, const PointData& data);
+void write_las(const std::string& path, const PointData& data);
 
 }  // namespace pointnpr

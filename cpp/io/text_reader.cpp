@@ -65,10 +65,8 @@ uint8_t to_u8(double v) {
   return static_cast<uint8_t>(std::lround(v));
 }
 
-}  // namespace
-
-PointData read_text(const std::string& path) {
-  io::MappedFile file(path);
+PointData read_text_file(const io::MappedFile& file) {
+  const std::string& path = file.path();
   const char* d = reinterpret_cast<const char*>(file.data());
   const size_t size = file.size();
   auto fail = [&](const std::string& reason, int64_t at = -1) -> void {
@@ -225,12 +223,12 @@ PointData read_text(const std::string& path) {
         for (size_t i = 0; i < n; ++i) out.positions[3 * i + comp[c]] = values[i * ncols + c];
         break;
       case Role::Normal:
-        for (size_t i = 0; i < n; ++i) (*nrm_out)[3 * i + comp[c]] = static_cast<float>(values[i * ncols + c]);
+        for (size_t i = 0; i < n; ++i) (*nrm_out)[3 * i + comp[c]] = io::narrow_float(values[i * ncols + c]);
         break;
       case Role::Color: break;  // below, all three at once
       case Role::Intensity: {
         auto& v = out.add<float>("intensity");
-        for (size_t i = 0; i < n; ++i) v[i] = static_cast<float>(values[i * ncols + c]);
+        for (size_t i = 0; i < n; ++i) v[i] = io::narrow_float(values[i * ncols + c]);
         break;
       }
       case Role::Classification: {
@@ -242,7 +240,7 @@ PointData read_text(const std::string& path) {
         std::string name = col_name[c];
         while (out.has(name)) name = "text_" + name;
         auto& v = out.add<float>(name);
-        for (size_t i = 0; i < n; ++i) v[i] = static_cast<float>(values[i * ncols + c]);
+        for (size_t i = 0; i < n; ++i) v[i] = io::narrow_float(values[i * ncols + c]);
         break;
       }
     }
@@ -267,6 +265,14 @@ PointData read_text(const std::string& path) {
   }
   out.drop_nonfinite_points();
   return out;
+}
+
+}  // namespace
+
+PointData read_text(const std::string& path) { return read_text_file(io::MappedFile(path)); }
+
+PointData read_text_memory(const uint8_t* data, size_t size, const std::string& name) {
+  return read_text_file(io::MappedFile(name, data, size));
 }
 
 }  // namespace pointnpr

@@ -1,5 +1,6 @@
-// Python bindings of the point cloud readers: pointnpr.read(path) -> PointData
-// with numpy arrays, and pointnpr.ReadError (a ValueError).
+// Python bindings of the point cloud readers and writers: pointnpr.read(path)
+// -> PointData with numpy arrays, pointnpr.write(path, data), and
+// pointnpr.ReadError (a ValueError).
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -70,6 +71,73 @@ PyPointData convert(PointData&& d) {
   for (const auto& [key, value] : d.metadata) out.metadata[safe_str(key)] = metadata_value(value);
   out.positions = to_numpy(std::move(d.positions), n, 3);
   return out;
+}
+
+// Copies a numpy array into a typed attribute vector (C order).
+template <class T>
+AttributeValues from_numpy(const py::array& a) {
+  auto c = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(a);
+  if (!c) throw py::error_already_set();
+  return std::vector<T>(c.data(), c.data() + c.size());
+}
+
+// The C++ PointData of a Python one (copies; the writers read it in C++).
+PointData to_cpp(const PyPointData& src) {
+  PointData d;
+  auto pos = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(src.positions);
+  if (!pos || pos.ndim() != 2 || pos.shape(1) != 3)
+    throw py::value_error("positions must be an (N, 3) array");
+  d.positions.assign(pos.data(), pos.data() + pos.size());
+  const auto n = pos.shape(0);
+  for (auto item : src.attributes) {
+    const std::string name = py::str(item.first).cast<std::string>();
+    py::array a = py::array::ensure(item.second);
+    if (!a || a.ndim() < 1 || a.ndim() > 2 || a.shape(0) != n)
+      throw py::value_error("attribute '" + name +
+                            "' must be an array of shape (N,) or (N, k) with N the point count");
+    PointAttribute attr;
+    attr.name = name;
+    attr.components = a.ndim() == 2 ? static_cast<int>(a.shape(1)) : 1;
+    if (attr.components < 1) throw py::value_error("attribute '" + name + "' has no columns");
+    const py::dtype dt = a.dtype();
+    const char kind = dt.kind();
+    const auto size = dt.itemsize();
+    if (kind == 'b' || (kind == 'u' && size == 1)) attr.values = from_numpy<uint8_t>(a);
+    else if (kind == 'i' && size == 1) attr.values = from_numpy<int8_t>(a);
+    else if (kind == 'u' && size == 2) attr.values = from_numpy<uint16_t>(a);
+    else if (kind == 'i' && size == 2) attr.values = from_numpy<int16_t>(a);
+    else if (kind == 'u' && size == 4) attr.values = from_numpy<uint32_t>(a);
+    else if (kind == 'i' && size == 4) attr.values = from_numpy<int32_t>(a);
+    else if (kind == 'u' && size == 8) attr.values = from_numpy<uint64_t>(a);
+    else if (kind == 'i' && size == 8) attr.values = from_numpy<int64_t>(a);
+    else if (kind == 'f' && size == 4) attr.values = from_numpy<float>(a);
+    else if (kind == 'f' && size == 8) attr.values = from_numpy<double>(a);
+    else
+      throw py::value_error("attribute '" + name + "' has dtype " +
+                            py::str(static_cast<py::object>(dt)).cast<std::string>() +
+                            "; supported: bool, (u)int8-64, float32, float64");
+    d.attributes.push_back(std::move(attr));
+  }
+  for (auto item : src.metadata) {
+    const std::string key = py::str(item.first).cast<std::string>();
+    py::handle v = item.second;
+    if (py::isinstance<py::bool_>(v) || py::isinstance<py::int_>(v)) {
+      try {
+        d.metadata[key] = v.cast<int64_t>();
+      } catch (const py::cast_error&) {
+      }  // out of int64 range: not kept
+    } else if (py::isinstance<py::float_>(v)) {
+      d.metadata[key] = v.cast<double>();
+    } else if (py::isinstance<py::str>(v)) {
+      d.metadata[key] = v.cast<std::string>();
+    } else if (py::isinstance<py::tuple>(v) || py::isinstance<py::list>(v)) {
+      try {
+        d.metadata[key] = v.cast<std::vector<double>>();
+      } catch (const py::cast_error&) {
+      }  // not a list of numbers: not kept
+    }
+  }
+  return d;
 }
 
 PyObject* g_read_error = nullptr;  // leaked on purpose: lives as long as the process
@@ -183,6 +251,20 @@ void bind_io(py::module_& m) {
       py::arg("path"),
       "Reads a point cloud file (.las, .ply, .pcd, .xyz/.pts/.txt/.csv) into a PointData. "
       "Raises ReadError (a ValueError) with the file, the reason and the byte offset.");
+
+  m.def(
+      "write",
+      [](py::object path, const PyPointData& data) {
+        const std::string p = py::module_::import("os").attr("fsencode")(path).cast<std::string>();
+        PointData d = to_cpp(data);
+        py::gil_scoped_release release;
+        write_point_cloud(p, d);
+      },
+      py::arg("path"), py::arg("data"),
+      "Writes a PointData to .ply (binary little endian; attributes keep their type) or .las "
+      "(LAS 1.4, point format 6/7/8; other attributes as extra bytes; crs_wkt / crs_epsg "
+      "metadata kept; coordinates quantised to the source LAS grid when it holds them exactly, "
+      "else to at most 0.1 mm). Raises pointnpr.Error when the data cannot be written.");
 }
 
 }  // namespace pointnpr::python

@@ -95,7 +95,7 @@ TEST(IoPly, DetailsOfOddFiles) {
   PointData big = read_point_cloud(data_path("malformed/ply_pdal_issue_2421.ply"));
   EXPECT_EQ(big.positions[1], 12345.6789);
   EXPECT_EQ(big.positions[2], 1234567890.12345);  // float64 property keeps full precision
-  EXPECT_EQ(attr<float>(big, "i")[0], 1234567890.f);
+  EXPECT_EQ(attr<int32_t>(big, "i")[0], 1234567890);  // keeps its int32 type
 
   PointData sofa = read_point_cloud(data_path("malformed/ply_tinyply_sofa.ply"));
   EXPECT_EQ(attr<uint8_t>(sofa, "colors")[0], 192);
@@ -186,11 +186,12 @@ void expect_typed(const PointData& d, bool ascii) {
     // ascii keeps the decimal text's double value; binary the float's.
     EXPECT_EQ(d.positions[3 * i + 1], ascii && i == 1 ? 0.001 : static_cast<double>(v.y));
     EXPECT_EQ(d.positions[3 * i + 2], static_cast<double>(v.z));
-    EXPECT_EQ(attr<float>(d, "c8")[i], static_cast<float>(v.c8));
-    EXPECT_EQ(attr<float>(d, "u8")[i], static_cast<float>(v.u8));
-    EXPECT_EQ(attr<float>(d, "s16")[i], static_cast<float>(v.s16));
-    EXPECT_EQ(attr<float>(d, "u16")[i], static_cast<float>(v.u16));
-    EXPECT_EQ(attr<float>(d, "u32")[i], static_cast<float>(v.u32));
+    // Other properties keep their declared type.
+    EXPECT_EQ(attr<int8_t>(d, "c8")[i], v.c8);
+    EXPECT_EQ(attr<uint8_t>(d, "u8")[i], v.u8);
+    EXPECT_EQ(attr<int16_t>(d, "s16")[i], v.s16);
+    EXPECT_EQ(attr<uint16_t>(d, "u16")[i], v.u16);
+    EXPECT_EQ(attr<uint32_t>(d, "u32")[i], v.u32);
     for (int c = 0; c < 3; ++c) {
       EXPECT_EQ(attr<float>(d, "normals")[3 * i + c], v.n[c]);
       EXPECT_EQ(attr<uint8_t>(d, "colors")[3 * i + c], v.rgb[c]);
