@@ -534,6 +534,7 @@ RenderResult Renderer::render(const Scene& scene, const Camera& camera, const Re
                          "x" + std::to_string(s.height));
   for (double v : {s.background.r, s.background.g, s.background.b, s.background.a})
     if (!std::isfinite(v)) throw ParameterError("background color must be finite");
+  std::lock_guard frame_lock(render_mutex_);
   auto& device = gl::Device::instance();
   const auto t0 = Clock::now();
   RenderResult result;

@@ -74,6 +74,9 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
+  // Thread-safe: Blender renders F12 on its render thread while the main
+  // thread may draw the viewport with the same renderer; frames are
+  // serialized (the GL thread is one anyway).
   RenderResult render(const Scene& scene, const Camera& camera, const RenderSettings& settings);
 
   // Number of clouds with GPU buffers, and which attributes they hold
@@ -86,6 +89,7 @@ class Renderer {
 
  private:
   std::unique_ptr<Impl> impl_;
+  std::mutex render_mutex_;
 };
 
 }  // namespace pointnpr

@@ -149,3 +149,28 @@ def test_missing_shaders_raise_a_gl_error_naming_the_path(tmp_path):
     """)
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True).stdout
     assert "GLError: shader file not found" in out and str(tmp_path) in out
+
+
+def test_concurrent_renders_with_one_renderer_match_sequential_ones(renderer, camera):
+    # Blender's render thread (F12) and its main thread (viewport) share one renderer.
+    import threading
+
+    two_planes = pointnpr.Scene()
+    two_planes.add_segment("near", pointnpr.Style(rasterize={"point_size": 3}, filters=["warp"]),
+                           [plane(-1.2, 0.4, -0.6, 0.6, -5, 0.03, (230, 60, 40))])
+    two_planes.add_segment("far", pointnpr.Style(rasterize={"point_size": 3}, filters=["cartoon"]),
+                           [plane(-2, 3, -1.5, 1.5, -10, 0.05, (40, 60, 230))])
+    expected = [renderer.render(two_planes, camera, 320, 240, time=t).color.copy() for t in (0.0, 0.5)]
+    assert not np.array_equal(expected[0], expected[1])  # the warp moves with time
+    results = {}
+
+    def work(i, t):
+        results[i] = renderer.render(two_planes, camera, 320, 240, time=t).color.copy()
+
+    threads = [threading.Thread(target=work, args=(i, t)) for i, t in enumerate((0.0, 0.5, 0.0, 0.5))]
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    for i, t in enumerate((0.0, 0.5, 0.0, 0.5)):
+        assert np.array_equal(results[i], expected[0 if t == 0.0 else 1])
