@@ -1,0 +1,71 @@
+// Helpers for the filter library (cpp/filters/): colour spaces, a
+// deterministic paper/noise generator and Gaussian weights.
+#include "common.glsl"
+
+bool in_image(ivec2 q, ivec2 size) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)); }
+
+bool covered(vec4 c) { return c.a > 0.0; }
+
+vec3 linear_to_srgb(vec3 c) {
+  c = max(c, vec3(0.0));
+  return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, greaterThan(c, vec3(0.0031308)));
+}
+
+// Oklab (Ottosson 2020): perceptual lightness L in [0,1], opponent a, b.
+vec3 linear_to_oklab(vec3 c) {
+  vec3 lms = mat3(0.4122214708, 0.2119034982, 0.0883024619,
+                  0.5363325363, 0.6806995451, 0.2817188376,
+                  0.0514459929, 0.1073969566, 0.6299787005) * c;
+  lms = sign(lms) * pow(abs(lms), vec3(1.0 / 3.0));
+  return mat3(0.2104542553, 1.9779984951, 0.0259040371,
+              0.7936177850, -2.4285922050, 0.7827717662,
+              -0.0040720468, 0.4505937099, -0.8086757660) * lms;
+}
+
+vec3 oklab_to_linear(vec3 lab) {
+  vec3 lms = mat3(1.0, 1.0, 1.0,
+                  0.3963377774, -0.1055613458, -0.0894841775,
+                  0.2158037573, -0.0638541728, -1.2914855480) * lab;
+  lms = lms * lms * lms;
+  return mat3(4.0767416621, -1.2684380046, -0.0041960863,
+              -3.3077115913, 2.6097574011, -0.7034186147,
+              0.2309699292, -0.3413193965, 1.7076147010) * lms;
+}
+
+vec3 srgb_to_oklab(vec3 c) { return linear_to_oklab(srgb_to_linear(c)); }
+vec3 oklab_to_srgb(vec3 lab) { return clamp(linear_to_srgb(oklab_to_linear(lab)), 0.0, 1.0); }
+
+// Perceptual lightness of a display sRGB colour, [0,1].
+float lightness(vec3 c) { return srgb_to_oklab(clamp(c, 0.0, 1.0)).x; }
+
+// Uniform [0,1) from integer lattice coordinates and a seed.
+float hash01(ivec2 q, uint seed) {
+  uint h = hash_u32(uint(q.x) * 0x8da6b343u ^ hash_u32(uint(q.y) * 0xd8163841u ^ seed * 0xcb1ab31fu));
+  return float(h >> 8) * (1.0 / 16777216.0);
+}
+
+// Smooth value noise on a lattice of `cell` pixels, [0,1].
+float value_noise(vec2 p, float cell, uint seed) {
+  vec2 x = p / cell;
+  ivec2 i = ivec2(floor(x));
+  vec2 f = x - vec2(i);
+  vec2 u = f * f * f * (f * (f * 6.0 - 15.0) + 10.0);
+  float a = hash01(i, seed), b = hash01(i + ivec2(1, 0), seed);
+  float c = hash01(i + ivec2(0, 1), seed), d = hash01(i + ivec2(1, 1), seed);
+  return mix(mix(a, b, u.x), mix(c, d, u.x), u.y);
+}
+
+// Fractal sum of `octaves` value noises, finest cell `cell`, [0,1].
+float fbm(vec2 p, float cell, int octaves, uint seed) {
+  float sum = 0.0, amp = 0.5, norm = 0.0;
+  float s = cell * exp2(float(octaves - 1));
+  for (int o = 0; o < octaves; ++o) {
+    sum += amp * value_noise(p, s, seed + uint(o) * 101u);
+    norm += amp;
+    amp *= 0.5;
+    s *= 0.5;
+  }
+  return sum / norm;
+}
+
+float gauss(float d2, float sigma) { return exp(-d2 / (2.0 * sigma * sigma)); }
