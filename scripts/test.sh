@@ -17,8 +17,11 @@ run() {
 }
 
 export POINTNPR_BUILD_DIR=$root/build
+# The module is built for Debian's python3 (Blender's); a pyenv/conda python3
+# earlier on PATH could not import it.
+python=${POINTNPR_PYTHON:-/usr/bin/python3}
 run "C++ tests (ctest)" ctest --test-dir build --output-on-failure -j2
-run "Python tests (pytest)" python3 -m pytest -q tests/python
+run "Python tests (pytest)" "$python" -m pytest -q tests/python
 if compgen -G "tests/blender/test_*.py" >/dev/null; then
   run "Blender tests (blender -b)" blender -b --factory-startup --python-exit-code 1 \
     --python tests/blender/run.py -- "$root/build"
