@@ -25,7 +25,7 @@ from ._pointnpr import (  # noqa: F401  (the public API)
 )
 
 try:  # the readers are bound by cpp/python/bind_io.cpp
-    from ._pointnpr import PointData, ReadError, read  # noqa: F401
+    from ._pointnpr import PointData, ReadError, read, write  # noqa: F401
 except ImportError:  # pragma: no cover - only while the readers are absent
     pass
 

@@ -2,6 +2,8 @@
 
 ``pointnpr.read(path)`` returns a ``PointData``; ``to_cloud(data)`` (also
 available as ``data.to_cloud()``) turns it into the renderer's ``PointCloud``.
+``pointnpr.write(path, data)`` writes a ``PointData`` as binary PLY or LAS 1.4
+(see "Writing" below).
 
 Formats: LAS 1.0-1.4 (point formats 0-10; LAZ is refused with a hint to
 decompress it), PLY (ascii / binary little and big endian; the vertex
@@ -29,7 +31,8 @@ gps_time               float64 (N,)    LAS formats 1, 3-10
 nir                    uint16 (N,)     LAS formats 8, 10
 normals                float32 (N, 3)  PLY nx/ny/nz, PCD normal_x/y/z, text
 <extra bytes name>     native / f64    LAS extra bytes VLR (float64 when scaled)
-<property name>        float32         any other PLY/PCD/text scalar
+<property name>        native          any other PLY scalar (its declared type)
+<field/column name>    float32         any other PCD/text field
 =====================  ==============  =========================================
 
 ``PointData.metadata`` always has "format" ("las", "ply", "pcd", "text") and
@@ -44,14 +47,36 @@ present but all zero: no "colors" attribute), "extra_bytes_undescribed",
 ``pointnpr.ReadError`` (a ValueError) names the file, the reason and, where it
 applies, the byte offset; also available as ``.file``, ``.reason`` and
 ``.byte_offset``.
+
+Writing: ``pointnpr.write(path, data)`` picks the format from the extension.
+
+- ``.ply``: binary little endian; x/y/z as float64 (exact), every attribute
+  column in its own dtype ("colors" as red/green/blue, "normals" as nx/ny/nz,
+  other (N, k) attributes as name_0 .. name_k-1; 64-bit integers as float64
+  when exact, refused otherwise); metadata "comments" as comment lines.
+- ``.las``: LAS 1.4, point format 6, 7 (with "colors") or 8 (with "nir").
+  Coordinates keep the source's "scale"/"offset" when these hold every point
+  exactly (LAS -> LAS is lossless), else the finest power-of-ten grid that
+  covers the extent (error <= scale / 2, at most 0.05 mm below ~429 km of
+  extent). The LAS fields (intensity, return_number, number_of_returns,
+  classification, user_data, scan_angle (0.006 degree steps),
+  point_source_id, gps_time, colors, nir) take the attributes of those names,
+  rounded, and refuse values out of the field's range; every other attribute
+  goes to extra bytes in its dtype (described by an extra-bytes VLR; more than
+  3 columns are split into groups of 3). "crs_wkt" is written as a WKT VLR,
+  "crs_epsg" as a GeoKeyDirectory.
+
+Errors (non-finite coordinates, values a field cannot hold, unwritable path)
+raise ``pointnpr.Error``; no partial file is left behind.
 """
 import numpy as _np
 
 from . import _pointnpr
 
-__all__ = ["read", "to_cloud", "ReadError", "PointData", "RENDERED_ATTRIBUTES"]
+__all__ = ["read", "write", "to_cloud", "ReadError", "PointData", "RENDERED_ATTRIBUTES"]
 
 read = _pointnpr.read
+write = _pointnpr.write
 ReadError = _pointnpr.ReadError
 PointData = _pointnpr.PointData
 

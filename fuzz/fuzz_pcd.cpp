@@ -1,0 +1,6 @@
+// libFuzzer target: the PCD reader on arbitrary bytes (see fuzz_common.h).
+#include "fuzz_common.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  return pointnpr::fuzz::run(data, size, "fuzz.pcd", pointnpr::read_pcd_memory);
+}

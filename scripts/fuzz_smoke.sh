@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets of the readers (build-fuzz, clang with
+# -fsanitize=fuzzer,address,undefined) and runs each one for a short while,
+# seeded with the test files of its format. Fails on any crash, sanitizer
+# report, leak, timeout or out-of-memory.
+#
+#   scripts/fuzz_smoke.sh                 # ~20 s per reader
+#   FUZZ_SECONDS=600 scripts/fuzz_smoke.sh las ply   # a longer campaign
+#
+# Corpora grow in build-fuzz/corpus/<format>; crashing inputs are saved in
+# build-fuzz/artifacts/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+secs=${FUZZ_SECONDS:-20}
+formats=("$@")
+((${#formats[@]})) || formats=(las ply pcd text)
+
+cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DPOINTNPR_FUZZ=ON -DPOINTNPR_BUILD_TESTS=OFF -DPOINTNPR_BUILD_BENCH=OFF >/dev/null
+cmake --build build-fuzz -j2 --target "${formats[@]/#/fuzz_}"
+
+# Seeds: the test files of the format plus the small ones in fuzz/seeds/.
+seed_files() {
+  local names
+  case $1 in
+    las) names=(-name '*.las' -o -name '*.laz') ;;
+    ply) names=(-name '*.ply') ;;
+    pcd) names=(-name '*.pcd') ;;
+    text) names=(-name '*.xyz' -o -name '*.pts' -o -name '*.txt' -o -name '*.csv' -o -name '*.asc') ;;
+  esac
+  find tests/data/io "fuzz/seeds/$1" -type f \( "${names[@]}" \) 2>/dev/null
+}
+
+mkdir -p build-fuzz/artifacts
+status=0
+for f in "${formats[@]}"; do
+  seeds=build-fuzz/seeds/$f
+  corpus=build-fuzz/corpus/$f
+  rm -rf "$seeds"
+  mkdir -p "$seeds" "$corpus"
+  seed_files "$f" | while read -r file; do cp "$file" "$seeds/"; done
+  echo "=== fuzz_$f: $(ls "$seeds" | wc -l) seed files, ${secs}s"
+  # -max_len keeps mutation fast (the largest seeds are ~1 MB; longer inputs
+  # are cut, which itself exercises the truncation checks).
+  if ! build-fuzz/fuzz/fuzz_$f "$corpus" "$seeds" -max_total_time="$secs" -rss_limit_mb=2048 \
+      -timeout=10 -max_len=65536 -print_final_stats=1 \
+      -artifact_prefix="$root/build-fuzz/artifacts/$f-" >"build-fuzz/fuzz_$f.log" 2>&1; then
+    echo "=== fuzz_$f: FAILED (log: build-fuzz/fuzz_$f.log)"
+    grep -E "ERROR|SUMMARY|Test unit written|runtime error" "build-fuzz/fuzz_$f.log" | head -20
+    status=1
+  else
+    echo "=== fuzz_$f: ok, $(grep -Eo 'stat::number_of_executed_units: *[0-9]+' "build-fuzz/fuzz_$f.log" | grep -Eo '[0-9]+$') executions"
+  fi
+done
+exit $status
