@@ -174,3 +174,22 @@ def test_concurrent_renders_with_one_renderer_match_sequential_ones(renderer, ca
         th.join()
     for i, t in enumerate((0.0, 0.5, 0.0, 0.5)):
         assert np.array_equal(results[i], expected[0 if t == 0.0 else 1])
+
+
+def test_without_any_egl_driver_the_error_says_what_to_install():
+    # libglvnd finds no EGL vendor: as on a machine without Mesa or a GPU driver.
+    script = textwrap.dedent(f"""
+        import sys
+        sys.path.insert(0, {os.path.abspath(BUILD_DIR)!r})
+        import pointnpr
+        try:
+            pointnpr.gl_info()
+        except pointnpr.GLError as e:
+            print("GLError:", e)
+    """)
+    env = dict(os.environ, __EGL_VENDOR_LIBRARY_FILENAMES="/nonexistent/egl_vendor.json",
+               __EGL_VENDOR_LIBRARY_DIRS="/nonexistent")
+    out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True,
+                         check=True, timeout=60).stdout
+    assert "GLError: no EGL display could be opened" in out, out
+    assert "apt install libegl1 libegl-mesa0" in out
