@@ -55,3 +55,32 @@ inline Image sparse_points(glm::ivec2 size, int spacing, glm::vec3 color) {
 }
 
 }  // namespace pointnpr::test
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace pointnpr::test {
+
+// With POINTNPR_FILTER_DUMP=<dir>, writes `img` over a grey checker as
+// <dir>/<name>.ppm (for looking at what a test saw); otherwise does nothing.
+inline void maybe_dump(const Image& img, const std::string& name) {
+  const char* dir = std::getenv("POINTNPR_FILTER_DUMP");
+  if (!dir) return;
+  FILE* f = std::fopen((std::string(dir) + "/" + name + ".ppm").c_str(), "wb");
+  if (!f) return;
+  std::fprintf(f, "P6\n%d %d\n255\n", img.size.x, img.size.y);
+  for (int y = img.size.y - 1; y >= 0; --y)
+    for (int x = 0; x < img.size.x; ++x) {
+      const glm::vec4 c = img.at(x, y);
+      const float bg = ((x / 8 + y / 8) % 2) ? 0.6f : 0.4f;
+      const float a = c == kSentinel ? 0.0f : glm::clamp(c.a, 0.0f, 1.0f);
+      for (int k = 0; k < 3; ++k) {
+        const float v = glm::clamp(c[k], 0.0f, 1.0f) * a + bg * (1.0f - a);
+        std::fputc(int(std::lround(v * 255.0f)), f);
+      }
+    }
+  std::fclose(f);
+}
+
+}  // namespace pointnpr::test
