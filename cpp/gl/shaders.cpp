@@ -51,6 +51,16 @@ std::string build_source(const std::string& file, const std::vector<std::string>
   return src;
 }
 
+// The info log of a shader or program (same calls, different entry points).
+template <void (*GetIv)(GLuint, GLenum, GLint*), void (*GetLog)(GLuint, GLsizei, GLsizei*, GLchar*)>
+std::string info_log(GLuint object) {
+  GLint len = 0;
+  GetIv(object, GL_INFO_LOG_LENGTH, &len);
+  std::string log(size_t(len > 0 ? len : 1), '\0');
+  GetLog(object, len, nullptr, log.data());
+  return log;
+}
+
 GLuint compile(GLenum stage, const std::string& file, const std::vector<std::string>& defines) {
   const std::string src = build_source(file, defines);
   GLuint shader = glCreateShader(stage);
@@ -60,10 +70,7 @@ GLuint compile(GLenum stage, const std::string& file, const std::vector<std::str
   GLint ok = 0;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
-    GLint len = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
-    std::string log(size_t(len > 0 ? len : 1), '\0');
-    glGetShaderInfoLog(shader, len, nullptr, log.data());
+    const std::string log = info_log<glGetShaderiv, glGetShaderInfoLog>(shader);
     glDeleteShader(shader);
     throw GLError("shader " + file + " failed to compile:\n" + log);
   }
@@ -78,10 +85,7 @@ GLuint link(const std::vector<GLuint>& shaders, const std::string& what) {
   GLint ok = 0;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {
-    GLint len = 0;
-    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &len);
-    std::string log(size_t(len > 0 ? len : 1), '\0');
-    glGetProgramInfoLog(program, len, nullptr, log.data());
+    const std::string log = info_log<glGetProgramiv, glGetProgramInfoLog>(program);
     glDeleteProgram(program);
     throw GLError("program " + what + " failed to link:\n" + log);
   }

@@ -6,9 +6,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 
 #include "gl/device.h"
 #include "gl/gl.h"
+#include "gl/shaders.h"
 #include "scene_builders.h"
 
 using namespace pointnpr;
@@ -283,4 +286,23 @@ TEST(GLDevice, DescribesItsContext) {
   EXPECT_NE(info.version.find("4."), std::string::npos);
   EXPECT_FALSE(info.renderer.empty());
   EXPECT_GE(info.max_texture_size, 4096);
+}
+
+TEST(GLDevice, ShaderCompileErrorsBecomeGLErrorsWithTheLog) {
+  const std::string dir = ::testing::TempDir() + "/pointnpr_bad_shaders";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/broken.comp") << "layout(local_size_x = 1) in;\nvoid main() { undeclared_thing = 1; }\n";
+  const std::string previous = gl::shader_dir();
+  gl::set_shader_dir(dir);
+  try {
+    gl::Device::instance().run([] {
+      gl::ShaderLibrary library;
+      library.compute("broken.comp");
+    });
+    ADD_FAILURE() << "no error";
+  } catch (const GLError& e) {
+    EXPECT_NE(std::string(e.what()).find("broken.comp failed to compile"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("undeclared_thing"), std::string::npos) << e.what();
+  }
+  gl::set_shader_dir(previous);
 }
