@@ -1,0 +1,75 @@
+// Oil paint (anisotropic Kuwahara): a step edge stays sharp while noise
+// variance drops; the coverage-normalized blur, by contrast, smears it.
+#include <gtest/gtest.h>
+
+#include "filter_images.h"
+
+using namespace pointnpr;
+using namespace pointnpr::test;
+
+namespace {
+
+// Grey variance over a flat patch.
+double patch_variance(const Image& img, int x0, int y0, int x1, int y1) {
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const double v = img.at(x, y).g;
+      sum += v, sum2 += v * v, ++n;
+    }
+  const double mean = sum / n;
+  return sum2 / n - mean * mean;
+}
+
+// Width in pixels of the 10 %-90 % rise of the mean row profile across the
+// vertical step at x = size.x / 2.
+int edge_width(const Image& img, float lo, float hi, int y0, int y1) {
+  int first = -1, last = -1;
+  for (int x = 0; x < img.size.x; ++x) {
+    double v = 0;
+    for (int y = y0; y < y1; ++y) v += img.at(x, y).g;
+    v /= (y1 - y0);
+    const double t = (v - lo) / (hi - lo);
+    if (x > 16 && x < img.size.x - 16) {
+      if (t > 0.1 && first < 0) first = x;
+      if (t < 0.9) last = x;
+    }
+  }
+  return last - first + 1;
+}
+
+TEST(FilterKuwahara, KeepsAStepEdgeSharpAndReducesNoiseVariance) {
+  const glm::ivec2 size(160, 96);
+  const float lo = 0.25f, hi = 0.75f;
+  const Image in = step_image(size, glm::vec3(lo), glm::vec3(hi), 0.1f);
+  const FilterRun run = run_filter(in, "kuwahara", {{"radius", {5}}});
+  maybe_dump(run.out, "kuwahara_step");
+  // Flat patches away from the step and the segment's border.
+  const double before = patch_variance(in, 24, 24, 64, 72) + patch_variance(in, 96, 24, 136, 72);
+  const double after = patch_variance(run.out, 24, 24, 64, 72) + patch_variance(run.out, 96, 24, 136, 72);
+  EXPECT_LT(after, before / 8.0) << "noise variance drops at least 8x";
+  EXPECT_LE(edge_width(run.out, lo, hi, 24, 72), 2) << "the step stays within 2 px";
+  const FilterRun blurred = run_filter(in, "blur", {{"sigma", {3}}});
+  EXPECT_GE(edge_width(blurred.out, lo, hi, 24, 72), 5) << "a blur of similar smoothing smears it";
+  // Means of the flat regions are kept.
+  EXPECT_NEAR(run.out.at(40, 48).g, lo, 0.05f);
+  EXPECT_NEAR(run.out.at(120, 48).g, hi, 0.05f);
+}
+
+TEST(FilterKuwahara, BackgroundDoesNotBleedIntoTheSegment) {
+  const Image in = disk_image({96, 96}, {48, 48}, 28, {0.9f, 0.8f, 0.1f}, 0.05f);
+  const FilterRun run = run_filter(in, "kuwahara");
+  for (int y = 0; y < 96; ++y)
+    for (int x = 0; x < 96; ++x) {
+      const glm::vec4 o = run.out.at(x, y);
+      if (in.at(x, y).a > 0.0f) {
+        ASSERT_GT(o.r, 0.8f) << x << "," << y;
+        ASSERT_EQ(o.a, 1.0f);
+      } else {
+        ASSERT_TRUE(o == glm::vec4(0.0f) || o == kSentinel) << x << "," << y;
+      }
+    }
+}
+
+}  // namespace
