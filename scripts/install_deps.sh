@@ -11,7 +11,7 @@ packages=(
   libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 libgles-dev
 )
 if [[ "${1:-}" == "--tests" ]]; then
-  packages+=(libgtest-dev libgmock-dev googletest libbenchmark-dev python3-pytest xvfb xauth)
+  packages+=(libgtest-dev libgmock-dev googletest libbenchmark-dev python3-pytest xvfb xauth glslang-tools)
 fi
 
 missing=()

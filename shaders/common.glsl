@@ -1,6 +1,7 @@
 // Shared helpers. Images are straight-alpha, display sRGB in [0,1] until
 // the compositor converts them to scene-linear premultiplied.
-const float INF = uintBitsToFloat(0x7F800000u);
+// Not a const: uintBitsToFloat is no constant expression in strict GLSL 4.50.
+#define INF uintBitsToFloat(0x7F800000u)
 
 uniform ivec2 u_rect_min;  // pixels processed: [u_rect_min, u_rect_max)
 uniform ivec2 u_rect_max;

@@ -1,6 +1,7 @@
 // Compute rasterizer (after Schuetz et al. 2021): visibility by atomicMin on
 // linear depth, then a deterministic tie break on the point key, then colour.
 // With 64-bit atomics depth and key are packed and resolved in one pass.
+// variants: PASS_DEPTH | PASS_KEY | PASS_COLOR | INT64_ATOMICS PASS_DEPTH | INT64_ATOMICS PASS_COLOR
 #ifdef INT64_ATOMICS
 #extension GL_ARB_gpu_shader_int64 : require
 #extension GL_NV_shader_atomic_int64 : require
