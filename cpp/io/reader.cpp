@@ -47,7 +47,7 @@ PointData read_point_cloud(const std::string& path) {
   throw ReadError(path, "unrecognised point cloud format" +
                             (ext.empty() ? std::string(" (no file extension)")
                                          : " (extension '" + ext + "')") +
-                            "; supported: .las, .ply, .pcd, .xyz, .pts, .txt, .csv");
+                            "; supported: .las, .ply, .pcd, .xyz, .pts, .txt, .csv, .asc");
 }
 
 }  // namespace pointnpr

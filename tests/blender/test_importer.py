@@ -147,3 +147,168 @@ def test_broken_file_leaves_scene_unchanged(scene, tmp_path, kind):
 def test_import_menu_entry():
     funcs = getattr(bpy.types.TOPBAR_MT_file_import.draw, "_draw_funcs", [])
     assert importer.menu_func_import in funcs
+
+
+def test_progress_is_reported_per_step(scene):
+    data = pointnpr.read(CLASSIFIED_LAS)
+    classes = len(np.unique(data.attributes["classification"]))
+    calls = []
+    objs = importer.import_point_cloud(bpy.context, CLASSIFIED_LAS, split_by_classification=True,
+                                       progress=lambda done, total, stage: calls.append(
+                                           (done, total, stage)))
+    assert len(objs) == classes
+    assert calls[0][0] == 0 and calls[0][2].startswith("reading laspy_nebraska_classified")
+    assert calls[-1] == (classes + 2, classes + 2, "done")
+    dones = [c[0] for c in calls]
+    assert dones == sorted(dones) and len(set(dones)) == len(dones)
+    assert sum(1 for c in calls if c[2].startswith("creating mesh")) == classes
+
+
+@pytest.mark.parametrize("cancel_after", [1, 2, 4])
+def test_cancel_between_steps_leaves_scene_unchanged(scene, cancel_after):
+    helpers.new_collection("Existing")
+    before = _scene_snapshot()
+    asked = []
+
+    def cancelled():
+        asked.append(1)
+        return len(asked) > cancel_after
+
+    with pytest.raises(importer.ImportCancelled):
+        importer.import_point_cloud(bpy.context, CLASSIFIED_LAS, split_by_classification=True,
+                                    cancelled=cancelled)
+    assert len(asked) == cancel_after + 1
+    assert _scene_snapshot() == before
+
+
+def test_threaded_job_and_cleanup(scene):
+    import time
+
+    before = _scene_snapshot()
+    job = importer.ImportJob(bpy.context, CLASSIFIED_LAS, split_by_classification=True)
+    job.start_reading_in_thread()
+    deadline = time.time() + 60
+    while not job.step():
+        assert time.time() < deadline
+        time.sleep(0.001)
+    assert job.steps_done == job.total_steps and len(job.objects) > 1
+    assert bpy.data.collections["laspy_nebraska_classified"].name in \
+        [c.name for c in bpy.context.scene.collection.children_recursive]
+    # A job stopped half-way (as Esc does) removes what it made.
+    job2 = importer.ImportJob(bpy.context, SAMPLE_LAS, split_by_classification=True)
+    job2.start_reading_in_thread()
+    while job2.steps_done < 2:
+        job2.step()
+        time.sleep(0.001)
+    # Its first mesh exists, but nothing of it is in the scene yet.
+    assert len(bpy.data.objects) == len(job.objects) + 1
+    assert "sample_c" in bpy.data.collections
+    assert "sample_c" not in [c.name for c in bpy.context.scene.collection.children_recursive]
+    job2.cleanup()
+    assert "sample_c" not in bpy.data.collections
+    for obj in job.objects:  # the finished import stays
+        assert obj.name in bpy.data.objects
+    assert len(bpy.data.objects) == len(job.objects)
+    job.cleanup()
+    assert _scene_snapshot() == before
+
+
+def test_broken_file_in_thread_raises_read_error(scene, tmp_path):
+    path = tmp_path / "broken.pcd"
+    path.write_bytes(b"VERSION 0.7\nFIELDS x y z\nDATA binary\n")
+    before = _scene_snapshot()
+    job = importer.ImportJob(bpy.context, str(path))
+    job.start_reading_in_thread()
+    with pytest.raises(pointnpr.ReadError, match="broken.pcd"):
+        while not job.step():
+            pass
+    job.cleanup()
+    assert _scene_snapshot() == before
+
+
+def test_import_asc_text(scene, tmp_path):
+    assert "asc" in importer.FILE_EXTENSIONS
+    path = tmp_path / "survey.asc"
+    path.write_text("x y z intensity\n1 2 3 10\n4 5 6 20\n7 8 9 30\n")
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=str(path)) == {'FINISHED'}
+    obj = bpy.data.objects["survey"]
+    assert len(obj.data.vertices) == 3
+    assert list(_attribute(obj.data, "intensity", "value", np.float32)) == [10, 20, 30]
+
+
+# The interactive path (modal job: file read in a thread, one mesh per timer
+# tick, Esc cancels) needs a window: a second Blender under Xvfb with event
+# simulation imports once to the end, then again pressing Esc half-way.
+INTERACTIVE_SCRIPT = r"""
+import os, sys, bpy
+sys.path.insert(0, os.environ["POINTNPR_BUILD_DIR"])
+import pointnpr
+pointnpr.register()
+path = os.environ["CLOUD"]
+state = {"phase": "full", "ticks": 0, "before": None}
+
+def snapshot():
+    return (sorted(o.name for o in bpy.data.objects), sorted(m.name for m in bpy.data.meshes),
+            sorted(c.name for c in bpy.data.collections))
+
+def start():
+    win = bpy.context.window_manager.windows[0]
+    with bpy.context.temp_override(window=win, area=win.screen.areas[0]):
+        result = bpy.ops.import_scene.pointnpr_cloud(filepath=path, split_by_classification=True)
+    print("STARTED", state["phase"], sorted(result), flush=True)
+
+def tick():
+    state["ticks"] += 1
+    if state["ticks"] > 200:
+        print("RESULT timeout", flush=True)
+        os._exit(1)
+    linked = [c.name for c in bpy.context.scene.collection.children_recursive]
+    if state["phase"] == "full":
+        if "laspy_nebraska_classified" in linked:
+            objs = bpy.data.collections["laspy_nebraska_classified"].all_objects
+            print("FULL", len(objs), sum(len(o.data.vertices) for o in objs), flush=True)
+            bpy.data.collections.remove(bpy.data.collections["laspy_nebraska_classified"])
+            for c in list(bpy.data.collections):
+                if c.name.endswith(")"):
+                    bpy.data.collections.remove(c)
+            for o in [o for o in bpy.data.objects if o.name.startswith("laspy")]:
+                bpy.data.objects.remove(o)
+            for m in [m for m in bpy.data.meshes if m.name.startswith("laspy")]:
+                bpy.data.meshes.remove(m)
+            state["phase"], state["before"], state["ticks"] = "cancel", snapshot(), 0
+            start()
+        return 0.1
+    if state["ticks"] == 1:
+        bpy.context.window_manager.windows[0].event_simulate(type='ESC', value='PRESS')
+        return 0.1
+    if state["ticks"] < 30:
+        return 0.1
+    print("CANCEL", "unchanged" if snapshot() == state["before"] else "changed",
+          "linked" if "laspy_nebraska_classified" in linked else "not-linked", flush=True)
+    os._exit(0)
+
+bpy.app.timers.register(start, first_interval=0.5)
+bpy.app.timers.register(tick, first_interval=0.6)
+"""
+
+
+def test_interactive_import_shows_progress_and_cancels_with_esc(tmp_path):
+    import shutil
+    import subprocess
+
+    if shutil.which("xvfb-run") is None:
+        raise AssertionError("xvfb-run is required (scripts/install_deps.sh --tests installs it)")
+    script = tmp_path / "interactive.py"
+    script.write_text(INTERACTIVE_SCRIPT)
+    env = dict(os.environ, CLOUD=CLASSIFIED_LAS)
+    proc = subprocess.run(
+        ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", bpy.app.binary_path, "--factory-startup",
+         "--enable-event-simulate", "--python", str(script)],
+        env=env, capture_output=True, text=True, timeout=300)
+    out = proc.stdout
+    assert proc.returncode == 0, out[-3000:] + proc.stderr[-3000:]
+    data = pointnpr.read(CLASSIFIED_LAS)
+    classes = len(np.unique(data.attributes["classification"]))
+    assert "STARTED full ['FINISHED']" in out, out[-3000:]
+    assert "FULL %d %d" % (classes, data.num_points) in out, out[-3000:]
+    assert "CANCEL unchanged not-linked" in out, out[-3000:]

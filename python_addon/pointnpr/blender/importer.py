@@ -32,7 +32,7 @@ ASPRS_CLASSES = {
 }
 
 # What pointnpr.read accepts (its ReadError lists them for unknown extensions).
-FILE_EXTENSIONS = ("las", "ply", "pcd", "xyz", "pts", "txt", "csv")
+FILE_EXTENSIONS = ("las", "ply", "pcd", "xyz", "pts", "txt", "csv", "asc")
 
 
 def class_name(code):
@@ -99,53 +99,263 @@ def create_point_mesh(name, positions, colors=None, intensity=None, classificati
     return mesh
 
 
-def import_point_cloud(context, filepath, split_by_classification=False, recentre=True):
-    """Read ``filepath`` and add it to the scene. Raises pointnpr.ReadError
-    (or OSError) before anything is created when the file cannot be read.
-    Returns the list of created objects."""
-    data = _core().read(filepath)
-    positions = np.asarray(data.positions, dtype=np.float64)
-    attrs = dict(data.attributes)
-    colors = attrs.get("colors")
-    intensity = attrs.get("intensity")
-    classification = attrs.get("classification")
-    origin = rounded_centre(positions) if recentre else np.zeros(3)
-    local = positions - origin
+class ImportCancelled(Exception):
+    """The user cancelled the import (ESC); nothing was added to the scene."""
 
-    stem = os.path.splitext(os.path.basename(filepath))[0] or "Point Cloud"
-    parent = context.view_layer.active_layer_collection.collection \
-        if context.view_layer is not None else context.scene.collection
-    root = bpy.data.collections.new(stem)
-    parent.children.link(root)
 
-    groups = []
-    if split_by_classification and classification is not None:
-        classification = np.asarray(classification)
-        for code in np.unique(classification):
-            groups.append((class_name(code), np.nonzero(classification == code)[0]))
-    else:
-        groups.append((None, None))
+class ImportJob:
+    """One import, in steps, so that progress can be shown and the user can
+    cancel between them: reading (one C++ call, optionally in a thread: the
+    reader releases the GIL), then one mesh per group (class). Everything is
+    created unlinked and the root collection is linked into the scene only by
+    the last step, so a failure or a cancel, followed by cleanup(), leaves
+    the scene and bpy.data exactly as they were."""
 
-    created = []
-    for label, index in groups:
+    def __init__(self, context, filepath, split_by_classification=False, recentre=True):
+        self.context = context
+        self.filepath = filepath
+        self.split = split_by_classification
+        self.recentre = recentre
+        self.stem = os.path.splitext(os.path.basename(filepath))[0] or "Point Cloud"
+        self.objects = []        # created, for the result
+        self._created = []       # (collection of bpy.data, datablock) to remove on failure
+        self._thread = None
+        self._result = None
+        self._groups = None
+        self._next_group = 0
+        self.done = False
+
+    # -- progress: steps done / total (total is known once the file is read)
+    @property
+    def total_steps(self):
+        return 2 + (len(self._groups) if self._groups is not None else 1)
+
+    @property
+    def steps_done(self):
+        if self._groups is None:
+            return 0
+        return 1 + self._next_group + (1 if self.done else 0)
+
+    @property
+    def stage(self):
+        if self._groups is None:
+            return "reading %s" % os.path.basename(self.filepath)
+        if self._next_group < len(self._groups):
+            return "creating mesh %d of %d" % (self._next_group + 1, len(self._groups))
+        return "adding to the scene" if not self.done else "done"
+
+    def start_reading_in_thread(self):
+        import threading
+
+        def run():
+            try:
+                self._result = ("ok", _core().read(self.filepath))
+            except BaseException as exc:  # handed to the main thread
+                self._result = ("error", exc)
+
+        self._thread = threading.Thread(target=run, name="pointnpr-read", daemon=True)
+        self._thread.start()
+
+    @property
+    def reading(self):
+        return self._thread is not None and self._result is None
+
+    def step(self):
+        """Advances by one step; returns True when the import is complete.
+        Raises what the reader raised (ReadError, OSError, ...)."""
+        if self.done:
+            return True
+        if self._groups is None:
+            if self._thread is not None:
+                if self._result is None:
+                    return False  # still reading
+                kind, value = self._result
+                if kind == "error":
+                    raise value
+                data = value
+            else:
+                data = _core().read(self.filepath)
+            self._prepare(data)
+            return False
+        if self._next_group < len(self._groups):
+            self._create_group(*self._groups[self._next_group])
+            self._next_group += 1
+            return False
+        # Last step: make it visible.
+        parent = self.context.view_layer.active_layer_collection.collection \
+            if self.context.view_layer is not None else self.context.scene.collection
+        parent.children.link(self._root)
+        self.done = True
+        return True
+
+    def _prepare(self, data):
+        self._positions = np.asarray(data.positions, dtype=np.float64)
+        attrs = dict(data.attributes)
+        self._colors = attrs.get("colors")
+        self._intensity = attrs.get("intensity")
+        classification = attrs.get("classification")
+        self._classification = None if classification is None else np.asarray(classification)
+        self._origin = rounded_centre(self._positions) if self.recentre else np.zeros(3)
+        self._local = self._positions - self._origin
+        self._root = bpy.data.collections.new(self.stem)
+        self._created.append((bpy.data.collections, self._root))
+        groups = []
+        if self.split and self._classification is not None:
+            for code in np.unique(self._classification):
+                groups.append((class_name(code), np.nonzero(self._classification == code)[0]))
+        else:
+            groups.append((None, None))
+        self._groups = groups
+
+    def _create_group(self, label, index):
         def pick(values):
             if values is None:
                 return None
             values = np.asarray(values)
             return values if index is None else values[index]
+
         if label is None:
-            coll = root
-            name = stem
+            coll, name = self._root, self.stem
         else:
             coll = bpy.data.collections.new(label)
-            root.children.link(coll)
-            name = "%s %s" % (stem, label)
-        mesh = create_point_mesh(name, pick(local), pick(colors), pick(intensity), pick(classification))
+            self._created.append((bpy.data.collections, coll))
+            self._root.children.link(coll)
+            name = "%s %s" % (self.stem, label)
+        mesh = create_point_mesh(name, pick(self._local), pick(self._colors),
+                                 pick(self._intensity), pick(self._classification))
+        self._created.append((bpy.data.meshes, mesh))
         obj = bpy.data.objects.new(name, mesh)
-        obj["pointnpr_origin"] = [float(v) for v in origin]
+        self._created.append((bpy.data.objects, obj))
+        obj["pointnpr_origin"] = [float(v) for v in self._origin]
         coll.objects.link(obj)
-        created.append(obj)
-    return created
+        self.objects.append(obj)
+
+    def cleanup(self):
+        """Removes everything this job created (after a failure or cancel)."""
+        for blocks, block in reversed(self._created):
+            try:
+                blocks.remove(block)
+            except (ReferenceError, RuntimeError):
+                pass
+        self._created = []
+        self.objects = []
+
+
+def import_point_cloud(context, filepath, split_by_classification=False, recentre=True,
+                       progress=None, cancelled=None):
+    """Read ``filepath`` and add it to the scene; returns the created objects.
+
+    ``progress(done, total, stage)`` is called after each step and
+    ``cancelled()`` is asked between steps (True: stop, raise ImportCancelled).
+    On any failure (pointnpr.ReadError, OSError, ...) or cancel, the scene is
+    left exactly as it was."""
+    job = ImportJob(context, filepath, split_by_classification, recentre)
+    try:
+        while True:
+            if progress is not None:
+                progress(job.steps_done, job.total_steps, job.stage)
+            if cancelled is not None and cancelled():
+                raise ImportCancelled("import of %s cancelled" % os.path.basename(filepath))
+            if job.step():
+                break
+        if progress is not None:
+            progress(job.steps_done, job.total_steps, job.stage)
+    except BaseException:
+        job.cleanup()
+        raise
+    return job.objects
+
+
+class _WindowProgress:
+    """progress(done, total, stage) on the window manager's progress bar
+    (the cursor counter; a no-op without a window)."""
+
+    def __init__(self, wm):
+        self.wm = wm
+        self.total = None
+
+    def __call__(self, done, total, stage):
+        if self.total != total:
+            if self.total is not None:
+                self.wm.progress_end()
+            self.wm.progress_begin(0, total)
+            self.total = total
+        self.wm.progress_update(done)
+
+    def end(self):
+        if self.total is not None:
+            self.wm.progress_end()
+            self.total = None
+
+
+def _report_result(op, objects, recentre):
+    points = sum(len(o.data.vertices) for o in objects)
+    op.report({'INFO'}, "Imported %d points into %d object(s)" % (points, len(objects)))
+    if not recentre and objects:
+        far = max(max(abs(c) for c in o.bound_box[i]) for o in objects for i in range(8))
+        if far > 1.0e5:
+            op.report({'WARNING'}, "Coordinates up to %.0f kept without recentring: "
+                      "single-precision vertices lose detail at that magnitude" % far)
+
+
+def _import_errors():
+    return (getattr(_core(), "ReadError", ValueError), OSError, ValueError, MemoryError)
+
+
+class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
+    """Runs one import in the background of the UI: the file is read in a
+    thread, meshes are created one per timer tick, the progress bar moves, and
+    ESC cancels (leaving the scene as it was)"""
+    bl_idname = "import_scene.pointnpr_cloud_job"
+    bl_label = "Importing Point Cloud"
+    bl_options = {'REGISTER', 'UNDO', 'INTERNAL'}
+
+    filepath: bpy.props.StringProperty(subtype='FILE_PATH', options={'HIDDEN'})
+    split_by_classification: bpy.props.BoolProperty(default=False, options={'HIDDEN'})
+    recentre: bpy.props.BoolProperty(default=True, options={'HIDDEN'})
+
+    def invoke(self, context, event):
+        self._job = ImportJob(context, self.filepath, self.split_by_classification, self.recentre)
+        self._progress = _WindowProgress(context.window_manager)
+        self._job.start_reading_in_thread()
+        self._timer = context.window_manager.event_timer_add(0.05, window=context.window)
+        context.window_manager.modal_handler_add(self)
+        if context.workspace is not None:
+            context.workspace.status_text_set(
+                "Importing %s (Esc to cancel)" % os.path.basename(self.filepath))
+        return {'RUNNING_MODAL'}
+
+    def _finish(self, context):
+        context.window_manager.event_timer_remove(self._timer)
+        self._progress.end()
+        if context.workspace is not None:
+            context.workspace.status_text_set(None)
+
+    def modal(self, context, event):
+        if event.type == 'ESC':
+            self._finish(context)
+            self._job.cleanup()  # a read still running finishes unseen
+            self.report({'WARNING'}, "Import of %s cancelled" % os.path.basename(self.filepath))
+            return {'CANCELLED'}
+        if event.type != 'TIMER':
+            return {'PASS_THROUGH'}
+        try:
+            complete = self._job.step()
+        except _import_errors() as exc:
+            self._finish(context)
+            self._job.cleanup()
+            self.report({'ERROR'}, "Cannot import %s: %s" % (os.path.basename(self.filepath), exc))
+            return {'CANCELLED'}
+        except BaseException:
+            self._finish(context)
+            self._job.cleanup()
+            raise
+        self._progress(self._job.steps_done, self._job.total_steps, self._job.stage)
+        if not complete:
+            return {'RUNNING_MODAL'}
+        self._finish(context)
+        _report_result(self, self._job.objects, self.recentre)
+        return {'FINISHED'}
 
 
 class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
@@ -166,23 +376,30 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
         description="Subtract the rounded bounding box centre (kept as the object's "
                     "'pointnpr_origin' property) so that coordinates keep their precision",
         default=True)
+    background: bpy.props.BoolProperty(
+        name="Cancellable",
+        description="With a window: read in the background with a progress bar; "
+                    "Esc cancels and leaves the scene as it was",
+        default=True, options={'HIDDEN', 'SKIP_SAVE'})
 
     def execute(self, context):
-        core = _core()
-        read_error = getattr(core, "ReadError", ValueError)
+        if self.background and not bpy.app.background and context.window is not None:
+            # Interactive: hand over to the modal job (progress bar, Esc),
+            # which reports its own result.
+            started = bpy.ops.import_scene.pointnpr_cloud_job(
+                'INVOKE_DEFAULT', filepath=self.filepath,
+                split_by_classification=self.split_by_classification, recentre=self.recentre)
+            return {'FINISHED'} if started & {'RUNNING_MODAL', 'FINISHED'} else {'CANCELLED'}
+        progress = _WindowProgress(context.window_manager)
         try:
             objects = import_point_cloud(context, self.filepath, self.split_by_classification,
-                                         self.recentre)
-        except (read_error, OSError, ValueError) as exc:
+                                         self.recentre, progress=progress)
+        except _import_errors() as exc:
             self.report({'ERROR'}, "Cannot import %s: %s" % (os.path.basename(self.filepath), exc))
             return {'CANCELLED'}
-        points = sum(len(o.data.vertices) for o in objects)
-        self.report({'INFO'}, "Imported %d points into %d object(s)" % (points, len(objects)))
-        if not self.recentre and objects:
-            far = max(max(abs(c) for c in o.bound_box[i]) for o in objects for i in range(8))
-            if far > 1.0e5:
-                self.report({'WARNING'}, "Coordinates up to %.0f kept without recentring: "
-                            "single-precision vertices lose detail at that magnitude" % far)
+        finally:
+            progress.end()
+        _report_result(self, objects, self.recentre)
         return {'FINISHED'}
 
 
@@ -191,6 +408,7 @@ def menu_func_import(self, context):
 
 
 def register():
+    bpy.utils.register_class(IMPORT_SCENE_OT_pointnpr_cloud_job)
     bpy.utils.register_class(IMPORT_SCENE_OT_pointnpr_cloud)
     bpy.types.TOPBAR_MT_file_import.append(menu_func_import)
 
@@ -198,3 +416,4 @@ def register():
 def unregister():
     bpy.types.TOPBAR_MT_file_import.remove(menu_func_import)
     bpy.utils.unregister_class(IMPORT_SCENE_OT_pointnpr_cloud)
+    bpy.utils.unregister_class(IMPORT_SCENE_OT_pointnpr_cloud_job)
