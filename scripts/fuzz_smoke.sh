@@ -29,7 +29,9 @@ seed_files() {
     pcd) names=(-name '*.pcd') ;;
     text) names=(-name '*.xyz' -o -name '*.pts' -o -name '*.txt' -o -name '*.csv' -o -name '*.asc') ;;
   esac
-  find tests/data/io "fuzz/seeds/$1" -type f \( "${names[@]}" \) 2>/dev/null
+  local dirs=(tests/data/io)
+  [[ -d fuzz/seeds/$1 ]] && dirs+=("fuzz/seeds/$1")
+  find "${dirs[@]}" -type f \( "${names[@]}" \)
 }
 
 mkdir -p build-fuzz/artifacts

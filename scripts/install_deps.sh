@@ -12,6 +12,7 @@ packages=(
 )
 if [[ "${1:-}" == "--tests" ]]; then
   packages+=(libgtest-dev libgmock-dev googletest libbenchmark-dev python3-pytest xvfb xauth glslang-tools)
+  packages+=(clang libclang-rt-14-dev)  # scripts/fuzz_smoke.sh (libFuzzer)
 fi
 
 missing=()
