@@ -7,4 +7,5 @@ namespace pointnpr::python {
 void bind_core(pybind11::module_& m);
 void bind_render(pybind11::module_& m);
 void bind_io(pybind11::module_& m);
+void bind_geometry(pybind11::module_& m);
 }  // namespace pointnpr::python

@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "geometry/analysis.h"
 
 namespace pointnpr {
 
@@ -130,6 +131,12 @@ std::vector<double> PointCloud::positions_double() const {
       out[3 * k + 2] = q.z;
     }
   return out;
+}
+
+geometry::Analysis& PointCloud::analysis() const {
+  std::lock_guard lock(analysis_mutex_);
+  if (!analysis_) analysis_ = std::make_shared<geometry::Analysis>(*this);
+  return *analysis_;
 }
 
 }  // namespace pointnpr

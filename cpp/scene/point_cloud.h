@@ -5,11 +5,17 @@
 #include <atomic>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <vector>
 
 namespace pointnpr {
+
+namespace geometry {
+class Analysis;
+}
 
 // Attributes a style can ask for; each is uploaded to the GPU only when some
 // style rendering the cloud needs it.
@@ -54,6 +60,10 @@ class PointCloud {
   // Reconstructs world-space (object-space) positions in double, in the
   // cloud's internal order.
   std::vector<double> positions_double() const;
+  // Normals, curvature, neighbourhoods... computed on first request and
+  // cached for the cloud's lifetime (geometry/analysis.h). The points never
+  // change, so the cache never needs invalidating.
+  geometry::Analysis& analysis() const;
 
  private:
   uint64_t id_;
@@ -65,6 +75,8 @@ class PointCloud {
   std::vector<uint32_t> point_index_;
   std::vector<glm::vec3> normals_;
   glm::dvec3 bounds_min_{0.0}, bounds_max_{0.0};
+  mutable std::mutex analysis_mutex_;
+  mutable std::shared_ptr<geometry::Analysis> analysis_;
 };
 
 }  // namespace pointnpr

@@ -1,0 +1,75 @@
+#pragma once
+// Lazy, cached geometry of one point set. Nothing is computed until asked;
+// each result (neighbourhoods per k, PCA per k, normals per k and
+// orientation, ...) is computed once and kept. A PointCloud owns one
+// (PointCloud::analysis()); its points never change, so the cache never
+// needs invalidating: a changed cloud is a new PointCloud with a new cache.
+// Results are in the order of the input positions (for a PointCloud, its
+// internal order, the order of point_index()). Thread-safe.
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "geometry/features.h"
+#include "geometry/local_points.h"
+#include "geometry/neighbors.h"
+#include "geometry/normals.h"
+#include "geometry/segmentation.h"
+
+namespace pointnpr {
+class PointCloud;
+}
+
+namespace pointnpr::geometry {
+
+struct NormalOptions {
+  int k = 16;
+  Orientation orientation = Orientation::Consistent;
+  glm::dvec3 target{0.0};  // the point (TowardPoint) or direction (Direction)
+};
+
+class Analysis {
+ public:
+  explicit Analysis(const PointCloud& cloud);  // reads the cloud lazily; must not outlive it
+  explicit Analysis(std::vector<double> xyz, std::vector<uint32_t> colors_rgba8 = {});
+  Analysis(const Analysis&) = delete;
+  Analysis& operator=(const Analysis&) = delete;
+
+  size_t size() const;
+  const LocalPoints& points();
+  const KdTree& tree();
+  std::shared_ptr<const Neighborhoods> knn(int k);
+  std::shared_ptr<const PcaResult> pca(int k);
+
+  // Input order. k is clamped to the number of points.
+  std::shared_ptr<const std::vector<glm::vec3>> normals(const NormalOptions& options);
+  std::shared_ptr<const std::vector<float>> curvature(int k);
+  std::shared_ptr<const LocalResolution> local_resolution(int k);
+  std::shared_ptr<const std::vector<float>> feature_degree(int k, float color_weight);
+  std::vector<uint8_t> inliers(int k, float std_ratio);
+  LineFit line_fit(const std::vector<uint8_t>& mask, int k);
+  Components region_growing_rgb(const RegionGrowingParams& params);
+  Components connected_components(int level, uint32_t min_points, double cell_size = 0.0);
+
+  // What has been computed so far ("knn:16", "pca:16", "normals:16:consistent", ...).
+  std::vector<std::string> computed() const;
+
+ private:
+  std::vector<double> positions() const;
+  const std::vector<uint32_t>& colors_sorted();
+  template <class T>
+  std::shared_ptr<const T> cached(const std::string& key) const;
+
+  mutable std::recursive_mutex mutex_;
+  const PointCloud* cloud_ = nullptr;
+  std::vector<double> xyz_;
+  std::vector<uint32_t> colors_;  // input order
+  std::unique_ptr<LocalPoints> points_;
+  std::unique_ptr<KdTree> tree_;
+  std::unique_ptr<std::vector<uint32_t>> colors_sorted_;
+  std::map<std::string, std::shared_ptr<const void>> cache_;
+};
+
+}  // namespace pointnpr::geometry

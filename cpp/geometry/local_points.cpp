@@ -1,0 +1,62 @@
+#include "geometry/local_points.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/error.h"
+
+namespace pointnpr::geometry {
+
+namespace {
+uint64_t spread_bits(uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+}  // namespace
+
+LocalPoints LocalPoints::from(std::span<const double> xyz) {
+  if (xyz.size() % 3 != 0) throw Error("positions must be an N x 3 array");
+  const size_t n = xyz.size() / 3;
+  if (n >= (size_t(1) << 31)) throw Error("point cloud too large (2^31 points or more)");
+  LocalPoints lp;
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  for (size_t i = 0; i < n; ++i) {
+    const glm::dvec3 q(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+      throw Error("point " + std::to_string(i) + " has a non-finite coordinate");
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  if (n == 0) return lp;
+  lp.origin = (lo + hi) * 0.5;
+  const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-300));
+  const double scale = double((1u << 21) - 1) / std::max({extent.x, extent.y, extent.z});
+  std::vector<std::pair<uint64_t, uint32_t>> order(n);
+  tbb::parallel_for(size_t(0), n, size_t(4096), [&](size_t b) {
+    for (size_t i = b; i < std::min(n, b + 4096); ++i) {
+      const auto q = [&](int a) { return uint64_t(std::clamp((xyz[3 * i + a] - lo[a]) * scale, 0.0, 2097151.0)); };
+      order[i] = {spread_bits(q(0)) | spread_bits(q(1)) << 1 | spread_bits(q(2)) << 2, uint32_t(i)};
+    }
+  });
+  tbb::parallel_sort(order.begin(), order.end());
+  lp.points.resize(n);
+  lp.original.resize(n);
+  for (size_t s = 0; s < n; ++s) {
+    const size_t i = order[s].second;
+    lp.original[s] = uint32_t(i);
+    lp.points[s] = glm::vec3(glm::dvec3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]) - lp.origin);
+  }
+  return lp;
+}
+
+}  // namespace pointnpr::geometry

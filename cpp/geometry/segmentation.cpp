@@ -1,0 +1,267 @@
+#include "geometry/segmentation.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <map>
+#include <numeric>
+
+#include "core/error.h"
+
+namespace pointnpr::geometry {
+
+namespace {
+struct UnionFind {
+  std::vector<uint32_t> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return;
+    if (a < b) std::swap(a, b);
+    parent[a] = b;
+  }
+};
+}  // namespace
+
+int32_t relabel_by_size(std::vector<int32_t>& labels) {
+  int32_t max_label = -1;
+  for (int32_t l : labels) max_label = std::max(max_label, l);
+  if (max_label < 0) return 0;
+  std::vector<uint64_t> size(size_t(max_label) + 1, 0);
+  std::vector<uint64_t> first(size_t(max_label) + 1, std::numeric_limits<uint64_t>::max());
+  for (size_t i = 0; i < labels.size(); ++i)
+    if (labels[i] >= 0) {
+      ++size[size_t(labels[i])];
+      first[size_t(labels[i])] = std::min<uint64_t>(first[size_t(labels[i])], i);
+    }
+  std::vector<int32_t> order;
+  for (int32_t l = 0; l <= max_label; ++l)
+    if (size[size_t(l)]) order.push_back(l);
+  std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) {
+    return size[size_t(a)] != size[size_t(b)] ? size[size_t(a)] > size[size_t(b)] : first[size_t(a)] < first[size_t(b)];
+  });
+  std::vector<int32_t> remap(size_t(max_label) + 1, -1);
+  for (size_t r = 0; r < order.size(); ++r) remap[size_t(order[r])] = int32_t(r);
+  for (int32_t& l : labels)
+    if (l >= 0) l = remap[size_t(l)];
+  return int32_t(order.size());
+}
+
+Components connected_components(std::span<const double> xyz, int level, uint32_t min_points, double cell_size) {
+  if (xyz.size() % 3 != 0) throw Error("positions must be an N x 3 array");
+  if (cell_size <= 0.0 && (level < 1 || level > 21)) throw Error("octree level must be in [1, 21]");
+  if (!(cell_size >= 0.0) || !std::isfinite(cell_size)) throw Error("cell_size must be finite and >= 0");
+  const size_t n = xyz.size() / 3;
+  Components out;
+  out.labels.assign(n, -1);
+  if (n == 0) return out;
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  for (size_t i = 0; i < n; ++i) {
+    const glm::dvec3 q(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+      throw Error("point " + std::to_string(i) + " has a non-finite coordinate");
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  // CCMiscTools::MakeMinAndMaxCubical with its default enlargement of 1%.
+  const glm::dvec3 ext = hi - lo;
+  const double edge = std::max({ext.x, ext.y, ext.z}) * 1.01;
+  const glm::dvec3 cube_min = ((hi + lo) - glm::dvec3(edge)) * 0.5;
+  const uint64_t cells_per_axis = cell_size > 0.0 ? 0 : (uint64_t(1) << level);
+  double cs = cell_size > 0.0 ? cell_size : edge / double(cells_per_axis);
+  if (!(cs > 0.0)) cs = 1.0;  // all points identical: a single cell
+  out.cell_size = cs;
+  const double max_index = cell_size > 0.0 ? double((uint64_t(1) << 21) - 1) : double(cells_per_axis - 1);
+  if (cell_size > 0.0 && edge / cs > max_index) throw Error("cell_size too small: more than 2^21 cells along an axis");
+  // key = x << 42 | y << 21 | z; sorted (key, point).
+  std::vector<std::pair<uint64_t, uint32_t>> keyed(n);
+  tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    uint64_t c[3];
+    for (int a = 0; a < 3; ++a)
+      c[a] = uint64_t(std::clamp(std::floor((xyz[3 * i + a] - cube_min[a]) / cs), 0.0, max_index));
+    keyed[i] = {c[0] << 42 | c[1] << 21 | c[2], uint32_t(i)};
+  });
+  tbb::parallel_sort(keyed.begin(), keyed.end());
+  std::vector<uint64_t> cells;
+  std::vector<uint32_t> cell_of_sorted(n);
+  for (size_t s = 0; s < n; ++s) {
+    if (cells.empty() || cells.back() != keyed[s].first) cells.push_back(keyed[s].first);
+    cell_of_sorted[s] = uint32_t(cells.size() - 1);
+  }
+  const size_t m = cells.size();
+  UnionFind uf(m);
+  constexpr uint64_t mask = (uint64_t(1) << 21) - 1;
+  // Each cell looks at its 13 "forward" neighbours (the other 13 look at it).
+  for (size_t c = 0; c < m; ++c) {
+    const int64_t x = int64_t(cells[c] >> 42), y = int64_t((cells[c] >> 21) & mask), z = int64_t(cells[c] & mask);
+    for (int dx = 0; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          if (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0))) continue;
+          const int64_t nx = x + dx, ny = y + dy, nz = z + dz;
+          if (ny < 0 || nz < 0 || ny > int64_t(mask) || nz > int64_t(mask) || nx > int64_t(mask)) continue;
+          const uint64_t key = uint64_t(nx) << 42 | uint64_t(ny) << 21 | uint64_t(nz);
+          const auto it = std::lower_bound(cells.begin() + long(c), cells.end(), key);
+          if (it != cells.end() && *it == key) uf.unite(uint32_t(c), uint32_t(it - cells.begin()));
+        }
+  }
+  std::vector<uint32_t> comp_size(m, 0);
+  for (size_t s = 0; s < n; ++s) ++comp_size[uf.find(cell_of_sorted[s])];
+  for (size_t s = 0; s < n; ++s) {
+    const uint32_t root = uf.find(cell_of_sorted[s]);
+    out.labels[keyed[s].second] = comp_size[root] >= min_points ? int32_t(root) : -1;
+  }
+  out.count = relabel_by_size(out.labels);
+  return out;
+}
+
+namespace {
+double color_dist2(uint32_t a, uint32_t b) {
+  double s = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    const double d = double((a >> (8 * c)) & 255) - double((b >> (8 * c)) & 255);
+    s += d * d;
+  }
+  return s;
+}
+}  // namespace
+
+Components region_growing_rgb(const LocalPoints& pts, const Neighborhoods& nb, const std::vector<uint32_t>& colors,
+                              const RegionGrowingParams& prm) {
+  const size_t n = pts.size();
+  if (colors.size() != n) throw Error("region growing needs one colour per point");
+  if (!(prm.distance_threshold >= 0.0) || !(prm.point_color_threshold >= 0.0) || !(prm.region_color_threshold >= 0.0))
+    throw Error("region growing thresholds must be >= 0");
+  Components out;
+  out.labels.assign(n, -1);
+  if (n == 0) return out;
+  const double p2p = prm.point_color_threshold * prm.point_color_threshold;
+  const double r2r = prm.region_color_threshold * prm.region_color_threshold;
+  const float dist2_max = float(prm.distance_threshold * prm.distance_threshold);
+  // (1) growth from seeds in index order.
+  std::vector<int32_t> seg(n, -1);
+  int32_t nseg = 0;
+  std::deque<uint32_t> queue;
+  std::vector<uint32_t> sorted_of(n);
+  for (size_t s = 0; s < n; ++s) sorted_of[pts.original[s]] = uint32_t(s);
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t seed = sorted_of[i];  // seeds in the caller's index order
+    if (seg[seed] >= 0) continue;
+    seg[seed] = nseg;
+    queue.push_back(seed);
+    while (!queue.empty()) {
+      const uint32_t p = queue.front();
+      queue.pop_front();
+      for (int j = 0; j < nb.k; ++j) {
+        const uint32_t q = nb.at(p)[j];
+        if (seg[q] >= 0 || color_dist2(colors[p], colors[q]) > p2p) continue;
+        seg[q] = nseg;
+        queue.push_back(q);
+      }
+    }
+    ++nseg;
+  }
+  // Segment sizes, mean colours (PCL truncates means to integers), and the
+  // nearest point distance to each neighbouring segment.
+  std::vector<uint64_t> seg_size(static_cast<size_t>(nseg), 0);
+  std::vector<std::array<uint64_t, 3>> sum(static_cast<size_t>(nseg), {0, 0, 0});
+  for (size_t i = 0; i < n; ++i) {
+    ++seg_size[size_t(seg[i])];
+    for (int c = 0; c < 3; ++c) sum[size_t(seg[i])][size_t(c)] += (colors[i] >> (8 * c)) & 255;
+  }
+  std::vector<uint32_t> mean(static_cast<size_t>(nseg));
+  for (size_t s = 0; s < size_t(nseg); ++s) {
+    uint32_t packed = 0;
+    for (int c = 0; c < 3; ++c) packed |= uint32_t(double(sum[s][size_t(c)]) / double(seg_size[s])) << (8 * c);
+    mean[s] = packed;
+  }
+  std::vector<std::map<int32_t, float>> seg_nb(static_cast<size_t>(nseg));
+  for (size_t i = 0; i < n; ++i)
+    for (int j = 0; j < nb.k; ++j) {
+      const int32_t o = seg[nb.at(i)[j]];
+      if (o == seg[i]) continue;
+      auto [it, fresh] = seg_nb[size_t(seg[i])].try_emplace(o, nb.d2_at(i)[j]);
+      if (!fresh) it->second = std::min(it->second, nb.d2_at(i)[j]);
+    }
+  // (2) homogeneous regions: one greedy pass as PCL does.
+  std::vector<int32_t> region(static_cast<size_t>(nseg), -1);
+  std::vector<uint64_t> region_size;
+  int32_t nreg = 0;
+  for (int32_t s = 0; s < nseg; ++s) {
+    if (region[size_t(s)] < 0) {
+      region[size_t(s)] = nreg++;
+      region_size.push_back(seg_size[size_t(s)]);
+    }
+    const int32_t cur = region[size_t(s)];
+    for (const auto& [o, d2] : seg_nb[size_t(s)]) {
+      if (d2 > dist2_max || region[size_t(o)] >= 0) continue;
+      if (color_dist2(mean[size_t(s)], mean[size_t(o)]) < r2r) {
+        region[size_t(o)] = cur;
+        region_size[size_t(cur)] += seg_size[size_t(o)];
+      }
+    }
+  }
+  // (3) small regions join their nearest neighbouring region.
+  UnionFind merged(static_cast<size_t>(nreg));
+  std::vector<uint64_t> msize(region_size);
+  std::vector<std::vector<int32_t>> members(static_cast<size_t>(nreg));
+  for (int32_t s = 0; s < nseg; ++s) members[size_t(region[size_t(s)])].push_back(s);
+  for (int32_t r = 0; r < nreg; ++r) {
+    const uint32_t root = merged.find(uint32_t(r));
+    if (msize[root] >= prm.min_cluster_size) continue;
+    float best = std::numeric_limits<float>::max();
+    int32_t best_region = -1;
+    for (int32_t s : members[root])
+      for (const auto& [o, d2] : seg_nb[size_t(s)]) {
+        const uint32_t other = merged.find(uint32_t(region[size_t(o)]));
+        if (other != root && d2 < best) {
+          best = d2;
+          best_region = int32_t(other);
+        }
+      }
+    if (best_region < 0) continue;
+    const uint64_t total = msize[root] + msize[size_t(best_region)];
+    merged.unite(root, uint32_t(best_region));
+    const uint32_t into = merged.find(root);
+    const uint32_t from = into == root ? uint32_t(best_region) : root;
+    msize[into] = total;
+    auto& dst = members[into];
+    dst.insert(dst.end(), members[from].begin(), members[from].end());
+    members[from].clear();
+    members[from].shrink_to_fit();
+  }
+  // (4) size filter.
+  std::vector<int32_t> sorted_labels(n);
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t root = merged.find(uint32_t(region[size_t(seg[i])]));
+    const uint64_t sz = msize[root];
+    sorted_labels[i] = sz >= prm.min_cluster_size && sz <= prm.max_cluster_size ? int32_t(root) : -1;
+  }
+  out.labels = pts.to_original(sorted_labels);
+  out.count = relabel_by_size(out.labels);
+  return out;
+}
+
+std::vector<Group> split_by_attribute(std::span<const int64_t> values) {
+  std::map<int64_t, std::vector<uint32_t>> groups;
+  for (size_t i = 0; i < values.size(); ++i) groups[values[i]].push_back(uint32_t(i));
+  std::vector<Group> out;
+  out.reserve(groups.size());
+  for (auto& [v, idx] : groups) out.push_back({v, std::move(idx)});
+  return out;
+}
+
+}  // namespace pointnpr::geometry

@@ -1,0 +1,60 @@
+#pragma once
+// Segmentation: connected components on an octree level (CloudCompare's
+// Label Connected Components), colour region growing (PCL's
+// RegionGrowingRGB, seed 004), split by an integer attribute.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "geometry/local_points.h"
+#include "geometry/neighbors.h"
+
+namespace pointnpr::geometry {
+
+// CloudCompare's octree: the cube of edge 1.01 * (largest bounding-box
+// extent) centred on the bounding box (CCMiscTools::MakeMinAndMaxCubical),
+// cells of edge cube/2^level. Points in 26-connected occupied cells form a
+// component; components with fewer than min_points points get label -1.
+// Labels 0.. by decreasing size (ties: the component holding the lowest
+// point index first). cell_size > 0 overrides the level (cells anchored at
+// the same cube corner). Original order; all points identical: one cell.
+struct Components {
+  std::vector<int32_t> labels;
+  int32_t count = 0;         // kept components
+  double cell_size = 0.0;
+};
+Components connected_components(std::span<const double> xyz, int level, uint32_t min_points, double cell_size = 0.0);
+
+// PCL RegionGrowingRGB (no normal or curvature test): (1) from seeds in
+// index order, grow over the k-nearest-neighbour graph while the RGB
+// distance between a point and its neighbour is <= point_color_threshold;
+// (2) merge neighbouring regions (closest points within distance_threshold)
+// whose mean colours differ by < region_color_threshold; (3) merge regions
+// smaller than min_cluster_size into their nearest neighbouring region;
+// (4) regions outside [min_cluster_size, max_cluster_size] get label -1.
+// Distances are Euclidean (PCL compares its distance threshold with squared
+// distances; here the threshold is a distance). Colours: packed RGBA8 in
+// LocalPoints order. Labels in original order, 0.. by decreasing size.
+struct RegionGrowingParams {
+  int k = 30;
+  double distance_threshold = 0.05;
+  double point_color_threshold = 6.0;
+  double region_color_threshold = 5.0;
+  uint32_t min_cluster_size = 10;
+  uint32_t max_cluster_size = 0xffffffffu;
+};
+Components region_growing_rgb(const LocalPoints& pts, const Neighborhoods& nb, const std::vector<uint32_t>& colors_sorted,
+                              const RegionGrowingParams& params);
+
+// Groups of point indices sharing a value, by increasing value.
+struct Group {
+  int64_t value;
+  std::vector<uint32_t> indices;
+};
+std::vector<Group> split_by_attribute(std::span<const int64_t> values);
+
+// Relabels so that labels are 0.. by decreasing size (ties: lowest first
+// index); entries < 0 stay -1. Returns the number of labels.
+int32_t relabel_by_size(std::vector<int32_t>& labels);
+
+}  // namespace pointnpr::geometry
