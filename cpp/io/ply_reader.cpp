@@ -529,6 +529,7 @@ void PlyReader::read_ascii(PointData& out) {
   for (size_t ei = 0; ei < elements_.size(); ++ei) {
     const Element& e = elements_[ei];
     const bool is_vertex = ei == vertex_index_;
+    if (e.props.empty()) continue;  // no values, whatever the count
     // Each value needs at least one character and one separator.
     const size_t remaining = size_ - pos;
     if (!e.props.empty() && e.count > (remaining + 1) / (2 * e.props.size()))

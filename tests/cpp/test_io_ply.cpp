@@ -345,5 +345,34 @@ TEST(IoPlyBroken, TruncatedAndInvalidAscii) {
   EXPECT_READ_ERROR(write_file("ta5.ply", hc), "declares 1000000 records of 3 values");
 }
 
+TEST(IoPlyBroken, IntegerPropertiesHoldIntegersInRange) {
+  const std::string h =
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nproperty uchar label\nend_header\n";
+  EXPECT_EQ(read_point_cloud(write_file("int1.ply", h + "0 0 0 255\n")).get<uint8_t>("label")->at(0),
+            255);
+  EXPECT_READ_ERROR(write_file("int2.ply", h + "0 0 0 256\n"),
+                    "value '256' of property 'label' in record 0 of element 'vertex' is not an "
+                    "integer in the range of its type");
+  EXPECT_READ_ERROR(write_file("int3.ply", h + "0 0 0 1.5\n"), "value '1.5' of property 'label'");
+  // A float property beyond float's range becomes infinite, not undefined.
+  const std::string hf =
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float big\nend_header\n";
+  EXPECT_TRUE(std::isinf(read_point_cloud(write_file("big.ply", hf + "0 0 0 1e300\n"))
+                             .get<float>("big")
+                             ->at(0)));
+}
+
+TEST(IoPlyGenerated, ElementsWithoutPropertiesAndHugeCounts) {
+  // Found by reasoning about the fuzz targets: an ascii element with no
+  // properties has no values, so its count must not be looped over.
+  const std::string s =
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nelement junk 18000000000000000000\nend_header\n1 2 3\n";
+  PointData d = read_point_cloud(write_file("junk.ply", s));
+  EXPECT_EQ(d.num_points(), 1u);
+}
+
 }  // namespace
 }  // namespace pointnpr
