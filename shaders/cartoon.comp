@@ -6,13 +6,52 @@
 //   A = (sum L*a at sigma_e, sum a at sigma_e, sum L*a at 1.6 sigma_e, sum a at 1.6 sigma_e)
 //   B = (sum rgb*a at sigma_e, sum a at sigma_fill)
 // PASS_COMPOSE: quantize, darken DoG edges, fill gaps, draw outlines.
-#include "common.glsl"
+// PASS_BILATERAL (before them, iterated): one axis of a separable bilateral
+//   filter in CIELAB over covered pixels; images in between hold (Lab, a).
+#include "filter_common.glsl"
 layout(local_size_x = 16, local_size_y = 16) in;
 uniform float u_sigma;
 uniform int u_radius;
 uniform float u_fill_sigma;
 
-bool in_image(ivec2 q, ivec2 size) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)); }
+#ifdef PASS_BILATERAL
+layout(rgba32f, binding = 0) uniform readonly image2D u_in;
+layout(rgba32f, binding = 1) uniform writeonly image2D u_out;
+uniform ivec2 u_axis;
+uniform int u_in_srgb;   // the input is display sRGB (first pass), else Lab
+uniform int u_out_srgb;  // write display sRGB (last pass), else Lab
+uniform float u_space_sigma;
+uniform float u_range_sigma;
+uniform int u_bilateral_radius;
+
+vec4 fetch_lab(ivec2 q) {
+  if (!in_image(q, imageSize(u_in))) return vec4(0.0);
+  vec4 c = imageLoad(u_in, q);
+  if (!covered(c)) return vec4(0.0);
+  return u_in_srgb != 0 ? vec4(srgb_to_lab(c.rgb), c.a) : c;
+}
+
+void main() {
+  ivec2 p;
+  if (!rect_pixel(p)) return;
+  vec4 centre = fetch_lab(p);
+  if (!covered(centre)) {
+    imageStore(u_out, p, vec4(0.0));
+    return;
+  }
+  float inv_range = 1.0 / (2.0 * u_range_sigma * u_range_sigma);
+  vec4 sum = vec4(0.0);
+  for (int k = -u_bilateral_radius; k <= u_bilateral_radius; ++k) {
+    vec4 c = fetch_lab(p + k * u_axis);
+    if (!covered(c)) continue;
+    vec3 d = c.rgb - centre.rgb;
+    float w = gauss(float(k * k), u_space_sigma) * exp(-dot(d, d) * inv_range);
+    sum += vec4(c.rgb * w, w);
+  }
+  vec3 lab = sum.rgb / sum.w;
+  imageStore(u_out, p, vec4(u_out_srgb != 0 ? lab_to_srgb(lab) : lab, centre.a));
+}
+#endif
 
 #if defined(PASS_BLUR_X) || defined(PASS_BLUR_Y)
 #ifdef PASS_BLUR_X

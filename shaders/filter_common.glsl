@@ -69,3 +69,26 @@ float fbm(vec2 p, float cell, int octaves, uint seed) {
 }
 
 float gauss(float d2, float sigma) { return exp(-d2 / (2.0 * sigma * sigma)); }
+
+// CIELAB (D65), L in [0,100]: the space Winnemoeller et al. 2006 smooth in.
+vec3 linear_to_lab(vec3 c) {
+  vec3 xyz = mat3(0.4124564, 0.2126729, 0.0193339,
+                  0.3575761, 0.7151522, 0.1191920,
+                  0.1804375, 0.0721750, 0.9503041) * c / vec3(0.95047, 1.0, 1.08883);
+  vec3 f = mix(xyz / (3.0 * 0.04280618) + 4.0 / 29.0, pow(max(xyz, vec3(0.0)), vec3(1.0 / 3.0)),
+               greaterThan(xyz, vec3(0.00885645)));
+  return vec3(116.0 * f.y - 16.0, 500.0 * (f.x - f.y), 200.0 * (f.y - f.z));
+}
+
+vec3 lab_to_linear(vec3 lab) {
+  float fy = (lab.x + 16.0) / 116.0;
+  vec3 f = vec3(fy + lab.y / 500.0, fy, fy - lab.z / 200.0);
+  vec3 xyz = mix(3.0 * 0.04280618 * (f - 4.0 / 29.0), f * f * f, greaterThan(f, vec3(6.0 / 29.0)));
+  xyz *= vec3(0.95047, 1.0, 1.08883);
+  return mat3(3.2404542, -0.9692660, 0.0556434,
+              -1.5371385, 1.8760108, -0.2040259,
+              -0.4985314, 0.0415560, 1.0572252) * xyz;
+}
+
+vec3 srgb_to_lab(vec3 c) { return linear_to_lab(srgb_to_linear(clamp(c, 0.0, 1.0))); }
+vec3 lab_to_srgb(vec3 lab) { return clamp(linear_to_srgb(lab_to_linear(lab)), 0.0, 1.0); }
