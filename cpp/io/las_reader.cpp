@@ -326,7 +326,7 @@ void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
                               const uint8_t* base, const double scale[3],
                               const double offset[3]) {
   const Layout lay = layout_for(pf);
-  out.positions.resize(n * 3);
+  io::resize_fresh(out.positions, n * 3);
   Columns c{};
   c.pos = out.positions.data();
   c.intensity = out.add<float>("intensity").data();

@@ -11,6 +11,7 @@
 #include <limits>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "core/error.h"
@@ -57,27 +58,6 @@ std::string lower(std::string_view s) {
   return r;
 }
 
-// Value of one binary field element as double (colour fields handled apart).
-double load_value(const Field& f, const uint8_t* p) {
-  switch (f.type) {
-    case 'F': return f.size == 8 ? load_le<double>(p) : static_cast<double>(load_le<float>(p));
-    case 'U':
-      switch (f.size) {
-        case 1: return *p;
-        case 2: return load_le<uint16_t>(p);
-        case 4: return load_le<uint32_t>(p);
-        default: return static_cast<double>(load_le<uint64_t>(p));
-      }
-    default:
-      switch (f.size) {
-        case 1: return static_cast<int8_t>(*p);
-        case 2: return load_le<int16_t>(p);
-        case 4: return load_le<int32_t>(p);
-        default: return static_cast<double>(load_le<int64_t>(p));
-      }
-  }
-}
-
 class PcdReader {
  public:
   explicit PcdReader(const std::string& path) : path_(path), file_(path) { init(); }
@@ -100,6 +80,11 @@ class PcdReader {
   // Stores element `c` of field `fi` of point `i`; `bits` is the raw 32-bit
   // pattern for colour fields.
   void store(size_t fi, size_t c, size_t i, double v, uint32_t bits);
+  // Decodes field fi of all points: element c of point i lies at
+  // src + i * stride + c * size (binary: record-major; compressed: field-major).
+  void decode_field(size_t fi, const uint8_t* src, size_t stride, uint64_t n);
+  template <class T>
+  void decode_field_typed(size_t fi, const uint8_t* src, size_t stride, uint64_t n);
   void lzf_decompress(const uint8_t* in, size_t in_len, uint8_t* out, size_t out_len, size_t at);
 
   std::string path_;
@@ -238,7 +223,7 @@ void PcdReader::plan(PointData& out) {
   if (inten >= 0) role_[inten] = Role::Intensity;
 
   const uint64_t n = points_;
-  out.positions.assign(n * 3, 0.0);
+  io::resize_fresh(out.positions, n * 3);
   positions_ = out.positions.data();
   if (normals) normals_ = out.add<float>("normals", 3).data();
   if (rgb >= 0 && role_[rgb] == Role::Color) colors_ = out.add<uint8_t>("colors", 3).data();
@@ -271,6 +256,70 @@ void PcdReader::store(size_t fi, size_t c, size_t i, double v, uint32_t bits) {
   }
 }
 
+template <class T>
+void PcdReader::decode_field_typed(size_t fi, const uint8_t* src, size_t stride, uint64_t n) {
+  const Field& f = fields_[fi];
+  auto value = [&](uint64_t i, size_t c) {
+    return load_le<T>(src + i * stride + c * sizeof(T));
+  };
+  auto to_float = [](T v) {
+    if constexpr (std::is_same_v<T, float>)
+      return v;
+    else
+      return narrow_float(static_cast<double>(v));
+  };
+  switch (role_[fi]) {
+    case Role::Skip: break;
+    case Role::Position: {
+      const size_t k = static_cast<size_t>(comp_[fi]);
+      for (uint64_t i = 0; i < n; ++i) positions_[3 * i + k] = static_cast<double>(value(i, 0));
+      break;
+    }
+    case Role::Normal: {
+      const size_t k = static_cast<size_t>(comp_[fi]);
+      for (uint64_t i = 0; i < n; ++i) normals_[3 * i + k] = to_float(value(i, 0));
+      break;
+    }
+    case Role::Color:  // packed 0x00RRGGBB / 0xAARRGGBB in a 4-byte field
+      for (uint64_t i = 0; i < n; ++i) {
+        const uint32_t bits = load_le<uint32_t>(src + i * stride);
+        colors_[3 * i + 0] = static_cast<uint8_t>(bits >> 16);
+        colors_[3 * i + 1] = static_cast<uint8_t>(bits >> 8);
+        colors_[3 * i + 2] = static_cast<uint8_t>(bits);
+      }
+      break;
+    case Role::Intensity:
+      for (uint64_t i = 0; i < n; ++i) intensity_[i] = to_float(value(i, 0));
+      break;
+    case Role::Other: {
+      float* dst = other_[fi];
+      const size_t count = f.count;
+      for (uint64_t i = 0; i < n; ++i)
+        for (size_t c = 0; c < count; ++c) dst[i * count + c] = to_float(value(i, c));
+      break;
+    }
+  }
+}
+
+void PcdReader::decode_field(size_t fi, const uint8_t* src, size_t stride, uint64_t n) {
+  const Field& f = fields_[fi];
+  if (f.type == 'F') {
+    if (f.size == 8) return decode_field_typed<double>(fi, src, stride, n);
+    return decode_field_typed<float>(fi, src, stride, n);
+  }
+  const bool u = f.type == 'U';
+  switch (f.size) {
+    case 1: return u ? decode_field_typed<uint8_t>(fi, src, stride, n)
+                     : decode_field_typed<int8_t>(fi, src, stride, n);
+    case 2: return u ? decode_field_typed<uint16_t>(fi, src, stride, n)
+                     : decode_field_typed<int16_t>(fi, src, stride, n);
+    case 4: return u ? decode_field_typed<uint32_t>(fi, src, stride, n)
+                     : decode_field_typed<int32_t>(fi, src, stride, n);
+    default: return u ? decode_field_typed<uint64_t>(fi, src, stride, n)
+                      : decode_field_typed<int64_t>(fi, src, stride, n);
+  }
+}
+
 void PcdReader::lzf_decompress(const uint8_t* in, size_t in_len, uint8_t* out, size_t out_len,
                                size_t at) {
   size_t ip = 0, op = 0;
@@ -298,7 +347,12 @@ void PcdReader::lzf_decompress(const uint8_t* in, size_t in_len, uint8_t* out, s
       len += 2;
       if (back > op) corrupt("back-reference before the start of the output");
       if (op + len > out_len) corrupt("output larger than declared");
-      for (size_t k = 0; k < len; ++k, ++op) out[op] = out[op - back];
+      if (back >= len) {  // no overlap
+        std::memcpy(out + op, out + op - back, len);
+        op += len;
+      } else {
+        for (size_t k = 0; k < len; ++k, ++op) out[op] = out[op - back];
+      }
     }
   }
   if (op != out_len)
@@ -356,32 +410,18 @@ PointData PcdReader::read() {
 
   if (data_kind_ == "binary") {
     const uint8_t* base = d_ + data_start_;
-    for (size_t fi = 0; fi < nf; ++fi) {
-      const Field& f = fields_[fi];
-      if (role_[fi] == Role::Skip) continue;
-      for (uint64_t i = 0; i < n; ++i) {
-        const uint8_t* p = base + i * record_size_ + f.offset;
-        for (size_t c = 0; c < f.count; ++c) {
-          const uint8_t* e = p + c * f.size;
-          store(fi, c, i, load_value(f, e), f.size == 4 ? load_le<uint32_t>(e) : 0);
-        }
-      }
-    }
+    for (size_t fi = 0; fi < nf; ++fi)
+      decode_field(fi, base + fields_[fi].offset, record_size_, n);
   } else if (data_kind_ == "binary_compressed") {
     const uint32_t csize = load_le<uint32_t>(d_ + data_start_);
-    std::vector<uint8_t> raw(n * record_size_);
+    std::vector<uint8_t> raw;
+    io::resize_fresh(raw, n * record_size_);
     lzf_decompress(d_ + data_start_ + 8, csize, raw.data(), raw.size(), data_start_ + 8);
     // Field-major layout: all values of field 0, then of field 1, ...
     size_t field_start = 0;
     for (size_t fi = 0; fi < nf; ++fi) {
-      const Field& f = fields_[fi];
-      const size_t stride = f.size * f.count;
-      if (role_[fi] != Role::Skip)
-        for (uint64_t i = 0; i < n; ++i)
-          for (size_t c = 0; c < f.count; ++c) {
-            const uint8_t* e = raw.data() + field_start + i * stride + c * f.size;
-            store(fi, c, i, load_value(f, e), f.size == 4 ? load_le<uint32_t>(e) : 0);
-          }
+      const size_t stride = fields_[fi].size * fields_[fi].count;
+      decode_field(fi, raw.data() + field_start, stride, n);
       field_start += stride * n;
     }
   } else {  // ascii

@@ -414,14 +414,15 @@ void PlyReader::plan_vertex() {
 }
 
 void PlyReader::allocate(PointData& out, uint64_t n) {
-  out.positions.assign(n * 3, 0.0);
+  io::resize_fresh(out.positions, n * 3);
   positions_ = out.positions.data();
-  if (plan_.has_normals) normals_.assign(n * 3, 0.f);
-  if (plan_.has_colors) colors_.assign(n * 3, 0.f);
+  if (plan_.has_normals) io::resize_fresh(normals_, n * 3);
+  if (plan_.has_colors) io::resize_fresh(colors_, n * 3);
   if (plan_.has_alpha) alpha_.assign(n, 0.f);
   if (plan_.has_intensity) intensity_.assign(n, 0.f);
   if (plan_.has_classification) classification_.assign(n, 0.f);
-  others_.assign(plan_.others.size(), std::vector<double>(n, 0.0));
+  others_.assign(plan_.others.size(), std::vector<double>());
+  for (std::vector<double>& o : others_) io::resize_fresh(o, n);
 }
 
 Sink PlyReader::sink_for(size_t i) {

@@ -209,7 +209,7 @@ PointData read_text_file(const io::MappedFile& file) {
   }
 
   PointData out;
-  out.positions.resize(n * 3);
+  io::resize_fresh(out.positions, n * 3);
   bool colors = false, normals = false;
   for (size_t c = 0; c < ncols; ++c) {
     colors |= role[c] == Role::Color;
