@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "../tests/cpp/filter_images.h"
+#include "../tests/cpp/scene_builders.h"
 
 using namespace pointnpr;
 using namespace pointnpr::test;
@@ -39,6 +40,39 @@ void BM_Filter(benchmark::State& state, const std::string& id) {
       benchmark::Counter(double(img.size.x) * img.size.y * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// Cost follows coverage (issue 5): the frame split into K x K segments that
+// do not overlap, each with the filter, against one segment covering the
+// same area. Reports the Renderer's filters_ms (all segments' filter
+// chains) for the frame; it should stay within 1.5x of K = 1.
+void BM_SegmentsVsFrame(benchmark::State& state, const std::string& id) {
+  const int k = int(state.range(0));
+  const glm::ivec2 size(1920, 1080);
+  const Camera cam = front_camera({0, 0, 10}, size);
+  const double half_w = 10.0 * 18.0 / 50.0, half_h = half_w * 1080.0 / 1920.0;
+  const double gap = 0.12;  // ~30 px between segments: more than twice any default footprint
+  Scene scene;
+  const Style style = style_with({{"point_size", {3}}}, {{id, {}}});
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) {
+      const double x0 = -half_w + 2.0 * half_w * i / k, x1 = -half_w + 2.0 * half_w * (i + 1) / k;
+      const double y0 = -half_h + 2.0 * half_h * j / k, y1 = -half_h + 2.0 * half_h * (j + 1) / k;
+      scene.segments.push_back(segment("s", plane_cloud(x0 + (k > 1 ? gap / 2 : 0), x1 - (k > 1 ? gap / 2 : 0),
+                                                        y0 + (k > 1 ? gap / 2 : 0), y1 - (k > 1 ? gap / 2 : 0), 0,
+                                                        0.008, {150, 120, 90}, {}, 0.004),
+                                       style));
+    }
+  Renderer renderer;
+  const RenderSettings s = settings(size, "layering");
+  renderer.render(scene, cam, s);  // warm-up
+  double filters_ms = 0;
+  for (auto _ : state) {
+    const RenderResult r = renderer.render(scene, cam, s);
+    filters_ms = r.stats.at("filters_ms");
+    state.SetIterationTime(filters_ms / 1000.0);
+  }
+  state.counters["segments"] = double(k * k);
+}
+
 }  // namespace
 
 // Benchmarks are registered in main: the filter registry fills during static
@@ -46,6 +80,14 @@ void BM_Filter(benchmark::State& state, const std::string& id) {
 int main(int argc, char** argv) {
   for (const FilterInfo* f : registered_filters())
     benchmark::RegisterBenchmark(("BM_Filter/" + f->schema.id).c_str(), BM_Filter, f->schema.id)
+        ->UseManualTime()
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(2);
+  for (const char* id : {"blur", "xdog", "watercolor"})
+    benchmark::RegisterBenchmark((std::string("BM_SegmentsVsFrame/") + id).c_str(), BM_SegmentsVsFrame, id)
+        ->Arg(1)
+        ->Arg(2)
+        ->Arg(4)
         ->UseManualTime()
         ->Unit(benchmark::kMillisecond)
         ->Iterations(2);

@@ -8,6 +8,7 @@
 // PASS_COMPOSE: quantize, darken DoG edges, fill gaps, draw outlines.
 // PASS_BILATERAL (before them, iterated): one axis of a separable bilateral
 //   filter in CIELAB over covered pixels; images in between hold (Lab, a).
+//   With radius 0 and sRGB input it only converts to CIELAB.
 #include "filter_common.glsl"
 layout(local_size_x = 16, local_size_y = 16) in;
 uniform float u_sigma;

@@ -43,16 +43,23 @@ class Cartoon final : public Filter {
     prog.use();
     glUniform1f(prog.location("u_space_sigma"), float(p.get_float("smoothing_sigma")));
     glUniform1f(prog.location("u_range_sigma"), float(p.get_float("smoothing_range")));
+    // Convert once to CIELAB where the first iteration reads.
+    glUniform2i(prog.location("u_axis"), 0, 0);
+    glUniform1i(prog.location("u_in_srgb"), 1);
+    glUniform1i(prog.location("u_out_srgb"), 0);
+    glUniform1i(prog.location("u_bilateral_radius"), 0);
+    glBindImageTexture(0, ctx.input->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, images[1]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    dispatch_rect(prog, valid.grown(rb * iterations, ctx.image_size));
+    glUniform1i(prog.location("u_in_srgb"), 0);
     glUniform1i(prog.location("u_bilateral_radius"), rb);
     for (int it = 0; it < iterations; ++it) {
       // Iteration `it` must be valid where the later ones read.
       const Rect r = valid.grown(rb * (iterations - 1 - it), ctx.image_size);
       for (int axis = 0; axis < 2; ++axis) {
         glUniform2i(prog.location("u_axis"), axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
-        glUniform1i(prog.location("u_in_srgb"), it == 0 && axis == 0 ? 1 : 0);
         glUniform1i(prog.location("u_out_srgb"), it == iterations - 1 && axis == 1 ? 1 : 0);
-        glBindImageTexture(0, (it == 0 && axis == 0 ? ctx.input : images[1 - axis])->id(), 0, GL_FALSE, 0,
-                           GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(0, images[1 - axis]->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         glBindImageTexture(1, images[axis]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         const Rect rows{{r.min.x, std::max(r.min.y - rb, 0)}, {r.max.x, std::min(r.max.y + rb, ctx.image_size.y)}};
         dispatch_rect(prog, axis == 0 ? rows : r);
