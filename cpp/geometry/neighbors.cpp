@@ -27,7 +27,7 @@ struct KdTree::Impl {
   Adaptor adaptor;
   Tree tree;
   explicit Impl(const std::vector<glm::vec3>& p)
-      : adaptor{&p}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(12)) {}
+      : adaptor{&p}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(20)) {}
 };
 
 KdTree::KdTree(const std::vector<glm::vec3>& points) : impl_(std::make_unique<Impl>(points)) {}

@@ -5,7 +5,6 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <numeric>
-#include <queue>
 
 namespace pointnpr::geometry {
 
@@ -21,22 +20,20 @@ PcaResult pca(const LocalPoints& pts, const Neighborhoods& nb) {
     for (size_t i = range.begin(); i < range.end(); ++i) {
       const uint32_t* idx = nb.at(i);
       const int k = nb.k;
-      // Offsets from the point itself keep the sums small (two-pass).
+      // Offsets from the point itself keep the sums small; one pass in double.
       const glm::vec3 p0 = pts.points[i];
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
       for (int j = 0; j < k; ++j) {
         const glm::vec3 d = pts.points[idx[j]] - p0;
-        mean += Eigen::Vector3d(d.x, d.y, d.z);
+        const Eigen::Vector3d e(d.x, d.y, d.z);
+        sum += e;
+        sq.noalias() += e * e.transpose();
       }
-      mean /= double(std::max(k, 1));
-      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-      for (int j = 0; j < k; ++j) {
-        const glm::vec3 d = pts.points[idx[j]] - p0;
-        const Eigen::Vector3d e = Eigen::Vector3d(d.x, d.y, d.z) - mean;
-        cov.noalias() += e * e.transpose();
-      }
+      const Eigen::Vector3d mean = sum / double(std::max(k, 1));
+      Eigen::Matrix3d cov = sq - double(k) * mean * mean.transpose();
       const double trace = cov.trace();
-      if (!(trace > 0.0)) {
+      if (!(trace > 1e-300)) {
         r.normal[i] = glm::vec3(0, 0, 1);
         r.major[i] = glm::vec3(1, 0, 0);
         r.curvature[i] = 0.0f;
@@ -44,15 +41,31 @@ PcaResult pca(const LocalPoints& pts, const Neighborhoods& nb) {
         r.degenerate[i] = 1;
         continue;
       }
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov / trace, Eigen::ComputeEigenvectors);
+      cov /= trace;
+      // Closed form first, accepted only with a certificate: by Davis-Kahan
+      // the eigenvector's angular error is at most |A v - l v| / gap, so the
+      // result stands when that bound is below 1e-7 rad for the smallest and
+      // the largest eigenvector; otherwise (nearly isotropic or nearly
+      // degenerate neighbourhoods) the iterative QR solver decides.
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+      es.computeDirect(cov, Eigen::ComputeEigenvectors);
+      bool ok = es.info() == Eigen::Success && es.eigenvalues().allFinite() && es.eigenvectors().allFinite();
+      if (ok) {
+        const Eigen::Vector3d& l = es.eigenvalues();
+        const double gap0 = l[1] - l[0], gap2 = l[2] - l[1];
+        const double res0 = (cov * es.eigenvectors().col(0) - l[0] * es.eigenvectors().col(0)).norm();
+        const double res2 = (cov * es.eigenvectors().col(2) - l[2] * es.eigenvectors().col(2)).norm();
+        ok = res0 <= 1e-7 * gap0 && res2 <= 1e-7 * gap2 && std::abs(es.eigenvectors().col(0).norm() - 1.0) < 1e-9;
+      }
+      if (!ok) es.compute(cov, Eigen::ComputeEigenvectors);
       Eigen::Vector3d l = es.eigenvalues().cwiseMax(0.0);
-      const double sum = std::max(l.sum(), 1e-300);
+      const double lsum = std::max(l.sum(), 1e-300);
       const Eigen::Vector3d v0 = es.eigenvectors().col(0).normalized();
       const Eigen::Vector3d v2 = es.eigenvectors().col(2).normalized();
       r.normal[i] = glm::vec3(float(v0.x()), float(v0.y()), float(v0.z()));
       r.major[i] = glm::vec3(float(v2.x()), float(v2.y()), float(v2.z()));
-      r.curvature[i] = float(l[0] / sum);
-      r.linear_error[i] = float((l[0] + l[1]) / sum);
+      r.curvature[i] = float(l[0] / lsum);
+      r.linear_error[i] = float((l[0] + l[1]) / lsum);
     }
   });
   return r;
@@ -95,29 +108,34 @@ void orient(const LocalPoints& pts, const Neighborhoods& nb, std::vector<glm::ve
   std::stable_sort(by_height.begin(), by_height.end(),
                    [&](uint32_t a, uint32_t b) { return pts.points[a].z > pts.points[b].z; });
   std::vector<uint8_t> done(n, 0);
-  struct Edge {
-    float w;
-    uint32_t from, to;
-    bool operator<(const Edge& o) const { return w > o.w || (w == o.w && to > o.to); }  // min-heap
-  };
-  std::priority_queue<Edge> heap;
+  // Prim's algorithm with a bucket queue: weights 1-|ni.nj| in [0,1]
+  // quantised to 1/1024 (exact Prim on the quantised weights), O(1) per edge.
+  constexpr int kBuckets = 1024;
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> buckets(kBuckets);
+  int lowest = kBuckets;
   auto visit = [&](uint32_t v) {
     done[v] = 1;
     for (uint32_t e = start[v]; e < start[v + 1]; ++e) {
       const uint32_t o = adj[e];
-      if (!done[o]) heap.push({1.0f - std::abs(glm::dot(normals[v], normals[o])), v, o});
+      if (done[o]) continue;
+      const float w = 1.0f - std::abs(glm::dot(normals[v], normals[o]));
+      const int b = std::clamp(int(w * float(kBuckets)), 0, kBuckets - 1);
+      buckets[size_t(b)].emplace_back(v, o);
+      lowest = std::min(lowest, b);
     }
   };
   for (uint32_t seed : by_height) {
     if (done[seed]) continue;
     if (normals[seed].z < 0.0f) normals[seed] = -normals[seed];
     visit(seed);
-    while (!heap.empty()) {
-      const Edge e = heap.top();
-      heap.pop();
-      if (done[e.to]) continue;
-      if (glm::dot(normals[e.from], normals[e.to]) < 0.0f) normals[e.to] = -normals[e.to];
-      visit(e.to);
+    while (true) {
+      while (lowest < kBuckets && buckets[size_t(lowest)].empty()) ++lowest;
+      if (lowest == kBuckets) break;
+      const auto [from, to] = buckets[size_t(lowest)].back();
+      buckets[size_t(lowest)].pop_back();
+      if (done[to]) continue;
+      if (glm::dot(normals[from], normals[to]) < 0.0f) normals[to] = -normals[to];
+      visit(to);
     }
   }
 }

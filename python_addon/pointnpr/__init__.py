@@ -23,6 +23,20 @@ from ._pointnpr import (  # noqa: F401  (the public API)
     save_image,
     schemas,
 )
+from ._pointnpr import (  # noqa: F401  (geometry: cpp/geometry, docs/geometry.md)
+    computed_attributes,
+    connected_components,
+    curvature,
+    estimate_normals,
+    feature_degree,
+    knn,
+    line_fit,
+    local_resolution,
+    radius_search,
+    region_growing_rgb,
+    remove_outliers,
+    split_by_attribute,
+)
 
 try:  # the readers are bound by cpp/python/bind_io.cpp
     from ._pointnpr import PointData, ReadError, read, write  # noqa: F401
