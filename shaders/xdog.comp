@@ -61,14 +61,15 @@ uniform int u_lines_only;
 uniform float u_fill_norm;
 uniform vec4 u_edge_color;
 
-// A covered pixel with a fifth of its neighbourhood covered, or a hole with
-// half of it covered, is surface; lone points are not.
+// A covered pixel with 40 % of its neighbourhood covered, or a hole with
+// half of it covered, is surface; lone splats (a 3x3 splat covers 30 % at
+// the default fill_gaps) are not.
 bool solid(ivec2 q) {
   if (!in_image(q, imageSize(u_in))) return false;
   bool cov = covered(imageLoad(u_in, q));
   if (u_fill_norm <= 0.0) return cov;
   float frac = imageLoad(u_sums_b, q).x / u_fill_norm;
-  return cov ? frac >= 0.2 : frac >= 0.5;
+  return cov ? frac >= 0.4 : frac >= 0.5;
 }
 
 void main() {

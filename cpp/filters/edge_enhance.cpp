@@ -47,15 +47,15 @@ const FilterRegistration registration{{
            "Edge Enhancement",
            "Eye-dome lighting and depth-discontinuity outlines from the segment's depth.",
            {
-               float_param("edl_strength", 1.0, 0.0, 10.0, "", "Eye-dome lighting strength (0 = off)"),
+               float_param("edl_strength", 0.4, 0.0, 10.0, "", "Eye-dome lighting strength (0 = off; Potree uses 1)"),
                float_param("edl_radius", 1.4, 1.0, 8.0, "px", "Distance of the 8 depth neighbours"),
                int_param("outline_width", 1, 0, 8, "px", "Width of depth-discontinuity and silhouette lines (0 = none)"),
                float_param("depth_threshold", 0.05, 0.001, 1.0, "",
                            "Relative depth jump that makes a contour (0.05 = 5 % of the distance)"),
                bool_param("silhouette", true, "Also outline dense regions against the background"),
                color_param("edge_color", {0.0, 0.0, 0.0, 1.0}, "Colour of the lines (display sRGB; alpha = opacity)"),
-               int_param("fill_gaps", 2, 0, 8, "px", "Box radius for the density test of silhouettes"),
-               float_param("density", 0.3, 0.05, 1.0, "",
+               int_param("fill_gaps", 3, 0, 8, "px", "Box radius for the density test of silhouettes"),
+               float_param("density", 0.5, 0.05, 1.0, "",
                            "Covered fraction of the box that makes a pixel part of a surface (lone points are not)"),
            }},
     [] { return std::make_unique<EdgeEnhance>(); }}};

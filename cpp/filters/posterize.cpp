@@ -27,8 +27,8 @@ const FilterRegistration registration{{
            "Posterize",
            "Quantizes colours to a few levels per channel, in sRGB or in the perceptual Oklab space.",
            {
-               int_param("levels", 4, 2, 64, "", "Number of levels per channel (lightness only: tones)"),
-               enum_param("space", {"rgb", "lightness", "oklab"}, 0,
+               int_param("levels", 5, 2, 64, "", "Number of levels per channel (lightness only: tones)"),
+               enum_param("space", {"rgb", "lightness", "oklab"}, 1,
                           "Quantize sRGB channels, Oklab lightness only (keeps hues), or all Oklab axes"),
                float_param("smoothness", 0.0, 0.0, 1.0, "",
                            "Softens band borders (0 = hard steps, exactly `levels` values)"),

@@ -94,7 +94,7 @@ const FilterRegistration registration{{
                float_param("softness", 0.05, 0.0, 1.0, "", "1/phi: width of the soft threshold (0 = hard)"),
                enum_param("mode", {"overlay", "lines"}, 0, "Draw lines over the image, or keep only the lines"),
                bool_param("outline", true, "Draw the silhouette of the segment's dense regions"),
-               int_param("fill_gaps", 3, 0, 8, "px",
+               int_param("fill_gaps", 4, 0, 8, "px",
                          "Holes up to this radius count as surface; points sparser than this get no outline"),
            }},
     [] { return std::make_unique<XDoG>(); }}};

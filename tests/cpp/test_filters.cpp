@@ -68,6 +68,25 @@ TEST_P(FilterAll, DrawsNoRingsAroundLonePoints) {
   EXPECT_LE(covered_count(run.out), covered_count(in));
 }
 
+// Real points are splats of a few pixels: 3x3 ones, 10 px apart, must not
+// get dark rims either (filters may fill or move, but draw no outlines).
+TEST_P(FilterAll, DrawsNoRingsAroundLoneSplats) {
+  Image in({100, 100});
+  for (int y = 10; y < 90; y += 10)
+    for (int x = 10; x < 90; x += 10)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) in.set(x + dx, y + dy, glm::vec4(0.9f, 0.7f, 0.5f, 1.0f));
+  const FilterRun run = run_filter(in, GetParam());
+  int dark_new = 0;
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 100; ++x) {
+      const glm::vec4 o = run.out.at(x, y);
+      if (o == kSentinel || in.at(x, y).a > 0.0f || o.a <= 0.0f) continue;
+      dark_new += 0.2126f * o.r + 0.7152f * o.g + 0.0722f * o.b < 0.3f;
+    }
+  EXPECT_EQ(dark_new, 0);
+}
+
 INSTANTIATE_TEST_SUITE_P(FilterLibrary, FilterAll, ::testing::ValuesIn(filter_ids()),
                          [](const auto& p) { return p.param; });
 

@@ -38,7 +38,7 @@ Stats stats(const Image& img, const Image& mask, int x0, int y0, int x1, int y1)
 TEST(FilterPosterize, YieldsAtMostLevelsPerChannel) {
   const Image in = gradient_image({160, 120});
   for (int levels : {2, 3, 5}) {
-    const FilterRun run = run_filter(in, "posterize", {{"levels", {double(levels)}}});
+    const FilterRun run = run_filter(in, "posterize", {{"levels", {double(levels)}}, {"space", {0}}});
     std::set<float> values[3];
     for (int y = 0; y < in.size.y; ++y)
       for (int x = 0; x < in.size.x; ++x) {
