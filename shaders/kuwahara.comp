@@ -4,6 +4,9 @@
 // PASS_SMOOTH_X/Y: coverage-normalized Gaussian of the tensor; Y also turns
 //                it into (edge direction t, anisotropy A, 1).
 // PASS_FILTER:   elliptical 8-sector Kuwahara with polynomial weights.
+// PASS_HEIGHT:   (impasto) paint height: noise smeared along the edge
+//                direction plus thickness from lightness.
+// PASS_SHADE:    (impasto) the height lit as a bump map.
 #include "filter_common.glsl"
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(rgba32f, binding = 0) uniform readonly image2D u_in;
@@ -137,5 +140,61 @@ void main() {
     o += vec4(mean * w, w);
   }
   imageStore(u_out, p, vec4(o.w > 0.0 ? clamp(o.rgb / o.w, 0.0, 1.0) : c0.rgb, c0.a));
+}
+#endif
+
+#ifdef PASS_HEIGHT
+layout(rgba32f, binding = 2) uniform readonly image2D u_tensor;
+uniform float u_brush_size;
+uniform int u_stroke_length;
+
+void main() {
+  ivec2 p;
+  if (!rect_pixel(p)) return;
+  vec4 c = imageLoad(u_in, p);
+  if (!covered(c)) {
+    imageStore(u_out, p, vec4(0.0));
+    return;
+  }
+  vec2 t = imageLoad(u_tensor, p).xy;
+  vec2 pos = vec2(p) + 0.5;
+  float sum = 0.0, wsum = 0.0;
+  float sigma = 0.5 * float(u_stroke_length);
+  for (int k = -u_stroke_length; k <= u_stroke_length; ++k) {
+    float w = gauss(float(k * k), sigma);
+    sum += w * value_noise(pos + float(k) * t, u_brush_size, 7919u);
+    wsum += w;
+  }
+  imageStore(u_out, p, vec4(sum / wsum + 0.5 * lightness(c.rgb), 0.0, 0.0, 1.0));
+}
+#endif
+
+#ifdef PASS_SHADE
+layout(rgba32f, binding = 2) uniform readonly image2D u_height;
+uniform float u_relief;
+
+float height_at(ivec2 q, float fallback) {
+  if (!in_image(q, imageSize(u_height))) return fallback;
+  vec4 h = imageLoad(u_height, q);
+  return h.w > 0.0 ? h.x : fallback;
+}
+
+void main() {
+  ivec2 p;
+  if (!rect_pixel(p)) return;
+  vec4 c = imageLoad(u_in, p);
+  if (!covered(c)) {
+    imageStore(u_out, p, c);
+    return;
+  }
+  float h = height_at(p, 0.0);
+  float dx = height_at(p + ivec2(1, 0), h) - height_at(p - ivec2(1, 0), h);
+  float dy = height_at(p + ivec2(0, 1), h) - height_at(p - ivec2(0, 1), h);
+  vec3 n = normalize(vec3(-dx * u_relief, -dy * u_relief, 1.0));
+  vec3 l = normalize(vec3(-1.0, 1.0, 1.5));  // light from the upper left
+  float diffuse = max(dot(n, l), 0.0) / l.z;  // 1 on flat paint
+  float specular = pow(max(reflect(-l, n).z, 0.0), 24.0) - pow(reflect(-l, vec3(0.0, 0.0, 1.0)).z, 24.0);
+  vec3 rgb = c.rgb * diffuse + 0.25 * max(specular, 0.0);
+  imageStore(u_out, p, vec4(clamp(rgb, 0.0, 1.0), c.a));
 }
 #endif

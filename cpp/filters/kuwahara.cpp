@@ -6,6 +6,9 @@
 // into 8 overlapping sectors, and the output is the variance-weighted mean
 // of the sector means. Only covered pixels are read or written, so the
 // background never bleeds in and the outline stays where it was.
+// Optional impasto (after Semmo, Limberger, Kyprianidis and Doellner 2016):
+// a paint height field, noise smeared along the local edge direction
+// (bristle streaks) plus paint thickness from lightness, lit as a bump map.
 #include <algorithm>
 #include <cmath>
 
@@ -21,14 +24,20 @@ class Kuwahara final : public Filter {
     return int(std::ceil(2.0 * p.get_float("radius")));  // ellipse axes are at most 2 r
   }
   // Writes only covered pixels; reads the ellipse, and the tensor's kernel.
-  int footprint(const ParamValues& p) const override { return std::max(window_radius(p), tensor_radius(p) + 1); }
+  static int impasto_margin(const ParamValues& p) { return p.get_float("impasto") > 0.0 ? 1 : 0; }
+  int footprint(const ParamValues& p) const override {
+    return std::max(window_radius(p), tensor_radius(p) + 1) + impasto_margin(p);
+  }
 
   void apply(const FilterContext& ctx, const ParamValues& p) const override {
     const int rt = tensor_radius(p);
     const gl::Texture& tensor = ctx.scratch(0);
     const gl::Texture& smooth_x = ctx.scratch(1);
     const gl::Texture& smooth = ctx.scratch(2);
-    const Rect tensor_rect = ctx.rect.grown(rt, ctx.image_size);
+    const bool impasto = impasto_margin(p) > 0;
+    // The impasto shading reads the filtered image and height 1 px around.
+    const Rect area = ctx.rect.grown(impasto_margin(p), ctx.image_size);
+    const Rect tensor_rect = area.grown(rt, ctx.image_size);
     struct Pass {
       const char* define;
       const gl::Texture* in;
@@ -37,8 +46,8 @@ class Kuwahara final : public Filter {
     };
     const Pass passes[] = {
         {"PASS_TENSOR", ctx.input, &tensor, tensor_rect},
-        {"PASS_SMOOTH_X", &tensor, &smooth_x, filters::grown_rows(ctx.rect, rt, ctx.image_size)},
-        {"PASS_SMOOTH_Y", &smooth_x, &smooth, ctx.rect},
+        {"PASS_SMOOTH_X", &tensor, &smooth_x, filters::grown_rows(area, rt, ctx.image_size)},
+        {"PASS_SMOOTH_Y", &smooth_x, &smooth, area},
     };
     for (const Pass& pass : passes) {
       const gl::Program& prog = ctx.shaders->compute("kuwahara.comp", {pass.define});
@@ -59,10 +68,28 @@ class Kuwahara final : public Filter {
     glUniform1f(prog.location("u_q"), float(p.get_float("sharpness")));
     glUniform1f(prog.location("u_zeta"), float(zeta));
     glUniform1f(prog.location("u_eta"), float((zeta + std::cos(M_PI / 8.0)) / (s * s)));
+    const gl::Texture& filtered = impasto ? ctx.scratch(3) : *ctx.output;
     filters::bind_image(0, *ctx.input, GL_READ_ONLY);
-    filters::bind_image(1, *ctx.output, GL_WRITE_ONLY);
+    filters::bind_image(1, filtered, GL_WRITE_ONLY);
     filters::bind_image(2, smooth, GL_READ_ONLY);
-    dispatch_rect(prog, ctx.rect);
+    dispatch_rect(prog, impasto ? area : ctx.rect);
+    if (!impasto) return;
+    const gl::Texture& height = smooth_x;  // free again
+    const gl::Program& hp = ctx.shaders->compute("kuwahara.comp", {"PASS_HEIGHT"});
+    hp.use();
+    glUniform1f(hp.location("u_brush_size"), float(p.get_float("brush_size")));
+    glUniform1i(hp.location("u_stroke_length"), int(std::ceil(p.get_float("stroke_length"))));
+    filters::bind_image(0, filtered, GL_READ_ONLY);
+    filters::bind_image(1, height, GL_WRITE_ONLY);
+    filters::bind_image(2, smooth, GL_READ_ONLY);
+    dispatch_rect(hp, area);
+    const gl::Program& sp = ctx.shaders->compute("kuwahara.comp", {"PASS_SHADE"});
+    sp.use();
+    glUniform1f(sp.location("u_relief"), float(p.get_float("impasto")));
+    filters::bind_image(0, filtered, GL_READ_ONLY);
+    filters::bind_image(1, *ctx.output, GL_WRITE_ONLY);
+    filters::bind_image(2, height, GL_READ_ONLY);
+    dispatch_rect(sp, ctx.rect);
   }
 };
 
@@ -75,6 +102,9 @@ const FilterRegistration registration{{
                float_param("sharpness", 8.0, 1.0, 16.0, "", "q: how strongly low-variance sectors win (edge sharpness)"),
                float_param("anisotropy", 1.0, 0.1, 10.0, "", "alpha: lower values stretch the window more along edges"),
                float_param("tensor_sigma", 2.0, 0.5, 8.0, "px", "Smoothing of the structure tensor (orientation field)"),
+               float_param("impasto", 0.5, 0.0, 4.0, "", "Relief of the paint texture, lit as a bump map (0 = flat)"),
+               float_param("brush_size", 1.5, 0.5, 8.0, "px", "Width of the bristle streaks in the paint"),
+               float_param("stroke_length", 8.0, 1.0, 32.0, "px", "Length over which the streaks follow the image structure"),
            }},
     [] { return std::make_unique<Kuwahara>(); }}};
 

@@ -43,7 +43,7 @@ TEST(FilterKuwahara, KeepsAStepEdgeSharpAndReducesNoiseVariance) {
   const glm::ivec2 size(160, 96);
   const float lo = 0.25f, hi = 0.75f;
   const Image in = step_image(size, glm::vec3(lo), glm::vec3(hi), 0.1f);
-  const FilterRun run = run_filter(in, "kuwahara", {{"radius", {5}}});
+  const FilterRun run = run_filter(in, "kuwahara", {{"radius", {5}}, {"impasto", {0}}});
   maybe_dump(run.out, "kuwahara_step");
   // Flat patches away from the step and the segment's border.
   const double before = patch_variance(in, 24, 24, 64, 72) + patch_variance(in, 96, 24, 136, 72);
@@ -57,9 +57,30 @@ TEST(FilterKuwahara, KeepsAStepEdgeSharpAndReducesNoiseVariance) {
   EXPECT_NEAR(run.out.at(120, 48).g, hi, 0.05f);
 }
 
+TEST(FilterKuwahara, ImpastoStreaksFollowTheImageStructure) {
+  // Horizontal bands: edges run along x, so the bristle streaks do too and
+  // the relief shading changes much more across them (along y).
+  Image in({128, 128});
+  for (int y = 0; y < 128; ++y)
+    for (int x = 0; x < 128; ++x) in.set(x, y, glm::vec4(glm::vec3((y / 12) % 2 ? 0.7f : 0.4f), 1.0f));
+  const FilterRun flat = run_filter(in, "kuwahara", {{"impasto", {0}}});
+  const FilterRun paint = run_filter(in, "kuwahara", {{"impasto", {2}}});
+  maybe_dump(paint.out, "kuwahara_impasto");
+  double along = 0, across = 0, relief = 0;
+  auto shade = [&](int x, int y) { return paint.out.at(x, y).g - flat.out.at(x, y).g; };
+  for (int y = 16; y < 112; ++y)
+    for (int x = 16; x < 112; ++x) {
+      along += std::abs(shade(x + 1, y) - shade(x, y));
+      across += std::abs(shade(x, y + 1) - shade(x, y));
+      relief += std::abs(shade(x, y));
+    }
+  EXPECT_GT(relief / (96 * 96), 0.01) << "the paint has visible relief";
+  EXPECT_GT(across, 2.0 * along) << "streaks run along the bands";
+}
+
 TEST(FilterKuwahara, BackgroundDoesNotBleedIntoTheSegment) {
   const Image in = disk_image({96, 96}, {48, 48}, 28, {0.9f, 0.8f, 0.1f}, 0.05f);
-  const FilterRun run = run_filter(in, "kuwahara");
+  const FilterRun run = run_filter(in, "kuwahara", {{"impasto", {0}}});
   for (int y = 0; y < 96; ++y)
     for (int x = 0; x < 96; ++x) {
       const glm::vec4 o = run.out.at(x, y);
