@@ -68,6 +68,66 @@ TEST_P(FilterAll, DrawsNoRingsAroundLonePoints) {
   EXPECT_LE(covered_count(run.out), covered_count(in));
 }
 
+// Every numeric parameter at its maximum (the largest kernels and
+// footprints), enums and bools at their defaults.
+std::map<std::string, std::vector<double>> largest_params(const std::string& id) {
+  std::map<std::string, std::vector<double>> params;
+  for (const ParamSpec& spec : find_filter(id).schema.params)
+    if (spec.type == ParamType::Float || spec.type == ParamType::Int) params[spec.name] = {spec.max};
+  return params;
+}
+
+// The Renderer guarantees clean images only up to a filter's footprint
+// beyond its rect: poisoning everything farther out (covered pixels of NaN
+// colour, so any weight on them spreads NaN) must not change a byte.
+void expect_reads_within_footprint(const std::string& id, const std::map<std::string, std::vector<double>>& params) {
+  const FilterInfo& info = find_filter(id);
+  const int fp = info.create()->footprint(validate(info.schema, params));
+  const int side = 4 * fp + 48;  // leaves a poisoned border of >= 4 px
+  const Image in = disk_image({side, side}, glm::vec2(float(side) / 2.0f), 10, {0.4f, 0.6f, 0.3f}, 0.1f);
+  const Rect start = covered_bounds(in);
+  const Rect readable = start.grown(2 * fp, in.size);
+  Image poisoned = in;
+  int poison = 0;
+  for (int y = 0; y < in.size.y; ++y)
+    for (int x = 0; x < in.size.x; ++x)
+      if (x < readable.min.x || y < readable.min.y || x >= readable.max.x || y >= readable.max.y) {
+        poisoned.set(x, y, glm::vec4(glm::vec3(std::nanf("")), 1.0f));  // any use spreads NaN
+        ++poison;
+      }
+  ASSERT_GT(poison, 4 * side) << "the poisoned border exists";
+  const FilterRun clean = run_filters(in, {{id, params}}, 0.0, 1, start);
+  const FilterRun dirty = run_filters(poisoned, {{id, params}}, 0.0, 1, start);
+  EXPECT_EQ(0, std::memcmp(clean.out.rgba.data(), dirty.out.rgba.data(), clean.out.rgba.size() * sizeof(float)))
+      << id << ": reads beyond its footprint (" << fp << " px, " << poison << " poisoned pixels)";
+}
+
+TEST_P(FilterAll, ReadsNoFurtherThanItsFootprint) { expect_reads_within_footprint(GetParam(), {}); }
+
+TEST_P(FilterAll, ReadsNoFurtherThanItsFootprintWithTheLargestParameters) {
+  expect_reads_within_footprint(GetParam(), largest_params(GetParam()));
+}
+
+TEST_P(FilterAll, WritesItsWholeRectWithTheLargestParameters) {
+  const Image in = disk_image({160, 128}, {80, 64}, 12, {0.3f, 0.7f, 0.5f}, 0.1f);
+  const auto params = largest_params(GetParam());
+  const FilterInfo& info = find_filter(GetParam());
+  const int fp = info.create()->footprint(validate(info.schema, params));
+  const FilterRun run = run_filters(in, {{GetParam(), params}});
+  EXPECT_EQ(run.rect.min, covered_bounds(in).grown(fp, in.size).min);
+  int outside_changed = 0, inside_sentinel = 0;
+  for (int y = 0; y < in.size.y; ++y)
+    for (int x = 0; x < in.size.x; ++x) {
+      const bool inside = x >= run.rect.min.x && y >= run.rect.min.y && x < run.rect.max.x && y < run.rect.max.y;
+      const bool sentinel = run.out.at(x, y) == kSentinel;
+      outside_changed += !inside && !sentinel;
+      inside_sentinel += inside && sentinel;
+    }
+  EXPECT_EQ(outside_changed, 0);
+  EXPECT_EQ(inside_sentinel, 0);
+  for (float v : run.out.rgba) ASSERT_TRUE(std::isfinite(v));
+}
+
 // Real points are splats of a few pixels: 3x3 ones, 10 px apart, must not
 // get dark rims either (filters may fill or move, but draw no outlines).
 TEST_P(FilterAll, DrawsNoRingsAroundLoneSplats) {
