@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 root=$PWD
 secs=${FUZZ_SECONDS:-20}
 formats=("$@")
-((${#formats[@]})) || formats=(las ply pcd text)
+((${#formats[@]})) || formats=(las ply pcd text roundtrip)
 
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DPOINTNPR_FUZZ=ON -DPOINTNPR_BUILD_TESTS=OFF -DPOINTNPR_BUILD_BENCH=OFF >/dev/null
@@ -25,7 +25,7 @@ seed_files() {
   local names
   case $1 in
     las) names=(-name '*.las' -o -name '*.laz') ;;
-    ply) names=(-name '*.ply') ;;
+    ply | roundtrip) names=(-name '*.ply') ;;
     pcd) names=(-name '*.pcd') ;;
     text) names=(-name '*.xyz' -o -name '*.pts' -o -name '*.txt' -o -name '*.csv' -o -name '*.asc') ;;
   esac
