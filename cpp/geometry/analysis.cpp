@@ -169,10 +169,10 @@ Components Analysis::region_growing_rgb(const RegionGrowingParams& params) {
   return geometry::region_growing_rgb(points(), *knn(params.k), colors_sorted(), params);
 }
 
-Components Analysis::connected_components(int level, uint32_t min_points, double cell_size) {
+Components Analysis::connected_components(int level, uint32_t min_points, double cell_size, bool float32) {
   std::lock_guard lock(mutex_);
   const std::vector<double> xyz = positions();
-  return geometry::connected_components(xyz, level, min_points, cell_size);
+  return geometry::connected_components(xyz, level, min_points, cell_size, float32);
 }
 
 std::vector<std::string> Analysis::computed() const {

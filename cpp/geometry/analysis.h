@@ -51,7 +51,7 @@ class Analysis {
   std::vector<uint8_t> inliers(int k, float std_ratio);
   LineFit line_fit(const std::vector<uint8_t>& mask, int k);
   Components region_growing_rgb(const RegionGrowingParams& params);
-  Components connected_components(int level, uint32_t min_points, double cell_size = 0.0);
+  Components connected_components(int level, uint32_t min_points, double cell_size = 0.0, bool float32 = false);
 
   // What has been computed so far ("knn:16", "pca:16", "normals:16:consistent", ...).
   std::vector<std::string> computed() const;

@@ -60,7 +60,8 @@ int32_t relabel_by_size(std::vector<int32_t>& labels) {
   return int32_t(order.size());
 }
 
-Components connected_components(std::span<const double> xyz, int level, uint32_t min_points, double cell_size) {
+Components connected_components(std::span<const double> xyz, int level, uint32_t min_points, double cell_size,
+                                bool float32) {
   if (xyz.size() % 3 != 0) throw Error("positions must be an N x 3 array");
   if (cell_size <= 0.0 && (level < 1 || level > 21)) throw Error("octree level must be in [1, 21]");
   if (!(cell_size >= 0.0) || !std::isfinite(cell_size)) throw Error("cell_size must be finite and >= 0");
@@ -88,12 +89,45 @@ Components connected_components(std::span<const double> xyz, int level, uint32_t
   if (cell_size > 0.0 && edge / cs > max_index) throw Error("cell_size too small: more than 2^21 cells along an axis");
   // key = x << 42 | y << 21 | z; sorted (key, point).
   std::vector<std::pair<uint64_t, uint32_t>> keyed(n);
-  tbb::parallel_for(size_t(0), n, [&](size_t i) {
-    uint64_t c[3];
-    for (int a = 0; a < 3; ++a)
-      c[a] = uint64_t(std::clamp(std::floor((xyz[3 * i + a] - cube_min[a]) / cs), 0.0, max_index));
-    keyed[i] = {c[0] << 42 | c[1] << 21 | c[2], uint32_t(i)};
-  });
+  if (float32 && cell_size <= 0.0) {
+    // CloudCompare's DgmOctree in float (CCMiscTools::MakeMinAndMaxCubical,
+    // getTheCellPosWhichIncludesThePoint at level 21, then truncation).
+    float fmin[3], fmax[3];
+    for (int a = 0; a < 3; ++a) {
+      fmin[a] = std::numeric_limits<float>::max();
+      fmax[a] = -std::numeric_limits<float>::max();
+    }
+    for (size_t i = 0; i < n; ++i)
+      for (int a = 0; a < 3; ++a) {
+        const float v = float(xyz[3 * i + a]);
+        fmin[a] = std::min(fmin[a], v);
+        fmax[a] = std::max(fmax[a], v);
+      }
+    const float diag = std::max({fmax[0] - fmin[0], fmax[1] - fmin[1], fmax[2] - fmin[2]});
+    const float dd = float(double(diag) * 1.01);
+    float dim_min[3];
+    for (int a = 0; a < 3; ++a) dim_min[a] = ((fmax[a] + fmin[a]) - dd) * 0.5f;
+    const float cs0 = (dim_min[0] + dd) - dim_min[0];
+    const float cs21 = cs0 / float(uint64_t(1) << 21);
+    const int down = 21 - level;
+    out.cell_size = double(cs0) / double(cells_per_axis);
+    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+      uint64_t c[3];
+      for (int a = 0; a < 3; ++a) {
+        const float q = (float(xyz[3 * i + a]) - dim_min[a]) / cs21;
+        const int64_t pos = cs21 > 0.0f ? std::clamp<int64_t>(int64_t(q), 0, (int64_t(1) << 21) - 1) : 0;
+        c[a] = uint64_t(pos) >> down;
+      }
+      keyed[i] = {c[0] << 42 | c[1] << 21 | c[2], uint32_t(i)};
+    });
+  } else {
+    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+      uint64_t c[3];
+      for (int a = 0; a < 3; ++a)
+        c[a] = uint64_t(std::clamp(std::floor((xyz[3 * i + a] - cube_min[a]) / cs), 0.0, max_index));
+      keyed[i] = {c[0] << 42 | c[1] << 21 | c[2], uint32_t(i)};
+    });
+  }
   tbb::parallel_sort(keyed.begin(), keyed.end());
   std::vector<uint64_t> cells;
   std::vector<uint32_t> cell_of_sorted(n);

@@ -18,12 +18,19 @@ namespace pointnpr::geometry {
 // Labels 0.. by decreasing size (ties: the component holding the lowest
 // point index first). cell_size > 0 overrides the level (cells anchored at
 // the same cube corner). Original order; all points identical: one cell.
+// Cells are computed in double; CloudCompare computes them in float32, so
+// a point within float rounding of a cell wall can land in the other cell
+// there. float32 = true replays CloudCompare's float arithmetic (DgmOctree:
+// cube in float, cell position = int((p - min) / cell_size(21)) >> (21 -
+// level)) on the coordinates as given - those CloudCompare works on, after
+// its global shift - and then gives its partition exactly.
 struct Components {
   std::vector<int32_t> labels;
   int32_t count = 0;         // kept components
   double cell_size = 0.0;
 };
-Components connected_components(std::span<const double> xyz, int level, uint32_t min_points, double cell_size = 0.0);
+Components connected_components(std::span<const double> xyz, int level, uint32_t min_points, double cell_size = 0.0,
+                                bool float32 = false);
 
 // PCL RegionGrowingRGB (no normal or curvature test): (1) from seeds in
 // index order, grow over the k-nearest-neighbour graph while the RGB

@@ -249,18 +249,19 @@ void bind_geometry(py::module_& m) {
 
   m.def(
       "connected_components",
-      [](const py::object& points, int level, uint32_t min_points, double cell_size) {
+      [](const py::object& points, int level, uint32_t min_points, double cell_size, bool float32) {
         Source s = source(points);
         geometry::Components c;
         {
           py::gil_scoped_release release;
-          c = s.get().connected_components(level, min_points, cell_size);
+          c = s.get().connected_components(level, min_points, cell_size, float32);
         }
         return array1(c.labels);
       },
       py::arg("points"), py::arg("level") = 8, py::arg("min_points") = 10, py::arg("cell_size") = 0.0,
+      py::arg("float32") = false,
       "CloudCompare's Label Connected Components: int32 labels (N,), 0.. by decreasing size, -1 for "
-      "components smaller than min_points.");
+      "components smaller than min_points. float32=True replays CloudCompare's float arithmetic.");
 
   m.def(
       "region_growing_rgb",
