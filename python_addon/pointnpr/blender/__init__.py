@@ -5,11 +5,11 @@ unregister() undoes everything register() did, so the add-on can be
 enabled and disabled repeatedly in one session.
 """
 
-from . import engine, importer, nodes, settings, sync, ui
+from . import engine, importer, nodes, segment, settings, sync, ui
 
 # Order matters: node classes before the properties that point to trees,
 # the engine before the panels that name it.
-_modules = (nodes, settings, engine, ui, importer)
+_modules = (nodes, settings, engine, ui, importer, segment)
 _registered = []
 
 
@@ -35,4 +35,4 @@ def is_registered():
     return bool(_registered)
 
 
-__all__ = ("engine", "importer", "nodes", "settings", "sync", "ui", "register", "unregister")
+__all__ = ("engine", "importer", "nodes", "segment", "settings", "sync", "ui", "register", "unregister")
