@@ -54,9 +54,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (r.positions != d.positions) std::abort();
     } else {
       const auto& scale = std::get<std::vector<double>>(r.metadata.at("scale"));
+      const auto& offset = std::get<std::vector<double>>(r.metadata.at("offset"));
       for (size_t i = 0; i < d.positions.size(); ++i) {
         const double err = std::fabs(r.positions[i] - d.positions[i]);
-        const double tol = scale[i % 3] * 0.5 + std::fabs(d.positions[i]) * 1e-15;
+        // Half a step (a tie rounds either way) plus the rounding of
+        // (p - offset) / scale and k * scale + offset in doubles.
+        const double tol = scale[i % 3] * 0.5 +
+                           (std::fabs(d.positions[i]) + std::fabs(offset[i % 3])) * 1e-14;
         if (!(err <= tol)) std::abort();
       }
     }
