@@ -85,7 +85,7 @@ void orient(const LocalPoints& pts, const Neighborhoods& nb, std::vector<glm::ve
   }
   // Consistent: Prim's algorithm on the symmetric kNN graph.
   std::vector<uint32_t> start(n + 1, 0), adj;
-  const int k = nb.k;
+  const int k = std::min(nb.k, 10);  // the 10 nearest suffice to connect a surface
   for (size_t i = 0; i < n; ++i)
     for (int j = 0; j < k; ++j) {
       const uint32_t o = nb.at(i)[j];

@@ -35,8 +35,8 @@ enum class Orientation {
 
 // Orientation in place (normals in LocalPoints order). TowardPoint takes the
 // target in the same (world) frame as the input positions. Consistent:
-// Hoppe's propagation along a minimum spanning tree of the symmetric kNN
-// graph weighted by 1-|ni.nj| (quantised to 1/1024), one tree per connected
+// Hoppe's propagation along a minimum spanning tree of the symmetric graph
+// of the (at most 10) nearest neighbours weighted by 1-|ni.nj| (quantised to 1/1024), one tree per connected
 // part, each started at
 // its highest point (largest z) with its normal turned to +z.
 void orient(const LocalPoints& pts, const Neighborhoods& nb, std::vector<glm::vec3>& normals,
