@@ -138,19 +138,29 @@ Components connected_components(std::span<const double> xyz, int level, uint32_t
   const size_t m = cells.size();
   UnionFind uf(m);
   constexpr uint64_t mask = (uint64_t(1) << 21) - 1;
-  // Each cell looks at its 13 "forward" neighbours (the other 13 look at it).
+  // Each cell looks at its 13 "forward" neighbours (the other 13 look at
+  // it): z+1 in its own row, and z-1..z+1 in the rows (x, y+1), (x+1, y-1),
+  // (x+1, y), (x+1, y+1). The cells are sorted by (x, y, z), and for a fixed
+  // row offset the first key to look at grows with the cell's key, so one
+  // pointer per offset walks the array once: O(cells), no searches.
+  const int64_t row_dx[4] = {0, 1, 1, 1}, row_dy[4] = {1, -1, 0, 1};
+  size_t ptr[4] = {0, 0, 0, 0};
+  const auto key_of = [](int64_t x, int64_t y, int64_t z) {
+    return uint64_t(x) << 42 | uint64_t(y) << 21 | uint64_t(z);
+  };
+  const int64_t max_coord = int64_t(mask);
   for (size_t c = 0; c < m; ++c) {
     const int64_t x = int64_t(cells[c] >> 42), y = int64_t((cells[c] >> 21) & mask), z = int64_t(cells[c] & mask);
-    for (int dx = 0; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          if (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0))) continue;
-          const int64_t nx = x + dx, ny = y + dy, nz = z + dz;
-          if (ny < 0 || nz < 0 || ny > int64_t(mask) || nz > int64_t(mask) || nx > int64_t(mask)) continue;
-          const uint64_t key = uint64_t(nx) << 42 | uint64_t(ny) << 21 | uint64_t(nz);
-          const auto it = std::lower_bound(cells.begin() + long(c), cells.end(), key);
-          if (it != cells.end() && *it == key) uf.unite(uint32_t(c), uint32_t(it - cells.begin()));
-        }
+    if (c + 1 < m && cells[c + 1] == key_of(x, y, z + 1)) uf.unite(uint32_t(c), uint32_t(c + 1));
+    for (int o = 0; o < 4; ++o) {
+      const int64_t nx = x + row_dx[o], ny = y + row_dy[o];
+      if (ny < 0 || ny > max_coord || nx > max_coord) continue;
+      const uint64_t lo = key_of(nx, ny, std::max<int64_t>(z - 1, 0));
+      const uint64_t hi = key_of(nx, ny, std::min<int64_t>(z + 1, max_coord));
+      size_t& q = ptr[o];
+      while (q < m && cells[q] < lo) ++q;
+      for (size_t j = q; j < m && cells[j] <= hi; ++j) uf.unite(uint32_t(c), uint32_t(j));
+    }
   }
   std::vector<uint32_t> comp_size(m, 0);
   for (size_t s = 0; s < n; ++s) ++comp_size[uf.find(cell_of_sorted[s])];
