@@ -155,11 +155,11 @@ Components connected_components(std::span<const double> xyz, int level, uint32_t
     for (int o = 0; o < 4; ++o) {
       const int64_t nx = x + row_dx[o], ny = y + row_dy[o];
       if (ny < 0 || ny > max_coord || nx > max_coord) continue;
-      const uint64_t lo = key_of(nx, ny, std::max<int64_t>(z - 1, 0));
-      const uint64_t hi = key_of(nx, ny, std::min<int64_t>(z + 1, max_coord));
+      const uint64_t first_key = key_of(nx, ny, std::max<int64_t>(z - 1, 0));
+      const uint64_t last_key = key_of(nx, ny, std::min<int64_t>(z + 1, max_coord));
       size_t& q = ptr[o];
-      while (q < m && cells[q] < lo) ++q;
-      for (size_t j = q; j < m && cells[j] <= hi; ++j) uf.unite(uint32_t(c), uint32_t(j));
+      while (q < m && cells[q] < first_key) ++q;
+      for (size_t j = q; j < m && cells[j] <= last_key; ++j) uf.unite(uint32_t(c), uint32_t(j));
     }
   }
   std::vector<uint32_t> comp_size(m, 0);
