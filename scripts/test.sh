@@ -23,7 +23,7 @@ python=${POINTNPR_PYTHON:-/usr/bin/python3}
 run "C++ tests (ctest)" ctest --test-dir build --output-on-failure -j2
 run "Python tests (pytest)" "$python" -m pytest -q tests/python
 run "Reader/writer tests under ASan + UBSan" bash scripts/sanitize_tests.sh
-run "Reader fuzz smoke (libFuzzer, 20 s per reader)" bash scripts/fuzz_smoke.sh
+run "Reader fuzz smoke (libFuzzer, fixed seed and runs)" bash scripts/fuzz_smoke.sh
 if compgen -G "tests/blender/test_*.py" >/dev/null; then
   run "Blender tests (blender -b)" blender -b --factory-startup --python-exit-code 1 \
     --python tests/blender/run.py -- "$root/build"
