@@ -131,7 +131,7 @@ const FilterRegistration registration{{
                int_param("outline_width", 2, 0, 16, "px", "Width of the silhouette outline drawn around the segment"),
                color_param("edge_color", {0.0, 0.0, 0.0, 1.0}, "Color of edges and outlines (display sRGB)"),
                int_param("fill_gaps", 3, 0, 8, "px", "Holes between points up to this radius are filled"),
-               int_param("smoothing", 2, 0, 4, "", "Iterations of the edge-preserving (bilateral) smoothing before banding"),
+               int_param("smoothing", 1, 0, 4, "", "Iterations of the edge-preserving (bilateral) smoothing before banding"),
                float_param("smoothing_sigma", 2.0, 0.5, 6.0, "px", "Spatial extent of the bilateral smoothing"),
                float_param("smoothing_range", 6.0, 0.5, 50.0, "",
                            "CIELAB colour difference (Delta E) the smoothing blurs across; larger edges stay"),

@@ -13,7 +13,7 @@ PRESETS = {
         "rasterize": {"point_size": 3.0},
         "filters": [
             ("kuwahara", {"radius": 3.0}),
-            ("cartoon", {"levels": 4, "outline_width": 2}),
+            ("cartoon", {"levels": 4, "outline_width": 2, "smoothing": 2}),
         ],
     },
     # Black XDoG lines and silhouettes over a pale, desaturated fill; the
