@@ -193,8 +193,6 @@ def test_point_data_constructor_and_repr():
 
 
 def test_to_cloud():
-    if not hasattr(_mod, "PointCloud"):
-        pytest.skip("PointCloud is not bound yet")
     from pointnpr import io as pio
 
     d = pointnpr.read(DATA / "warsaw_small.las")
