@@ -9,20 +9,9 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/morton.h"
 
 namespace pointnpr::geometry {
-
-namespace {
-uint64_t spread_bits(uint64_t v) {
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffULL;
-  v = (v | v << 16) & 0x1f0000ff0000ffULL;
-  v = (v | v << 8) & 0x100f00f00f00f00fULL;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-  v = (v | v << 2) & 0x1249249249249249ULL;
-  return v;
-}
-}  // namespace
 
 LocalPoints LocalPoints::from(std::span<const double> xyz) {
   if (xyz.size() % 3 != 0) throw Error("positions must be an N x 3 array");
@@ -45,7 +34,7 @@ LocalPoints LocalPoints::from(std::span<const double> xyz) {
   tbb::parallel_for(size_t(0), n, size_t(4096), [&](size_t b) {
     for (size_t i = b; i < std::min(n, b + 4096); ++i) {
       const auto q = [&](int a) { return uint64_t(std::clamp((xyz[3 * i + a] - lo[a]) * scale, 0.0, 2097151.0)); };
-      order[i] = {spread_bits(q(0)) | spread_bits(q(1)) << 1 | spread_bits(q(2)) << 2, uint32_t(i)};
+      order[i] = {morton_code(q(0), q(1), q(2)), uint32_t(i)};
     }
   });
   tbb::parallel_sort(order.begin(), order.end());

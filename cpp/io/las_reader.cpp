@@ -79,24 +79,13 @@ struct ExtraField {
 
 constexpr size_t kBaseTypeSize[11] = {0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
 
-class LasReader {
+class LasReader : private io::ReaderBase {
  public:
-  explicit LasReader(const std::string& path) : path_(path), file_(path) { init(); }
-  LasReader(const std::string& name, const uint8_t* data, size_t size)
-      : path_(name), file_(name, data, size) {
-    init();
-  }
+  using ReaderBase::ReaderBase;
 
   PointData read();
 
  private:
-  void init() {
-    d_ = file_.data();
-    size_ = file_.size();
-  }
-  [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
-    throw ReadError(path_, io::printable(reason), offset);
-  }
 
   void parse_vlr(const std::string& user, uint16_t id, const uint8_t* payload, uint64_t len,
                  size_t at);
@@ -107,10 +96,6 @@ class LasReader {
   void decode_extra(PointData& out, const ExtraField& f, size_t record_length, uint64_t n,
                     const uint8_t* base);
 
-  std::string path_;
-  io::MappedFile file_;
-  const uint8_t* d_ = nullptr;
-  size_t size_ = 0;
 
   std::string wkt_;
   int64_t epsg_ = 0;

@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/error.h"
+
 namespace pointnpr::io {
 
 class MappedFile {
@@ -85,5 +87,24 @@ inline float narrow_float(double v) {
 
 // Lower-cased extension including the dot (".las"), or "" if none.
 std::string file_extension(const std::string& path);
+
+// What every reader holds: the file's bytes (d_, size_) and a way to fail
+// that names the file.
+class ReaderBase {
+ public:
+  explicit ReaderBase(const std::string& path)
+      : path_(path), file_(path), d_(file_.data()), size_(file_.size()) {}
+  ReaderBase(const std::string& name, const uint8_t* data, size_t size)
+      : path_(name), file_(name, data, size), d_(file_.data()), size_(file_.size()) {}
+
+ protected:
+  [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
+    throw ReadError(path_, printable(reason), offset);
+  }
+  std::string path_;
+  MappedFile file_;
+  const uint8_t* d_;
+  size_t size_;
+};
 
 }  // namespace pointnpr::io

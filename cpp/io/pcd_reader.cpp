@@ -58,23 +58,12 @@ std::string lower(std::string_view s) {
   return r;
 }
 
-class PcdReader {
+class PcdReader : private io::ReaderBase {
  public:
-  explicit PcdReader(const std::string& path) : path_(path), file_(path) { init(); }
-  PcdReader(const std::string& name, const uint8_t* data, size_t size)
-      : path_(name), file_(name, data, size) {
-    init();
-  }
+  using ReaderBase::ReaderBase;
   PointData read();
 
  private:
-  void init() {
-    d_ = file_.data();
-    size_ = file_.size();
-  }
-  [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
-    throw ReadError(path_, io::printable(reason), offset);
-  }
   void parse_header();
   void plan(PointData& out);
   // Stores element `c` of field `fi` of point `i`; `bits` is the raw 32-bit
@@ -87,10 +76,6 @@ class PcdReader {
   void decode_field_typed(size_t fi, const uint8_t* src, size_t stride, uint64_t n);
   void lzf_decompress(const uint8_t* in, size_t in_len, uint8_t* out, size_t out_len, size_t at);
 
-  std::string path_;
-  io::MappedFile file_;
-  const uint8_t* d_ = nullptr;
-  size_t size_ = 0;
 
   std::vector<Field> fields_;
   uint64_t width_ = 0, height_ = 1, points_ = 0;

@@ -187,23 +187,12 @@ struct VertexPlan {
   bool has_intensity = false, has_classification = false;
 };
 
-class PlyReader {
+class PlyReader : private io::ReaderBase {
  public:
-  explicit PlyReader(const std::string& path) : path_(path), file_(path) { init(); }
-  PlyReader(const std::string& name, const uint8_t* data, size_t size)
-      : path_(name), file_(name, data, size) {
-    init();
-  }
+  using ReaderBase::ReaderBase;
   PointData read();
 
  private:
-  void init() {
-    d_ = file_.data();
-    size_ = file_.size();
-  }
-  [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const {
-    throw ReadError(path_, io::printable(reason), offset);
-  }
   void parse_header();
   void plan_vertex();
   template <bool BE>
@@ -213,10 +202,6 @@ class PlyReader {
   void finish(PointData& out);
   Sink sink_for(size_t prop);
 
-  std::string path_;
-  io::MappedFile file_;
-  const uint8_t* d_ = nullptr;
-  size_t size_ = 0;
 
   Encoding encoding_ = Encoding::Ascii;
   std::vector<Element> elements_;

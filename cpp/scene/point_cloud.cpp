@@ -6,23 +6,13 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "core/morton.h"
 #include "geometry/analysis.h"
 
 namespace pointnpr {
 
 namespace {
 std::atomic<uint64_t> g_next_cloud_id{1};
-
-// Spreads the low 21 bits of v so that three can be interleaved.
-uint64_t spread_bits(uint64_t v) {
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffULL;
-  v = (v | v << 16) & 0x1f0000ff0000ffULL;
-  v = (v | v << 8) & 0x100f00f00f00f00fULL;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-  v = (v | v << 2) & 0x1249249249249249ULL;
-  return v;
-}
 }  // namespace
 
 PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : id_(g_next_cloud_id++) {
@@ -61,7 +51,7 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
     const uint64_t qx = uint64_t((p[3 * i] - lo.x) * scale);
     const uint64_t qy = uint64_t((p[3 * i + 1] - lo.y) * scale);
     const uint64_t qz = uint64_t((p[3 * i + 2] - lo.z) * scale);
-    order[i] = {spread_bits(qx) | spread_bits(qy) << 1 | spread_bits(qz) << 2, uint32_t(i)};
+    order[i] = {morton_code(qx, qy, qz), uint32_t(i)};
   }
   // Sorting by (code, index) is a total order: the layout is deterministic.
   std::sort(order.begin(), order.end());
