@@ -22,7 +22,7 @@ export POINTNPR_BUILD_DIR=$root/build
 python=${POINTNPR_PYTHON:-/usr/bin/python3}
 run "C++ tests (ctest)" ctest --test-dir build --output-on-failure -j2
 run "Python tests (pytest)" "$python" -m pytest -q tests/python
-run "Reader/writer tests under ASan + UBSan" bash scripts/sanitize_tests.sh
+run "C++ tests under ASan + UBSan (readers with leak checks)" bash scripts/sanitize_tests.sh
 run "Reader fuzz smoke (libFuzzer, fixed seed and runs)" bash scripts/fuzz_smoke.sh
 if compgen -G "tests/blender/test_*.py" >/dev/null; then
   run "Blender tests (blender -b)" blender -b --factory-startup --python-exit-code 1 \
