@@ -99,11 +99,52 @@ def create_point_mesh(name, positions, colors=None, intensity=None, classificati
     return mesh
 
 
+class PointObjectJob:
+    """Creates point objects step by step and can undo all of it: what an
+    import or a segmentation made is removed on failure or cancel, so the
+    scene is left exactly as it was."""
+
+    def __init__(self):
+        self.objects = []        # created, for the result
+        self._created = []       # (collection of bpy.data, datablock) to remove on failure
+
+    @staticmethod
+    def pick(values, index):
+        """The rows of an optional per-point array that belong to a group
+        (index None: all of them)."""
+        if values is None:
+            return None
+        values = np.asarray(values)
+        return values if index is None else values[index]
+
+    def track(self, blocks, block):
+        """Records a datablock (e.g. a new collection) for cleanup()."""
+        self._created.append((blocks, block))
+        return block
+
+    def add_point_object(self, name, collection, positions, colors=None, intensity=None, classification=None):
+        mesh = self.track(bpy.data.meshes, create_point_mesh(name, positions, colors, intensity, classification))
+        obj = self.track(bpy.data.objects, bpy.data.objects.new(name, mesh))
+        collection.objects.link(obj)
+        self.objects.append(obj)
+        return obj
+
+    def cleanup(self):
+        """Removes everything this job created (after a failure or cancel)."""
+        for blocks, block in reversed(self._created):
+            try:
+                blocks.remove(block)
+            except (ReferenceError, RuntimeError):
+                pass
+        self._created = []
+        self.objects = []
+
+
 class ImportCancelled(Exception):
     """The user cancelled the import (ESC); nothing was added to the scene."""
 
 
-class ImportJob:
+class ImportJob(PointObjectJob):
     """One import, in steps, so that progress can be shown and the user can
     cancel between them: reading (one C++ call, optionally in a thread: the
     reader releases the GIL), then one mesh per group (class). Everything is
@@ -117,8 +158,7 @@ class ImportJob:
         self.split = split_by_classification
         self.recentre = recentre
         self.stem = os.path.splitext(os.path.basename(filepath))[0] or "Point Cloud"
-        self.objects = []        # created, for the result
-        self._created = []       # (collection of bpy.data, datablock) to remove on failure
+        super().__init__()
         self._thread = None
         self._result = None
         self._groups = None
@@ -197,8 +237,7 @@ class ImportJob:
         self._classification = None if classification is None else np.asarray(classification)
         self._origin = rounded_centre(self._positions) if self.recentre else np.zeros(3)
         self._local = self._positions - self._origin
-        self._root = bpy.data.collections.new(self.stem)
-        self._created.append((bpy.data.collections, self._root))
+        self._root = self.track(bpy.data.collections, bpy.data.collections.new(self.stem))
         groups = []
         if self.split and self._classification is not None:
             for code in np.unique(self._classification):
@@ -208,37 +247,16 @@ class ImportJob:
         self._groups = groups
 
     def _create_group(self, label, index):
-        def pick(values):
-            if values is None:
-                return None
-            values = np.asarray(values)
-            return values if index is None else values[index]
-
         if label is None:
             coll, name = self._root, self.stem
         else:
-            coll = bpy.data.collections.new(label)
-            self._created.append((bpy.data.collections, coll))
+            coll = self.track(bpy.data.collections, bpy.data.collections.new(label))
             self._root.children.link(coll)
             name = "%s %s" % (self.stem, label)
-        mesh = create_point_mesh(name, pick(self._local), pick(self._colors),
-                                 pick(self._intensity), pick(self._classification))
-        self._created.append((bpy.data.meshes, mesh))
-        obj = bpy.data.objects.new(name, mesh)
-        self._created.append((bpy.data.objects, obj))
+        pick = lambda values: self.pick(values, index)  # noqa: E731
+        obj = self.add_point_object(name, coll, pick(self._local), pick(self._colors),
+                                    pick(self._intensity), pick(self._classification))
         obj["pointnpr_origin"] = [float(v) for v in self._origin]
-        coll.objects.link(obj)
-        self.objects.append(obj)
-
-    def cleanup(self):
-        """Removes everything this job created (after a failure or cancel)."""
-        for blocks, block in reversed(self._created):
-            try:
-                blocks.remove(block)
-            except (ReferenceError, RuntimeError):
-                pass
-        self._created = []
-        self.objects = []
 
 
 def import_point_cloud(context, filepath, split_by_classification=False, recentre=True,

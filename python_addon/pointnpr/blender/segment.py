@@ -13,7 +13,7 @@ import bpy
 import numpy as np
 
 from . import sync
-from .importer import class_name, create_point_mesh
+from .importer import PointObjectJob, class_name
 
 METHODS = (
     ('CONNECTED_COMPONENTS', "Connected Components",
@@ -79,14 +79,13 @@ def segment_labels(obj, method, octree_level=8, min_points=10, attribute="classi
     return np.asarray(labels), names
 
 
-class SegmentJob:
+class SegmentJob(PointObjectJob):
     """Creates one collection + object per segment, one per step()."""
 
     def __init__(self, context, obj, labels, names, max_segments=256):
+        super().__init__()
         self.context = context
         self.source = obj
-        self.objects = []
-        self._created = []
         order = [v for v in sorted(names) if v >= 0 and np.any(labels == v)]
         # Beyond max_segments, the smallest segments share one collection.
         sizes = {v: int(np.count_nonzero(labels == v)) for v in order}
@@ -118,8 +117,8 @@ class SegmentJob:
         if self.done:
             return True
         if self._root is None:
-            self._root = bpy.data.collections.new("%s segments" % self.source.name)
-            self._created.append((bpy.data.collections, self._root))
+            self._root = self.track(bpy.data.collections,
+                                    bpy.data.collections.new("%s segments" % self.source.name))
         if self._next < len(self._groups):
             label, index = self._groups[self._next]
             self._create(label, index)
@@ -135,32 +134,15 @@ class SegmentJob:
         return True
 
     def _create(self, label, index):
-        def pick(values):
-            return None if values is None else np.asarray(values)[index]
-
-        coll = bpy.data.collections.new(label)
-        self._created.append((bpy.data.collections, coll))
+        coll = self.track(bpy.data.collections, bpy.data.collections.new(label))
         self._root.children.link(coll)
         name = "%s %s" % (self.source.name, label)
-        mesh = create_point_mesh(name, pick(self._positions), pick(self._colors), pick(self._intensity),
-                                 pick(self._classification))
-        self._created.append((bpy.data.meshes, mesh))
-        obj = bpy.data.objects.new(name, mesh)
-        self._created.append((bpy.data.objects, obj))
+        pick = lambda values: self.pick(values, index)  # noqa: E731
+        obj = self.add_point_object(name, coll, pick(self._positions), pick(self._colors),
+                                    pick(self._intensity), pick(self._classification))
         obj.matrix_world = self.source.matrix_world.copy()
         if "pointnpr_origin" in self.source:
             obj["pointnpr_origin"] = list(self.source["pointnpr_origin"])
-        coll.objects.link(obj)
-        self.objects.append(obj)
-
-    def cleanup(self):
-        for blocks, block in reversed(self._created):
-            try:
-                blocks.remove(block)
-            except (ReferenceError, RuntimeError):
-                pass
-        self._created = []
-        self.objects = []
 
 
 def segment_object(context, obj, method, progress=None, cancelled=None, max_segments=256, **params):
