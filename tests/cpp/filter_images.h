@@ -83,4 +83,16 @@ inline void maybe_dump(const Image& img, const std::string& name) {
   std::fclose(f);
 }
 
+// Variance of the green channel over [x0,x1) x [y0,y1): noise left in a flat patch.
+inline double patch_variance(const Image& img, int x0, int y0, int x1, int y1) {
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const double v = img.at(x, y).g;
+      sum += v, sum2 += v * v, ++n;
+    }
+  return sum2 / n - (sum / n) * (sum / n);
+}
+
 }  // namespace pointnpr::test

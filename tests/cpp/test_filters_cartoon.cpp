@@ -9,17 +9,6 @@ using namespace pointnpr::test;
 
 namespace {
 
-double patch_variance(const Image& img, int x0, int y0, int x1, int y1) {
-  double sum = 0, sum2 = 0;
-  int n = 0;
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
-      const double v = img.at(x, y).g;
-      sum += v, sum2 += v * v, ++n;
-    }
-  return sum2 / n - (sum / n) * (sum / n);
-}
-
 // Mean green across rows [y0, y1) at column x.
 double column_mean(const Image& img, int x, int y0, int y1) {
   double s = 0;

@@ -9,19 +9,6 @@ using namespace pointnpr::test;
 
 namespace {
 
-// Grey variance over a flat patch.
-double patch_variance(const Image& img, int x0, int y0, int x1, int y1) {
-  double sum = 0, sum2 = 0;
-  int n = 0;
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
-      const double v = img.at(x, y).g;
-      sum += v, sum2 += v * v, ++n;
-    }
-  const double mean = sum / n;
-  return sum2 / n - mean * mean;
-}
-
 // Width in pixels of the 10 %-90 % rise of the mean row profile across the
 // vertical step at x = size.x / 2.
 int edge_width(const Image& img, float lo, float hi, int y0, int y1) {

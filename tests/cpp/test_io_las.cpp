@@ -8,19 +8,13 @@
 namespace pointnpr {
 namespace {
 
+using test_io::attr;
 using test_io::data_path;
 using test_io::LasPoint;
 using test_io::LasSpec;
 using test_io::LasVlr;
 using test_io::make_las;
 using test_io::write_file;
-
-template <class T>
-const std::vector<T>& attr(const PointData& d, const std::string& name) {
-  const std::vector<T>* v = d.get<T>(name);
-  if (!v) throw std::runtime_error("missing attribute or wrong type: " + name);
-  return *v;
-}
 
 int64_t md_int(const PointData& d, const std::string& key) {
   return std::get<int64_t>(d.metadata.at(key));

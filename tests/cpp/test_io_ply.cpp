@@ -8,16 +8,10 @@
 namespace pointnpr {
 namespace {
 
+using test_io::attr;
 using test_io::Bytes;
 using test_io::data_path;
 using test_io::write_file;
-
-template <class T>
-const std::vector<T>& attr(const PointData& d, const std::string& name) {
-  const std::vector<T>* v = d.get<T>(name);
-  if (!v) throw std::runtime_error("missing attribute or wrong type: " + name);
-  return *v;
-}
 
 // ---------------------------------------------------------------- real scans
 

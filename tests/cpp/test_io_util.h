@@ -237,4 +237,12 @@ inline std::string extra_bytes_descriptor(const std::string& name, uint8_t type,
   return b.s;
 }
 
+// A typed attribute of `d`; throws (failing the test) when absent or of another type.
+template <class T>
+const std::vector<T>& attr(const PointData& d, const std::string& name) {
+  const std::vector<T>* v = d.get<T>(name);
+  if (!v) throw std::runtime_error("missing attribute or wrong type: " + name);
+  return *v;
+}
+
 }  // namespace pointnpr::test_io
