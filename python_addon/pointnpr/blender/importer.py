@@ -140,6 +140,15 @@ class PointObjectJob:
         self.objects = []
 
 
+def end_modal_job(context, timer, progress):
+    """Ends what a modal job operator started: its timer, the progress
+    display and the status-bar hint (importer and segmenter alike)."""
+    context.window_manager.event_timer_remove(timer)
+    progress.end()
+    if context.workspace is not None:
+        context.workspace.status_text_set(None)
+
+
 class ImportCancelled(Exception):
     """The user cancelled the import (ESC); nothing was added to the scene."""
 
@@ -344,10 +353,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
         return {'RUNNING_MODAL'}
 
     def _finish(self, context):
-        context.window_manager.event_timer_remove(self._timer)
-        self._progress.end()
-        if context.workspace is not None:
-            context.workspace.status_text_set(None)
+        end_modal_job(context, self._timer, self._progress)
 
     def modal(self, context, event):
         if event.type == 'ESC':

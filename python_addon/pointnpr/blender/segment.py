@@ -13,7 +13,7 @@ import bpy
 import numpy as np
 
 from . import sync
-from .importer import PointObjectJob, class_name
+from .importer import PointObjectJob, class_name, end_modal_job
 
 METHODS = (
     ('CONNECTED_COMPONENTS', "Connected Components",
@@ -261,10 +261,7 @@ class OBJECT_OT_pointnpr_segment(bpy.types.Operator):
         return {'RUNNING_MODAL'}
 
     def _finish(self, context):
-        context.window_manager.event_timer_remove(self._timer)
-        self._progress.end()
-        if context.workspace is not None:
-            context.workspace.status_text_set(None)
+        end_modal_job(context, self._timer, self._progress)
 
     def modal(self, context, event):
         if event.type == 'ESC':
