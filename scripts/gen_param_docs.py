@@ -12,6 +12,8 @@ def _value(p, v):
         return "(" + ", ".join(f"{c:g}" for c in v) + ")"
     if p["type"] == "float":
         return f"{v:g}"
+    if p["type"] == "path":
+        return v or "none"
     return str(v)
 
 
@@ -22,6 +24,8 @@ def _range(p):
         return "on / off"
     if p["type"] == "color":
         return "RGBA in [0, 1]"
+    if p["type"] == "path":
+        return "a file path"
     return f"{p['min']:g} to {p['max']:g}"
 
 

@@ -1,6 +1,7 @@
 #include "core/params.h"
 
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include "core/error.h"
@@ -14,6 +15,7 @@ const char* to_string(ParamType type) {
     case ParamType::Bool: return "bool";
     case ParamType::Color: return "color";
     case ParamType::Enum: return "enum";
+    case ParamType::Path: return "path";
   }
   return "?";
 }
@@ -35,6 +37,10 @@ ParamSpec enum_param(std::string name, std::vector<std::string> items, int def, 
   return {std::move(name), ParamType::Enum, {double(def)}, 0.0, max, "", std::move(doc), std::move(items)};
 }
 
+ParamSpec image_param(std::string name, std::string doc) {
+  return {std::move(name), ParamType::Path, {}, 0.0, 0.0, "image", std::move(doc), {}};
+}
+
 const ParamSpec* Schema::find(const std::string& name) const {
   for (const auto& p : params)
     if (p.name == name) return &p;
@@ -42,7 +48,23 @@ const ParamSpec* Schema::find(const std::string& name) const {
 }
 
 namespace {
-size_t arity(const ParamSpec& spec) { return spec.type == ParamType::Color ? 4 : 1; }
+size_t arity(const ParamSpec& spec) {
+  return spec.type == ParamType::Color ? 4 : spec.type == ParamType::Path ? 0 : 1;
+}
+
+std::string known_names(const Schema& schema) {
+  std::string known;
+  for (const auto& p : schema.params) known += (known.empty() ? "" : ", ") + p.name;
+  return known;
+}
+
+const ParamSpec& declared(const Schema& schema, const std::string& name) {
+  const ParamSpec* spec = schema.find(name);
+  if (!spec)
+    throw ParameterError("'" + schema.id + "' has no parameter '" + name + "' (parameters: " + known_names(schema) +
+                         ")");
+  return *spec;
+}
 
 std::string range_text(const ParamSpec& spec) {
   std::ostringstream os;
@@ -58,16 +80,23 @@ std::string range_text(const ParamSpec& spec) {
 }
 }  // namespace
 
-ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given) {
+ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given,
+                     const std::map<std::string, std::string>& paths) {
   ParamValues out;
   out.schema_ = &schema;
+  for (const auto& [name, path] : paths) {
+    const ParamSpec& spec = declared(schema, name);
+    if (spec.type != ParamType::Path)
+      throw ParameterError(schema.id + "." + name + " is a " + to_string(spec.type) + ", got a file path");
+    std::error_code ec;
+    if (!path.empty() && !std::filesystem::is_regular_file(std::filesystem::path(path), ec))
+      throw ParameterError(schema.id + "." + name + ": no such file '" + path + "'");
+    out.paths_[name] = path;
+  }
   for (const auto& [name, values] : given) {
-    const ParamSpec* spec = schema.find(name);
-    if (!spec) {
-      std::string known;
-      for (const auto& p : schema.params) known += (known.empty() ? "" : ", ") + p.name;
-      throw ParameterError("'" + schema.id + "' has no parameter '" + name + "' (parameters: " + known + ")");
-    }
+    const ParamSpec* spec = &declared(schema, name);
+    if (spec->type == ParamType::Path)
+      throw ParameterError(schema.id + "." + name + " expects a file path, got a number");
     if (values.size() != arity(*spec))
       throw ParameterError(schema.id + "." + name + " expects " + std::to_string(arity(*spec)) +
                            " value(s), got " + std::to_string(values.size()));
@@ -85,6 +114,10 @@ ParamValues validate(const Schema& schema, const std::map<std::string, std::vect
     }
   }
   for (const auto& spec : schema.params) {
+    if (spec.type == ParamType::Path) {
+      out.paths_.emplace(spec.name, std::string());  // keeps a given path
+      continue;
+    }
     if (!out.values_.count(spec.name)) {
       auto it = given.find(spec.name);
       out.values_[spec.name] = it != given.end() ? it->second : spec.default_value;
@@ -98,14 +131,23 @@ const Schema& ParamValues::schema() const {
   return *schema_;
 }
 
-const std::vector<double>& ParamValues::at(const std::string& name, ParamType expected) const {
-  auto it = values_.find(name);
+const ParamSpec& ParamValues::spec_of(const std::string& name, ParamType expected) const {
   const ParamSpec* spec = schema_ ? schema_->find(name) : nullptr;
-  if (it == values_.end() || !spec)
+  if (!spec)
     throw ParameterError("parameter '" + name + "' is not declared in '" + (schema_ ? schema_->id : "?") + "'");
   if (spec->type != expected)
     throw ParameterError("parameter '" + name + "' is a " + to_string(spec->type) + ", read as " + to_string(expected));
-  return it->second;
+  return *spec;
+}
+
+const std::vector<double>& ParamValues::at(const std::string& name, ParamType expected) const {
+  spec_of(name, expected);
+  return values_.at(name);
+}
+
+const std::string& ParamValues::get_path(const std::string& name) const {
+  spec_of(name, ParamType::Path);
+  return paths_.at(name);
 }
 
 double ParamValues::get_float(const std::string& name) const { return at(name, ParamType::Float)[0]; }

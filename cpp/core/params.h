@@ -9,14 +9,16 @@
 
 namespace pointnpr {
 
-enum class ParamType { Float, Int, Bool, Color, Enum };
+// Path: a file (an image) given as a string; "" means none. Its value is
+// kept apart from the numbers (ParamValues::get_path).
+enum class ParamType { Float, Int, Bool, Color, Enum, Path };
 
 const char* to_string(ParamType type);
 
 struct ParamSpec {
   std::string name;                  // snake_case identifier
   ParamType type = ParamType::Float;
-  std::vector<double> default_value; // 1 value, or 4 for Color (RGBA, display sRGB)
+  std::vector<double> default_value; // 1 value, 4 for Color (RGBA, display sRGB), none for Path
   double min = 0.0;                  // inclusive range (Float, Int; Color components)
   double max = 1.0;
   std::string unit;                  // "px", "m", "s", "Hz", "deg", "" ...
@@ -30,6 +32,8 @@ ParamSpec int_param(std::string name, int def, int min, int max, std::string uni
 ParamSpec bool_param(std::string name, bool def, std::string doc);
 ParamSpec color_param(std::string name, glm::dvec4 def, std::string doc);
 ParamSpec enum_param(std::string name, std::vector<std::string> items, int def, std::string doc);
+// An image file read through OpenImageIO; the default is none ("").
+ParamSpec image_param(std::string name, std::string doc);
 
 // A named, documented set of parameters: a pipeline stage or a filter.
 struct Schema {
@@ -52,19 +56,28 @@ class ParamValues {
   glm::vec4 get_color(const std::string& name) const;
   int get_enum(const std::string& name) const;
   const std::string& get_enum_name(const std::string& name) const;
+  const std::string& get_path(const std::string& name) const;  // "" = none
+  // Numbers of every parameter but the paths, and the paths.
   const std::map<std::string, std::vector<double>>& raw() const { return values_; }
+  const std::map<std::string, std::string>& raw_paths() const { return paths_; }
   const Schema& schema() const;
 
  private:
-  friend ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given);
+  friend ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given,
+                              const std::map<std::string, std::string>& paths);
+  const ParamSpec& spec_of(const std::string& name, ParamType expected) const;
   const std::vector<double>& at(const std::string& name, ParamType expected) const;
   const Schema* schema_ = nullptr;
   std::map<std::string, std::vector<double>> values_;
+  std::map<std::string, std::string> paths_;
 };
 
 // Fills in defaults and checks every given value: unknown names, wrong
 // arity, NaN/inf and values outside [min, max] raise ParameterError naming
-// the schema, the parameter and the allowed range.
-ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given);
+// the schema, the parameter and the allowed range. Paths must name an
+// existing regular file (or be "" for none); a number given for a path, or a
+// path for a number, is an error too.
+ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given,
+                     const std::map<std::string, std::string>& paths = {});
 
 }  // namespace pointnpr

@@ -11,11 +11,11 @@ void delete_framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
 void delete_vertex_array(GLuint id) { glDeleteVertexArrays(1, &id); }
 void delete_program(GLuint id) { glDeleteProgram(id); }
 
-Texture::Texture(GLenum internal_format, glm::ivec2 size) : size_(size), format_(internal_format) {
+Texture::Texture(GLenum internal_format, glm::ivec2 size, int levels) : size_(size), format_(internal_format) {
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_2D, 1, &id);
   handle_ = Handle<delete_texture>(id);
-  glTextureStorage2D(id, 1, internal_format, size.x, size.y);
+  glTextureStorage2D(id, levels, internal_format, size.x, size.y);
   glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

@@ -49,7 +49,7 @@ using ProgramHandle = Handle<delete_program>;
 class Texture {
  public:
   Texture() = default;
-  Texture(GLenum internal_format, glm::ivec2 size);
+  Texture(GLenum internal_format, glm::ivec2 size, int levels = 1);
   GLuint id() const { return handle_.id(); }
   glm::ivec2 size() const { return size_; }
   GLenum format() const { return format_; }

@@ -13,12 +13,23 @@ namespace py = pybind11;
 
 namespace pointnpr::python {
 
-std::map<std::string, std::vector<double>> to_raw_params(const Schema& schema, const py::dict& values) {
-  std::map<std::string, std::vector<double>> raw;
+RawParams to_raw_params(const Schema& schema, const py::dict& values) {
+  RawParams raw;
+  const py::object fspath = py::module_::import("os").attr("fspath");
   for (auto [key, value] : values) {
     const std::string name = py::str(key);
     const ParamSpec* spec = schema.find(name);
     std::vector<double> v;
+    if (spec && spec->type == ParamType::Path) {
+      if (value.is_none()) {
+        raw.paths[name] = "";
+        continue;
+      }
+      if (!py::isinstance<py::str>(value) && !py::hasattr(value, "__fspath__"))
+        throw ParameterError(schema.id + "." + name + " expects a file path (str or os.PathLike)");
+      raw.paths[name] = py::str(fspath(value));
+      continue;
+    }
     if (spec && spec->type == ParamType::Enum && py::isinstance<py::str>(value)) {
       const std::string item = py::str(value);
       auto it = std::find(spec->items.begin(), spec->items.end(), item);
@@ -37,14 +48,15 @@ std::map<std::string, std::vector<double>> to_raw_params(const Schema& schema, c
     } else {
       v.push_back(value.cast<double>());
     }
-    raw[name] = std::move(v);
+    raw.numbers[name] = std::move(v);
   }
   return raw;
 }
 
 namespace {
-py::object param_value(const ParamSpec& spec, const std::vector<double>& v) {
+py::object param_value(const ParamSpec& spec, const std::vector<double>& v, const std::string& path = {}) {
   switch (spec.type) {
+    case ParamType::Path: return py::str(path);
     case ParamType::Float: return py::float_(v[0]);
     case ParamType::Int: return py::int_(int(v[0]));
     case ParamType::Bool: return py::bool_(v[0] != 0.0);
@@ -80,7 +92,9 @@ py::dict schema_to_dict(const Schema& schema, const char* kind) {
 
 py::dict values_to_dict(const ParamValues& values) {
   py::dict out;
-  for (const auto& p : values.schema().params) out[py::str(p.name)] = param_value(p, values.raw().at(p.name));
+  for (const auto& p : values.schema().params)
+    out[py::str(p.name)] = p.type == ParamType::Path ? py::str(values.get_path(p.name))
+                                                     : param_value(p, values.raw().at(p.name));
   return out;
 }
 

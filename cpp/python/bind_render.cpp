@@ -76,7 +76,8 @@ std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::ob
 
 ParamValues validated(const Schema& schema, const py::object& values) {
   if (values.is_none()) return validate(schema, {});
-  return validate(schema, to_raw_params(schema, values.cast<py::dict>()));
+  const RawParams raw = to_raw_params(schema, values.cast<py::dict>());
+  return validate(schema, raw.numbers, raw.paths);
 }
 
 Style make_style(const py::object& rasterize, const py::object& filters, const py::object& inpaint) {
@@ -97,7 +98,8 @@ Style make_style(const py::object& rasterize, const py::object& filters, const p
         params = t[1].is_none() ? py::dict() : t[1].cast<py::dict>();
       }
       const FilterInfo& info = find_filter(id);
-      style.add_filter(id, to_raw_params(info.schema, params));
+      const RawParams raw = to_raw_params(info.schema, params);
+      style.add_filter(id, raw.numbers, raw.paths);
     }
   }
   return style;

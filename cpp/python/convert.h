@@ -11,9 +11,14 @@
 
 namespace pointnpr::python {
 
-// Python dict {name: number | bool | str (enum item) | sequence (color)} ->
-// raw values for validate(); unknown enum items raise ParameterError.
-std::map<std::string, std::vector<double>> to_raw_params(const Schema& schema, const pybind11::dict& values);
+// Python dict {name: number | bool | str (enum item or path) | os.PathLike |
+// sequence (color)} -> the arguments of validate(); unknown enum items raise
+// ParameterError.
+struct RawParams {
+  std::map<std::string, std::vector<double>> numbers;
+  std::map<std::string, std::string> paths;
+};
+RawParams to_raw_params(const Schema& schema, const pybind11::dict& values);
 pybind11::dict schema_to_dict(const Schema& schema, const char* kind);
 pybind11::dict values_to_dict(const ParamValues& values);
 

@@ -18,6 +18,10 @@
 
 namespace pointnpr {
 
+class ImageTextures;  // render/image_textures.h
+// One cache for filter runs outside a Renderer (tests, benchmarks); GL thread only.
+ImageTextures& standalone_image_textures();
+
 // Pixel rectangle [min, max) in image coordinates (row 0 = bottom).
 struct Rect {
   glm::ivec2 min{0, 0};
@@ -30,6 +34,7 @@ struct Rect {
 
 struct FilterContext {
   gl::ShaderLibrary* shaders = nullptr;
+  ImageTextures* images = nullptr;         // image files the filters sample
   const gl::Texture* input = nullptr;      // color after the previous step
   const gl::Texture* output = nullptr;     // where this filter writes
   const gl::Texture* raster_depth = nullptr;  // linear view depth, +inf = empty

@@ -11,6 +11,7 @@
 #include "gl/device.h"
 #include "gl/objects.h"
 #include "gl/shaders.h"
+#include "render/image_textures.h"
 
 namespace pointnpr {
 
@@ -106,6 +107,7 @@ struct FrameTargets {
 
 struct Renderer::Impl {
   gl::ShaderLibrary shaders;
+  ImageTextures images;
   std::shared_ptr<BufferPool> pool = std::make_shared<BufferPool>();
   std::map<uint64_t, GpuCloud> clouds;
   FrameTargets targets;
@@ -436,6 +438,7 @@ struct Renderer::Impl {
         rect = rect.grown(f.filter->footprint(f.params), targets.size);
         FilterContext ctx;
         ctx.shaders = &shaders;
+        ctx.images = &images;
         ctx.input = current;
         ctx.output = other;
         ctx.raster_depth = &targets.raster_depth;

@@ -46,11 +46,12 @@ const Schema& composite_schema() {
   return schema;
 }
 
-void Style::add_filter(const std::string& id, const std::map<std::string, std::vector<double>>& params) {
+void Style::add_filter(const std::string& id, const std::map<std::string, std::vector<double>>& params,
+                       const std::map<std::string, std::string>& paths) {
   const FilterInfo& info = find_filter(id);
   FilterStep step;
   step.info = &info;
-  step.params = validate(info.schema, params);
+  step.params = validate(info.schema, params, paths);
   step.filter = info.create();
   filters.push_back(std::move(step));
 }

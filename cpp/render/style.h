@@ -32,7 +32,8 @@ struct Style {
   std::vector<FilterStep> filters;
   ParamValues inpaint = validate(inpaint_schema(), {});
 
-  void add_filter(const std::string& id, const std::map<std::string, std::vector<double>>& params);
+  void add_filter(const std::string& id, const std::map<std::string, std::vector<double>>& params,
+                  const std::map<std::string, std::string>& paths = {});
   // The cloud attributes the rasterize stage reads (only those are uploaded).
   uint32_t required_attributes() const;
 };

@@ -62,6 +62,9 @@ def _check_property(rna, param):
         if not isinstance(default, str):
             default = param["items"][int(default)]
         assert rna.default == default
+    elif ptype == "path":
+        assert rna.type == 'STRING' and rna.subtype == 'FILE_PATH'
+        assert rna.default == "" and param["default"] == ""
     else:
         pytest.fail("unknown type %s" % ptype)
     if param.get("doc"):

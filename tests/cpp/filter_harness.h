@@ -54,6 +54,7 @@ inline const glm::vec4 kSentinel(0.123f, 0.456f, 0.789f, 0.321f);
 struct Step {
   std::string id;
   std::map<std::string, std::vector<double>> params;
+  std::map<std::string, std::string> paths;  // image parameters
 };
 
 struct FilterRun {
@@ -80,7 +81,7 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
   std::vector<std::pair<const FilterInfo*, ParamValues>> chain;
   for (const Step& s : steps) {
     const FilterInfo& info = find_filter(s.id);
-    chain.emplace_back(&info, validate(info.schema, s.params));
+    chain.emplace_back(&info, validate(info.schema, s.params, s.paths));
   }
   std::vector<float> depth = in.depth;
   if (depth.empty()) {
@@ -114,6 +115,7 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
         rect = rect.grown(filter->footprint(params), size);
         FilterContext ctx;
         ctx.shaders = shaders;
+        ctx.images = &standalone_image_textures();
         ctx.input = current;
         ctx.output = other;
         ctx.raster_depth = &z;

@@ -193,3 +193,33 @@ def test_without_any_egl_driver_the_error_says_what_to_install():
                          check=True, timeout=60).stdout
     assert "GLError: no EGL display could be opened" in out, out
     assert "apt install libegl1 libegl-mesa0" in out
+
+
+def test_image_parameters_take_paths_and_reach_the_filter(renderer, camera, tmp_path):
+    """A path parameter (color_grade.lut) accepts str and os.PathLike, is
+    validated when the style is built, and its image changes the render."""
+    n = 2  # a 4x2 strip LUT that swaps red and blue: entry (r, g, b) -> (b, g, r)
+    lut = np.zeros((n, n * n, 3), np.float32)  # rows top first here, flipped below
+    for g in range(n):
+        for b in range(n):
+            for r in range(n):
+                lut[g, b * n + r] = (b, g, r)
+    path = tmp_path / "swap.png"
+    pointnpr.save_image(str(path), np.ascontiguousarray(lut[::-1]), srgb=False)  # bottom row first
+
+    def render(lut_path):
+        scene = pointnpr.Scene()
+        style = pointnpr.Style(rasterize={"point_size": 3}, filters=[("color_grade", {"lut": lut_path})])
+        scene.add_segment("red", style, [plane(-1, 1, -1, 1, -5, 0.02, (230, 60, 40))])
+        return np.asarray(renderer.render(scene, camera, 320, 240, background=(0, 0, 0, 0)).color)
+
+    plain, swapped = render(""), render(path)
+    centre = (120, 160)
+    assert plain[centre][0] > plain[centre][2] + 0.3          # red
+    assert swapped[centre][2] > swapped[centre][0] + 0.3      # blue after the swap
+    assert abs(swapped[centre][0] - plain[centre][2]) < 0.02
+    assert pointnpr.Style(filters=[("color_grade", {"lut": path})]).filters[0][1]["lut"] == str(path)
+    with pytest.raises(ValueError, match="no such file"):
+        pointnpr.Style(filters=[("color_grade", {"lut": tmp_path / "missing.png"})])
+    with pytest.raises(ValueError, match="file path"):
+        pointnpr.Style(filters=[("color_grade", {"lut": 1.0})])

@@ -174,6 +174,9 @@ def make_property(param, update=None):
         items = [(item, _title(item), "%s: %s" % (_title(item), doc) if doc else "")
                  for item in param["items"]]
         return bpy.props.EnumProperty(items=items, default=_enum_default(param), **common)
+    if ptype == "path":
+        # '//'-relative paths are resolved against the .blend when rendering.
+        return bpy.props.StringProperty(default="", subtype='FILE_PATH', **common)
     raise ValueError("unknown parameter type %r for %r" % (ptype, param["name"]))
 
 
@@ -424,6 +427,9 @@ def _param_value(node, param, pid, curves, frame):
             index = min(max(int(fc.evaluate(frame)), 0), len(items) - 1)
             return items[index]
         return str(static)
+    if ptype == "path":
+        # Not animatable; relative to the .blend file (or its library).
+        return bpy.path.abspath(static, library=node.id_data.library) if static else ""
     raise ValueError("unknown parameter type %r" % ptype)
 
 
