@@ -77,6 +77,17 @@ uniform float u_density_scale;
 uniform float u_granulation;
 uniform float u_paper_scale;
 uniform uint u_seed;
+uniform sampler2D u_paper;   // height map, white = peaks (when u_paper_image)
+uniform int u_paper_image;
+uniform float u_dry_brush;
+uniform vec4 u_paper_color;
+
+// Paper height in [0,1] at pixel position x (1 = a peak of the grain).
+float paper_height(vec2 x) {
+  if (u_paper_image != 0) return textureLod(u_paper, x / (u_paper_scale * vec2(textureSize(u_paper, 0))), 0.0).r;
+  // fbm clusters around 0.5; stretched to span [0,1] like a normalised image.
+  return clamp(0.5 + 2.0 * (fbm(x, u_paper_scale, 2, u_seed + 53u) - 0.5), 0.0, 1.0);
+}
 
 // (rgb * f, f) of the abstracted image, bilinear at pixel position x.
 vec4 sample_abstract(vec2 x) {
@@ -113,11 +124,11 @@ void main() {
   vec2 offset = u_wobble * vec2(2.0 * fbm(pos, u_wobble_scale * 0.25, 3, u_seed + 11u) - 1.0,
                                 2.0 * fbm(pos, u_wobble_scale * 0.25, 3, u_seed + 23u) - 1.0);
   float turbulence = fbm(pos, u_density_scale * 0.125, 4, u_seed + 37u);
-  float grain = fbm(pos, u_paper_scale, 2, u_seed + 53u);
+  float height = paper_height(pos);
   vec4 s = sample_abstract(pos + offset);
   float f = s.a;
   vec3 rgb;
-  float edge = 0.0;
+  float edge = 0.0, f_wet = 1.0;
   if (f >= 0.5) {
     // A wet region: abstracted colour; pigment gathers at colour edges and
     // where the region's coverage falls off towards its border.
@@ -127,6 +138,7 @@ void main() {
     vec3 gy = colour_at(x + vec2(0.0, 1.0)) - colour_at(x - vec2(0.0, 1.0));
     float gradient = clamp(2.0 * sqrt(dot(gx, gx) + dot(gy, gy)), 0.0, 1.0);
     float rim = 1.0 - smoothstep(0.5, 0.9, f);
+    f_wet = f;
     edge = max(gradient, rim);
   } else if (covered(c) && sample_abstract(pos).a < 0.5) {
     rgb = c.rgb;  // a lone point: no wobble, no rim
@@ -136,7 +148,17 @@ void main() {
   }
   rgb = density(rgb, 1.0 + u_edge_darkening * edge);
   rgb = density(rgb, 1.0 + u_density * (2.0 * turbulence - 1.0));
-  rgb = density(rgb, 1.0 + u_granulation * (2.0 * grain - 1.0));
+  // Pigment settles in the valleys (low height): denser there.
+  rgb = density(rgb, 1.0 + u_granulation * (1.0 - 2.0 * height));
+  if (u_dry_brush > 0.0) {
+    // Drier along borders and in patches; only peaks above the threshold
+    // take pigment.
+    float dry_rim = 1.0 - smoothstep(0.5, 0.99, f_wet);  // reaches ~2 edge widths in
+    float dryness = u_dry_brush * clamp(0.35 + 0.65 * dry_rim + (turbulence - 0.5), 0.0, 1.0);
+    float threshold = mix(-0.1, 0.8, dryness);
+    float pigment = smoothstep(threshold - 0.06, threshold + 0.06, height);
+    rgb = mix(u_paper_color.rgb, rgb, pigment);
+  }
   imageStore(u_out, p, vec4(rgb, 1.0));
 }
 #endif

@@ -7,17 +7,25 @@
 //  - edge darkening: pigment gathers where the abstracted colour changes
 //    and along the border of each wet region (its coverage falls off);
 //  - pigment density variation (low-frequency turbulence) and granulation
-//    (a fine paper height field), all through Bousseau's density model
-//    C' = C - (C - C^2)(d - 1).
-// Paper textures are generated in the shader: fractal value noise hashed
-// from pixel coordinates and `seed` (deterministic; the same sheet of paper
-// under every segment). Loading scanned paper images is not supported yet.
+//    (pigment settling in the paper's valleys), all through Bousseau's
+//    density model C' = C - (C - C^2)(d - 1);
+//  - dry brush (as in the real-time watercolor of Montesdeoca et al. 2017):
+//    a dry brush leaves pigment only on the paper's peaks, most along region
+//    borders, so the paper colour shows through in the valleys.
+// The paper is a height map image read through OpenImageIO (white = peaks,
+// tiled, fixed to the screen like a real sheet), or when none is given a
+// procedural one: fractal value noise hashed from pixel coordinates and
+// `seed`. Three procedural papers made by scripts/make_textures.py ship
+// with the add-on (pointnpr.paper_textures()). Wobble and density variation
+// stay procedural: they are lower frequencies than any paper grain.
 // Holes narrower than the edge width are painted over; lone points keep
 // their colour (with pigment effects) and get no darkened rim.
 #include <algorithm>
 #include <cmath>
 
+#include "core/image_io.h"
 #include "filters/filter_util.h"
+#include "render/image_textures.h"
 
 namespace pointnpr {
 namespace {
@@ -73,8 +81,17 @@ class Watercolor final : public Filter {
       }
       dispatch_rect(prog, x ? filters::grown_rows(abstract_rect, s.kernel, ctx.image_size) : abstract_rect);
     }
+    const std::string& paper_path = p.get_path("paper");
+    const gl::Texture* paper = nullptr;
+    if (!paper_path.empty())
+      paper = &ctx.images->get(paper_path, "paper", ImageTextures::Sampling::Tiled, [](Image i) { return i; });
     const gl::Program& prog = ctx.shaders->compute("watercolor.comp", {"PASS_COMPOSE"});
     prog.use();
+    glBindTextureUnit(0, paper ? paper->id() : 0);
+    glUniform1i(prog.location("u_paper"), 0);
+    glUniform1i(prog.location("u_paper_image"), paper ? 1 : 0);
+    glUniform1f(prog.location("u_dry_brush"), float(p.get_float("dry_brush")));
+    filters::set_color(prog, "u_paper_color", p.get_color("paper_color"));
     glUniform1f(prog.location("u_wobble"), float(p.get_float("wobble")));
     glUniform1f(prog.location("u_wobble_scale"), float(p.get_float("wobble_scale")));
     glUniform1f(prog.location("u_edge_darkening"), float(p.get_float("edge_darkening")));
@@ -87,6 +104,7 @@ class Watercolor final : public Filter {
     filters::bind_image(1, *ctx.output, GL_WRITE_ONLY);
     filters::bind_image(4, abstract, GL_READ_ONLY);
     dispatch_rect(prog, ctx.rect);
+    glBindTextureUnit(0, 0);
   }
 };
 
@@ -106,7 +124,11 @@ const FilterRegistration registration{{
                float_param("pigment_density", 0.3, 0.0, 1.0, "", "Low-frequency variation of pigment density"),
                float_param("density_scale", 64.0, 4.0, 512.0, "px", "Feature size of the density variation"),
                float_param("granulation", 0.3, 0.0, 1.0, "", "Pigment settling in the paper grain"),
-               float_param("paper_scale", 3.0, 1.0, 16.0, "px", "Grain size of the procedural paper"),
+               float_param("dry_brush", 0.0, 0.0, 1.0, "",
+                           "Dry brush: pigment only on the paper's peaks, most along region borders"),
+               color_param("paper_color", {0.98, 0.97, 0.94, 1.0}, "Paper showing through a dry brush (display sRGB)"),
+               image_param("paper", "Paper height map (grey, white = peaks), tiled; none = procedural paper"),
+               float_param("paper_scale", 3.0, 1.0, 16.0, "px", "Paper grain size: pixels per texel of the image, or the procedural cell"),
                int_param("seed", 0, 0, 65535, "", "Paper texture seed (same paper under every segment)"),
            }},
     [] { return std::make_unique<Watercolor>(); }}};

@@ -66,6 +66,25 @@ def schema(schema_id):
     raise KeyError(f"no schema named {schema_id!r}")
 
 
+def _bundled(folder):
+    here = _os.path.join(_os.path.dirname(_os.path.abspath(__file__)), folder)
+    names = sorted(f for f in _os.listdir(here) if f.endswith(".png")) if _os.path.isdir(here) else []
+    return {_os.path.splitext(f)[0]: _os.path.join(here, f) for f in names}
+
+
+def paper_textures():
+    """Paper height maps shipped with the add-on, {name: path}, for the
+    watercolor filter's ``paper`` (made by scripts/make_textures.py)."""
+    return _bundled("papers")
+
+
+def look_up_tables():
+    """Colour look-up tables (Hald CLUT images) shipped with the add-on,
+    {name: path}, for color_grade's ``lut``; ``identity`` is the one to edit
+    in an image editor to make your own."""
+    return _bundled("luts")
+
+
 try:
     import bpy as _bpy  # noqa: F401
 

@@ -1,5 +1,6 @@
 // Image parameters: colour grading through a look-up-table image read by
-// OpenImageIO (strip and Hald layouts), and the texture cache behind them.
+// OpenImageIO (strip and Hald layouts), the texture cache behind them, and
+// watercolor's paper height map with granulation and dry brush.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -150,6 +151,88 @@ TEST(FilterColorGradeLut, BadFilesAreErrorsNamingTheFile) {
   } catch (const pointnpr::Error& e) {
     EXPECT_NE(std::string(e.what()).find("not_an_image.png"), std::string::npos) << e.what();
   }
+}
+
+// A paper height map: left half peaks (1), right half valleys (0).
+std::string write_half_paper() {
+  pointnpr::Image img;
+  img.width = 64, img.height = 64, img.channels = 1;
+  img.pixels.resize(64 * 64);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) img.pixels[size_t(y) * 64 + size_t(x)] = x < 32 ? 1.0f : 0.0f;
+  const std::string path = temp_file("half_paper.png");
+  pointnpr::write_image(path, img, false);
+  return path;
+}
+
+float luminance(glm::vec4 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+// Watercolor on a flat 128x128 colour block with only the paper effect on.
+FilterRun paint(const std::map<std::string, std::vector<double>>& params, const std::string& paper) {
+  const pointnpr::test::Image in = pointnpr::test::disk_image({128, 128}, {64, 64}, 200, {0.4f, 0.55f, 0.8f});
+  std::map<std::string, std::vector<double>> all = {{"wobble", {0}},         {"pigment_density", {0}},
+                                                    {"edge_darkening", {0}}, {"granulation", {0}},
+                                                    {"abstraction", {0}},    {"paper_scale", {1}}};
+  for (const auto& [k, v] : params) all[k] = v;
+  return pointnpr::test::run_filters(in, {Step{"watercolor", all, {{"paper", paper}}}});
+}
+
+TEST(FilterWatercolorPaper, PigmentSettlesInTheValleysOfThePaperImage) {
+  const std::string paper = write_half_paper();
+  const FilterRun run = paint({{"granulation", {1}}}, paper);
+  // Tiled 64 px paper at 1 px per texel: x mod 64 < 32 is a peak. Compare
+  // columns away from the half boundaries (bilinear blends 1 px there).
+  double peaks = 0, valleys = 0;
+  int n = 0;
+  for (int y = 10; y < 118; ++y)
+    for (int x : {8, 20, 72, 84}) peaks += luminance(run.out.at(x, y)), valleys += luminance(run.out.at(x + 32, y)), ++n;
+  EXPECT_LT(valleys / n, peaks / n - 0.08) << "valleys " << valleys / n << " peaks " << peaks / n;
+  const FilterRun plain = paint({}, paper);
+  EXPECT_NEAR(luminance(plain.out.at(20, 60)), luminance(plain.out.at(52, 60)), 1e-5f) << "no granulation, no grain";
+}
+
+TEST(FilterWatercolorPaper, DryBrushLeavesPaperInTheValleysOnly) {
+  const std::string paper = write_half_paper();
+  const glm::vec4 paper_colour(1.0f, 0.0f, 1.0f, 1.0f);  // magenta: easy to find
+  const FilterRun dry = paint({{"dry_brush", {1}}, {"paper_color", {1, 0, 1, 1}}}, paper);
+  int paper_in_valleys = 0, paper_on_peaks = 0, valleys = 0;
+  for (int y = 10; y < 118; ++y)
+    for (int x = 0; x < 128; ++x) {
+      const int u = x % 64;
+      if (u < 2 || (u > 29 && u < 34) || u > 61) continue;  // blended half boundaries
+      const bool shows_paper = glm::length(glm::vec3(dry.out.at(x, y)) - glm::vec3(paper_colour)) < 0.05f;
+      if (u >= 32) ++valleys, paper_in_valleys += shows_paper;
+      else paper_on_peaks += shows_paper;
+    }
+  EXPECT_EQ(paper_on_peaks, 0);
+  EXPECT_GT(paper_in_valleys, valleys / 2) << paper_in_valleys << " of " << valleys;
+  // Without dry brush no pixel shows the paper.
+  const FilterRun wet = paint({{"paper_color", {1, 0, 1, 1}}}, paper);
+  for (int y = 0; y < 128; ++y)
+    for (int x = 0; x < 128; ++x)
+      ASSERT_GT(glm::length(glm::vec3(wet.out.at(x, y)) - glm::vec3(paper_colour)), 0.3f) << x << "," << y;
+}
+
+TEST(FilterWatercolorPaper, ProceduralPaperShowsMoreAsTheBrushDries) {
+  const pointnpr::test::Image in = pointnpr::test::disk_image({160, 160}, {80, 80}, 60, {0.3f, 0.5f, 0.7f});
+  auto paper_fraction = [&](double dry) {
+    const FilterRun run = pointnpr::test::run_filters(
+        in, {Step{"watercolor", {{"dry_brush", {dry}}, {"paper_color", {1, 0, 1, 1}}}, {}}});
+    int painted = 0, paper = 0;
+    for (int y = 0; y < 160; ++y)
+      for (int x = 0; x < 160; ++x) {
+        if (in.at(x, y).a <= 0.0f) continue;
+        const glm::vec4 c = run.out.at(x, y);
+        ++painted;
+        paper += c.r > 0.8f && c.g < 0.3f && c.b > 0.8f;
+      }
+    return double(paper) / painted;
+  };
+  const double none = paper_fraction(0.0), some = paper_fraction(0.5), most = paper_fraction(1.0);
+  EXPECT_EQ(none, 0.0);
+  EXPECT_GT(some, 0.01);
+  EXPECT_GT(most, some + 0.1) << none << " " << some << " " << most;
+  EXPECT_LT(most, 0.9) << "pigment stays on the peaks";
 }
 
 }  // namespace
