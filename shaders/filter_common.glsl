@@ -92,3 +92,13 @@ vec3 lab_to_linear(vec3 lab) {
 
 vec3 srgb_to_lab(vec3 c) { return linear_to_lab(srgb_to_linear(clamp(c, 0.0, 1.0))); }
 vec3 lab_to_srgb(vec3 lab) { return clamp(linear_to_srgb(lab_to_linear(lab)), 0.0, 1.0); }
+
+// Surface points (cpp/render/filter.h, SurfaceFrame; set_surface_uniforms):
+// the segment's anchor-frame position of pixel centre `q` at linear depth d.
+uniform vec3 u_surface_x0, u_surface_x1, u_surface_y0, u_surface_y1;
+uniform mat4 u_object_from_view;
+vec3 surface_point(vec2 q, float d) {
+  vec3 h = vec3(q, 1.0);
+  vec3 view = vec3(dot(u_surface_x0, h) + d * dot(u_surface_x1, h), dot(u_surface_y0, h) + d * dot(u_surface_y1, h), -d);
+  return (u_object_from_view * vec4(view, 1.0)).xyz;
+}

@@ -5,8 +5,18 @@
 // style, Praun et al. 2001, generated instead of stored). Strokes are
 // broken into dashes of random length and offset, wobble slightly and carry
 // paper grain; everything is hashed from stroke indices and `seed`, so the
-// result is deterministic. Strokes live in screen space (they do not follow
-// the surface when the camera moves). Background stays untouched.
+// result is deterministic. Background stays untouched.
+//
+// Where strokes live (`space`): on the surface (default) they are the
+// intersections of the surface with families of parallel planes in the
+// segment's object space, spaced in powers of two that blend with the view
+// (Benard, Bousseau and Thollot 2009, dynamic solid textures): they stick
+// to the surface when the camera moves, at a roughly constant density on
+// screen. The surface point comes from the rasterizer's depth, smoothed by
+// a least-squares plane over the neighbourhood (scan depth is noisy). On
+// the screen (or where a pixel has no depth, e.g. filled holes) strokes are
+// fixed to the image and surfaces slide under them.
+#include <algorithm>
 #include <cmath>
 
 #include "filters/filter_util.h"
@@ -16,7 +26,8 @@ namespace {
 
 class Hatching final : public Filter {
  public:
-  int footprint(const ParamValues& p) const override { return p.get_int("tone_smoothing"); }
+  static constexpr int kFitRadius = 2;  // depth plane fit: 5x5 pixels at least
+  int footprint(const ParamValues& p) const override { return std::max(p.get_int("tone_smoothing"), kFitRadius); }
 
   void apply(const FilterContext& ctx, const ParamValues& p) const override {
     const gl::Program& prog = ctx.shaders->compute("hatching.comp");
@@ -30,6 +41,10 @@ class Hatching final : public Filter {
     glUniform1f(prog.location("u_color_mix"), float(p.get_float("color_mix")));
     glUniform1i(prog.location("u_smooth"), p.get_int("tone_smoothing"));
     glUniform1ui(prog.location("u_seed"), uint32_t(p.get_int("seed")));
+    glUniform1i(prog.location("u_surface"), p.get_enum_name("space") == "surface" ? 1 : 0);
+    glUniform1i(prog.location("u_fit_radius"), kFitRadius);
+    set_surface_uniforms(prog, ctx.surface);
+    glBindImageTexture(2, ctx.raster_depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     filters::set_color(prog, "u_pencil", p.get_color("pencil_color"));
     filters::set_color(prog, "u_paper", p.get_color("paper_color"));
     filters::bind_image(0, *ctx.input, GL_READ_ONLY);
@@ -43,6 +58,8 @@ const FilterRegistration registration{{
            "Pencil Hatching",
            "Pencil strokes whose density follows the tone: more, crossing layers where the image is darker.",
            {
+               enum_param("space", {"surface", "screen"}, 0,
+                          "surface: strokes stick to the scan as the camera moves; screen: fixed to the image"),
                int_param("layers", 3, 1, 4, "", "Number of hatching directions (cross-hatching in dark tones)"),
                float_param("angle", 45.0, -180.0, 180.0, "deg", "Direction of the first layer of strokes"),
                float_param("spacing", 6.0, 2.0, 32.0, "px", "Distance between parallel strokes"),

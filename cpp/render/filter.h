@@ -32,6 +32,22 @@ struct Rect {
   Rect united(const Rect& o) const;
 };
 
+struct Camera;  // scene/camera.h
+
+// Where each pixel's surface point is, for filters that anchor patterns to
+// the surface instead of the screen (so they do not slide when the camera
+// moves). For the pixel centre q = (px, py, 1) (pixels, row 0 = bottom) at
+// linear view depth d, the view-space point is
+//   (dot(x0, q) + d dot(x1, q), dot(y0, q) + d dot(y1, q), -d),
+// and object_from_view takes it to the segment's anchor frame: its first
+// instance's object space, relative to that cloud's centre (composed in
+// double, so float holds at any georeferenced offset).
+struct SurfaceFrame {
+  glm::vec3 x0{0.0f}, x1{0.0f}, y0{0.0f}, y1{0.0f};
+  glm::mat4 object_from_view{1.0f};
+};
+SurfaceFrame make_surface_frame(const Camera& camera, glm::ivec2 image_size, const glm::dmat4& world_from_anchor);
+
 struct FilterContext {
   gl::ShaderLibrary* shaders = nullptr;
   ImageTextures* images = nullptr;         // image files the filters sample
@@ -45,6 +61,7 @@ struct FilterContext {
   glm::ivec2 image_size{0, 0};
   double time = 0.0;         // scene time in seconds (animation)
   uint32_t segment_seed = 0; // stable per segment, for noise
+  SurfaceFrame surface;      // with raster_depth: surface points (see above)
 };
 
 class Filter {
@@ -73,5 +90,8 @@ struct FilterRegistration {
 // Dispatches `program` (local size 16x16, uniform ivec2 u_rect_min and
 // u_rect_max) over `rect`.
 void dispatch_rect(const gl::Program& program, const Rect& rect);
+
+// Sets the uniforms of surface_point() (shaders/filter_common.glsl).
+void set_surface_uniforms(const gl::Program& program, const SurfaceFrame& frame);
 
 }  // namespace pointnpr

@@ -387,6 +387,17 @@ struct Renderer::Impl {
     return Rect{{box[0], box[1]}, {box[2], box[3]}};
   }
 
+  // The frame surface-anchored filter patterns stick to: the first
+  // instance's object space, centred on its cloud (fixed for the cloud's
+  // life, so the pattern is the same in every frame).
+  static glm::dmat4 surface_anchor(const Segment& seg) {
+    for (const Instance& inst : seg.instances)
+      if (inst.cloud && inst.cloud->size() > 0)
+        return inst.world_from_object *
+               glm::translate(glm::dmat4(1.0), 0.5 * (inst.cloud->bounds_min() + inst.cloud->bounds_max()));
+    return glm::dmat4(1.0);
+  }
+
   void render_segment(const Segment& seg, int index, const Camera& cam, const RenderSettings& s,
                       RenderResult& result) {
     auto t0 = Clock::now();
@@ -434,6 +445,7 @@ struct Renderer::Impl {
       gl::check_gl("copy to the filter chain");
       current = &targets.color_a;
       const gl::Texture* other = &targets.color_b;
+      const SurfaceFrame surface = make_surface_frame(cam, targets.size, surface_anchor(seg));
       for (const FilterStep& f : seg.style.filters) {
         rect = rect.grown(f.filter->footprint(f.params), targets.size);
         FilterContext ctx;
@@ -447,6 +459,7 @@ struct Renderer::Impl {
         ctx.image_size = targets.size;
         ctx.time = s.time;
         ctx.segment_seed = uint32_t(index) * 2654435761u;
+        ctx.surface = surface;
         f.filter->apply(ctx, f.params);
         gl::check_gl(("filter " + f.info->schema.id).c_str());
         std::swap(current, other);

@@ -130,6 +130,10 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
         ctx.image_size = size;
         ctx.time = time;
         ctx.segment_seed = 12345u;
+        // An orthographic view one world unit per pixel: the surface point
+        // of pixel q at depth d is (q, -d).
+        ctx.surface.x0 = {1.0f, 0.0f, 0.0f};
+        ctx.surface.y0 = {0.0f, 1.0f, 0.0f};
         filter->apply(ctx, params);
         gl::check_gl(("filter " + info->schema.id).c_str());
         std::swap(current, other);

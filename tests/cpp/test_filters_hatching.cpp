@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include "filter_images.h"
+#include "render/renderer.h"
+#include "scene_builders.h"
 
 using namespace pointnpr;
 using namespace pointnpr::test;
@@ -68,6 +70,61 @@ TEST(FilterHatching, OwnColourCanTintThePaper) {
     for (int x = 8; x < 40; ++x) reddish += tinted.out.at(x, y).r > tinted.out.at(x, y).g + 0.1f;
   EXPECT_GT(reddish, 32 * 32 / 2);
   EXPECT_NEAR(plain.r - plain.g, 0.01f, 0.05f) << "untinted paper is neutral";
+}
+
+// Mean |a(x + shift, y) - b(x, y)| over the grey channel in the middle.
+double shifted_difference(const RenderResult& a, const RenderResult& b, glm::ivec2 size, int shift) {
+  double sum = 0;
+  int n = 0;
+  for (int y = 30; y < size.y - 30; ++y)
+    for (int x = 30; x < size.x - 30; ++x) {
+      sum += std::abs(a.color[4 * (size_t(y) * size.x + size_t(x + shift))] - b.color[4 * (size_t(y) * size.x + size_t(x))]);
+      ++n;
+    }
+  return sum / n;
+}
+
+TEST(FilterHatching, SurfaceStrokesMoveWithTheScanScreenStrokesDoNot) {
+  // Pan the camera by exactly 4 pixels over a grey plane: surface strokes
+  // move with it, screen strokes stay where they were.
+  const glm::ivec2 size(200, 150);
+  const Camera first = front_camera({0, 0, 10}, size);
+  const double pan = 4.0 / first.pixels_per_unit(10.0, size.y);
+  const Camera second = front_camera({pan, 0, 10}, size);
+  Renderer renderer;
+  for (const char* space : {"surface", "screen"}) {
+    const double space_index = std::string(space) == "surface" ? 0 : 1;
+    Scene scene;
+    scene.segments.push_back(segment("plane", plane_cloud(-6, 6, -5, 5, 0, 0.02, {110, 110, 110}),
+                                     style_with({{"point_size", {2}}},
+                                                {{"hatching", {{"space", {space_index}}, {"grain", {0}}}}})));
+    const RenderResult a = renderer.render(scene, first, settings(size));
+    const RenderResult b = renderer.render(scene, second, settings(size));
+    const double followed = shifted_difference(a, b, size, 4), stayed = shifted_difference(a, b, size, 0);
+    if (std::string(space) == "surface") {
+      EXPECT_LT(followed * 4, stayed) << "surface strokes follow the pan: " << followed << " vs " << stayed;
+    } else {
+      EXPECT_LT(stayed * 4, followed) << "screen strokes stay: " << stayed << " vs " << followed;
+    }
+  }
+}
+
+TEST(FilterHatching, SurfaceStrokeDensityOnScreenHoldsAcrossDistances) {
+  // Twice as far, the planes halve their spacing level: about as much ink.
+  const glm::ivec2 size(160, 120);
+  Renderer renderer;
+  Scene scene;
+  scene.segments.push_back(segment("plane", plane_cloud(-30, 30, -25, 25, 0, 0.04, {110, 110, 110}),
+                                   style_with({{"point_size", {2}}}, {{"hatching", {{"grain", {0}}}}})));
+  std::vector<double> inks;
+  for (double distance : {8.0, 11.0, 16.0}) {
+    const RenderResult r = renderer.render(scene, front_camera({0, 0, distance}, size), settings(size));
+    double sum = 0;
+    for (size_t i = 0; i < r.color.size(); i += 4) sum += 1.0 - r.color[i];
+    inks.push_back(sum / double(r.color.size() / 4));
+  }
+  EXPECT_GT(inks[0], 0.05);
+  for (double v : inks) EXPECT_NEAR(v, inks[0], 0.35 * inks[0]) << inks[0] << " " << inks[1] << " " << inks[2];
 }
 
 }  // namespace

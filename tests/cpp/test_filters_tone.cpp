@@ -38,7 +38,7 @@ Stats stats(const Image& img, const Image& mask, int x0, int y0, int x1, int y1)
 TEST(FilterPosterize, YieldsAtMostLevelsPerChannel) {
   const Image in = gradient_image({160, 120});
   for (int levels : {2, 3, 5}) {
-    const FilterRun run = run_filter(in, "posterize", {{"levels", {double(levels)}}, {"space", {0}}});
+    const FilterRun run = run_filter(in, "posterize", {{"levels", {double(levels)}}, {"space", {0}}, {"smoothness", {0}}});
     std::set<float> values[3];
     for (int y = 0; y < in.size.y; ++y)
       for (int x = 0; x < in.size.x; ++x) {
@@ -60,7 +60,7 @@ TEST(FilterPosterize, LightnessModeKeepsGreysGreyWithAtMostLevelsTones) {
   Image in({128, 16});
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 128; ++x) in.set(x, y, glm::vec4(glm::vec3(float(x) / 127.0f), 1.0f));
-  const FilterRun run = run_filter(in, "posterize", {{"levels", {4}}, {"space", {1}}});
+  const FilterRun run = run_filter(in, "posterize", {{"levels", {4}}, {"space", {1}}, {"smoothness", {0}}});
   std::set<int> tones;
   for (int x = 0; x < 128; ++x) {
     const glm::vec4 c = run.out.at(x, 5);
@@ -73,7 +73,7 @@ TEST(FilterPosterize, LightnessModeKeepsGreysGreyWithAtMostLevelsTones) {
 
 TEST(FilterPosterize, OklabModeYieldsFewColours) {
   const Image in = gradient_image({96, 72});
-  const FilterRun run = run_filter(in, "posterize", {{"levels", {3}}, {"space", {2}}});
+  const FilterRun run = run_filter(in, "posterize", {{"levels", {3}}, {"space", {2}}, {"smoothness", {0}}});
   std::set<std::tuple<int, int, int>> colours;
   for (int y = 0; y < in.size.y; ++y)
     for (int x = 0; x < in.size.x; ++x)
