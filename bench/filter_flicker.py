@@ -25,14 +25,7 @@ CENTRE = np.array([-2.9, 3.9, -1.2])
 
 def orbit_camera(k):
     a = np.radians(-45.0 + STEP_DEG * k)
-    eye = CENTRE + np.array([7.8 * np.cos(a), 7.8 * np.sin(a), 2.7])
-    f = CENTRE - eye
-    f /= np.linalg.norm(f)
-    s = np.cross(f, [0.0, 0.0, 1.0])
-    s /= np.linalg.norm(s)
-    m = np.eye(4)
-    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = s, np.cross(s, f), -f, eye
-    return m
+    return pointnpr.look_at(CENTRE + np.array([7.8 * np.cos(a), 7.8 * np.sin(a), 2.7]), CENTRE)
 
 
 def reprojected_mad(prev, cur, m_prev, m_cur):

@@ -18,17 +18,6 @@ ORDER = ["plain", "posterize", "color_grade", "blur", "xdog", "kuwahara", "water
          "Urban map"]
 
 
-def look_at(eye, center, up=(0.0, 0.0, 1.0)):
-    eye, center, up = (np.asarray(v, float) for v in (eye, center, up))
-    f = center - eye
-    f /= np.linalg.norm(f)
-    s = np.cross(f, up)
-    s /= np.linalg.norm(s)
-    m = np.eye(4)
-    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = s, np.cross(s, f), -f, eye
-    return m
-
-
 def render(renderer, cloud, style, camera):
     scene = pointnpr.Scene()
     scene.add_segment("cloud", style, [(cloud, np.eye(4))])
@@ -38,14 +27,14 @@ def render(renderer, cloud, style, camera):
 def main(out):
     renderer = pointnpr.Renderer()
     lion = pointnpr.read("data/lion_takanawa.ply").to_cloud()
-    lion_cam = pointnpr.Camera.perspective(look_at((2.6, -1.6, 1.5), (-2.9, 3.9, -1.2)), lens=35.0,
+    lion_cam = pointnpr.Camera.perspective(pointnpr.look_at((2.6, -1.6, 1.5), (-2.9, 3.9, -1.2)), lens=35.0,
                                            clip_start=0.1, clip_end=100.0, width=W, height=H)
     tile = pointnpr.read("data/lidarhd_myria3d_870000_6618000_subset.las")
     pos = np.asarray(tile.positions)
     centre = (pos.min(0) + pos.max(0)) / 2
     local = pointnpr.PointCloud(pos - centre, colors=np.asarray(tile.attributes["colors"]),
                                 classification=np.asarray(tile.attributes["classification"]))
-    tile_cam = pointnpr.Camera.perspective(look_at((0.0, -70.0, 60.0), (0.0, 0.0, 0.0)), lens=35.0,
+    tile_cam = pointnpr.Camera.perspective(pointnpr.look_at((0.0, -70.0, 60.0), (0.0, 0.0, 0.0)), lens=35.0,
                                            clip_start=0.5, clip_end=1000.0, width=W, height=H)
     images = []
     for name in ORDER:

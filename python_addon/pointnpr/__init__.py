@@ -66,6 +66,21 @@ def schema(schema_id):
     raise KeyError(f"no schema named {schema_id!r}")
 
 
+def look_at(eye, target, up=(0.0, 0.0, 1.0)):
+    """World-from-camera matrix (4x4, float64) of a camera at ``eye`` looking
+    at ``target`` with ``up`` roughly up, for ``Camera.perspective``."""
+    import numpy as np
+
+    eye, target, up = (np.asarray(v, float) for v in (eye, target, up))
+    forward = target - eye
+    forward /= np.linalg.norm(forward)
+    side = np.cross(forward, up)
+    side /= np.linalg.norm(side)
+    m = np.eye(4)
+    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = side, np.cross(side, forward), -forward, eye
+    return m
+
+
 def _bundled(folder):
     here = _os.path.join(_os.path.dirname(_os.path.abspath(__file__)), folder)
     names = sorted(f for f in _os.listdir(here) if f.endswith(".png")) if _os.path.isdir(here) else []
