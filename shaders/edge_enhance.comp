@@ -1,5 +1,9 @@
-// Edge enhancement (cpp/filters/edge_enhance.cpp), one pass: eye-dome
-// lighting, depth-discontinuity lines and silhouettes of dense regions.
+// Edge enhancement (cpp/filters/edge_enhance.cpp).
+// variants: | PASS_NORMALS
+// PASS_NORMALS (only with creases on): surface normals from the depth-plane
+//   fit, to a scratch image (xyz, w = 1 where valid).
+// Main pass: eye-dome lighting, depth-discontinuity and crease lines,
+//   silhouettes of dense regions.
 #include "filter_common.glsl"
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(rgba32f, binding = 0) uniform readonly image2D u_in;
@@ -13,6 +17,21 @@ uniform int u_silhouette;
 uniform int u_fill;
 uniform float u_density;
 uniform vec4 u_edge_color;
+uniform float u_crease_cos;  // lines where normals differ by more (cos of the angle); > 1 = off
+#include "surface_fit.glsl"
+
+#ifdef PASS_NORMALS
+layout(rgba32f, binding = 3) uniform writeonly image2D u_normals_out;
+void main() {
+  ivec2 p;
+  if (!rect_pixel(p)) return;
+  SurfacePatch s = fit_surface(p, 2);
+  vec3 n = s.valid ? cross(s.dPdx, s.dPdy) : vec3(0.0);
+  float len = length(n);
+  imageStore(u_normals_out, p, len > 0.0 ? vec4(n / len, 1.0) : vec4(0.0));
+}
+#else
+layout(rgba32f, binding = 3) uniform readonly image2D u_normals;
 
 // Linear depth of a covered pixel with depth, else +inf.
 float depth_at(ivec2 q) {
@@ -33,6 +52,38 @@ float covered_fraction(ivec2 q) {
 
 bool surface(ivec2 q) {
   return in_image(q, imageSize(u_in)) && covered(imageLoad(u_in, q)) && covered_fraction(q) >= u_density;
+}
+
+// How much the surface turns across q along e: 1 - cos of the angle
+// between the normals CREASE_STEP pixels on either side, where both sides
+// are the same surface as q (no depth jump). The normals come from 5x5
+// plane fits, so sampling them 3 px apart compares the pure sides of a
+// crease rather than fits straddling it.
+const int CREASE_STEP = 3;
+float crease_strength(ivec2 q, ivec2 e, float zq) {
+  ivec2 a = q - CREASE_STEP * e, b = q + CREASE_STEP * e;
+  if (!in_image(a, imageSize(u_in)) || !in_image(b, imageSize(u_in))) return 0.0;
+  vec4 na = imageLoad(u_normals, a), nb = imageLoad(u_normals, b);
+  float za = depth_at(a), zb = depth_at(b);
+  if (na.w <= 0.0 || nb.w <= 0.0 || abs(za - zq) > u_depth_threshold * zq || abs(zb - zq) > u_depth_threshold * zq)
+    return 0.0;
+  return 1.0 - dot(na.xyz, nb.xyz);
+}
+
+// A crease passes through q: the turn across q, along one of four
+// directions, exceeds the crease angle and is a local maximum along that
+// direction (non-maximum suppression: one pixel wide).
+bool crease_at(ivec2 q) {
+  float zq = depth_at(q);
+  if (isinf(zq)) return false;
+  const ivec2 dirs[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1));
+  for (int i = 0; i < 4; ++i) {
+    float c = crease_strength(q, dirs[i], zq);
+    if (c > 1.0 - u_crease_cos && c >= crease_strength(q - dirs[i], dirs[i], zq) &&
+        c >= crease_strength(q + dirs[i], dirs[i], zq))
+      return true;
+  }
+  return false;
 }
 
 void main() {
@@ -65,6 +116,16 @@ void main() {
         float zq = depth_at(p + ivec2(dx, dy));
         if (zq < z * (1.0 - u_depth_threshold)) nearest = d;
       }
+    // A crease within w - 1 pixels (lines w wide, like the contours).
+    if (nearest >= 1e9 && u_crease_cos <= 1.0) {
+      int r = w - 1;
+      for (int dy = -r; dy <= r && nearest >= 1e9; ++dy)
+        for (int dx = -r; dx <= r; ++dx)
+          if (length(vec2(dx, dy)) <= float(r) + 0.5 && crease_at(p + ivec2(dx, dy))) {
+            nearest = 0.0;
+            break;
+          }
+    }
     if (nearest < 1e9) rgb = mix(rgb, u_edge_color.rgb, u_edge_color.a);
     imageStore(u_out, p, vec4(rgb, c.a));
     return;
@@ -83,3 +144,4 @@ void main() {
   }
   imageStore(u_out, p, c);
 }
+#endif

@@ -17,6 +17,7 @@ uniform int u_surface;  // 1: strokes anchored to the surface, 0: to the screen
 uniform uint u_seed;
 uniform vec4 u_pencil;
 uniform vec4 u_paper;
+#include "surface_fit.glsl"
 
 const float LAYER_OFFSETS[4] = float[4](0.0, 1.5707963, 0.7853982, -0.7853982);
 
@@ -89,42 +90,22 @@ void main() {
     imageStore(u_out, p, c);
     return;
   }
-  // Tone over covered pixels in a small box; a plane fitted to the depth
-  // of the surface around p (least squares, same surface = depth within
-  // 5 % of p's) gives a smooth surface point and its screen derivatives.
+  // Tone over covered pixels in a small box.
   ivec2 size = imageSize(u_in);
-  float dc = imageLoad(u_depth, p).r;
-  bool has_depth = u_surface != 0 && !isinf(dc) && dc > 0.0;
   vec3 sum = vec3(0.0);
   float n = 0.0;
-  mat3 A = mat3(0.0);
-  vec3 b = vec3(0.0);
-  int reach = max(u_smooth, has_depth ? u_fit_radius : 0);
-  for (int dy = -reach; dy <= reach; ++dy)
-    for (int dx = -reach; dx <= reach; ++dx) {
+  for (int dy = -u_smooth; dy <= u_smooth; ++dy)
+    for (int dx = -u_smooth; dx <= u_smooth; ++dx) {
       ivec2 q = p + ivec2(dx, dy);
       if (!in_image(q, size)) continue;
       vec4 s = imageLoad(u_in, q);
-      if (!covered(s)) continue;
-      if (abs(dx) <= u_smooth && abs(dy) <= u_smooth) sum += s.rgb, n += 1.0;
-      if (has_depth) {
-        float d = imageLoad(u_depth, q).r;
-        if (isinf(d) || abs(d - dc) > 0.05 * dc) continue;
-        vec3 h = vec3(float(dx), float(dy), 1.0);
-        A += outerProduct(h, h);
-        b += h * (d - dc);
-      }
+      if (covered(s)) sum += s.rgb, n += 1.0;
     }
   float tone = clamp(1.0 - lightness(sum / n), 0.0, 1.0);
   vec2 pos = vec2(p) + 0.5;
-  // Depth plane d = dc + fit.z + fit.x dx + fit.y dy; fewer than a few
-  // samples or a degenerate fit (a line of pixels) fall back to flat depth.
-  vec3 fit = vec3(0.0);
-  if (has_depth && A[2][2] >= 4.0 && abs(determinant(A)) > 1e-3) fit = inverse(A) * b;
-  float d0 = dc + fit.z;
-  vec3 P = surface_point(pos, d0);
-  vec3 Px = surface_point(pos + vec2(1.0, 0.0), d0 + fit.x) - P;
-  vec3 Py = surface_point(pos + vec2(0.0, 1.0), d0 + fit.y) - P;
+  SurfacePatch surface = u_surface != 0 ? fit_surface(p, u_fit_radius) : SurfacePatch(false, vec3(0.0), vec3(0.0), vec3(0.0));
+  bool has_depth = surface.valid;
+  vec3 P = surface.P, Px = surface.dPdx, Py = surface.dPdy;
 
   float ink = 0.0;
   float band = 1.0 / float(u_layers);

@@ -5,11 +5,17 @@
 //  - depth-discontinuity outlines: pixels within `outline_width` of a
 //    surface nearer by more than `depth_threshold` (relative) take the edge
 //    colour, so each occluding contour gets a line on its far side;
+//  - crease outlines (normal discontinuities): lines `outline_width` wide
+//    where the surface turns by more than `crease_angle` (normals 3 px to
+//    either side compared, non-maximum suppressed to the crease itself);
+//    normals come from least-squares planes fitted to the depth over 5x5
+//    pixels (shaders/surface_fit.glsl), so scan noise does not make creases;
 //  - silhouettes against the background around dense regions only (a
 //    covered pixel counts when `density` of its (2 fill_gaps + 1)^2 box is
 //    covered), so lone points get no rings; holes inside dense regions stay.
 // Depth is the rasterizer's: put this filter before filters that move
 // pixels (warp, watercolor wobble); pixels without depth are left as they are.
+#include <algorithm>
 #include <cmath>
 
 #include "filters/filter_util.h"
@@ -22,11 +28,30 @@ class EdgeEnhance final : public Filter {
   static int reach(const ParamValues& p) {
     return std::max(int(std::ceil(p.get_float("edl_radius"))), p.get_int("outline_width"));
   }
-  int footprint(const ParamValues& p) const override { return reach(p) + p.get_int("fill_gaps"); }
+  // Creases compare normals up to w + 3 px away (shader: CREASE_STEP and
+  // the non-maximum test), each fitted over 2 px around it.
+  static constexpr int kCreaseReach = 3, kFitRadius = 2;
+  int footprint(const ParamValues& p) const override {
+    return reach(p) + std::max(p.get_int("fill_gaps"), creases(p) ? kCreaseReach + kFitRadius : 0);
+  }
+  static bool creases(const ParamValues& p) { return p.get_float("crease_angle") > 0.0 && p.get_int("outline_width") > 0; }
 
   void apply(const FilterContext& ctx, const ParamValues& p) const override {
+    const gl::Texture& normals = ctx.scratch(0);
+    if (creases(p)) {
+      const gl::Program& pass = ctx.shaders->compute("edge_enhance.comp", {"PASS_NORMALS"});
+      pass.use();
+      set_surface_uniforms(pass, ctx.surface);
+      filters::bind_image(0, *ctx.input, GL_READ_ONLY);
+      filters::bind_image(2, *ctx.raster_depth, GL_READ_ONLY);
+      filters::bind_image(3, normals, GL_WRITE_ONLY);
+      dispatch_rect(pass, ctx.rect.grown(p.get_int("outline_width") + kCreaseReach, ctx.image_size));
+    }
     const gl::Program& prog = ctx.shaders->compute("edge_enhance.comp");
     prog.use();
+    const double crease = p.get_float("crease_angle") * M_PI / 180.0;
+    glUniform1f(prog.location("u_crease_cos"), creases(p) ? float(std::cos(crease)) : 2.0f);
+    filters::bind_image(3, normals, GL_READ_ONLY);
     glUniform1f(prog.location("u_edl_strength"), float(p.get_float("edl_strength")));
     glUniform1f(prog.location("u_edl_radius"), float(p.get_float("edl_radius")));
     glUniform1i(prog.location("u_outline_width"), p.get_int("outline_width"));
@@ -45,13 +70,15 @@ class EdgeEnhance final : public Filter {
 const FilterRegistration registration{{
     Schema{"edge_enhance",
            "Edge Enhancement",
-           "Eye-dome lighting and depth-discontinuity outlines from the segment's depth.",
+           "Eye-dome lighting, depth-discontinuity and crease outlines from the segment's depth.",
            {
                float_param("edl_strength", 0.4, 0.0, 10.0, "", "Eye-dome lighting strength (0 = off; Potree uses 1)"),
                float_param("edl_radius", 1.4, 1.0, 8.0, "px", "Distance of the 8 depth neighbours"),
                int_param("outline_width", 1, 0, 8, "px", "Width of depth-discontinuity and silhouette lines (0 = none)"),
                float_param("depth_threshold", 0.05, 0.001, 1.0, "",
                            "Relative depth jump that makes a contour (0.05 = 5 % of the distance)"),
+               float_param("crease_angle", 0.0, 0.0, 180.0, "deg",
+                           "Outline where the surface turns by more than this (normal discontinuity; 0 = off)"),
                bool_param("silhouette", true, "Also outline dense regions against the background"),
                color_param("edge_color", {0.0, 0.0, 0.0, 1.0}, "Colour of the lines (display sRGB; alpha = opacity)"),
                int_param("fill_gaps", 3, 0, 8, "px", "Box radius for the density test of silhouettes"),

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "filter_images.h"
+#include "render/renderer.h"
+#include "scene_builders.h"
 
 using namespace pointnpr;
 using namespace pointnpr::test;
@@ -71,6 +73,60 @@ TEST(FilterEdgeEnhance, SilhouettesOnlyAroundDenseRegions) {
   EXPECT_GE(ring, 210);
   EXPECT_LE(ring, 256);
   EXPECT_EQ(stray, 0) << "no rings around lone points";
+}
+
+// A roof seen from above: two planes meeting at a ridge along y (x = 0),
+// each sloping 45 degrees, plus depth noise; no depth jump anywhere.
+std::shared_ptr<PointCloud> roof_cloud(double noise) {
+  std::vector<double> pos;
+  std::vector<uint8_t> col;
+  uint32_t i = 0;
+  for (double y = -2.0; y <= 2.0; y += 0.015)
+    for (double x = -2.0; x <= 2.0; x += 0.015, ++i) {
+      const double jitter = noise * (double((i * 2654435761u >> 8) & 0xffff) / 65535.0 - 0.5);
+      pos.insert(pos.end(), {x, y, -std::abs(x) + jitter});
+      col.insert(col.end(), {180, 180, 180});
+    }
+  PointCloudInput in;
+  in.positions = pos;
+  in.colors = col;
+  return std::make_shared<PointCloud>(in);
+}
+
+TEST(FilterEdgeEnhance, CreasesOutlineTheRidgeNotTheNoise) {
+  const glm::ivec2 size(160, 120);
+  const Camera cam = front_camera({0, 0, 8}, size);
+  Renderer renderer;
+  auto lines = [&](double crease_angle, double noise) {
+    Scene scene;
+    scene.segments.push_back(segment(
+        "roof", roof_cloud(noise),
+        style_with({{"point_size", {2}}},
+                   {{"edge_enhance", {{"crease_angle", {crease_angle}}, {"edl_strength", {0}}, {"silhouette", {0}},
+                                      {"edge_color", {1, 0, 0, 1}}}}})));
+    const RenderResult r = renderer.render(scene, cam, settings(size));
+    // Red pixels by column, over the rows in the middle.
+    std::vector<int> per_column(size_t(size.x), 0);
+    for (int y = 20; y < size.y - 20; ++y)
+      for (int x = 0; x < size.x; ++x) {
+        const float* c = &r.color[4 * (size_t(y) * size.x + size_t(x))];
+        per_column[size_t(x)] += c[0] > 0.5f && c[1] < 0.2f;
+      }
+    return per_column;
+  };
+  const std::vector<int> ridge = lines(30.0, 0.004);
+  const int centre = size.x / 2;
+  int at_ridge = 0, elsewhere = 0;
+  for (int x = 0; x < size.x; ++x) (std::abs(x - centre) <= 3 ? at_ridge : elsewhere) += ridge[size_t(x)];
+  EXPECT_GE(at_ridge, 76) << "the ridge is outlined along its length (80 rows)";
+  EXPECT_LE(at_ridge, 80 * 2) << "one pixel wide at outline_width 1";
+  EXPECT_LT(elsewhere, at_ridge / 20) << "noise on the slopes makes no creases";
+  int off = 0;
+  for (int v : lines(0.0, 0.004)) off += v;
+  EXPECT_EQ(off, 0) << "crease_angle 0 draws no creases";
+  int shallow = 0;
+  for (int v : lines(120.0, 0.004)) shallow += v;
+  EXPECT_EQ(shallow, 0) << "a 90 degree ridge is not a 120 degree crease";
 }
 
 }  // namespace
