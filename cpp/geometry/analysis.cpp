@@ -78,7 +78,7 @@ std::shared_ptr<const Neighborhoods> Analysis::knn(int k) {
       if (nb->k >= k && (!larger || nb->k < larger->k)) larger = nb;
     }
   auto nb = larger ? std::make_shared<const Neighborhoods>(truncate(*larger, k))
-                   : std::make_shared<const Neighborhoods>(knn_all(tree(), points().points, k));
+                   : std::make_shared<const Neighborhoods>(knn_all(points(), k));
   cache_[key] = nb;
   return nb;
 }

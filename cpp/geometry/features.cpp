@@ -91,14 +91,16 @@ LineFit line_fit(const LocalPoints& pts, const std::vector<uint8_t>& mask, int k
   // The masked points, in Morton order.
   LocalPoints sub;
   sub.origin = pts.origin;
+  sub.grid_min = pts.grid_min;
+  sub.grid_scale = pts.grid_scale;
   for (size_t s = 0; s < n; ++s)
     if (mask.empty() || mask[pts.original[s]]) {
       sub.points.push_back(pts.points[s]);
       sub.original.push_back(pts.original[s]);
+      sub.code.push_back(pts.code[s]);
     }
   if (sub.size() == 0) return out;
-  KdTree tree(sub.points);
-  const Neighborhoods nb = knn_all(tree, sub.points, k);
+  const Neighborhoods nb = knn_all(sub, k);
   const PcaResult p = pca(sub, nb);
   for (size_t s = 0; s < sub.size(); ++s) {
     if (p.degenerate[s]) continue;

@@ -14,6 +14,13 @@ struct LocalPoints {
   glm::dvec3 origin{0.0};
   std::vector<glm::vec3> points;    // Morton order, offsets from origin
   std::vector<uint32_t> original;   // original index of each sorted point
+  // The Morton grid: 2^21 cells per axis over the bounding box's largest
+  // extent; cell coordinates of a point = (world - grid_min) * grid_scale.
+  // code[s] is the (sorted) Morton code of points[s]; identical points are
+  // adjacent (ties in code are ordered by position, then index).
+  std::vector<uint64_t> code;
+  glm::dvec3 grid_min{0.0};
+  double grid_scale = 1.0;
   size_t size() const { return points.size(); }
 
   // xyz: N*3 doubles. Throws Error on non-finite coordinates or N >= 2^31.
