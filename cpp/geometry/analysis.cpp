@@ -1,8 +1,10 @@
 #include "geometry/analysis.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "scene/point_cloud.h"
 
 namespace pointnpr::geometry {
@@ -22,21 +24,65 @@ void check_k(int k) {
 }
 }  // namespace
 
+// Holds the lock for one public call and counts the nesting, so that only
+// the outermost call plans the work on the caller's Progress.
+class Analysis::Call {
+ public:
+  explicit Call(Analysis& a) : lock_(a.mutex_), analysis_(a) { ++a.depth_; }
+  ~Call() { --analysis_.depth_; }
+  Call(const Call&) = delete;
+  Call& operator=(const Call&) = delete;
+  void plan(uint64_t units) const {
+    if (analysis_.depth_ != 1) return;
+    if (Progress* p = current_progress()) p->expect(units);
+  }
+
+ private:
+  std::lock_guard<std::recursive_mutex> lock_;
+  Analysis& analysis_;
+};
+
 Analysis::Analysis(const PointCloud& cloud) : cloud_(&cloud) {}
-Analysis::Analysis(std::vector<double> xyz, std::vector<uint32_t> colors)
-    : xyz_(std::move(xyz)), colors_(std::move(colors)) {
+Analysis::Analysis(std::vector<double> xyz, std::vector<uint32_t> colors, std::vector<float> intensity)
+    : xyz_(std::move(xyz)), colors_(std::move(colors)), intensity_(std::move(intensity)) {
   if (xyz_.size() % 3 != 0) throw Error("positions must be an N x 3 array");
   if (!colors_.empty() && colors_.size() != xyz_.size() / 3) throw Error("colors must have one row per point");
+  if (!intensity_.empty() && intensity_.size() != xyz_.size() / 3)
+    throw Error("intensity must have one value per point");
 }
 
 size_t Analysis::size() const { return cloud_ ? cloud_->size() : xyz_.size() / 3; }
 
 std::vector<double> Analysis::positions() const { return cloud_ ? cloud_->positions_double() : xyz_; }
 
+bool Analysis::has_colors() const { return cloud_ ? !cloud_->colors().empty() : !colors_.empty(); }
+bool Analysis::has_intensity() const { return cloud_ ? !cloud_->intensity().empty() : !intensity_.empty(); }
+
+int Analysis::clamp_k(int k) const { return int(std::min<size_t>(size_t(k), std::max<size_t>(size(), 1))); }
+
 template <class T>
 std::shared_ptr<const T> Analysis::cached(const std::string& key) const {
   auto it = cache_.find(key);
   return it == cache_.end() ? nullptr : std::static_pointer_cast<const T>(it->second);
+}
+
+std::shared_ptr<const Neighborhoods> Analysis::largest_knn() const {
+  std::shared_ptr<const Neighborhoods> largest;
+  for (const auto& [name, value] : cache_)
+    if (name.rfind("knn:", 0) == 0) {
+      auto nb = std::static_pointer_cast<const Neighborhoods>(value);
+      if (!largest || nb->k > largest->k) largest = nb;
+    }
+  return largest;
+}
+
+uint64_t Analysis::knn_work(int k) const {
+  const auto largest = largest_knn();
+  return largest && largest->k >= clamp_k(k) ? 0 : size();
+}
+
+uint64_t Analysis::pca_work(int k) const {
+  return cache_.count("pca:" + std::to_string(clamp_k(k))) ? 0 : knn_work(k) + size();
 }
 
 const LocalPoints& Analysis::points() {
@@ -57,38 +103,45 @@ const KdTree& Analysis::tree() {
 const std::vector<uint32_t>& Analysis::colors_sorted() {
   std::lock_guard lock(mutex_);
   if (!colors_sorted_) {
+    if (!has_colors()) throw Error("the point set has no colours");
     const std::vector<uint32_t>& c = cloud_ ? cloud_->colors() : colors_;
-    if (c.empty()) throw Error("the point set has no colours");
     colors_sorted_ = std::make_unique<std::vector<uint32_t>>(points().to_sorted(std::span<const uint32_t>(c)));
   }
   return *colors_sorted_;
 }
 
+const std::vector<float>& Analysis::intensity_sorted() {
+  std::lock_guard lock(mutex_);
+  if (!intensity_sorted_) {
+    if (!has_intensity()) throw Error("the point set has no intensity");
+    const std::vector<float>& v = cloud_ ? cloud_->intensity() : intensity_;
+    intensity_sorted_ = std::make_unique<std::vector<float>>(points().to_sorted(std::span<const float>(v)));
+  }
+  return *intensity_sorted_;
+}
+
 std::shared_ptr<const Neighborhoods> Analysis::knn(int k) {
   check_k(k);
-  std::lock_guard lock(mutex_);
-  k = int(std::min<size_t>(size_t(k), std::max<size_t>(size(), 1)));
+  const Call call(*this);
+  k = clamp_k(k);
   const std::string key = "knn:" + std::to_string(k);
   if (auto hit = cached<Neighborhoods>(key)) return hit;
+  call.plan(knn_work(k));
   // A larger cached k serves a smaller one (rows are sorted by distance).
-  std::shared_ptr<const Neighborhoods> larger;
-  for (const auto& [name, value] : cache_)
-    if (name.rfind("knn:", 0) == 0) {
-      auto nb = std::static_pointer_cast<const Neighborhoods>(value);
-      if (nb->k >= k && (!larger || nb->k < larger->k)) larger = nb;
-    }
-  auto nb = larger ? std::make_shared<const Neighborhoods>(truncate(*larger, k))
-                   : std::make_shared<const Neighborhoods>(knn_all(points(), k));
+  auto largest = largest_knn();
+  auto nb = largest && largest->k >= k ? std::make_shared<const Neighborhoods>(truncate(*largest, k))
+                                       : std::make_shared<const Neighborhoods>(knn_all(points(), k));
   cache_[key] = nb;
   return nb;
 }
 
 std::shared_ptr<const PcaResult> Analysis::pca(int k) {
   check_k(k);
-  std::lock_guard lock(mutex_);
-  k = int(std::min<size_t>(size_t(k), std::max<size_t>(size(), 1)));
+  const Call call(*this);
+  k = clamp_k(k);
   const std::string key = "pca:" + std::to_string(k);
   if (auto hit = cached<PcaResult>(key)) return hit;
+  call.plan(pca_work(k));
   auto r = std::make_shared<const PcaResult>(geometry::pca(points(), *knn(k)));
   cache_[key] = r;
   return r;
@@ -96,8 +149,8 @@ std::shared_ptr<const PcaResult> Analysis::pca(int k) {
 
 std::shared_ptr<const std::vector<glm::vec3>> Analysis::normals(const NormalOptions& o) {
   check_k(o.k);
-  std::lock_guard lock(mutex_);
-  const int k = int(std::min<size_t>(size_t(o.k), std::max<size_t>(size(), 1)));
+  const Call call(*this);
+  const int k = clamp_k(o.k);
   std::string key = "normals:" + std::to_string(k) + ":" + orientation_name(o.orientation);
   if (o.orientation == Orientation::TowardPoint || o.orientation == Orientation::Direction) {
     char buf[96];
@@ -105,6 +158,7 @@ std::shared_ptr<const std::vector<glm::vec3>> Analysis::normals(const NormalOpti
     key += buf;
   }
   if (auto hit = cached<std::vector<glm::vec3>>(key)) return hit;
+  call.plan(pca_work(k) + (o.orientation == Orientation::Consistent ? size() : 0));
   std::vector<glm::vec3> n = pca(k)->normal;
   orient(points(), *knn(k), n, o.orientation, o.target);
   auto r = std::make_shared<const std::vector<glm::vec3>>(points().to_original(n));
@@ -114,9 +168,10 @@ std::shared_ptr<const std::vector<glm::vec3>> Analysis::normals(const NormalOpti
 
 std::shared_ptr<const std::vector<float>> Analysis::curvature(int k) {
   check_k(k);
-  std::lock_guard lock(mutex_);
+  const Call call(*this);
   const std::string key = "curvature:" + std::to_string(k);
   if (auto hit = cached<std::vector<float>>(key)) return hit;
+  call.plan(pca_work(k));
   auto r = std::make_shared<const std::vector<float>>(points().to_original(pca(k)->curvature));
   cache_[key] = r;
   return r;
@@ -124,9 +179,10 @@ std::shared_ptr<const std::vector<float>> Analysis::curvature(int k) {
 
 std::shared_ptr<const LocalResolution> Analysis::local_resolution(int k) {
   check_k(k);
-  std::lock_guard lock(mutex_);
+  const Call call(*this);
   const std::string key = "local_resolution:" + std::to_string(k);
   if (auto hit = cached<LocalResolution>(key)) return hit;
+  call.plan(knn_work(k + 1) + size());
   LocalResolution lr = geometry::local_resolution(*knn(k + 1));
   lr.r = points().to_original(lr.r);
   lr.eps = points().to_original(lr.eps);
@@ -135,17 +191,22 @@ std::shared_ptr<const LocalResolution> Analysis::local_resolution(int k) {
   return r;
 }
 
-std::shared_ptr<const std::vector<float>> Analysis::feature_degree(int k, float color_weight) {
+std::shared_ptr<const std::vector<float>> Analysis::feature_degree(int k, const FeatureOptions& options) {
   check_k(k);
-  std::lock_guard lock(mutex_);
-  const bool has_colors = cloud_ ? !cloud_->colors().empty() : !colors_.empty();
-  const float w = has_colors ? color_weight : 0.0f;
-  const std::string key = "feature_degree:" + std::to_string(k) + ":" + std::to_string(w);
+  const Call call(*this);
+  const bool colors = has_colors(), intensity = has_intensity();
+  FeatureOptions o = options;
+  if (!colors && !intensity) o.edge_weight = 0.0f;  // nothing to detect edges on: the key says so
+  char key[128];
+  std::snprintf(key, sizeof key, "feature_degree:%d:%.9g:%.9g", k, double(o.edge_weight), double(o.contrast));
   if (auto hit = cached<std::vector<float>>(key)) return hit;
-  static const std::vector<uint32_t> none;
-  const std::vector<uint32_t>& colors = w > 0.0f ? colors_sorted() : none;
-  auto r = std::make_shared<const std::vector<float>>(
-      points().to_original(geometry::feature_degree(*knn(k), pca(k)->curvature, colors, w)));
+  call.plan(pca_work(k) + size());
+  static const std::vector<uint32_t> no_colors;
+  static const std::vector<float> no_intensity;
+  const bool edges = o.edge_weight > 0.0f;
+  auto r = std::make_shared<const std::vector<float>>(points().to_original(geometry::feature_degree(
+      points(), *knn(k), *pca(k), edges && colors ? colors_sorted() : no_colors,
+      edges && intensity ? intensity_sorted() : no_intensity, o)));
   cache_[key] = r;
   return r;
 }
@@ -153,24 +214,28 @@ std::shared_ptr<const std::vector<float>> Analysis::feature_degree(int k, float 
 std::vector<uint8_t> Analysis::inliers(int k, float std_ratio) {
   check_k(k);
   if (!(std_ratio >= 0.0f)) throw Error("std_ratio must be >= 0");
-  std::lock_guard lock(mutex_);
+  const Call call(*this);
+  call.plan(knn_work(k + 1) + size());
   return points().to_original(inlier_mask(*knn(k + 1), std_ratio));
 }
 
 LineFit Analysis::line_fit(const std::vector<uint8_t>& mask, int k) {
   check_k(k);
-  std::lock_guard lock(mutex_);
+  const Call call(*this);
+  call.plan(2 * size());
   return geometry::line_fit(points(), mask, k);
 }
 
 Components Analysis::region_growing_rgb(const RegionGrowingParams& params) {
   check_k(params.k);
-  std::lock_guard lock(mutex_);
+  const Call call(*this);
+  call.plan(knn_work(params.k) + 2 * size());
   return geometry::region_growing_rgb(points(), *knn(params.k), colors_sorted(), params);
 }
 
 Components Analysis::connected_components(int level, uint32_t min_points, double cell_size, bool float32) {
-  std::lock_guard lock(mutex_);
+  const Call call(*this);
+  call.plan(3 * size());
   const std::vector<double> xyz = positions();
   return geometry::connected_components(xyz, level, min_points, cell_size, float32);
 }

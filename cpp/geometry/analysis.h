@@ -33,10 +33,14 @@ struct NormalOptions {
 class Analysis {
  public:
   explicit Analysis(const PointCloud& cloud);  // reads the cloud lazily; must not outlive it
-  explicit Analysis(std::vector<double> xyz, std::vector<uint32_t> colors_rgba8 = {});
+  explicit Analysis(std::vector<double> xyz, std::vector<uint32_t> colors_rgba8 = {},
+                    std::vector<float> intensity = {});
   Analysis(const Analysis&) = delete;
   Analysis& operator=(const Analysis&) = delete;
 
+  // Every call below reports to the Progress of the calling thread's
+  // ProgressScope, if any (the outermost call plans the work of what is not
+  // cached yet), and throws Cancelled once it is cancelled.
   size_t size() const;
   const LocalPoints& points();
   const KdTree& tree();
@@ -47,7 +51,7 @@ class Analysis {
   std::shared_ptr<const std::vector<glm::vec3>> normals(const NormalOptions& options);
   std::shared_ptr<const std::vector<float>> curvature(int k);
   std::shared_ptr<const LocalResolution> local_resolution(int k);
-  std::shared_ptr<const std::vector<float>> feature_degree(int k, float color_weight);
+  std::shared_ptr<const std::vector<float>> feature_degree(int k, const FeatureOptions& options);
   std::vector<uint8_t> inliers(int k, float std_ratio);
   LineFit line_fit(const std::vector<uint8_t>& mask, int k);
   Components region_growing_rgb(const RegionGrowingParams& params);
@@ -59,16 +63,30 @@ class Analysis {
  private:
   std::vector<double> positions() const;
   const std::vector<uint32_t>& colors_sorted();
+  const std::vector<float>& intensity_sorted();
+  bool has_colors() const;
+  bool has_intensity() const;
+  int clamp_k(int k) const;
   template <class T>
   std::shared_ptr<const T> cached(const std::string& key) const;
+  std::shared_ptr<const Neighborhoods> largest_knn() const;
+  // Work (points per pass) still to do for a kNN / PCA of k: 0 when cached.
+  uint64_t knn_work(int k) const;
+  uint64_t pca_work(int k) const;
+  // Plans `units` of work on the calling thread's Progress if this is the
+  // outermost call (nested calls are part of the outer call's plan).
+  class Call;
 
   mutable std::recursive_mutex mutex_;
+  int depth_ = 0;  // nesting of public calls (under mutex_)
   const PointCloud* cloud_ = nullptr;
   std::vector<double> xyz_;
   std::vector<uint32_t> colors_;  // input order
+  std::vector<float> intensity_;  // input order
   std::unique_ptr<LocalPoints> points_;
   std::unique_ptr<KdTree> tree_;
   std::unique_ptr<std::vector<uint32_t>> colors_sorted_;
+  std::unique_ptr<std::vector<float>> intensity_sorted_;
   std::map<std::string, std::shared_ptr<const void>> cache_;
 };
 

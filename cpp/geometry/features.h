@@ -1,6 +1,7 @@
 #pragma once
 // Per-point descriptors built on neighbourhoods: local resolution (seed 004),
 // feature degree and line fit (seed 001), statistical outlier removal.
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -19,15 +20,41 @@ struct LocalResolution {
 };
 LocalResolution local_resolution(const Neighborhoods& nb_with_self);
 
-// Seed 001 section 5.2, on points instead of scan images: the geometric
-// part is the variation (standard deviation over the kNN neighbourhood) of
-// the normal-estimation error (surface variation, pca.curvature); the colour
-// part the same variation of luminance. Each is divided by its 99th
-// percentile and clamped to [0,1]; the result is (1-w)*geometric +
-// w*colour. Without colours (empty), w is ignored. A cloud whose parts do
-// not vary has feature degree 0 everywhere. LocalPoints order.
-std::vector<float> feature_degree(const Neighborhoods& nb, const std::vector<float>& curvature,
-                                  const std::vector<uint32_t>& colors_rgba8, float color_weight);
+// Seed 001 section 5.2, on points instead of scan images. Geometric part:
+// the variation (standard deviation over the kNN neighbourhood) of the
+// normal-estimation error (the plane fit's surface variation,
+// pca.curvature), divided by its 99th percentile and clamped to [0, 1].
+// Edge part, where the points have colours or intensity: the seed's "edge
+// detection filter on the color or intensity image", as a point-space edge
+// detector (edge_strength below) on CIELAB colours and on intensity as a
+// lightness (0-100 at its 99th percentile), the stronger of the two,
+// divided by `contrast` and clamped to [0, 1]. Result: (1 - w) * geometric
+// + w * edge (w = edge_weight; the geometric part alone without colours and
+// intensity). A cloud whose parts do not vary has feature degree 0
+// everywhere. LocalPoints order; colors/intensity in that order or empty.
+struct FeatureOptions {
+  float edge_weight = 0.5f;
+  float contrast = 25.0f;  // colour difference (Delta E 1976) at which the edge part saturates
+};
+std::vector<float> feature_degree(const LocalPoints& pts, const Neighborhoods& nb, const PcaResult& pca,
+                                  const std::vector<uint32_t>& colors_rgba8, const std::vector<float>& intensity,
+                                  const FeatureOptions& options);
+
+// A point-space edge detector for a field of C channels per point: the
+// least-squares gradient of each channel over the neighbourhood, in its
+// tangent plane, combined by Di Zenzo's structure tensor (the square root
+// of its largest eigenvalue), times 2x the RMS tangent offset of the
+// neighbourhood: the field's change across the neighbourhood, in the
+// field's units. A step of height D through a uniformly sampled disc gives
+// 8/(3 pi) D = 0.85 D; a uniform field gives 0. Degenerate neighbourhoods: 0.
+template <int C>
+std::vector<float> edge_strength(const LocalPoints& pts, const Neighborhoods& nb, const PcaResult& pca,
+                                 const std::vector<std::array<float, C>>& field);
+// On sRGB colours in CIELAB (Delta E), and on intensity as a lightness.
+std::vector<float> color_edges(const LocalPoints& pts, const Neighborhoods& nb, const PcaResult& pca,
+                               const std::vector<uint32_t>& colors_rgba8);
+std::vector<float> intensity_edges(const LocalPoints& pts, const Neighborhoods& nb, const PcaResult& pca,
+                                   const std::vector<float>& intensity);
 
 // Seed 001 eq. 2 on the points with mask[i] (all points if mask is empty):
 // the least-squares line through each masked point's k nearest masked

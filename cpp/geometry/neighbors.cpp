@@ -17,6 +17,7 @@
 
 #include "core/error.h"
 #include "core/morton.h"
+#include "core/progress.h"
 
 namespace pointnpr::geometry {
 
@@ -462,8 +463,11 @@ Neighborhoods knn_all(const LocalPoints& pts, int k_requested) {
     s = e;
   }
 
+  Progress* progress = current_progress();
+  advance(progress, n - todo.size());
   GridKnn grid(pts, k);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, todo.size(), 512), [&](const tbb::blocked_range<size_t>& range) {
+    check_cancelled(progress);
     GridKnn::Scratch scratch;
     std::vector<uint64_t> row(k);
     float hint = 0.0f;
@@ -473,6 +477,7 @@ Neighborhoods knn_all(const LocalPoints& pts, int k_requested) {
       write_row(row.data(), k, nb.index.data() + q * k, nb.dist2.data() + q * k);
       hint = std::sqrt(nb.dist2[q * k + k - 1]);
     }
+    advance(progress, range.size());
   });
   return nb;
 }

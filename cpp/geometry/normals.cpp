@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "core/progress.h"
+
 namespace pointnpr::geometry {
 
 PcaResult pca(const LocalPoints& pts, const Neighborhoods& nb) {
@@ -16,22 +18,37 @@ PcaResult pca(const LocalPoints& pts, const Neighborhoods& nb) {
   r.major.resize(n);
   r.linear_error.resize(n);
   r.degenerate.assign(n, 0);
+  Progress* progress = current_progress();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 512), [&](const tbb::blocked_range<size_t>& range) {
+    check_cancelled(progress);
     for (size_t i = range.begin(); i < range.end(); ++i) {
       const uint32_t* idx = nb.at(i);
       const int k = nb.k;
-      // Offsets from the point itself keep the sums small; one pass in double.
-      const glm::vec3 p0 = pts.points[i];
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
+      // Offsets from the point itself keep the sums small; one pass in
+      // double over the six distinct products.
+      const glm::dvec3 p0(pts.points[i]);
+      double sx = 0, sy = 0, sz = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
       for (int j = 0; j < k; ++j) {
-        const glm::vec3 d = pts.points[idx[j]] - p0;
-        const Eigen::Vector3d e(d.x, d.y, d.z);
-        sum += e;
-        sq.noalias() += e * e.transpose();
+        const glm::dvec3 d = glm::dvec3(pts.points[idx[j]]) - p0;
+        sx += d.x;
+        sy += d.y;
+        sz += d.z;
+        xx += d.x * d.x;
+        xy += d.x * d.y;
+        xz += d.x * d.z;
+        yy += d.y * d.y;
+        yz += d.y * d.z;
+        zz += d.z * d.z;
       }
-      const Eigen::Vector3d mean = sum / double(std::max(k, 1));
-      Eigen::Matrix3d cov = sq - double(k) * mean * mean.transpose();
+      const double inv = 1.0 / double(std::max(k, 1));
+      const double mx = sx * inv, my = sy * inv, mz = sz * inv;
+      Eigen::Matrix3d cov;
+      cov(0, 0) = xx - sx * mx;
+      cov(1, 1) = yy - sy * my;
+      cov(2, 2) = zz - sz * mz;
+      cov(0, 1) = cov(1, 0) = xy - sx * my;
+      cov(0, 2) = cov(2, 0) = xz - sx * mz;
+      cov(1, 2) = cov(2, 1) = yz - sy * mz;
       const double trace = cov.trace();
       if (!(trace > 1e-300)) {
         r.normal[i] = glm::vec3(0, 0, 1);
@@ -67,6 +84,7 @@ PcaResult pca(const LocalPoints& pts, const Neighborhoods& nb) {
       r.curvature[i] = float(l[0] / lsum);
       r.linear_error[i] = float((l[0] + l[1]) / lsum);
     }
+    advance(progress, range.size());
   });
   return r;
 }
@@ -124,10 +142,13 @@ void orient(const LocalPoints& pts, const Neighborhoods& nb, std::vector<glm::ve
       lowest = std::min(lowest, b);
     }
   };
+  Progress* progress = current_progress();
+  size_t visited = 0, reported = 0;
   for (uint32_t seed : by_height) {
     if (done[seed]) continue;
     if (normals[seed].z < 0.0f) normals[seed] = -normals[seed];
     visit(seed);
+    ++visited;
     while (true) {
       while (lowest < kBuckets && buckets[size_t(lowest)].empty()) ++lowest;
       if (lowest == kBuckets) break;
@@ -136,8 +157,14 @@ void orient(const LocalPoints& pts, const Neighborhoods& nb, std::vector<glm::ve
       if (done[to]) continue;
       if (glm::dot(normals[from], normals[to]) < 0.0f) normals[to] = -normals[to];
       visit(to);
+      if (++visited - reported >= 16384) {
+        check_cancelled(progress);
+        advance(progress, visited - reported);
+        reported = visited;
+      }
     }
   }
+  advance(progress, visited - reported);
 }
 
 }  // namespace pointnpr::geometry

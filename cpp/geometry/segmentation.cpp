@@ -12,6 +12,7 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "core/progress.h"
 
 namespace pointnpr::geometry {
 
@@ -128,7 +129,11 @@ Components connected_components(std::span<const double> xyz, int level, uint32_t
       keyed[i] = {c[0] << 42 | c[1] << 21 | c[2], uint32_t(i)};
     });
   }
+  Progress* progress = current_progress();
+  check_cancelled(progress);
   tbb::parallel_sort(keyed.begin(), keyed.end());
+  check_cancelled(progress);
+  advance(progress, n);
   std::vector<uint64_t> cells;
   std::vector<uint32_t> cell_of_sorted(n);
   for (size_t s = 0; s < n; ++s) {
@@ -150,6 +155,7 @@ Components connected_components(std::span<const double> xyz, int level, uint32_t
   };
   const int64_t max_coord = int64_t(mask);
   for (size_t c = 0; c < m; ++c) {
+    if (c % 65536 == 0) check_cancelled(progress);
     const int64_t x = int64_t(cells[c] >> 42), y = int64_t((cells[c] >> 21) & mask), z = int64_t(cells[c] & mask);
     if (c + 1 < m && cells[c + 1] == key_of(x, y, z + 1)) uf.unite(uint32_t(c), uint32_t(c + 1));
     for (int o = 0; o < 4; ++o) {
@@ -162,6 +168,7 @@ Components connected_components(std::span<const double> xyz, int level, uint32_t
       for (size_t j = q; j < m && cells[j] <= last_key; ++j) uf.unite(uint32_t(c), uint32_t(j));
     }
   }
+  advance(progress, n);
   std::vector<uint32_t> comp_size(m, 0);
   for (size_t s = 0; s < n; ++s) ++comp_size[uf.find(cell_of_sorted[s])];
   for (size_t s = 0; s < n; ++s) {
@@ -169,6 +176,7 @@ Components connected_components(std::span<const double> xyz, int level, uint32_t
     out.labels[keyed[s].second] = comp_size[root] >= min_points ? int32_t(root) : -1;
   }
   out.count = relabel_by_size(out.labels);
+  advance(progress, n);
   return out;
 }
 
@@ -201,7 +209,12 @@ Components region_growing_rgb(const LocalPoints& pts, const Neighborhoods& nb, c
   std::deque<uint32_t> queue;
   std::vector<uint32_t> sorted_of(n);
   for (size_t s = 0; s < n; ++s) sorted_of[pts.original[s]] = uint32_t(s);
+  Progress* progress = current_progress();
   for (size_t i = 0; i < n; ++i) {
+    if (i % 16384 == 0) {
+      check_cancelled(progress);
+      advance(progress, std::min<size_t>(16384, n - i));
+    }
     const uint32_t seed = sorted_of[i];  // seeds in the caller's index order
     if (seg[seed] >= 0) continue;
     seg[seed] = nseg;
@@ -240,6 +253,7 @@ Components region_growing_rgb(const LocalPoints& pts, const Neighborhoods& nb, c
       auto [it, fresh] = seg_nb[size_t(seg[i])].try_emplace(o, nb.d2_at(i)[j]);
       if (!fresh) it->second = std::min(it->second, nb.d2_at(i)[j]);
     }
+  check_cancelled(progress);
   // (2) homogeneous regions: one greedy pass as PCL does.
   std::vector<int32_t> region(static_cast<size_t>(nseg), -1);
   std::vector<uint64_t> region_size;
@@ -287,6 +301,7 @@ Components region_growing_rgb(const LocalPoints& pts, const Neighborhoods& nb, c
     members[from].clear();
     members[from].shrink_to_fit();
   }
+  check_cancelled(progress);
   // (4) size filter.
   std::vector<int32_t> sorted_labels(n);
   for (size_t i = 0; i < n; ++i) {
@@ -296,6 +311,7 @@ Components region_growing_rgb(const LocalPoints& pts, const Neighborhoods& nb, c
   }
   out.labels = pts.to_original(sorted_labels);
   out.count = relabel_by_size(out.labels);
+  advance(progress, n);
   return out;
 }
 

@@ -1,6 +1,7 @@
 #include <pybind11/stl.h>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/image_io.h"
 #include "gl/device.h"
 #include "gl/shaders.h"
@@ -103,6 +104,7 @@ void bind_core(py::module_& m) {
   auto& error = py::register_exception<Error>(m, "Error", PyExc_RuntimeError);
   py::register_exception<ParameterError>(m, "ParameterError", PyExc_ValueError);
   py::register_exception<GLError>(m, "GLError", error.ptr());
+  py::register_exception<Cancelled>(m, "Cancelled", error.ptr());
 
   m.def("schemas", [] {
     py::list out;

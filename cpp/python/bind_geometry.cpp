@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "geometry/analysis.h"
 #include "python/bindings.h"
 #include "scene/point_cloud.h"
@@ -41,6 +42,13 @@ std::vector<uint32_t> pack_colors(const py::object& colors, size_t n) {
   return out;
 }
 
+std::vector<float> intensity_arg(const py::object& intensity, size_t n) {
+  if (intensity.is_none()) return {};
+  CArray<float> v = intensity.cast<CArray<float>>();
+  if (v.ndim() != 1 || size_t(v.shape(0)) != n) throw Error("intensity must be an (N,) array with one value per point");
+  return std::vector<float>(v.data(), v.data() + n);
+}
+
 // The analysis of a cloud (cached on it) or of a temporary point set.
 struct Source {
   std::shared_ptr<PointCloud> cloud;
@@ -49,18 +57,20 @@ struct Source {
   size_t size() { return get().size(); }
 };
 
-Source source(const py::object& points, const py::object& colors = py::none()) {
+Source source(const py::object& points, const py::object& colors = py::none(),
+              const py::object& intensity = py::none()) {
   Source s;
   if (py::isinstance<PointCloud>(points)) {
     s.cloud = points.cast<std::shared_ptr<PointCloud>>();
-    if (!colors.is_none()) throw Error("colors come from the PointCloud; pass positions to give other colours");
+    if (!colors.is_none() || !intensity.is_none())
+      throw Error("colours and intensity come from the PointCloud; pass positions to give others");
     return s;
   }
   CArray<double> pos = points.cast<CArray<double>>();
   if (pos.ndim() != 2 || pos.shape(1) != 3) throw Error("positions must be an (N,3) array or a PointCloud");
   const size_t n = size_t(pos.shape(0));
   std::vector<double> xyz(pos.data(), pos.data() + n * 3);
-  s.temp = std::make_unique<geometry::Analysis>(std::move(xyz), pack_colors(colors, n));
+  s.temp = std::make_unique<geometry::Analysis>(std::move(xyz), pack_colors(colors, n), intensity_arg(intensity, n));
   return s;
 }
 
@@ -86,13 +96,34 @@ std::optional<glm::dvec3> vec3_arg(const py::object& o, const char* what) {
   return glm::dvec3(v[0], v[1], v[2]);
 }
 
+// Runs a core call without the GIL, reporting to `progress` (a
+// pointnpr.Progress or None) so that another Python thread can watch and
+// cancel it.
+template <class F>
+auto without_gil(const py::object& progress, F&& call) {
+  Progress* p = progress.is_none() ? nullptr : progress.cast<Progress*>();
+  py::gil_scoped_release release;
+  const ProgressScope scope(p);
+  return call();
+}
+
+
 }  // namespace
 
 void bind_geometry(py::module_& m) {
+  py::class_<Progress>(m, "Progress",
+                       "Progress and cancellation of a long geometry call: pass it as progress=, read fraction "
+                       "from another thread, cancel() to make the call raise pointnpr.Cancelled at its next check.")
+      .def(py::init<>())
+      .def("cancel", &Progress::cancel, "Ask the call to stop; it raises pointnpr.Cancelled soon after.")
+      .def_property_readonly("cancelled", &Progress::cancelled)
+      .def_property_readonly("fraction", &Progress::fraction,
+                             "Work done so far in [0, 1] (0 until the call has planned its work).");
+
   m.def(
       "estimate_normals",
       [](const py::object& points, int k, const py::object& orient_toward, const py::object& orient_direction,
-         bool consistent) {
+         bool consistent, const py::object& progress) {
         Source s = source(points);
         geometry::NormalOptions o;
         o.k = k;
@@ -108,62 +139,48 @@ void bind_geometry(py::module_& m) {
         } else {
           o.orientation = consistent ? geometry::Orientation::Consistent : geometry::Orientation::None;
         }
-        std::shared_ptr<const std::vector<glm::vec3>> n;
-        {
-          py::gil_scoped_release release;
-          n = s.get().normals(o);
-        }
-        return array3(*n);
+        return array3(*without_gil(progress, [&] { return s.get().normals(o); }));
       },
       py::arg("points"), py::arg("k") = 16, py::arg("orient_toward") = py::none(),
-      py::arg("orient_direction") = py::none(), py::arg("consistent") = true,
+      py::arg("orient_direction") = py::none(), py::arg("consistent") = true, py::arg("progress") = py::none(),
       "Unit normals (N,3) float32 by PCA of the k nearest neighbours (the point included), oriented "
       "toward a point (scanner/viewpoint), along a direction, else consistently (minimum spanning tree).");
 
   m.def(
       "curvature",
-      [](const py::object& points, int k) {
+      [](const py::object& points, int k, const py::object& progress) {
         Source s = source(points);
-        std::shared_ptr<const std::vector<float>> c;
-        {
-          py::gil_scoped_release release;
-          c = s.get().curvature(k);
-        }
-        return array1(*c);
+        return array1(*without_gil(progress, [&] { return s.get().curvature(k); }));
       },
-      py::arg("points"), py::arg("k") = 16, "Surface variation l0/(l0+l1+l2) in [0, 1/3], (N,) float32.");
+      py::arg("points"), py::arg("k") = 16, py::arg("progress") = py::none(), "Surface variation l0/(l0+l1+l2) in [0, 1/3], (N,) float32.");
 
   m.def(
       "local_resolution",
-      [](const py::object& points, int k) {
+      [](const py::object& points, int k, const py::object& progress) {
         Source s = source(points);
-        std::shared_ptr<const geometry::LocalResolution> r;
-        {
-          py::gil_scoped_release release;
-          r = s.get().local_resolution(k);
-        }
+        const auto r = without_gil(progress, [&] { return s.get().local_resolution(k); });
         return py::make_tuple(array1(r->r), array1(r->eps));
       },
-      py::arg("points"), py::arg("k") = 8,
+      py::arg("points"), py::arg("k") = 8, py::arg("progress") = py::none(),
       "(r, eps): mean distance to the k nearest other points and its standard deviation, (N,) float32 each.");
 
   m.def(
       "feature_degree",
-      [](const py::object& points, int k, const py::object& colors, float color_weight) {
-        Source s = source(points, colors);
-        std::shared_ptr<const std::vector<float>> f;
-        {
-          py::gil_scoped_release release;
-          f = s.get().feature_degree(k, color_weight);
-        }
-        return array1(*f);
+      [](const py::object& points, int k, const py::object& colors, const py::object& intensity, float color_weight,
+         float contrast, const py::object& progress) {
+        Source s = source(points, colors, intensity);
+        const geometry::FeatureOptions o{color_weight, contrast};
+        return array1(*without_gil(progress, [&] { return s.get().feature_degree(k, o); }));
       },
-      py::arg("points"), py::arg("k") = 16, py::arg("colors") = py::none(), py::arg("color_weight") = 0.5f,
-      "Seed 001's feature degree in [0,1]: variation of the normal-estimation error, blended with colour edges.");
+      py::arg("points"), py::arg("k") = 16, py::arg("colors") = py::none(), py::arg("intensity") = py::none(),
+      py::arg("color_weight") = 0.5f, py::arg("contrast") = 25.0f, py::arg("progress") = py::none(),
+      "Seed 001's feature degree in [0,1]: (1 - color_weight) x the variation of the normal-estimation error "
+      "+ color_weight x colour/intensity edges (a point-space edge detector; CIELAB Delta E, saturating at "
+      "contrast; intensity as a 0-100 lightness).");
 
   m.def(
       "line_fit",
-      [](const py::object& points, int k, const py::object& mask) {
+      [](const py::object& points, int k, const py::object& mask, const py::object& progress) {
         Source s = source(points);
         std::vector<uint8_t> msk;
         if (!mask.is_none()) {
@@ -171,43 +188,30 @@ void bind_geometry(py::module_& m) {
           if (size_t(b.size()) != s.size()) throw Error("mask must have one value per point");
           msk.assign(b.data(), b.data() + b.size());
         }
-        geometry::LineFit f;
-        {
-          py::gil_scoped_release release;
-          f = s.get().line_fit(msk, k);
-        }
+        const geometry::LineFit f = without_gil(progress, [&] { return s.get().line_fit(msk, k); });
         return py::make_tuple(array3(f.direction), array1(f.error));
       },
-      py::arg("points"), py::arg("k") = 8, py::arg("mask") = py::none(),
+      py::arg("points"), py::arg("k") = 8, py::arg("mask") = py::none(), py::arg("progress") = py::none(),
       "(direction (N,3), error (N,)): least-squares line through the k nearest (masked) points (seed 001 eq. 2).");
 
   m.def(
       "remove_outliers",
-      [](const py::object& points, int k, float std_ratio) {
+      [](const py::object& points, int k, float std_ratio, const py::object& progress) {
         Source s = source(points);
-        std::vector<uint8_t> keep;
-        {
-          py::gil_scoped_release release;
-          keep = s.get().inliers(k, std_ratio);
-        }
+        const std::vector<uint8_t> keep = without_gil(progress, [&] { return s.get().inliers(k, std_ratio); });
         py::array_t<bool> out(py::ssize_t(keep.size()));
         for (size_t i = 0; i < keep.size(); ++i) out.mutable_data()[i] = keep[i] != 0;
         return out;
       },
-      py::arg("points"), py::arg("k") = 20, py::arg("std_ratio") = 2.0f,
+      py::arg("points"), py::arg("k") = 20, py::arg("std_ratio") = 2.0f, py::arg("progress") = py::none(),
       "Statistical outlier removal: boolean (N,) mask of inliers (mean kNN distance <= mean + std_ratio*std).");
 
   m.def(
       "knn",
-      [](const py::object& points, int k) {
+      [](const py::object& points, int k, const py::object& progress) {
         Source s = source(points);
-        std::shared_ptr<const geometry::Neighborhoods> nb;
-        const geometry::LocalPoints* lp = nullptr;
-        {
-          py::gil_scoped_release release;
-          nb = s.get().knn(k);
-          lp = &s.get().points();
-        }
+        const auto nb = without_gil(progress, [&] { return s.get().knn(k); });
+        const geometry::LocalPoints* lp = &s.get().points();
         const size_t n = lp->size();
         py::array_t<int64_t> idx({py::ssize_t(n), py::ssize_t(nb->k)});
         py::array_t<float> dist({py::ssize_t(n), py::ssize_t(nb->k)});
@@ -220,7 +224,7 @@ void bind_geometry(py::module_& m) {
         }
         return py::make_tuple(idx, dist);
       },
-      py::arg("points"), py::arg("k"),
+      py::arg("points"), py::arg("k"), py::arg("progress") = py::none(),
       "(indices (N,k) int64, distances (N,k) float32): the k nearest points of each point, nearest first "
       "(the point itself or a duplicate first); k is clamped to N.");
 
@@ -249,24 +253,23 @@ void bind_geometry(py::module_& m) {
 
   m.def(
       "connected_components",
-      [](const py::object& points, int level, uint32_t min_points, double cell_size, bool float32) {
+      [](const py::object& points, int level, uint32_t min_points, double cell_size, bool float32,
+         const py::object& progress) {
         Source s = source(points);
-        geometry::Components c;
-        {
-          py::gil_scoped_release release;
-          c = s.get().connected_components(level, min_points, cell_size, float32);
-        }
-        return array1(c.labels);
+        return array1(without_gil(progress, [&] {
+                        return s.get().connected_components(level, min_points, cell_size, float32);
+                      }).labels);
       },
       py::arg("points"), py::arg("level") = 8, py::arg("min_points") = 10, py::arg("cell_size") = 0.0,
-      py::arg("float32") = false,
+      py::arg("float32") = false, py::arg("progress") = py::none(),
       "CloudCompare's Label Connected Components: int32 labels (N,), 0.. by decreasing size, -1 for "
       "components smaller than min_points. float32=True replays CloudCompare's float arithmetic.");
 
   m.def(
       "region_growing_rgb",
       [](const py::object& points, const py::object& colors, double distance_threshold, double point_color_threshold,
-         double region_color_threshold, uint32_t min_cluster_size, uint32_t max_cluster_size, int k) {
+         double region_color_threshold, uint32_t min_cluster_size, uint32_t max_cluster_size, int k,
+         const py::object& progress) {
         Source s = source(points, colors);
         geometry::RegionGrowingParams p;
         p.k = k;
@@ -275,16 +278,12 @@ void bind_geometry(py::module_& m) {
         p.region_color_threshold = region_color_threshold;
         p.min_cluster_size = min_cluster_size;
         p.max_cluster_size = max_cluster_size;
-        geometry::Components c;
-        {
-          py::gil_scoped_release release;
-          c = s.get().region_growing_rgb(p);
-        }
-        return array1(c.labels);
+        return array1(without_gil(progress, [&] { return s.get().region_growing_rgb(p); }).labels);
       },
       py::arg("points"), py::arg("colors") = py::none(), py::arg("distance_threshold") = 0.05,
       py::arg("point_color_threshold") = 6.0, py::arg("region_color_threshold") = 5.0,
       py::arg("min_cluster_size") = 10, py::arg("max_cluster_size") = 0xffffffffu, py::arg("k") = 30,
+      py::arg("progress") = py::none(),
       "PCL RegionGrowingRGB: int32 labels (N,), 0.. by decreasing size, -1 outside the size limits.");
 
   m.def(

@@ -128,7 +128,7 @@ py::array_t<T> result_view(const std::vector<T>& data, int h, int w, int channel
 }  // namespace
 
 void bind_render(py::module_& m) {
-  py::register_exception<RenderCancelled>(m, "RenderCancelled", m.attr("Error").ptr());
+  py::register_exception<RenderCancelled>(m, "RenderCancelled", m.attr("Cancelled").ptr());
 
   py::class_<PointCloud, std::shared_ptr<PointCloud>>(m, "PointCloud",
       "Immutable point cloud split into chunks with double origins and float offsets.")

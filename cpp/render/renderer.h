@@ -9,14 +9,15 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "render/style.h"
 #include "scene/camera.h"
 
 namespace pointnpr {
 
-class RenderCancelled : public Error {
+class RenderCancelled : public Cancelled {
  public:
-  RenderCancelled() : Error("render cancelled") {}
+  RenderCancelled() : Cancelled("render cancelled") {}
 };
 
 enum class RasterizerKind { Compute, GlPoints };

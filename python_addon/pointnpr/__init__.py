@@ -9,10 +9,12 @@ import os as _os
 from . import _pointnpr
 from ._pointnpr import (  # noqa: F401  (the public API)
     Camera,
+    Cancelled,
     Error,
     GLError,
     ParameterError,
     PointCloud,
+    Progress,
     RenderCancelled,
     Renderer,
     RenderResult,

@@ -5,7 +5,7 @@ import bpy
 import numpy as np
 import pointnpr
 import pytest
-from pointnpr.blender import importer, segment
+from pointnpr.blender import background, importer, segment
 
 import helpers
 
@@ -95,13 +95,34 @@ def test_cancel_removes_everything_created_and_progress_moves(scene):
     seen = []
     with pytest.raises(segment.SegmentCancelled):
         segment.segment_object(bpy.context, obj, 'CONNECTED_COMPONENTS', octree_level=4, min_points=1,
-                               progress=lambda done, total: seen.append((done, total)),
-                               cancelled=lambda: len(seen) > 2)
+                               progress=lambda fraction, stage: seen.append((fraction, stage)),
+                               cancelled=lambda: sum(s == "creating" for _, s in seen) > 2)
     assert (len(bpy.data.collections), len(bpy.data.objects), len(bpy.data.meshes)) == before
-    assert [d for d, _ in seen] == [0, 1, 2] and len({t for _, t in seen}) == 1
+    creating = [f for f, s in seen if s == "creating"]
+    assert len(creating) == 3 and creating == sorted(creating) and creating[0] >= segment.LABELLING_SHARE
+    assert all(f <= segment.LABELLING_SHARE for f, s in seen if s == "labelling")
     assert not obj.hide_get()
     created = segment.segment_object(bpy.context, obj, 'CONNECTED_COMPONENTS', octree_level=4, min_points=1)
     assert len(created) == 3 and sum(len(o.data.vertices) for o in created) == 501
+
+
+def test_cancel_while_labelling_stops_the_core_call(scene):
+    # Region growing on 400k points takes the core a good second: the cancel,
+    # asked as soon as the core reports progress, must stop it well before
+    # its end, and nothing may be left behind.
+    rng = np.random.default_rng(1)
+    pos = rng.uniform(0, 50, (400000, 3)) * [1, 1, 0.02]
+    colors = rng.integers(0, 255, (400000, 3)).astype(np.uint8)
+    obj = _point_object("Big", pos, colors=colors)
+    before = (len(bpy.data.collections), len(bpy.data.objects), len(bpy.data.meshes))
+    seen = []
+    with pytest.raises(segment.SegmentCancelled, match="while labelling"):
+        segment.segment_object(bpy.context, obj, 'REGION_GROWING_RGB',
+                               progress=lambda fraction, stage: seen.append(fraction),
+                               cancelled=lambda: bool(seen) and seen[-1] > 0)
+    assert 0 < seen[-1] < 0.9 * segment.LABELLING_SHARE
+    assert (len(bpy.data.collections), len(bpy.data.objects), len(bpy.data.meshes)) == before
+    assert not background.running()
 
 
 def test_max_segments_pools_the_smallest(scene):
@@ -112,3 +133,93 @@ def test_max_segments_pools_the_smallest(scene):
     names = sorted(c.users_collection[0].name for c in created)
     assert len(created) == 5 and "Other segments" in names
     assert sum(len(o.data.vertices) for o in created) == 6
+
+
+# The modal path (labelling on a worker thread, progress bar, Esc) needs a
+# window: a second Blender under Xvfb starts a long region growing, presses
+# Esc while the core labels, and reports what the core call did.
+INTERACTIVE_SCRIPT = r"""
+import os, sys, bpy
+import numpy as np
+sys.path.insert(0, os.environ["POINTNPR_BUILD_DIR"])
+import pointnpr
+pointnpr.register()
+from pointnpr.blender import background, importer
+
+rng = np.random.default_rng(1)
+pos = rng.uniform(0, 50, (400000, 3)) * [1, 1, 0.02]
+colors = rng.integers(0, 255, (400000, 3)).astype(np.uint8)
+obj = bpy.data.objects.new("Big", importer.create_point_mesh("Big", pos, colors=colors))
+bpy.context.scene.collection.objects.link(obj)
+bpy.context.view_layer.objects.active = obj
+state = {"ticks": 0}
+
+def snapshot():
+    return (sorted(o.name for o in bpy.data.objects), sorted(m.name for m in bpy.data.meshes),
+            sorted(c.name for c in bpy.data.collections))
+
+def start():
+    state["before"] = snapshot()
+    win = bpy.context.window_manager.windows[0]
+    area = next(a for a in win.screen.areas if a.type == 'VIEW_3D')
+    with bpy.context.temp_override(window=win, area=area, active_object=obj):
+        result = bpy.ops.object.pointnpr_segment('INVOKE_DEFAULT', method='REGION_GROWING_RGB')
+    print("STARTED", sorted(result), len(background.running()), flush=True)
+
+def tick():
+    state["ticks"] += 1
+    if state["ticks"] > 400:
+        print("RESULT timeout", flush=True)
+        os._exit(1)
+    if "call" not in state:
+        calls = background.running()
+        if not calls or calls[0].fraction == 0.0:
+            return 0.01  # the core has not reported work yet
+        state["call"] = calls[0]
+        bpy.context.window_manager.windows[0].event_simulate(type='ESC', value='PRESS')
+        return 0.05
+    call = state["call"]
+    if not call.done:
+        return 0.05
+    try:
+        call.result()
+        outcome = "completed"
+    except pointnpr.Cancelled:
+        outcome = "cancelled"
+    print("CANCEL", outcome, "%.2f" % call.fraction, "unchanged" if snapshot() == state["before"] else "changed",
+          len(background.running()), flush=True)
+    os._exit(0)
+
+def guarded(fn):
+    def run():
+        try:
+            return fn()
+        except BaseException as exc:  # a failing timer would otherwise leave Blender running
+            print("RESULT error", repr(exc), flush=True)
+            os._exit(1)
+    return run
+
+bpy.app.timers.register(guarded(start), first_interval=0.5)
+bpy.app.timers.register(guarded(tick), first_interval=0.6)
+"""
+
+
+def test_interactive_segment_cancels_the_core_call_with_esc(tmp_path):
+    import shutil
+    import subprocess
+
+    if shutil.which("xvfb-run") is None:
+        raise AssertionError("xvfb-run is required (scripts/install_deps.sh --tests installs it)")
+    script = tmp_path / "interactive_segment.py"
+    script.write_text(INTERACTIVE_SCRIPT)
+    proc = subprocess.run(
+        ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", bpy.app.binary_path, "--factory-startup",
+         "--enable-event-simulate", "--python", str(script)],
+        env=dict(os.environ), capture_output=True, text=True, timeout=300)
+    out = proc.stdout
+    assert proc.returncode == 0, out[-3000:] + proc.stderr[-3000:]
+    assert "STARTED ['RUNNING_MODAL'] 1" in out, out[-3000:]
+    line = next(l for l in out.splitlines() if l.startswith("CANCEL"))
+    _, outcome, fraction, scene_state, still_running = line.split()
+    assert (outcome, scene_state, still_running) == ("cancelled", "unchanged", "0"), line
+    assert float(fraction) < 0.9, line  # stopped well before the end of the core's work

@@ -222,7 +222,7 @@ TEST(GeometryHardCases, AllPointsIdentical) {
     EXPECT_EQ(r.r[i], 0.0f);
     EXPECT_EQ(r.eps[i], 0.0f);
   }
-  for (float f : *a.feature_degree(8, 0.5f)) EXPECT_EQ(f, 0.0f);
+  for (float f : *a.feature_degree(8, {0.5f})) EXPECT_EQ(f, 0.0f);
   for (uint8_t keep : a.inliers(8, 2.0f)) EXPECT_EQ(keep, 1);
   const LineFit lf = a.line_fit({}, 8);
   for (size_t i = 0; i < 50; ++i) {
@@ -312,7 +312,7 @@ TEST(GeometryFeatures, LocalResolutionOfAGrid) {
 TEST(GeometryFeatures, FeatureDegreeIsHighAtTheEdgeAndLowOnTheFaces) {
   const Shape s = edge(8000);
   Analysis a(s.xyz);
-  const auto& f = *a.feature_degree(16, 0.0f);
+  const auto& f = *a.feature_degree(16, {0.0f});
   double near_sum = 0, far_sum = 0;
   int near_n = 0, far_n = 0;
   for (size_t i = 0; i < s.size(); ++i) {
@@ -331,7 +331,7 @@ TEST(GeometryFeatures, ColourEdgesRaiseTheFeatureDegreeOnAFlatPlane) {
   std::vector<uint32_t> colors(s.size());
   for (size_t i = 0; i < s.size(); ++i) colors[i] = s.xyz[3 * i] < 0.0 ? 0xff000000u : 0xffffffffu;
   Analysis a(s.xyz, colors);
-  const auto& f = *a.feature_degree(12, 1.0f);
+  const auto& f = *a.feature_degree(12, {1.0f});
   double border = 0, inside = 0;
   int nb = 0, ni = 0;
   for (size_t i = 0; i < s.size(); ++i) {
@@ -341,6 +341,100 @@ TEST(GeometryFeatures, ColourEdgesRaiseTheFeatureDegreeOnAFlatPlane) {
   }
   EXPECT_GT(border / nb, 0.5);
   EXPECT_EQ(inside, 0.0);
+}
+
+namespace {
+// A jittered grid on a tilted plane (spacing 0.02), its points' tangent x.
+struct TiltedGrid {
+  std::vector<double> xyz;
+  std::vector<double> u;  // coordinate across the future edge
+};
+TiltedGrid tilted_grid(int side, unsigned seed = 8) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.004, 0.004);
+  const glm::dvec3 t1 = glm::normalize(glm::dvec3(1, 0, 0.5)), t2 = glm::normalize(glm::dvec3(0, 1, -0.3));
+  TiltedGrid g;
+  for (int i = 0; i < side; ++i)
+    for (int j = 0; j < side; ++j) {
+      const double a = 0.02 * (i - side / 2) + jitter(rng), b = 0.02 * (j - side / 2) + jitter(rng);
+      const glm::dvec3 p = a * t1 + b * t2 + glm::dvec3(100.0, -50.0, 20.0);
+      g.xyz.insert(g.xyz.end(), {p.x, p.y, p.z});
+      g.u.push_back(a);
+    }
+  return g;
+}
+uint32_t rgb(int r, int g, int b) { return uint32_t(r) | uint32_t(g) << 8 | uint32_t(b) << 16 | 0xff000000u; }
+}  // namespace
+
+TEST(GeometryFeatures, EdgeDetectorMeasuresTheStepAcrossTheNeighbourhood) {
+  // A lightness step of 40 across a line: a disc straddling a step of D
+  // fits a slope of 8D/(3 pi R), times its RMS extent R: 0.85 D.
+  const TiltedGrid g = tilted_grid(60);
+  std::vector<float> intensity;
+  for (double a : g.u) intensity.push_back(a < 0.0 ? 30.0f : 70.0f);
+  Analysis a(g.xyz, {}, intensity);
+  const LocalPoints& lp = a.points();
+  const std::vector<float> sorted = lp.to_sorted(std::span<const float>(intensity));
+  // Intensities 30 and 70 of a 99th percentile of 70: lightness 42.9 and 100.
+  const std::vector<float> e = lp.to_original(intensity_edges(lp, *a.knn(24), *a.pca(24), sorted));
+  std::vector<double> at_edge;
+  for (size_t i = 0; i < g.u.size(); ++i) {
+    if (std::abs(g.u[i]) < 0.004) at_edge.push_back(e[i]);
+    if (std::abs(g.u[i]) > 0.15) {
+      EXPECT_EQ(e[i], 0.0f);
+    }
+  }
+  const double step = 100.0 - 100.0 * 30.0 / 70.0;
+  EXPECT_NEAR(pct(at_edge, 0.5) / step, 8.0 / (3.0 * std::numbers::pi), 0.12);
+}
+
+TEST(GeometryFeatures, ColourEdgesAreColourNotJustLuminance) {
+  // Red against green of the same CIE lightness (L* 53.2 and 53.6): a
+  // luminance edge detector sees nothing; the CIELAB one sees a Delta E of
+  // about 170, far beyond the default contrast.
+  const TiltedGrid g = tilted_grid(50);
+  std::vector<uint32_t> colors;
+  for (double a : g.u) colors.push_back(a < 0.0 ? rgb(255, 0, 0) : rgb(0, 165, 0));
+  Analysis a(g.xyz, colors);
+  const auto& f = *a.feature_degree(16, {1.0f});
+  double border = 0, inside = 0;
+  int nb = 0;
+  for (size_t i = 0; i < g.u.size(); ++i) {
+    if (std::abs(g.u[i]) < 0.005) border += f[i], ++nb;
+    if (std::abs(g.u[i]) > 0.15) inside = std::max(inside, double(f[i]));
+  }
+  EXPECT_GT(border / nb, 0.95);
+  EXPECT_EQ(inside, 0.0);
+  // A faint edge (Delta E about 5) stays faint; contrast sets the scale.
+  std::vector<uint32_t> faint;
+  for (double u : g.u) faint.push_back(u < 0.0 ? rgb(120, 120, 120) : rgb(132, 132, 132));
+  Analysis b(g.xyz, faint);
+  double faint_border = 0, sharp_border = 0;
+  const auto& f25 = *b.feature_degree(16, {1.0f, 25.0f});
+  const auto& f5 = *b.feature_degree(16, {1.0f, 5.0f});
+  for (size_t i = 0; i < g.u.size(); ++i)
+    if (std::abs(g.u[i]) < 0.005) faint_border += f25[i], sharp_border += f5[i];
+  EXPECT_LT(faint_border / nb, 0.3);
+  EXPECT_GT(sharp_border / nb, 0.6);
+}
+
+TEST(GeometryFeatures, IntensityEdgesWhereThereAreNoColours) {
+  const TiltedGrid g = tilted_grid(50);
+  std::vector<float> intensity;
+  for (double u : g.u) intensity.push_back(u < 0.0 ? 400.0f : 2400.0f);
+  Analysis a(g.xyz, {}, intensity);
+  const auto& f = *a.feature_degree(16, {0.5f});
+  double border = 0;
+  int nb = 0;
+  for (size_t i = 0; i < g.u.size(); ++i) {
+    if (std::abs(g.u[i]) < 0.005) border += f[i], ++nb;
+    if (std::abs(g.u[i]) > 0.15) {
+      EXPECT_LT(f[i], 0.26f);  // the flat plane: the geometric half only
+    }
+  }
+  EXPECT_GT(border / nb, 0.45);
+  EXPECT_THROW(a.feature_degree(16, {0.5f, 0.0f}), Error);
+  EXPECT_THROW(a.feature_degree(16, {1.5f}), Error);
 }
 
 TEST(GeometryFeatures, LineFitSeparatesDirectionalFromScatteredFeaturePoints) {

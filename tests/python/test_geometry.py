@@ -216,3 +216,58 @@ def test_knn_and_radius_search_agree_with_brute_force():
     hits, hd = pointnpr.radius_search(p, p[0], 2.0)
     np.testing.assert_array_equal(np.sort(hits), np.nonzero(d[0] <= 2.0)[0])
     assert np.all(np.diff(hd) >= 0)
+
+
+def test_feature_degree_edges_from_intensity_and_from_a_point_cloud():
+    xs, ys = np.meshgrid(np.arange(60) * 0.02, np.arange(60) * 0.02)
+    flat = np.column_stack([xs.ravel(), ys.ravel(), 0.3 * xs.ravel()])
+    intensity = np.where(flat[:, 0] < 0.6, 300.0, 2000.0).astype(np.float32)
+    f = pointnpr.feature_degree(flat, k=16, intensity=intensity, color_weight=1.0)
+    border = np.abs(flat[:, 0] - 0.6) < 0.01
+    assert f[border].mean() > 0.9 and f[np.abs(flat[:, 0] - 0.6) > 0.2].max() == 0
+    # From a PointCloud, its own intensity is used (results in its internal order).
+    cloud = pointnpr.PointCloud(flat, intensity=intensity)
+    order = np.asarray(cloud.point_index)
+    np.testing.assert_array_equal(pointnpr.feature_degree(cloud, k=16, color_weight=1.0), f[order])
+    with pytest.raises(pointnpr.Error, match="intensity"):
+        pointnpr.feature_degree(flat, intensity=intensity[:10])
+    with pytest.raises(pointnpr.Error, match="contrast"):
+        pointnpr.feature_degree(flat, intensity=intensity, contrast=0.0)
+
+
+def test_progress_reaches_one_and_a_cancel_raises_cancelled():
+    import threading
+    import time
+
+    rng = np.random.default_rng(4)
+    pts = rng.uniform(0, 30, (300000, 3)) * [1, 1, 0.05]
+    colors = rng.integers(0, 255, (300000, 3)).astype(np.uint8)
+    done = pointnpr.Progress()
+    assert done.fraction == 0.0 and not done.cancelled
+    pointnpr.connected_components(pts, level=8, progress=done)
+    assert done.fraction == 1.0
+
+    early = pointnpr.Progress()
+    early.cancel()
+    with pytest.raises(pointnpr.Cancelled):
+        pointnpr.estimate_normals(pts, progress=early)
+    assert issubclass(pointnpr.Cancelled, pointnpr.Error) and issubclass(pointnpr.RenderCancelled, pointnpr.Cancelled)
+
+    # From another thread, while the core works (the GIL is released).
+    watched = pointnpr.Progress()
+    outcome = []
+
+    def run():
+        try:
+            pointnpr.region_growing_rgb(pts, colors, progress=watched)
+            outcome.append("completed")
+        except pointnpr.Cancelled:
+            outcome.append("cancelled")
+
+    worker = threading.Thread(target=run)
+    worker.start()
+    while watched.fraction == 0.0 and worker.is_alive():
+        time.sleep(0.0005)
+    watched.cancel()
+    worker.join()
+    assert outcome == ["cancelled"] and watched.fraction < 0.9

@@ -168,8 +168,7 @@ class ImportJob(PointObjectJob):
         self.recentre = recentre
         self.stem = os.path.splitext(os.path.basename(filepath))[0] or "Point Cloud"
         super().__init__()
-        self._thread = None
-        self._result = None
+        self._reading = None  # BackgroundCall of the reader
         self._groups = None
         self._next_group = 0
         self.done = False
@@ -194,20 +193,13 @@ class ImportJob(PointObjectJob):
         return "adding to the scene" if not self.done else "done"
 
     def start_reading_in_thread(self):
-        import threading
+        from .background import BackgroundCall
 
-        def run():
-            try:
-                self._result = ("ok", _core().read(self.filepath))
-            except BaseException as exc:  # handed to the main thread
-                self._result = ("error", exc)
-
-        self._thread = threading.Thread(target=run, name="pointnpr-read", daemon=True)
-        self._thread.start()
+        self._reading = BackgroundCall(_core().read, self.filepath, name="pointnpr-read", watch=False)
 
     @property
     def reading(self):
-        return self._thread is not None and self._result is None
+        return self._reading is not None and not self._reading.done
 
     def step(self):
         """Advances by one step; returns True when the import is complete.
@@ -215,13 +207,10 @@ class ImportJob(PointObjectJob):
         if self.done:
             return True
         if self._groups is None:
-            if self._thread is not None:
-                if self._result is None:
+            if self._reading is not None:
+                if not self._reading.done:
                     return False  # still reading
-                kind, value = self._result
-                if kind == "error":
-                    raise value
-                data = value
+                data = self._reading.result()
             else:
                 data = _core().read(self.filepath)
             self._prepare(data)

@@ -4,16 +4,21 @@ RegionGrowingRGB) or by an integer point attribute (LAS classification,
 labels). One collection with one object per segment, under a collection
 named after the object; the original object is hidden.
 
-The labels come from the core in one call; the objects are then created
-one per step, so that the progress bar moves and Esc cancels (leaving the
-scene as it was). ``segment_object`` does the same synchronously for
-scripts and tests.
+The labels come from one core call on a worker thread (the UI stays alive,
+the progress bar follows the core's progress, Esc stops the core within
+milliseconds); the objects are then created one per step. A cancel at any
+point leaves the scene as it was. ``segment_object`` does the same for
+scripts and tests, without a window.
 """
 import bpy
 import numpy as np
 
 from . import sync
+from .background import BackgroundCall
 from .importer import PointObjectJob, class_name, end_modal_job
+
+# Share of the progress bar for the labelling; object creation has the rest.
+LABELLING_SHARE = 0.5
 
 METHODS = (
     ('CONNECTED_COMPONENTS', "Connected Components",
@@ -45,38 +50,60 @@ def read_int_attribute(obj, name):
     return values
 
 
-def segment_labels(obj, method, octree_level=8, min_points=10, attribute="classification",
-                   distance_threshold=0.05, point_color_threshold=6.0, region_color_threshold=5.0,
-                   min_cluster_size=10, k=30):
-    """(labels, names): int labels per point (-1: unassigned) and a name per
-    label value, for ``obj``'s points."""
-    core = _core()
-    pos = sync.read_positions(obj).astype(np.float64)
-    if method == 'CONNECTED_COMPONENTS':
-        labels = core.connected_components(pos, level=octree_level, min_points=min_points)
-        names = {int(v): "Component %d" % (v + 1) for v in np.unique(labels) if v >= 0}
-        names[-1] = "Small components (< %d points)" % min_points
-    elif method == 'REGION_GROWING_RGB':
-        colors = sync.read_colors(obj)
-        if colors is None:
-            raise ValueError("object '%s' has no point colours to grow regions on" % obj.name)
-        labels = core.region_growing_rgb(pos, colors, distance_threshold=distance_threshold,
-                                         point_color_threshold=point_color_threshold,
-                                         region_color_threshold=region_color_threshold,
-                                         min_cluster_size=min_cluster_size, k=k)
-        names = {int(v): "Region %d" % (v + 1) for v in np.unique(labels) if v >= 0}
-        names[-1] = "Unassigned"
-    elif method == 'ATTRIBUTE':
-        values = read_int_attribute(obj, attribute)
-        groups = core.split_by_attribute(values)
-        labels = np.empty(len(values), dtype=np.int64)
-        names = {}
-        for i, (value, idx) in enumerate(groups.items()):
-            labels[idx] = i
-            names[i] = class_name(value) if attribute == "classification" else "%s %d" % (attribute, value)
-    else:
-        raise ValueError("unknown segmentation method %r" % method)
-    return np.asarray(labels), names
+class Labelling:
+    """One segmentation's core call: the inputs are read from Blender when
+    it is made (main thread); ``compute`` touches no Blender data, so it can
+    run on a worker thread."""
+
+    def __init__(self, obj, method, octree_level=8, min_points=10, attribute="classification",
+                 distance_threshold=0.05, point_color_threshold=6.0, region_color_threshold=5.0,
+                 min_cluster_size=10, k=30):
+        self.method = method
+        self.min_points = min_points
+        self.attribute = attribute
+        if method == 'CONNECTED_COMPONENTS':
+            self.positions = sync.read_positions(obj).astype(np.float64)
+            self.kwargs = dict(level=octree_level, min_points=min_points)
+        elif method == 'REGION_GROWING_RGB':
+            self.positions = sync.read_positions(obj).astype(np.float64)
+            self.colors = sync.read_colors(obj)
+            if self.colors is None:
+                raise ValueError("object '%s' has no point colours to grow regions on" % obj.name)
+            self.kwargs = dict(distance_threshold=distance_threshold, point_color_threshold=point_color_threshold,
+                               region_color_threshold=region_color_threshold, min_cluster_size=min_cluster_size,
+                               k=k)
+        elif method == 'ATTRIBUTE':
+            self.values = read_int_attribute(obj, attribute)
+        else:
+            raise ValueError("unknown segmentation method %r" % method)
+
+    def compute(self, progress=None):
+        """(labels, names): int labels per point (-1: unassigned) and a name
+        per label value. Raises pointnpr.Cancelled once ``progress`` is
+        cancelled."""
+        core = _core()
+        if self.method == 'CONNECTED_COMPONENTS':
+            labels = core.connected_components(self.positions, progress=progress, **self.kwargs)
+            names = {int(v): "Component %d" % (v + 1) for v in np.unique(labels) if v >= 0}
+            names[-1] = "Small components (< %d points)" % self.min_points
+        elif self.method == 'REGION_GROWING_RGB':
+            labels = core.region_growing_rgb(self.positions, self.colors, progress=progress, **self.kwargs)
+            names = {int(v): "Region %d" % (v + 1) for v in np.unique(labels) if v >= 0}
+            names[-1] = "Unassigned"
+        else:
+            groups = core.split_by_attribute(self.values)
+            labels = np.empty(len(self.values), dtype=np.int64)
+            names = {}
+            for i, (value, idx) in enumerate(groups.items()):
+                labels[idx] = i
+                names[i] = class_name(value) if self.attribute == "classification" else \
+                    "%s %d" % (self.attribute, value)
+        return np.asarray(labels), names
+
+
+def segment_labels(obj, method, **params):
+    """(labels, names) for ``obj``'s points, computed on this thread."""
+    return Labelling(obj, method, **params).compute()
 
 
 class SegmentJob(PointObjectJob):
@@ -110,6 +137,11 @@ class SegmentJob(PointObjectJob):
     @property
     def steps_done(self):
         return self._next + (1 if self.done else 0)
+
+    @property
+    def fraction(self):
+        """Of the whole segmentation, the labelling being done."""
+        return LABELLING_SHARE + (1.0 - LABELLING_SHARE) * self.steps_done / self.total_steps
 
     done = False
 
@@ -146,21 +178,30 @@ class SegmentJob(PointObjectJob):
 
 
 def segment_object(context, obj, method, progress=None, cancelled=None, max_segments=256, **params):
-    """Splits ``obj``; returns the created objects. ``progress(done, total)``
-    after each step, ``cancelled()`` between steps (True: raise
-    SegmentCancelled with the scene left as it was)."""
-    labels, names = segment_labels(obj, method, **params)
+    """Splits ``obj``; returns the created objects. ``progress(fraction,
+    stage)`` as the work goes on (stage: "labelling", then "creating");
+    ``cancelled()`` is asked every few milliseconds while the core labels
+    (True: the core call is stopped) and between the objects created; on
+    True, SegmentCancelled is raised with the scene left as it was."""
+    call = BackgroundCall(Labelling(obj, method, **params).compute, name="pointnpr-segment")
+    while not call.wait(0.005):
+        if progress is not None:
+            progress(LABELLING_SHARE * call.fraction, "labelling")
+        if cancelled is not None and cancelled():
+            call.cancel()
+            raise SegmentCancelled("segmentation of %s cancelled while labelling" % obj.name)
+    labels, names = call.result()
     job = SegmentJob(context, obj, labels, names, max_segments)
     try:
         while True:
             if progress is not None:
-                progress(job.steps_done, job.total_steps)
+                progress(job.fraction, "creating")
             if cancelled is not None and cancelled():
                 raise SegmentCancelled("segmentation of %s cancelled" % obj.name)
             if job.step():
                 break
         if progress is not None:
-            progress(job.steps_done, job.total_steps)
+            progress(job.fraction, "creating")
     except BaseException:
         job.cleanup()
         raise
@@ -168,20 +209,22 @@ def segment_object(context, obj, method, progress=None, cancelled=None, max_segm
 
 
 class _Progress:
+    """The window manager's progress bar, from 0 to 1."""
+
     def __init__(self, wm):
         self.wm = wm
-        self.total = None
+        self.started = False
 
-    def __call__(self, done, total):
-        if self.total is None:
-            self.wm.progress_begin(0, total)
-            self.total = total
-        self.wm.progress_update(done)
+    def __call__(self, fraction, stage=None):
+        if not self.started:
+            self.wm.progress_begin(0.0, 1.0)
+            self.started = True
+        self.wm.progress_update(min(max(fraction, 0.0), 1.0))
 
     def end(self):
-        if self.total is not None:
+        if self.started:
             self.wm.progress_end()
-            self.total = None
+            self.started = False
 
 
 def _point_object(context):
@@ -227,11 +270,6 @@ class OBJECT_OT_pointnpr_segment(bpy.types.Operator):
                         min_cluster_size=self.min_cluster_size)
         return dict(attribute=self.attribute)
 
-    def _start(self, context):
-        obj = _point_object(context)
-        labels, names = segment_labels(obj, self.method, **self._params())
-        return SegmentJob(context, obj, labels, names, self.max_segments)
-
     def execute(self, context):
         progress = _Progress(context.window_manager)
         try:
@@ -248,16 +286,20 @@ class OBJECT_OT_pointnpr_segment(bpy.types.Operator):
     def invoke(self, context, event):
         if bpy.app.background or context.window is None:
             return self.execute(context)
+        obj = _point_object(context)
         try:
-            self._job = self._start(context)
+            labelling = Labelling(obj, self.method, **self._params())
         except (ValueError, _core().Error) as exc:
             self.report({'ERROR'}, str(exc))
             return {'CANCELLED'}
+        self._source = obj
+        self._call = BackgroundCall(labelling.compute, name="pointnpr-segment")
+        self._job = None
         self._progress = _Progress(context.window_manager)
         self._timer = context.window_manager.event_timer_add(0.02, window=context.window)
         context.window_manager.modal_handler_add(self)
         if context.workspace is not None:
-            context.workspace.status_text_set("Segmenting %s (Esc to cancel)" % self._job.source.name)
+            context.workspace.status_text_set("Segmenting %s (Esc to cancel)" % obj.name)
         return {'RUNNING_MODAL'}
 
     def _finish(self, context):
@@ -266,18 +308,37 @@ class OBJECT_OT_pointnpr_segment(bpy.types.Operator):
     def modal(self, context, event):
         if event.type == 'ESC':
             self._finish(context)
-            self._job.cleanup()
-            self.report({'WARNING'}, "Segmentation cancelled")
+            if self._job is None:
+                self._call.cancel()  # the core stops at its next check
+                self.report({'WARNING'}, "Segmentation cancelled while labelling (%d %% done)"
+                            % round(100 * self._call.fraction))
+            else:
+                self._job.cleanup()
+                self.report({'WARNING'}, "Segmentation cancelled")
             return {'CANCELLED'}
         if event.type != 'TIMER':
             return {'PASS_THROUGH'}
         try:
+            if self._job is None:
+                if not self._call.done:
+                    self._progress(LABELLING_SHARE * self._call.fraction)
+                    return {'RUNNING_MODAL'}
+                labels, names = self._call.result()
+                self._job = SegmentJob(context, self._source, labels, names, self.max_segments)
+                return {'RUNNING_MODAL'}
             complete = self._job.step()
+        except (ValueError, _core().Error) as exc:
+            self._finish(context)
+            if self._job is not None:
+                self._job.cleanup()
+            self.report({'ERROR'}, str(exc))
+            return {'CANCELLED'}
         except BaseException:
             self._finish(context)
-            self._job.cleanup()
+            if self._job is not None:
+                self._job.cleanup()
             raise
-        self._progress(self._job.steps_done, self._job.total_steps)
+        self._progress(self._job.fraction)
         if not complete:
             return {'RUNNING_MODAL'}
         self._finish(context)
@@ -295,5 +356,8 @@ def register():
 
 
 def unregister():
+    from . import background
+
+    background.cancel_all()  # a labelling still running must not outlive the add-on
     bpy.types.VIEW3D_MT_object.remove(menu_func)
     bpy.utils.unregister_class(OBJECT_OT_pointnpr_segment)
