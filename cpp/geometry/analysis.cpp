@@ -228,9 +228,11 @@ LineFit Analysis::line_fit(const std::vector<uint8_t>& mask, int k) {
 
 Components Analysis::region_growing_rgb(const RegionGrowingParams& params) {
   check_k(params.k);
+  if (params.region_neighbours < 0) throw Error("region_neighbours must be >= 0");
   const Call call(*this);
-  call.plan(knn_work(params.k) + 2 * size());
-  return geometry::region_growing_rgb(points(), *knn(params.k), colors_sorted(), params);
+  const int k = std::max(params.k, params.region_neighbours);
+  call.plan(knn_work(k) + 2 * size());
+  return geometry::region_growing_rgb(points(), *knn(k), colors_sorted(), params);
 }
 
 Components Analysis::connected_components(int level, uint32_t min_points, double cell_size, bool float32) {

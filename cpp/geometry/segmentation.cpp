@@ -200,9 +200,13 @@ Components region_growing_rgb(const LocalPoints& pts, const Neighborhoods& nb, c
   Components out;
   out.labels.assign(n, -1);
   if (n == 0) return out;
-  const double p2p = prm.point_color_threshold * prm.point_color_threshold;
-  const double r2r = prm.region_color_threshold * prm.region_color_threshold;
-  const float dist2_max = float(prm.distance_threshold * prm.distance_threshold);
+  // PCL squares its thresholds in float (setPointColorThreshold, ...).
+  const auto squared = [](double t) { return double(float(t) * float(t)); };
+  const double p2p = squared(prm.point_color_threshold), r2r = squared(prm.region_color_threshold);
+  const float dist2_max = float(squared(prm.distance_threshold));
+  // PCL searches region_neighbours points per point, grows over the first k.
+  const int region_k = std::min(prm.region_neighbours > 0 ? prm.region_neighbours : prm.k, nb.k);
+  const int grow_k = std::min(prm.k, region_k);
   // (1) growth from seeds in index order.
   std::vector<int32_t> seg(n, -1);
   int32_t nseg = 0;
@@ -222,7 +226,7 @@ Components region_growing_rgb(const LocalPoints& pts, const Neighborhoods& nb, c
     while (!queue.empty()) {
       const uint32_t p = queue.front();
       queue.pop_front();
-      for (int j = 0; j < nb.k; ++j) {
+      for (int j = 0; j < grow_k; ++j) {
         const uint32_t q = nb.at(p)[j];
         if (seg[q] >= 0 || color_dist2(colors[p], colors[q]) > p2p) continue;
         seg[q] = nseg;
@@ -231,8 +235,7 @@ Components region_growing_rgb(const LocalPoints& pts, const Neighborhoods& nb, c
     }
     ++nseg;
   }
-  // Segment sizes, mean colours (PCL truncates means to integers), and the
-  // nearest point distance to each neighbouring segment.
+  // Segment sizes and mean colours (PCL: float division, truncated).
   std::vector<uint64_t> seg_size(static_cast<size_t>(nseg), 0);
   std::vector<std::array<uint64_t, 3>> sum(static_cast<size_t>(nseg), {0, 0, 0});
   for (size_t i = 0; i < n; ++i) {
@@ -242,17 +245,50 @@ Components region_growing_rgb(const LocalPoints& pts, const Neighborhoods& nb, c
   std::vector<uint32_t> mean(static_cast<size_t>(nseg));
   for (size_t s = 0; s < size_t(nseg); ++s) {
     uint32_t packed = 0;
-    for (int c = 0; c < 3; ++c) packed |= uint32_t(double(sum[s][size_t(c)]) / double(seg_size[s])) << (8 * c);
+    for (int c = 0; c < 3; ++c)
+      packed |= uint32_t(float(sum[s][size_t(c)]) / float(seg_size[s])) << (8 * c);
     mean[s] = packed;
   }
-  std::vector<std::map<int32_t, float>> seg_nb(static_cast<size_t>(nseg));
-  for (size_t i = 0; i < n; ++i)
-    for (int j = 0; j < nb.k; ++j) {
-      const int32_t o = seg[nb.at(i)[j]];
-      if (o == seg[i]) continue;
-      auto [it, fresh] = seg_nb[size_t(seg[i])].try_emplace(o, nb.d2_at(i)[j]);
-      if (!fresh) it->second = std::min(it->second, nb.d2_at(i)[j]);
+  // PCL's findRegionsKNN: the nearest point distance from a segment to each
+  // segment that its points' region_k nearest neighbours reach; the
+  // region_k nearest of those (by distance, then segment) are its
+  // neighbours. Points grouped by segment, one pass over their neighbours.
+  std::vector<uint32_t> seg_start(static_cast<size_t>(nseg) + 1, 0), by_seg(n);
+  for (size_t i = 0; i < n; ++i) ++seg_start[size_t(seg[i]) + 1];
+  for (size_t s = 0; s < size_t(nseg); ++s) seg_start[s + 1] += seg_start[s];
+  {
+    std::vector<uint32_t> fill(seg_start.begin(), seg_start.end() - 1);
+    for (size_t i = 0; i < n; ++i) by_seg[fill[size_t(seg[i])]++] = uint32_t(i);
+  }
+  std::vector<std::vector<std::pair<int32_t, float>>> seg_nb(static_cast<size_t>(nseg));
+  {
+    std::vector<float> nearest(static_cast<size_t>(nseg), std::numeric_limits<float>::infinity());
+    std::vector<int32_t> touched;
+    for (int32_t s = 0; s < nseg; ++s) {
+      for (uint32_t at = seg_start[size_t(s)]; at < seg_start[size_t(s) + 1]; ++at) {
+        const uint32_t i = by_seg[at];
+        for (int j = 0; j < region_k; ++j) {
+          const int32_t o = seg[nb.at(i)[j]];
+          if (o == s) continue;
+          const float d2 = nb.d2_at(i)[j];
+          if (nearest[size_t(o)] == std::numeric_limits<float>::infinity()) touched.push_back(o);
+          nearest[size_t(o)] = std::min(nearest[size_t(o)], d2);
+        }
+      }
+      auto& list = seg_nb[size_t(s)];
+      for (int32_t o : touched) list.emplace_back(o, nearest[size_t(o)]);
+      const auto closer = [](const std::pair<int32_t, float>& a, const std::pair<int32_t, float>& b) {
+        return a.second != b.second ? a.second < b.second : a.first < b.first;
+      };
+      if (list.size() > size_t(region_k)) {
+        std::nth_element(list.begin(), list.begin() + region_k, list.end(), closer);
+        list.resize(size_t(region_k));
+      }
+      std::sort(list.begin(), list.end(), closer);
+      for (int32_t o : touched) nearest[size_t(o)] = std::numeric_limits<float>::infinity();
+      touched.clear();
     }
+  }
   check_cancelled(progress);
   // (2) homogeneous regions: one greedy pass as PCL does.
   std::vector<int32_t> region(static_cast<size_t>(nseg), -1);

@@ -32,18 +32,27 @@ struct Components {
 Components connected_components(std::span<const double> xyz, int level, uint32_t min_points, double cell_size = 0.0,
                                 bool float32 = false);
 
-// PCL RegionGrowingRGB (no normal or curvature test): (1) from seeds in
-// index order, grow over the k-nearest-neighbour graph while the RGB
-// distance between a point and its neighbour is <= point_color_threshold;
-// (2) merge neighbouring regions (closest points within distance_threshold)
-// whose mean colours differ by < region_color_threshold; (3) merge regions
-// smaller than min_cluster_size into their nearest neighbouring region;
-// (4) regions outside [min_cluster_size, max_cluster_size] get label -1.
-// Distances are Euclidean (PCL compares its distance threshold with squared
-// distances; here the threshold is a distance). Colours: packed RGBA8 in
-// LocalPoints order. Labels in original order, 0.. by decreasing size.
+// PCL RegionGrowingRGB (no normal or curvature test), step by step: (1)
+// from seeds in index order, regions grow breadth-first over each point's
+// k nearest neighbours while the RGB distance between a point and its
+// neighbour is <= point_color_threshold; (2) each segment's neighbours are
+// the region_neighbours nearest segments that its points' region_neighbours
+// nearest points reach (at the nearest such point distance); in segment
+// order, a segment takes each unlabelled neighbour within
+// distance_threshold whose mean colour (truncated to integers) differs by
+// < region_color_threshold into its region; (3) regions smaller than
+// min_cluster_size, in region order, join the region of their nearest
+// neighbouring segment; (4) regions outside [min_cluster_size,
+// max_cluster_size] get label -1. Thresholds are distances, as PCL's
+// setters make them (they square them). PCL's defaults are k = 30,
+// region_neighbours = 100; region_neighbours = 0 here means k. Exactly
+// PCL's partition but where two distances tie (PCL's kNN and its sort of
+// region neighbours break ties arbitrarily): see bench/pcl_region_growing.
+// Colours: packed RGBA8 in LocalPoints order. Labels in original order,
+// 0.. by decreasing size.
 struct RegionGrowingParams {
   int k = 30;
+  int region_neighbours = 0;
   double distance_threshold = 0.05;
   double point_color_threshold = 6.0;
   double region_color_threshold = 5.0;

@@ -269,10 +269,11 @@ void bind_geometry(py::module_& m) {
       "region_growing_rgb",
       [](const py::object& points, const py::object& colors, double distance_threshold, double point_color_threshold,
          double region_color_threshold, uint32_t min_cluster_size, uint32_t max_cluster_size, int k,
-         const py::object& progress) {
+         int region_neighbours, const py::object& progress) {
         Source s = source(points, colors);
         geometry::RegionGrowingParams p;
         p.k = k;
+        p.region_neighbours = region_neighbours;
         p.distance_threshold = distance_threshold;
         p.point_color_threshold = point_color_threshold;
         p.region_color_threshold = region_color_threshold;
@@ -283,8 +284,10 @@ void bind_geometry(py::module_& m) {
       py::arg("points"), py::arg("colors") = py::none(), py::arg("distance_threshold") = 0.05,
       py::arg("point_color_threshold") = 6.0, py::arg("region_color_threshold") = 5.0,
       py::arg("min_cluster_size") = 10, py::arg("max_cluster_size") = 0xffffffffu, py::arg("k") = 30,
-      py::arg("progress") = py::none(),
-      "PCL RegionGrowingRGB: int32 labels (N,), 0.. by decreasing size, -1 outside the size limits.");
+      py::arg("region_neighbours") = 0, py::arg("progress") = py::none(),
+      "PCL RegionGrowingRGB: int32 labels (N,), 0.. by decreasing size, -1 outside the size limits. "
+      "k: neighbours a region grows over; region_neighbours (0: k): neighbours and neighbouring segments "
+      "searched for merging (PCL's defaults: 30 and 100).");
 
   m.def(
       "split_by_attribute",
