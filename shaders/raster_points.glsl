@@ -1,6 +1,7 @@
 // Per-point setup shared by the compute rasterizer and the GL_POINTS path.
 layout(std430, binding = 0) readonly buffer Positions { float positions[]; };
 layout(std430, binding = 1) readonly buffer Attribute { uint attribute_u[]; };
+layout(std430, binding = 2) readonly buffer Normals { uint normals_u[]; };  // snorm8 x3
 
 uniform mat4 u_view_from_chunk;  // composed in double on the CPU, then cast
 uniform mat4 u_projection;
@@ -20,6 +21,10 @@ uniform vec4 u_constant_color;
 uniform int u_color_source;   // 0 rgb, 1 intensity, 2 classification, 3 constant
 uniform float u_intensity_scale;
 uniform ivec4 u_clip_rect;
+uniform int u_shading;           // 0 none, 1 diffuse
+uniform float u_shading_strength;
+uniform vec3 u_light_dir;        // towards the light, view space
+uniform mat3 u_normal_matrix;    // view from chunk, for normals
 
 // ASPRS LAS classes 0-18 (display sRGB); others fall back to gray.
 const vec3 CLASS_COLORS[19] = vec3[](
@@ -49,7 +54,7 @@ Splat project_point(uint index) {
   return s;
 }
 
-vec4 point_color(uint index) {
+vec4 source_color(uint index) {
   if (u_color_source == 0) return vec4(unpackUnorm4x8(attribute_u[index]).rgb, 1.0);
   if (u_color_source == 1) return vec4(vec3(clamp(uintBitsToFloat(attribute_u[index]) * u_intensity_scale, 0.0, 1.0)), 1.0);
   if (u_color_source == 2) {
@@ -57,6 +62,18 @@ vec4 point_color(uint index) {
     return vec4(c < 19u ? CLASS_COLORS[c] : vec3(0.5), 1.0);
   }
   return vec4(u_constant_color.rgb, 1.0);
+}
+
+vec4 point_color(uint index) {
+  vec4 c = source_color(index);
+  if (u_shading != 0) {
+    vec3 n = u_normal_matrix * unpackSnorm4x8(normals_u[index]).xyz;
+    float len = length(n);
+    // Two-sided: estimated normals need not face the camera.
+    float lambert = len > 0.0 ? abs(dot(n / len, u_light_dir)) : 1.0;
+    c.rgb *= 1.0 - u_shading_strength * (1.0 - lambert);
+  }
+  return c;
 }
 
 // Coverage rule shared by both rasterizers: pixel centres within the disk

@@ -8,6 +8,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <limits>
 
+#include "geometry/analysis.h"
 #include "gl/device.h"
 #include "gl/objects.h"
 #include "gl/shaders.h"
@@ -78,10 +79,27 @@ struct GpuCloud {
   std::weak_ptr<const PointCloud> source;
   gl::Buffer positions;
   gl::Buffer colors, intensity, classification;
+  gl::Buffer normals;   // snorm8 x3 per point
+  int normal_source = -1;  // what `normals` holds: 0 the cloud's own, k estimated from k neighbours
   gl::VertexArray vao;  // for the GL_POINTS path
   uint32_t uploaded = 0;
   float intensity_scale = 1.0f;
 };
+
+// Unit normals as signed 8-bit x, y, z (0.5 degree steps: plenty for
+// shading, a quarter of the upload).
+std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals) {
+  std::vector<uint32_t> out(normals.size());
+  for (size_t i = 0; i < normals.size(); ++i) {
+    uint32_t packed = 0;
+    for (int c = 0; c < 3; ++c) {
+      const float v = std::isfinite(normals[i][c]) ? std::clamp(normals[i][c], -1.0f, 1.0f) : 0.0f;
+      packed |= uint32_t(uint8_t(int8_t(std::lround(v * 127.0f)))) << (8 * c);
+    }
+    out[i] = packed;
+  }
+  return out;
+}
 
 // A chunk that survived culling, with its float view transform.
 struct VisibleChunk {
@@ -124,7 +142,9 @@ struct Renderer::Impl {
     return gl::make_buffer(data.size() * sizeof(T), data.data(), 0);
   }
 
-  GpuCloud& gpu_cloud(const std::shared_ptr<const PointCloud>& cloud, uint32_t needed) {
+  // normal_k: the neighbours to estimate normals from, where the style
+  // shades and the cloud has none of its own.
+  GpuCloud& gpu_cloud(const std::shared_ptr<const PointCloud>& cloud, uint32_t needed, int normal_k) {
     GpuCloud& g = clouds[cloud->id()];
     if (!g.positions) {
       g.source = cloud;
@@ -148,6 +168,20 @@ struct Renderer::Impl {
     }
     if ((missing & uint32_t(Attribute::Classification)) && cloud->has(Attribute::Classification))
       g.classification = upload(cloud->classification());
+    if (needed & uint32_t(Attribute::Normal)) {
+      const int source = cloud->has(Attribute::Normal) ? 0 : normal_k;
+      if (g.normal_source != source) {
+        if (source == 0) {
+          g.normals = upload(pack_normals(cloud->normals()));
+        } else {
+          // Estimated once per cloud and k (the cloud's geometry cache keeps
+          // them), consistently oriented; the shading is two-sided anyway.
+          const auto estimated = cloud->analysis().normals({source, geometry::Orientation::Consistent, {}});
+          g.normals = upload(pack_normals(*estimated));
+        }
+        g.normal_source = source;
+      }
+    }
     g.uploaded |= needed;
     gl::check_gl("point upload");
     return g;
@@ -269,12 +303,13 @@ struct Renderer::Impl {
           key_base += chunk.count;
           continue;
         }
-        if (!gpu) gpu = &gpu_cloud(inst.cloud, needed);
+        if (!gpu) gpu = &gpu_cloud(inst.cloud, needed, seg.style.rasterize.get_int("normal_neighbors"));
         screen = screen.united(r);
         visible.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base});
         key_base += chunk.count;
       }
-      if (needed && !inst.cloud->has(Attribute(needed)))
+      const uint32_t color = seg.style.color_attribute();
+      if (color && !inst.cloud->has(Attribute(color)))
         result.warnings.push_back("segment '" + seg.name + "': its style colors points by " +
                                   seg.style.rasterize.get_enum_name("color_source") +
                                   " but a cloud has none; the constant color is used");
@@ -299,6 +334,14 @@ struct Renderer::Impl {
     const glm::vec4 c = r.get_color("color");
     glUniform4f(p.location("u_constant_color"), c.r, c.g, c.b, c.a);
     glUniform4i(p.location("u_clip_rect"), clip.min.x, clip.min.y, clip.max.x, clip.max.y);
+    // Towards the light, in view space: elevation away from the view axis,
+    // azimuth around it (0 from the right, 90 from above).
+    const double azimuth = glm::radians(r.get_float("light_azimuth")),
+                 elevation = glm::radians(r.get_float("light_elevation"));
+    glUniform1i(p.location("u_shading"), seg.style.shaded() ? 1 : 0);
+    glUniform1f(p.location("u_shading_strength"), float(r.get_float("shading_strength")));
+    glUniform3f(p.location("u_light_dir"), float(std::sin(elevation) * std::cos(azimuth)),
+                float(std::sin(elevation) * std::sin(azimuth)), float(std::cos(elevation)));
   }
 
   // Binds the chunk's cloud buffers and chooses the color source it can serve.
@@ -312,6 +355,9 @@ struct Renderer::Impl {
     if (attr && !*attr) source = int(ColorSource::Constant);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.positions.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, attr && *attr ? attr->id() : g.positions.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.normals ? g.normals.id() : g.positions.id());
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(v.view_from_chunk)));
+    glUniformMatrix3fv(p.location("u_normal_matrix"), 1, GL_FALSE, glm::value_ptr(normal_matrix));
     glUniform1i(p.location("u_color_source"), source);
     glUniform1f(p.location("u_intensity_scale"), g.intensity_scale);
     glUniformMatrix4fv(p.location("u_view_from_chunk"), 1, GL_FALSE, glm::value_ptr(v.view_from_chunk));

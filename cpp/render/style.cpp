@@ -16,6 +16,16 @@ const Schema& rasterize_schema() {
           enum_param("color_source", {"rgb", "intensity", "classification", "constant"}, 0,
                      "Where point colors come from; a cloud lacking it uses the constant color"),
           color_param("color", {0.8, 0.8, 0.8, 1.0}, "Constant color (display sRGB)"),
+          enum_param("shading", {"none", "diffuse"}, 0,
+                     "Light the points by their normals (the cloud's own, else estimated from neighbours, once)"),
+          float_param("shading_strength", 0.7, 0.0, 1.0, "",
+                      "How dark surfaces turned away from the light get (diffuse shading)"),
+          float_param("light_azimuth", 135.0, -180.0, 180.0, "deg",
+                      "Light direction around the view axis, from the camera (0: from the right, 90: from above)"),
+          float_param("light_elevation", 45.0, 0.0, 90.0, "deg",
+                      "Light direction away from the view axis (0: along it, from the camera)"),
+          int_param("normal_neighbors", 16, 3, 64, "",
+                    "Neighbours the normals are estimated from where a cloud has none (PCA, seed 001 eq. 1)"),
       }};
   return schema;
 }
@@ -56,7 +66,7 @@ void Style::add_filter(const std::string& id, const std::map<std::string, std::v
   filters.push_back(std::move(step));
 }
 
-uint32_t Style::required_attributes() const {
+uint32_t Style::color_attribute() const {
   switch (ColorSource(rasterize.get_enum("color_source"))) {
     case ColorSource::Rgb: return uint32_t(Attribute::Color);
     case ColorSource::Intensity: return uint32_t(Attribute::Intensity);
@@ -65,5 +75,11 @@ uint32_t Style::required_attributes() const {
   }
   return 0;
 }
+
+uint32_t Style::required_attributes() const {
+  return color_attribute() | (shaded() ? uint32_t(Attribute::Normal) : 0u);
+}
+
+bool Style::shaded() const { return rasterize.get_enum("shading") != 0; }
 
 }  // namespace pointnpr

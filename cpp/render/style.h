@@ -34,8 +34,11 @@ struct Style {
 
   void add_filter(const std::string& id, const std::map<std::string, std::vector<double>>& params,
                   const std::map<std::string, std::string>& paths = {});
-  // The cloud attributes the rasterize stage reads (only those are uploaded).
+  // The cloud attributes the rasterize stage reads (only those are uploaded;
+  // normals a cloud lacks are estimated for it, once, when a style asks).
   uint32_t required_attributes() const;
+  uint32_t color_attribute() const;  // the one of the color source (0: constant)
+  bool shaded() const;
 };
 
 struct Instance {

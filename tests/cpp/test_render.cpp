@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "geometry/analysis.h"
 #include "gl/device.h"
 #include "gl/gl.h"
 #include "gl/shaders.h"
@@ -204,6 +205,65 @@ TEST(Render, OnlyAttributesTheStyleUsesAreUploadedOnce) {
   renderer.render(rgb, cam, settings(kSize));  // redraw: nothing new
   EXPECT_EQ(renderer.upload_count(), uploads_after_positions + 1);
   EXPECT_EQ(renderer.cached_clouds(), 1u);
+}
+
+namespace {
+// A unit sphere 5 m in front of the camera, evenly sampled (Fibonacci).
+std::shared_ptr<PointCloud> sphere_cloud(bool with_normals) {
+  std::vector<double> pos;
+  std::vector<float> nrm;
+  const int n = 12000;
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / n, r = std::sqrt(1.0 - z * z), a = 2.399963229728653 * i;
+    const glm::dvec3 d(r * std::cos(a), r * std::sin(a), z);
+    pos.insert(pos.end(), {d.x, d.y, d.z - 5.0});
+    nrm.insert(nrm.end(), {float(d.x), float(d.y), float(d.z)});
+  }
+  PointCloudInput in;
+  in.positions = pos;
+  if (with_normals) in.normals = nrm;
+  return std::make_shared<PointCloud>(in);
+}
+float gray_at(const RenderResult& r, int x, int y) { return r.color[4 * (size_t(y) * size_t(r.width) + size_t(x))]; }
+}  // namespace
+
+TEST(Render, DiffuseShadingUsesNormalsEstimatedOnlyWhenAStyleAsks) {
+  const Camera cam = front_camera({0, 0, 0}, kSize);
+  const Style flat = style_with({{"point_size", {3}}, {"color_source", {3}}, {"color", {1, 1, 1, 1}}});
+  const Style lit = style_with({{"point_size", {3}}, {"color_source", {3}}, {"color", {1, 1, 1, 1}},
+                                {"shading", {1}}, {"shading_strength", {1}}, {"light_elevation", {0}}});
+  for (RasterizerKind kind : {RasterizerKind::Compute, RasterizerKind::GlPoints}) {
+    Renderer renderer;
+    auto cloud = sphere_cloud(false);
+    Scene scene;
+    scene.segments.push_back(segment("ball", cloud, flat));
+    const RenderResult plain = renderer.render(scene, cam, settings(kSize, "inpaint", 0.0, kind));
+    EXPECT_TRUE(cloud->analysis().computed().empty());  // a style without shading estimates nothing
+    EXPECT_EQ(renderer.uploaded_attributes(cloud->id()) & uint32_t(Attribute::Normal), 0u);
+    scene.segments[0].style = lit;
+    const RenderResult shaded = renderer.render(scene, cam, settings(kSize, "inpaint", 0.0, kind));
+    const auto computed = cloud->analysis().computed();
+    EXPECT_NE(std::find(computed.begin(), computed.end(), "normals:16:consistent"), computed.end());
+    EXPECT_NE(renderer.uploaded_attributes(cloud->id()) & uint32_t(Attribute::Normal), 0u);
+    // Light from the camera: the centre faces it, 0.9 of the way to the rim
+    // the surface is turned 64 degrees away (cos = 0.44).
+    const int rim_x = 160 + 82;
+    EXPECT_NEAR(gray_at(plain, 160, 120), gray_at(plain, rim_x, 120), 1e-6f);
+    EXPECT_GT(gray_at(shaded, 160, 120), 0.95f * gray_at(plain, 160, 120));
+    EXPECT_LT(gray_at(shaded, rim_x, 120), 0.6f * gray_at(plain, rim_x, 120));
+    EXPECT_GT(gray_at(shaded, rim_x, 120), 0.05f);
+    // A second frame reuses the uploaded normals.
+    const uint64_t uploads = renderer.upload_count();
+    renderer.render(scene, cam, settings(kSize, "inpaint", 0.0, kind));
+    EXPECT_EQ(renderer.upload_count(), uploads);
+
+    // A cloud with normals of its own is lit by them; nothing is estimated.
+    auto own = sphere_cloud(true);
+    scene.segments[0].instances[0].cloud = own;
+    const RenderResult given = renderer.render(scene, cam, settings(kSize, "inpaint", 0.0, kind));
+    EXPECT_TRUE(own->analysis().computed().empty());
+    EXPECT_NEAR(gray_at(given, rim_x, 120), gray_at(shaded, rim_x, 120), 0.05f);
+  }
 }
 
 TEST(Render, MissingAttributeFallsBackToConstantColorWithAWarning) {

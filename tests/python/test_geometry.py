@@ -206,6 +206,34 @@ def test_a_cloud_computes_nothing_until_asked_then_caches(renderer, camera):
     assert [a for a in pointnpr.computed_attributes(cloud) if a.startswith("pca")] == ["pca:10"]
 
 
+def test_a_shaded_style_estimates_normals_once_for_the_cloud(renderer, camera):
+    cloud = plane(-1, 1, -1, 1, -5, 0.05, (200, 100, 50))
+    scene = pointnpr.Scene()
+    scene.add_segment("s", pointnpr.Style(rasterize={"shading": "diffuse", "normal_neighbors": 12}), [cloud])
+    first = renderer.render(scene, camera, 160, 120)
+    assert "normals:12:consistent" in pointnpr.computed_attributes(cloud)
+    before = pointnpr.computed_attributes(cloud)
+    again = renderer.render(scene, camera, 160, 120)
+    assert pointnpr.computed_attributes(cloud) == before  # nothing recomputed
+    np.testing.assert_array_equal(first.color, again.color)
+    # The plane faces the camera: a light from the camera leaves it as it
+    # is, one 75 degrees off darkens it by strength x (1 - cos 75).
+    flat = pointnpr.Scene()
+    flat.add_segment("s", pointnpr.Style(), [cloud])
+    grazing = pointnpr.Scene()
+    grazing.add_segment("s", pointnpr.Style(rasterize={"shading": "diffuse", "normal_neighbors": 12,
+                                                       "light_elevation": 75, "shading_strength": 1.0}), [cloud])
+    centre = lambda r: r.color[60, 80, :3]  # noqa: E731
+    plain, low = centre(renderer.render(flat, camera, 160, 120)), centre(renderer.render(grazing, camera, 160, 120))
+    head_on = pointnpr.Style(rasterize={"shading": "diffuse", "normal_neighbors": 12, "light_elevation": 0})
+    lit = pointnpr.Scene()
+    lit.add_segment("s", head_on, [cloud])
+    np.testing.assert_allclose(centre(renderer.render(lit, camera, 160, 120)), plain, rtol=0.01)
+    expected = 1.0 - (1.0 - np.cos(np.radians(75)))  # display-referred factor
+    srgb = lambda v: np.where(v <= 0.0031308, 12.92 * v, 1.055 * v ** (1 / 2.4) - 0.055)  # noqa: E731
+    np.testing.assert_allclose(srgb(low) / srgb(plain), expected, rtol=0.03)
+
+
 def test_knn_and_radius_search_agree_with_brute_force():
     rng = np.random.default_rng(5)
     p = rng.random((500, 3)) * 10 + 1e6
