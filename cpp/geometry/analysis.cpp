@@ -100,24 +100,24 @@ const KdTree& Analysis::tree() {
   return *tree_;
 }
 
-const std::vector<uint32_t>& Analysis::colors_sorted() {
+// A per-point attribute in LocalPoints order, made once.
+template <class T>
+const std::vector<T>& Analysis::sorted(std::unique_ptr<std::vector<T>>& slot, const std::vector<T>& input,
+                                       const char* missing) {
   std::lock_guard lock(mutex_);
-  if (!colors_sorted_) {
-    if (!has_colors()) throw Error("the point set has no colours");
-    const std::vector<uint32_t>& c = cloud_ ? cloud_->colors() : colors_;
-    colors_sorted_ = std::make_unique<std::vector<uint32_t>>(points().to_sorted(std::span<const uint32_t>(c)));
+  if (!slot) {
+    if (input.empty() && size() > 0) throw Error(missing);
+    slot = std::make_unique<std::vector<T>>(points().to_sorted(std::span<const T>(input)));
   }
-  return *colors_sorted_;
+  return *slot;
+}
+
+const std::vector<uint32_t>& Analysis::colors_sorted() {
+  return sorted(colors_sorted_, cloud_ ? cloud_->colors() : colors_, "the point set has no colours");
 }
 
 const std::vector<float>& Analysis::intensity_sorted() {
-  std::lock_guard lock(mutex_);
-  if (!intensity_sorted_) {
-    if (!has_intensity()) throw Error("the point set has no intensity");
-    const std::vector<float>& v = cloud_ ? cloud_->intensity() : intensity_;
-    intensity_sorted_ = std::make_unique<std::vector<float>>(points().to_sorted(std::span<const float>(v)));
-  }
-  return *intensity_sorted_;
+  return sorted(intensity_sorted_, cloud_ ? cloud_->intensity() : intensity_, "the point set has no intensity");
 }
 
 std::shared_ptr<const Neighborhoods> Analysis::knn(int k) {

@@ -64,6 +64,9 @@ class Analysis {
   std::vector<double> positions() const;
   const std::vector<uint32_t>& colors_sorted();
   const std::vector<float>& intensity_sorted();
+  template <class T>
+  const std::vector<T>& sorted(std::unique_ptr<std::vector<T>>& slot, const std::vector<T>& input,
+                               const char* missing);
   bool has_colors() const;
   bool has_intensity() const;
   int clamp_k(int k) const;

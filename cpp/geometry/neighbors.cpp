@@ -163,15 +163,16 @@ class CellLevel {
 // A point looks in the 3x3x3 block of cells around its own, at the finest
 // level whose cells are wider than the k-th distance of the point before it
 // (usually a close neighbour) grown by 20 %. If k candidates lie within
-// that grown distance, no point outside the block can be nearer and they
-// are the answer. Otherwise the k nearest candidates stand when the k-th
-// distance is below the distance to the block's outer wall; if not, the
-// search repeats at the level whose cells are wider than that k-th
-// distance, which then succeeds. Exact, never approximate: float rounding
-// of the offsets is covered by a margin. A block of very many points (a
-// lone point far from dense ones, or a pile of nearly coincident points
-// finer than the finest cell) is searched in a k-d tree instead, built on
-// first need.
+// that grown distance (or within 1.0x or 1.1x of it: the tightest that
+// holds k), no point outside the block can be nearer and they are the
+// answer. Otherwise the k nearest candidates stand when the k-th distance
+// is below the distance to the block's outer wall; if not, the search
+// repeats at the level whose cells are wider than that k-th distance,
+// which then succeeds. Exact, never approximate: float rounding of the
+// offsets is covered by a margin. Blocks of very many points (a lone point
+// far from dense ones, a pile of distinct points finer than the finest
+// cell) are brute-forced while their total stays within a budget, then
+// searched in a k-d tree built on first need.
 class GridKnn {
  public:
   GridKnn(const LocalPoints& pts, size_t k) : pts_(pts), k_(k) {
