@@ -171,3 +171,27 @@ def two_planes_scene(mode="depth_test"):
 
 def is_color(pixel, rgb, tol=0.2):
     return all(abs(float(pixel[i]) - rgb[i]) < tol for i in range(3))
+
+
+def run_blender_in_window(script_path, env=None, timeout=300):
+    """Runs ``script_path`` in a second Blender with a window (Xvfb, event
+    simulation) and returns its CompletedProcess. On a timeout the whole
+    process group goes, Blender included: a hung interactive Blender must
+    not outlive the test and load the machine."""
+    import shutil
+    import signal
+    import subprocess
+
+    if shutil.which("xvfb-run") is None:
+        raise AssertionError("xvfb-run is required (scripts/install_deps.sh --tests installs it)")
+    cmd = ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", bpy.app.binary_path, "--factory-startup",
+           "--enable-event-simulate", "--python", str(script_path)]
+    proc = subprocess.Popen(cmd, env=dict(os.environ, **(env or {})), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        out, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        out, err = proc.communicate()
+        raise AssertionError("the interactive Blender timed out:\n" + out[-3000:] + err[-3000:])
+    return subprocess.CompletedProcess(cmd, proc.returncode, out, err)

@@ -293,18 +293,9 @@ bpy.app.timers.register(tick, first_interval=0.6)
 
 
 def test_interactive_import_shows_progress_and_cancels_with_esc(tmp_path):
-    import shutil
-    import subprocess
-
-    if shutil.which("xvfb-run") is None:
-        raise AssertionError("xvfb-run is required (scripts/install_deps.sh --tests installs it)")
     script = tmp_path / "interactive.py"
     script.write_text(INTERACTIVE_SCRIPT)
-    env = dict(os.environ, CLOUD=CLASSIFIED_LAS)
-    proc = subprocess.run(
-        ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", bpy.app.binary_path, "--factory-startup",
-         "--enable-event-simulate", "--python", str(script)],
-        env=env, capture_output=True, text=True, timeout=300)
+    proc = helpers.run_blender_in_window(script, env={"CLOUD": CLASSIFIED_LAS})
     out = proc.stdout
     assert proc.returncode == 0, out[-3000:] + proc.stderr[-3000:]
     data = pointnpr.read(CLASSIFIED_LAS)

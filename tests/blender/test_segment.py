@@ -205,17 +205,9 @@ bpy.app.timers.register(guarded(tick), first_interval=0.6)
 
 
 def test_interactive_segment_cancels_the_core_call_with_esc(tmp_path):
-    import shutil
-    import subprocess
-
-    if shutil.which("xvfb-run") is None:
-        raise AssertionError("xvfb-run is required (scripts/install_deps.sh --tests installs it)")
     script = tmp_path / "interactive_segment.py"
     script.write_text(INTERACTIVE_SCRIPT)
-    proc = subprocess.run(
-        ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", bpy.app.binary_path, "--factory-startup",
-         "--enable-event-simulate", "--python", str(script)],
-        env=dict(os.environ), capture_output=True, text=True, timeout=300)
+    proc = helpers.run_blender_in_window(script)
     out = proc.stdout
     assert proc.returncode == 0, out[-3000:] + proc.stderr[-3000:]
     assert "STARTED ['RUNNING_MODAL'] 1" in out, out[-3000:]
