@@ -53,20 +53,23 @@ std::vector<float> variation(const Neighborhoods& nb, const std::vector<float>& 
   return out;
 }
 
+// The 99th percentile (0 for no values): a scale that a few extreme
+// values (glints, outliers) do not set.
+float percentile99(std::vector<float> v) {
+  if (v.empty()) return 0.0f;
+  const size_t at = std::min(v.size() - 1, size_t(double(v.size() - 1) * 0.99));
+  std::nth_element(v.begin(), v.begin() + long(at), v.end());
+  return v[at];
+}
+
 // Divides by the 99th percentile, but never by less than `floor`: a cloud
 // without strong features (a plane, whose variations are rounding noise)
 // must not have its faintest ones stretched to 1.
 void normalise_p99(std::vector<float>& v, float floor) {
-  if (v.empty()) return;
-  std::vector<float> tmp(v);
-  const size_t at = std::min(tmp.size() - 1, size_t(double(tmp.size() - 1) * 0.99));
-  std::nth_element(tmp.begin(), tmp.begin() + long(at), tmp.end());
-  const float scale = std::max(tmp[at], floor);
+  const float scale = std::max(percentile99(v), floor);
   for (float& x : v) x = std::clamp(x / scale, 0.0f, 1.0f);
 }
-}  // namespace
 
-namespace {
 // sRGB (8-bit, display-referred) to CIELAB under D65.
 glm::vec3 srgb8_to_lab(uint32_t packed) {
   const auto linear = [](uint32_t v) {
@@ -153,15 +156,8 @@ std::vector<float> color_edges(const LocalPoints& pts, const Neighborhoods& nb, 
 
 std::vector<float> intensity_edges(const LocalPoints& pts, const Neighborhoods& nb, const PcaResult& pca,
                                    const std::vector<float>& intensity) {
-  // As a lightness: 0 to 100 at the 99th percentile (a few glints above it
-  // would otherwise flatten the rest).
-  std::vector<float> tmp(intensity);
-  float top = 0.0f;
-  if (!tmp.empty()) {
-    const size_t at = std::min(tmp.size() - 1, size_t(double(tmp.size() - 1) * 0.99));
-    std::nth_element(tmp.begin(), tmp.begin() + long(at), tmp.end());
-    top = tmp[at];
-  }
+  // As a lightness: 0 to 100 at the 99th percentile.
+  const float top = percentile99(intensity);
   std::vector<std::array<float, 1>> lightness(intensity.size());
   for (size_t i = 0; i < intensity.size(); ++i)
     lightness[i] = {top > 0.0f ? std::min(100.0f, 100.0f * intensity[i] / top) : 0.0f};

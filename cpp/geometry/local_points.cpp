@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <string>
 
 #include "core/error.h"
@@ -32,54 +31,34 @@ LocalPoints LocalPoints::from(std::span<const double> xyz) {
   const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-300));
   const double scale = double((1u << 21) - 1) / std::max({extent.x, extent.y, extent.z});
   std::vector<std::pair<uint64_t, uint32_t>> order(n);
+  std::vector<glm::vec3> local(n);
   tbb::parallel_for(size_t(0), n, size_t(4096), [&](size_t b) {
     for (size_t i = b; i < std::min(n, b + 4096); ++i) {
       const auto q = [&](int a) { return uint64_t(std::clamp((xyz[3 * i + a] - lo[a]) * scale, 0.0, 2097151.0)); };
       order[i] = {morton_code(q(0), q(1), q(2)), uint32_t(i)};
+      local[i] = glm::vec3(glm::dvec3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]) - lp.origin);
     }
   });
-  tbb::parallel_sort(order.begin(), order.end());
+  // By code; within a code (rare, short runs but for duplicates) by
+  // coordinates, then index: identical points end up adjacent, which the
+  // kNN relies on to answer piles of duplicates in O(k).
+  tbb::parallel_sort(order.begin(), order.end(), [&](const auto& a, const auto& b) {
+    if (a.first != b.first) return a.first < b.first;
+    const glm::vec3 &p = local[a.second], &q = local[b.second];
+    if (p.x != q.x) return p.x < q.x;
+    if (p.y != q.y) return p.y < q.y;
+    if (p.z != q.z) return p.z < q.z;
+    return a.second < b.second;
+  });
   lp.grid_min = lo;
   lp.grid_scale = scale;
   lp.points.resize(n);
   lp.original.resize(n);
   lp.code.resize(n);
   for (size_t s = 0; s < n; ++s) {
-    const size_t i = order[s].second;
     lp.code[s] = order[s].first;
-    lp.original[s] = uint32_t(i);
-    lp.points[s] = glm::vec3(glm::dvec3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]) - lp.origin);
-  }
-  // Within a Morton cell (rare, short runs but for duplicates), order by
-  // coordinates, then index: identical points end up adjacent, which the
-  // kNN relies on to answer piles of duplicates in O(k).
-  const auto by_position = [&](uint32_t a, uint32_t b) {
-    const glm::vec3 &p = lp.points[a], &q = lp.points[b];
-    if (p.x != q.x) return p.x < q.x;
-    if (p.y != q.y) return p.y < q.y;
-    if (p.z != q.z) return p.z < q.z;
-    return lp.original[a] < lp.original[b];
-  };
-  std::vector<uint32_t> run;
-  for (size_t s = 0; s < n;) {
-    size_t e = s + 1;
-    while (e < n && order[e].first == order[s].first) ++e;
-    if (e - s > 1) {
-      run.resize(e - s);
-      std::iota(run.begin(), run.end(), uint32_t(s));
-      if (!std::is_sorted(run.begin(), run.end(), by_position)) {
-        std::sort(run.begin(), run.end(), by_position);
-        std::vector<glm::vec3> p(run.size());
-        std::vector<uint32_t> o(run.size());
-        for (size_t j = 0; j < run.size(); ++j) {
-          p[j] = lp.points[run[j]];
-          o[j] = lp.original[run[j]];
-        }
-        std::copy(p.begin(), p.end(), lp.points.begin() + long(s));
-        std::copy(o.begin(), o.end(), lp.original.begin() + long(s));
-      }
-    }
-    s = e;
+    lp.original[s] = order[s].second;
+    lp.points[s] = local[order[s].second];
   }
   return lp;
 }

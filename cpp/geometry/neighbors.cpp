@@ -75,13 +75,23 @@ void write_row(const uint64_t* keys, size_t k, uint32_t* index, float* dist2) {
     dist2[j] = key_d2(keys[j]);
   }
 }
-}  // namespace
 
-struct KdTree::Impl {
+// A nanoflann index on a point array (leaf size 20).
+struct TreeIndex {
   Adaptor adaptor;
   Tree tree;
-  explicit Impl(const std::vector<glm::vec3>& p)
+  explicit TreeIndex(const std::vector<glm::vec3>& p)
       : adaptor{&p}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(20)) {}
+  // The k (<= size) nearest of q as sorted (d2, index) keys.
+  void knn(const glm::vec3& q, size_t k, uint64_t* keys) const {
+    OrderedKnn result(k, keys);
+    tree.findNeighbors(result, &q.x, nanoflann::SearchParams());
+  }
+};
+}  // namespace
+
+struct KdTree::Impl : TreeIndex {
+  using TreeIndex::TreeIndex;
 };
 
 KdTree::KdTree(const std::vector<glm::vec3>& points) : impl_(std::make_unique<Impl>(points)) {}
@@ -91,11 +101,11 @@ size_t KdTree::size() const { return impl_->adaptor.pts->size(); }
 size_t KdTree::knn(const glm::vec3& q, size_t k, uint32_t* index, float* dist2) const {
   k = std::min(k, size());
   if (k == 0) return 0;
-  std::vector<uint64_t> keys(k);
-  OrderedKnn result(k, keys.data());
-  impl_->tree.findNeighbors(result, &q.x, nanoflann::SearchParams());
-  write_row(keys.data(), result.size(), index, dist2);
-  return result.size();
+  thread_local std::vector<uint64_t> keys;  // no allocation per query
+  keys.resize(k);
+  impl_->knn(q, k, keys.data());
+  write_row(keys.data(), k, index, dist2);
+  return k;
 }
 
 std::vector<std::pair<uint32_t, float>> KdTree::radius(const glm::vec3& q, float r) const {
@@ -413,10 +423,7 @@ class GridKnn {
 
   void tree_search(const glm::vec3& p, uint64_t* out) {
     std::call_once(tree_once_, [&] { tree_.emplace(pts_.points); });
-    std::vector<uint32_t> index(k_);
-    std::vector<float> dist2(k_);
-    tree_->knn(p, k_, index.data(), dist2.data());
-    for (size_t j = 0; j < k_; ++j) out[j] = rank_key(dist2[j], index[j]);
+    tree_->knn(p, k_, out);
   }
 
   const LocalPoints& pts_;
@@ -427,7 +434,7 @@ class GridKnn {
   std::array<std::once_flag, 22> once_;
   std::array<std::optional<CellLevel>, 22> levels_;
   std::once_flag tree_once_;
-  std::optional<KdTree> tree_;
+  std::optional<TreeIndex> tree_;
 };
 
 }  // namespace

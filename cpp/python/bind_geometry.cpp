@@ -107,7 +107,6 @@ auto without_gil(const py::object& progress, F&& call) {
   return call();
 }
 
-
 }  // namespace
 
 void bind_geometry(py::module_& m) {
@@ -152,7 +151,8 @@ void bind_geometry(py::module_& m) {
         Source s = source(points);
         return array1(*without_gil(progress, [&] { return s.get().curvature(k); }));
       },
-      py::arg("points"), py::arg("k") = 16, py::arg("progress") = py::none(), "Surface variation l0/(l0+l1+l2) in [0, 1/3], (N,) float32.");
+      py::arg("points"), py::arg("k") = 16, py::arg("progress") = py::none(),
+      "Surface variation l0/(l0+l1+l2) in [0, 1/3], (N,) float32.");
 
   m.def(
       "local_resolution",

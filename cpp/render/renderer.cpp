@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <limits>
+#include <map>
 
 #include "geometry/analysis.h"
 #include "gl/device.h"
@@ -79,8 +80,10 @@ struct GpuCloud {
   std::weak_ptr<const PointCloud> source;
   gl::Buffer positions;
   gl::Buffer colors, intensity, classification;
-  gl::Buffer normals;   // snorm8 x3 per point
-  int normal_source = -1;  // what `normals` holds: 0 the cloud's own, k estimated from k neighbours
+  // snorm8 x3 per point, by source: 0 the cloud's own, k estimated from k
+  // neighbours (styles sharing a cloud may ask for different k).
+  std::map<int, gl::Buffer> normals;
+  bool own_normals = false;
   gl::VertexArray vao;  // for the GL_POINTS path
   uint32_t uploaded = 0;
   float intensity_scale = 1.0f;
@@ -148,6 +151,7 @@ struct Renderer::Impl {
     GpuCloud& g = clouds[cloud->id()];
     if (!g.positions) {
       g.source = cloud;
+      g.own_normals = cloud->has(Attribute::Normal);
       g.positions = upload(cloud->local_positions());
       GLuint vao = 0;
       glCreateVertexArrays(1, &vao);
@@ -169,17 +173,16 @@ struct Renderer::Impl {
     if ((missing & uint32_t(Attribute::Classification)) && cloud->has(Attribute::Classification))
       g.classification = upload(cloud->classification());
     if (needed & uint32_t(Attribute::Normal)) {
-      const int source = cloud->has(Attribute::Normal) ? 0 : normal_k;
-      if (g.normal_source != source) {
+      const int source = g.own_normals ? 0 : normal_k;
+      if (!g.normals.count(source)) {
         if (source == 0) {
-          g.normals = upload(pack_normals(cloud->normals()));
+          g.normals[0] = upload(pack_normals(cloud->normals()));
         } else {
           // Estimated once per cloud and k (the cloud's geometry cache keeps
           // them), consistently oriented; the shading is two-sided anyway.
           const auto estimated = cloud->analysis().normals({source, geometry::Orientation::Consistent, {}});
-          g.normals = upload(pack_normals(*estimated));
+          g.normals[source] = upload(pack_normals(*estimated));
         }
-        g.normal_source = source;
       }
     }
     g.uploaded |= needed;
@@ -355,7 +358,10 @@ struct Renderer::Impl {
     if (attr && !*attr) source = int(ColorSource::Constant);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.positions.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, attr && *attr ? attr->id() : g.positions.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.normals ? g.normals.id() : g.positions.id());
+    const auto normals = seg.style.shaded()
+                             ? g.normals.find(g.own_normals ? 0 : seg.style.rasterize.get_int("normal_neighbors"))
+                             : g.normals.end();
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, normals != g.normals.end() ? normals->second.id() : g.positions.id());
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(v.view_from_chunk)));
     glUniformMatrix3fv(p.location("u_normal_matrix"), 1, GL_FALSE, glm::value_ptr(normal_matrix));
     glUniform1i(p.location("u_color_source"), source);

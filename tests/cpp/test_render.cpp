@@ -256,6 +256,18 @@ TEST(Render, DiffuseShadingUsesNormalsEstimatedOnlyWhenAStyleAsks) {
     const uint64_t uploads = renderer.upload_count();
     renderer.render(scene, cam, settings(kSize, "inpaint", 0.0, kind));
     EXPECT_EQ(renderer.upload_count(), uploads);
+    // Two styles shading one cloud from different k keep a buffer each:
+    // after the first frame, nothing is estimated or uploaded again.
+    Scene two = scene;
+    Style coarse = lit;
+    coarse.rasterize = validate(rasterize_schema(), {{"point_size", {3}}, {"color_source", {3}},
+                                                     {"shading", {1}}, {"normal_neighbors", {8}}});
+    two.segments.push_back(segment("ball again", cloud, coarse));
+    renderer.render(two, cam, settings(kSize, "inpaint", 0.0, kind));
+    const uint64_t both = renderer.upload_count();
+    EXPECT_EQ(both, uploads + 1);
+    renderer.render(two, cam, settings(kSize, "inpaint", 0.0, kind));
+    EXPECT_EQ(renderer.upload_count(), both);
 
     // A cloud with normals of its own is lit by them; nothing is estimated.
     auto own = sphere_cloud(true);

@@ -101,11 +101,6 @@ class Labelling:
         return np.asarray(labels), names
 
 
-def segment_labels(obj, method, **params):
-    """(labels, names) for ``obj``'s points, computed on this thread."""
-    return Labelling(obj, method, **params).compute()
-
-
 class SegmentJob(PointObjectJob):
     """Creates one collection + object per segment, one per step()."""
 
