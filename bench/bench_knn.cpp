@@ -6,7 +6,7 @@
 // order (a small cost per query over nanoflann's own result set). On the
 // aerial LiDAR HD tile and the lion scan, k = 10,
 // 16, 30. Wall time, both cores.
-// Run: build/bench/bench_knn --benchmark_min_time=1
+// Run: build/bench/bench_knn --benchmark_min_time=2 --benchmark_repetitions=5
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_for.h>
 
