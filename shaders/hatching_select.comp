@@ -21,6 +21,7 @@ uniform vec3 u_light_dir;   // towards the light, view space
 uniform vec3 u_direction;   // line direction u, view space
 uniform float u_ambient;
 uniform float u_specular;
+uniform int u_two_sided;
 uniform float u_shininess;
 uniform int u_xtoon;        // pencil, wax_crayon, two_colored, chalk, ink, image
 uniform sampler2D u_xtoon_image;
@@ -47,11 +48,13 @@ uniform float u_alpha_modification;
 uniform float u_alpha_jitter;
 uniform uint u_seed;
 
-// The procedural X-Toon textures: x = brightness, y = depth (0 near).
+// The procedural X-Toon textures: x = brightness, y = depth (0 near). As
+// the paper's (its Fig. 2) they leave depth unused, so which points draw
+// never changes as the camera moves; an image texture may use it.
 vec4 xtoon(vec2 uv) {
-  float b = uv.x, d = uv.y;
-  if (u_xtoon == 0)  // pencil: graphite, strokes fade with light and a little with distance
-    return vec4(vec3(0.16, 0.16, 0.19), (1.0 - smoothstep(0.1, 0.95, b)) * (1.0 - 0.35 * d));
+  float b = uv.x;
+  if (u_xtoon == 0)  // pencil: graphite, strokes fade with the light
+    return vec4(vec3(0.16, 0.16, 0.19), 1.0 - smoothstep(0.1, 0.95, b));
   if (u_xtoon == 1) {  // wax crayon: three bands of tone, warm colours
     float a = b < 0.35 ? 1.0 : b < 0.7 ? 0.6 : 0.22;
     return vec4(mix(vec3(0.45, 0.12, 0.10), vec3(0.98, 0.62, 0.18), b), a);
@@ -59,7 +62,7 @@ vec4 xtoon(vec2 uv) {
   if (u_xtoon == 2)  // two-coloured: cool shadows to warm light
     return vec4(mix(vec3(0.12, 0.22, 0.62), vec3(0.96, 0.62, 0.22), smoothstep(0.0, 1.0, b)), 1.0 - 0.75 * b);
   if (u_xtoon == 3)  // chalk: light strokes where lit, for dark paper
-    return vec4(vec3(0.95, 0.95, 0.9), smoothstep(0.15, 0.9, b) * (1.0 - 0.3 * d));
+    return vec4(vec3(0.95, 0.95, 0.9), smoothstep(0.15, 0.9, b));
   if (u_xtoon == 4)  // ink: dark strokes in the shade only
     return vec4(vec3(0.04, 0.04, 0.08), 1.0 - smoothstep(0.42, 0.5, b));
   return texture(u_xtoon_image, uv);
@@ -120,8 +123,10 @@ void main() {
   }
   vec3 to_eye = u_ortho != 0 ? vec3(0.0, 0.0, 1.0) : normalize(-v.xyz);
   vec3 n = view_normal(index);
-  if (n == vec3(0.0)) n = to_eye;       // no usable normal: a view-facing stroke
-  else if (dot(n, to_eye) < 0.0) n = -n;  // two-sided
+  if (n == vec3(0.0)) n = to_eye;  // no usable normal: a view-facing stroke
+  // Two-sided: turned toward the camera (for clouds whose normals are not
+  // consistently oriented; changes at silhouettes as the camera moves).
+  else if (u_two_sided != 0 && dot(n, to_eye) < 0.0) n = -n;
 
   // X-Toon coordinates: brightness (diffuse + ambient + Phong) and depth.
   float diffuse = max(dot(n, u_light_dir), 0.0);
@@ -168,8 +173,10 @@ void main() {
   // Curvature (surface variation, at most 1/3) shortens; a seeded factor varies.
   float len = base_len;
   if (u_has_curvature != 0 && u_curvature_length > 0.0) {
+    // Surface variation: ~0 on smooth surfaces, ~0.05 and more at creases
+    // and corners (where strokes get their shortest: 15 % of the length).
     float c = curvature[index];
-    len *= 1.0 - u_curvature_length * clamp(3.0 * (c == c ? c : 0.0), 0.0, 1.0) * 0.85;
+    len *= 1.0 - 0.85 * u_curvature_length * clamp((c == c ? c : 0.0) / 0.05, 0.0, 1.0);
   }
   len *= max(1.0 + u_length_jitter * (2.0 * hash01(id, 3u, u_seed) - 1.0), 0.05);
 
