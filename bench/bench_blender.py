@@ -49,4 +49,4 @@ print(f"warm frames: median {statistics.median(warm) * 1000:.0f} ms, min {min(wa
       f"over {len(warm)} frames (bpy.ops.render.render: sync + core + passes)")
 print(f"  sync (cached clouds): {t_sync * 1000:.1f} ms; core: {result.stats['total_ms']:.0f} ms = "
       + ", ".join(f"{k[:-3]} {result.stats[k]:.0f}" for k in
-                  ("rasterize_ms", "filters_ms", "inpaint_ms", "composite_ms", "readback_ms")))
+                  ("mark_ms", "filters_ms", "inpaint_ms", "composite_ms", "readback_ms")))

@@ -53,34 +53,36 @@ const LionScene& lion() {
   return scene;
 }
 
-RenderSettings frame_settings(RasterizerKind kind, const char* mode) {
+// The points mark's two rasterizers.
+enum class RasterizerKind { Compute = 0, GlPoints = 1 };
+
+RenderSettings frame_settings(const char* mode) {
   RenderSettings s;
   s.width = 1920;
   s.height = 1080;
-  s.rasterizer = kind;
   const auto& items = composite_schema().params[0].items;
   s.composite = validate(composite_schema(),
                          {{"mode", {double(std::find(items.begin(), items.end(), mode) - items.begin())}}});
   return s;
 }
 
-Style plain_style(double point_size) {
+Style plain_style(double point_size, RasterizerKind kind) {
   Style style;
-  style.rasterize = validate(rasterize_schema(), {{"point_size", {point_size}}});
+  style.set_mark("points", {{"point_size", {point_size}}, {"rasterizer", {double(kind)}}});
   return style;
 }
 
-// Time of the rasterize stage alone (manual time), as points per second.
+// Time of the points mark alone (manual time), as points per second.
 void BM_Rasterize(benchmark::State& state, RasterizerKind kind) {
   const LionScene& s = lion();
   Scene scene;
-  scene.segments.push_back({"lion", plain_style(double(state.range(0))), {{s.whole, glm::dmat4(1.0)}}});
+  scene.segments.push_back({"lion", plain_style(double(state.range(0)), kind), {{s.whole, glm::dmat4(1.0)}}});
   Renderer renderer;
-  const RenderSettings settings = frame_settings(kind, "layering");
+  const RenderSettings settings = frame_settings("layering");
   renderer.render(scene, s.camera, settings);  // warm-up: upload, shader compile
   for (auto _ : state) {
     const RenderResult r = renderer.render(scene, s.camera, settings);
-    state.SetIterationTime(r.stats.at("rasterize_ms") / 1000.0);
+    state.SetIterationTime(r.stats.at("mark_ms") / 1000.0);
   }
   state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(s.whole->size()));
   state.counters["points"] = double(s.whole->size());
@@ -92,21 +94,21 @@ BENCHMARK_CAPTURE(BM_Rasterize, gl_points, RasterizerKind::GlPoints)->Arg(1)->Ar
 void BM_EngineFrame(benchmark::State& state, RasterizerKind kind) {
   const LionScene& s = lion();
   Scene scene;
-  Style cartoon = plain_style(3.0);
+  Style cartoon = plain_style(3.0, kind);
   cartoon.add_filter("cartoon", {});
-  Style warp = plain_style(3.0);
+  Style warp = plain_style(3.0, kind);
   warp.add_filter("warp", {{"amplitude", {4}}});
-  scene.segments.push_back({"ground", plain_style(3.0), {{s.slabs[0], glm::dmat4(1.0)}}});
+  scene.segments.push_back({"ground", plain_style(3.0, kind), {{s.slabs[0], glm::dmat4(1.0)}}});
   scene.segments.push_back({"lower", cartoon, {{s.slabs[1], glm::dmat4(1.0)}}});
   scene.segments.push_back({"upper", warp, {{s.slabs[2], glm::dmat4(1.0)}}});
   Renderer renderer;
-  RenderSettings settings = frame_settings(kind, "inpaint");
+  RenderSettings settings = frame_settings("inpaint");
   renderer.render(scene, s.camera, settings);
   std::map<std::string, double> stages;
   for (auto _ : state) {
     settings.time += 1.0 / 24.0;
     const RenderResult r = renderer.render(scene, s.camera, settings);
-    for (const char* k : {"rasterize_ms", "filters_ms", "inpaint_ms", "composite_ms", "readback_ms"})
+    for (const char* k : {"mark_ms", "filters_ms", "inpaint_ms", "composite_ms", "readback_ms"})
       stages[k] += r.stats.at(k);
   }
   for (auto& [k, v] : stages) state.counters[k] = v / double(state.iterations());

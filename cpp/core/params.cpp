@@ -41,6 +41,12 @@ ParamSpec image_param(std::string name, std::string doc) {
   return {std::move(name), ParamType::Path, {}, 0.0, 0.0, "image", std::move(doc), {}};
 }
 
+ParamSpec only_when(ParamSpec spec, std::string param, std::vector<std::string> values) {
+  spec.when_param = std::move(param);
+  spec.when_values = std::move(values);
+  return spec;
+}
+
 const ParamSpec* Schema::find(const std::string& name) const {
   for (const auto& p : params)
     if (p.name == name) return &p;
@@ -160,6 +166,17 @@ const std::string& ParamValues::get_enum_name(const std::string& name) const {
 glm::vec4 ParamValues::get_color(const std::string& name) const {
   const auto& v = at(name, ParamType::Color);
   return {float(v[0]), float(v[1]), float(v[2]), float(v[3])};
+}
+
+bool applies(const ParamSpec& spec, const ParamValues& values) {
+  if (spec.when_param.empty()) return true;
+  const ParamSpec* other = values.schema().find(spec.when_param);
+  if (!other) return true;
+  const std::string current = other->type == ParamType::Bool ? (values.get_bool(other->name) ? "true" : "false")
+                                                             : values.get_enum_name(other->name);
+  for (const auto& v : spec.when_values)
+    if (v == current) return true;
+  return false;
 }
 
 }  // namespace pointnpr

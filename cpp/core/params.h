@@ -24,7 +24,14 @@ struct ParamSpec {
   std::string unit;                  // "px", "m", "s", "Hz", "deg", "" ...
   std::string doc;                   // one line, shown as tooltip and in docs
   std::vector<std::string> items;    // Enum identifiers; the value is the index
+  // Applies only while enum (or bool: "true"/"false") parameter `when_param`
+  // has one of `when_values`; the UI greys it out otherwise.
+  std::string when_param;
+  std::vector<std::string> when_values;
 };
+
+// `spec`, applying only while `param` is one of `values` (see ParamSpec).
+ParamSpec only_when(ParamSpec spec, std::string param, std::vector<std::string> values);
 
 // Builders keep declarations short and uniform in each filter's file.
 ParamSpec float_param(std::string name, double def, double min, double max, std::string unit, std::string doc);
@@ -41,9 +48,16 @@ struct Schema {
   std::string label;   // e.g. "Cartoon"
   std::string doc;
   std::vector<ParamSpec> params;
+  // "mark", "filter" or "stage"; set by the registry a schema is added to,
+  // so a mark and a filter may share an id.
+  std::string kind = "stage";
 
   const ParamSpec* find(const std::string& name) const;
 };
+
+// Whether `spec` applies to `values` (its `when` condition holds).
+class ParamValues;
+bool applies(const ParamSpec& spec, const ParamValues& values);
 
 // Validated values for one schema. Built only through validate(), so every
 // value present is known, finite and in range.

@@ -68,7 +68,7 @@ py::object param_value(const ParamSpec& spec, const std::vector<double>& v, cons
 }
 }  // namespace
 
-py::dict schema_to_dict(const Schema& schema, const char* kind) {
+py::dict schema_to_dict(const Schema& schema) {
   py::list params;
   for (const auto& p : schema.params) {
     py::dict d;
@@ -80,13 +80,21 @@ py::dict schema_to_dict(const Schema& schema, const char* kind) {
     d["unit"] = p.unit;
     d["doc"] = p.doc;
     d["items"] = p.items;
+    if (p.when_param.empty()) {
+      d["when"] = py::none();
+    } else {
+      py::dict when;
+      when["param"] = p.when_param;
+      when["values"] = p.when_values;
+      d["when"] = when;
+    }
     params.append(d);
   }
   py::dict out;
   out["id"] = schema.id;
   out["label"] = schema.label;
   out["doc"] = schema.doc;
-  out["kind"] = kind;
+  out["kind"] = schema.kind;
   out["params"] = params;
   return out;
 }
@@ -108,12 +116,13 @@ void bind_core(py::module_& m) {
 
   m.def("schemas", [] {
     py::list out;
-    out.append(schema_to_dict(rasterize_schema(), "stage"));
-    for (const FilterInfo* f : registered_filters()) out.append(schema_to_dict(f->schema, "filter"));
-    out.append(schema_to_dict(inpaint_schema(), "stage"));
-    out.append(schema_to_dict(composite_schema(), "stage"));
+    for (const MarkInfo* mark : registered_marks()) out.append(schema_to_dict(mark->schema));
+    for (const FilterInfo* f : registered_filters()) out.append(schema_to_dict(f->schema));
+    out.append(schema_to_dict(inpaint_schema()));
+    out.append(schema_to_dict(composite_schema()));
     return out;
-  }, "Parameter schemas of every pipeline stage and filter (the single source of truth).");
+  }, "Parameter schemas of every mark, filter and pipeline stage (the single source of truth); "
+     "each dict's 'kind' is 'mark', 'filter' or 'stage'.");
 
   m.def("set_shader_dir", &gl::set_shader_dir, "Folder the GLSL sources are read from.");
   m.def("shader_dir", &gl::shader_dir);

@@ -80,29 +80,43 @@ ParamValues validated(const Schema& schema, const py::object& values) {
   return validate(schema, raw.numbers, raw.paths);
 }
 
-Style make_style(const py::object& rasterize, const py::object& filters, const py::object& inpaint) {
+// A plugin step given as 'id' or ('id', {params}).
+std::pair<std::string, py::dict> step_of(const py::handle& item, const char* what) {
+  py::object step = py::reinterpret_borrow<py::object>(item);
+  if (py::isinstance<py::str>(step)) return {step.cast<std::string>(), py::dict()};
+  auto t = step.cast<py::sequence>();
+  if (t.size() != 2) throw ParameterError(std::string("a ") + what + " is 'id' or ('id', {params})");
+  return {t[0].cast<std::string>(), t[1].is_none() ? py::dict() : t[1].cast<py::dict>()};
+}
+
+Style make_style(const py::object& mark, const py::object& filters, const py::object& inpaint,
+                 const py::object& rasterize) {
   Style style;
-  style.rasterize = validated(rasterize_schema(), rasterize);
+  if (!mark.is_none() && !rasterize.is_none())
+    throw ParameterError("give a style either mark= or rasterize= (the points mark's parameters), not both");
+  if (!mark.is_none()) {
+    const auto [id, params] = step_of(mark, "mark");
+    const RawParams raw = to_raw_params(find_mark(id).schema, params);
+    style.set_mark(id, raw.numbers, raw.paths);
+  } else if (!rasterize.is_none()) {
+    const RawParams raw = to_raw_params(find_mark("points").schema, rasterize.cast<py::dict>());
+    style.set_mark("points", raw.numbers, raw.paths);
+  }
   style.inpaint = validated(inpaint_schema(), inpaint);
   if (!filters.is_none()) {
     for (auto item : filters.cast<py::sequence>()) {
-      py::object step = py::reinterpret_borrow<py::object>(item);
-      std::string id;
-      py::dict params;
-      if (py::isinstance<py::str>(step)) {
-        id = step.cast<std::string>();
-      } else {
-        auto t = step.cast<py::sequence>();
-        if (t.size() != 2) throw ParameterError("a filter step is 'id' or ('id', {params})");
-        id = t[0].cast<std::string>();
-        params = t[1].is_none() ? py::dict() : t[1].cast<py::dict>();
-      }
-      const FilterInfo& info = find_filter(id);
-      const RawParams raw = to_raw_params(info.schema, params);
+      const auto [id, params] = step_of(item, "filter step");
+      const RawParams raw = to_raw_params(find_filter(id).schema, params);
       style.add_filter(id, raw.numbers, raw.paths);
     }
   }
   return style;
+}
+
+py::list attribute_names(const AttributeSet& set) {
+  py::list out;
+  for (const AttributeKey& key : set) out.append(to_string(key));
+  return out;
 }
 
 template <class T>
@@ -153,10 +167,23 @@ void bind_render(py::module_& m) {
         return image_array(c.point_index(), 1, int(c.size()), 1).reshape({py::ssize_t(c.size())});
       }, "Stable point ids in the cloud's internal (Morton) order.");
 
-  py::class_<Style>(m, "Style", "A segment's pipeline: rasterize -> filters -> depth inpainting.")
-      .def(py::init(&make_style), py::arg("rasterize") = py::none(), py::arg("filters") = py::none(),
-           py::arg("inpaint") = py::none())
-      .def_property_readonly("rasterize", [](const Style& s) { return values_to_dict(s.rasterize); })
+  py::class_<Style>(m, "Style", "A segment's pipeline: one mark -> filters -> depth inpainting.")
+      .def(py::init(&make_style), py::arg("mark") = py::none(), py::arg("filters") = py::none(),
+           py::arg("inpaint") = py::none(), py::arg("rasterize") = py::none(),
+           "mark: 'id' or ('id', {params}) of a mark (default 'points'); filters: ['id' or ('id', {params})]; "
+           "rasterize: the points mark's parameters (the older spelling of mark=('points', {...})).")
+      .def_property_readonly("mark", [](const Style& s) {
+        return py::make_tuple(s.mark.info->schema.id, values_to_dict(s.mark.params));
+      })
+      .def_property_readonly("rasterize", [](const Style& s) -> py::object {
+        if (s.mark.info->schema.id != "points") return py::none();
+        return values_to_dict(s.mark.params);
+      }, "The points mark's parameters, or None for another mark.")
+      .def_property_readonly("attributes", [](const Style& s) { return attribute_names(s.attributes()); },
+                             "Per-point attributes the mark reads ('normals:16', 'colors', ...).")
+      .def_property_readonly("source_attributes", &Style::source_attributes,
+                             "Attributes a host passes to PointCloud for this style (the core computes the rest); "
+                             "for color_source 'auto' every colour attribute the object has.")
       .def_property_readonly("inpaint", [](const Style& s) { return values_to_dict(s.inpaint); })
       .def_property_readonly("filters", [](const Style& s) {
         py::list out;
@@ -230,6 +257,35 @@ void bind_render(py::module_& m) {
         const auto& r = self.cast<const RenderResult&>();
         return result_view(r.segment_index, r.height, r.width, 1, self);
       }, "(H,W) int32 front segment, -1 = background (read-only view)")
+      .def_property_readonly("marks", [](const RenderResult& r) {
+        const py::ssize_t n = py::ssize_t(r.marks.size());
+        py::array_t<uint32_t> id(n);
+        py::array_t<float> center({n, py::ssize_t(3)}), direction({n, py::ssize_t(3)}), normal({n, py::ssize_t(3)});
+        py::array_t<float> length(n), color({n, py::ssize_t(4)});
+        py::array_t<bool> crossed(n);
+        for (py::ssize_t i = 0; i < n; ++i) {
+          const CapturedMark& mk = r.marks[size_t(i)];
+          id.mutable_at(i) = mk.point_id;
+          crossed.mutable_at(i) = mk.crossed;
+          length.mutable_at(i) = mk.length;
+          for (int c = 0; c < 3; ++c) {
+            center.mutable_at(i, c) = mk.center[c];
+            direction.mutable_at(i, c) = mk.direction[c];
+            normal.mutable_at(i, c) = mk.normal[c];
+          }
+          for (int c = 0; c < 4; ++c) color.mutable_at(i, c) = mk.color[c];
+        }
+        py::dict d;
+        d["point_id"] = id;
+        d["center"] = center;
+        d["direction"] = direction;
+        d["normal"] = normal;
+        d["crossed"] = crossed;
+        d["length"] = length;
+        d["color"] = color;
+        return d;
+      }, "Marks drawn (render(..., capture_marks=True)), view space: point_id, center, direction, normal, "
+         "crossed, length (scene units), color (display sRGB, alpha = opacity).")
       .def_readonly("stats", &RenderResult::stats)
       .def_readonly("warnings", &RenderResult::warnings)
       .def_readonly("width", &RenderResult::width)
@@ -242,8 +298,8 @@ void bind_render(py::module_& m) {
         return std::make_unique<Renderer>();
       }))
       .def("render", [](Renderer& self, const Scene& scene, const Camera& camera, int width, int height, double time,
-                        const py::object& composite, const py::object& background, const std::string& rasterizer,
-                        const py::object& progress) {
+                        const py::object& composite, const py::object& background, const py::object& progress,
+                        bool capture_marks) {
         RenderSettings s;
         s.width = width;
         s.height = height;
@@ -253,7 +309,7 @@ void bind_render(py::module_& m) {
         auto bg = background.cast<std::vector<double>>();
         if (bg.size() != 4) throw ParameterError("background must be RGBA (4 values)");
         s.background = {bg[0], bg[1], bg[2], bg[3]};
-        s.rasterizer = parse_rasterizer(rasterizer);
+        s.capture_marks = capture_marks;
         if (!progress.is_none()) {
           // Borrowed: `progress` outlives this call. Called with the GIL held.
           PyObject* fn = progress.ptr();
@@ -267,16 +323,11 @@ void bind_render(py::module_& m) {
         return self.render(scene, camera, s);
       }, py::arg("scene"), py::arg("camera"), py::arg("width"), py::arg("height"), py::arg("time") = 0.0,
          py::arg("composite") = py::none(), py::arg("background") = std::vector<double>{0, 0, 0, 0},
-         py::arg("rasterizer") = "compute", py::arg("progress") = py::none())
+         py::arg("progress") = py::none(), py::arg("capture_marks") = false)
       .def("cached_clouds", &Renderer::cached_clouds, py::call_guard<py::gil_scoped_release>())
       .def("uploaded_attributes", [](const Renderer& r, const PointCloud& c) {
-        const uint32_t mask = r.uploaded_attributes(c.id());
-        py::list out;
-        if (mask & uint32_t(Attribute::Color)) out.append("colors");
-        if (mask & uint32_t(Attribute::Intensity)) out.append("intensity");
-        if (mask & uint32_t(Attribute::Classification)) out.append("classification");
-        return out;
-      })
+        return attribute_names(r.uploaded_attributes(c.id()));
+      }, "Attributes of the cloud on the GPU besides positions ('colors', 'normals:16', ...).")
       .def("upload_count", &Renderer::upload_count, py::call_guard<py::gil_scoped_release>());
 }
 

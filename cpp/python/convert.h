@@ -19,7 +19,7 @@ struct RawParams {
   std::map<std::string, std::string> paths;
 };
 RawParams to_raw_params(const Schema& schema, const pybind11::dict& values);
-pybind11::dict schema_to_dict(const Schema& schema, const char* kind);
+pybind11::dict schema_to_dict(const Schema& schema);
 pybind11::dict values_to_dict(const ParamValues& values);
 
 }  // namespace pointnpr::python

@@ -54,36 +54,9 @@ void set_surface_uniforms(const gl::Program& program, const SurfaceFrame& frame)
   glUniformMatrix4fv(program.location("u_object_from_view"), 1, GL_FALSE, glm::value_ptr(frame.object_from_view));
 }
 
-namespace {
-std::map<std::string, FilterInfo>& registry() {
-  static std::map<std::string, FilterInfo> filters;
-  return filters;
-}
-}  // namespace
+const std::vector<const FilterInfo*>& registered_filters() { return Registry<FilterInfo>::instance().all(); }
 
-FilterRegistration::FilterRegistration(FilterInfo info) {
-  const std::string id = info.schema.id;
-  registry().emplace(id, std::move(info));
-}
-
-const std::vector<const FilterInfo*>& registered_filters() {
-  static const std::vector<const FilterInfo*> list = [] {
-    std::vector<const FilterInfo*> out;
-    for (const auto& [id, info] : registry()) out.push_back(&info);
-    return out;
-  }();
-  return list;
-}
-
-const FilterInfo& find_filter(const std::string& id) {
-  auto it = registry().find(id);
-  if (it == registry().end()) {
-    std::string known;
-    for (const auto& [name, info] : registry()) known += (known.empty() ? "" : ", ") + name;
-    throw ParameterError("unknown filter '" + id + "' (filters: " + known + ")");
-  }
-  return it->second;
-}
+const FilterInfo& find_filter(const std::string& id) { return Registry<FilterInfo>::instance().find(id); }
 
 void dispatch_rect(const gl::Program& program, const Rect& rect) {
   if (rect.empty()) return;

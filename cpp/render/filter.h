@@ -15,6 +15,7 @@
 #include "core/params.h"
 #include "gl/objects.h"
 #include "gl/shaders.h"
+#include "render/registry.h"
 
 namespace pointnpr {
 
@@ -74,18 +75,17 @@ class Filter {
 };
 
 struct FilterInfo {
+  static constexpr const char* kKind = "filter";
   Schema schema;
   std::function<std::unique_ptr<Filter>()> create;
 };
 
-// All filters linked into the core, in registration order sorted by id.
+// All filters linked into the core, sorted by id.
 const std::vector<const FilterInfo*>& registered_filters();
 const FilterInfo& find_filter(const std::string& id);  // throws ParameterError
 
-// Used by each filter's .cpp: `static FilterRegistration reg{{schema, factory}};`
-struct FilterRegistration {
-  explicit FilterRegistration(FilterInfo info);
-};
+// Used by each filter's .cpp: `const FilterRegistration reg{{schema, factory}};`
+using FilterRegistration = Registration<FilterInfo>;
 
 // Dispatches `program` (local size 16x16, uniform ivec2 u_rect_min and
 // u_rect_max) over `rect`.

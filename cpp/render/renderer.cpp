@@ -2,68 +2,20 @@
 
 #include <algorithm>
 #include <chrono>
-#include <deque>
 #include <cmath>
+#include <deque>
 #include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <limits>
 #include <map>
 
-#include "geometry/analysis.h"
 #include "gl/device.h"
 #include "gl/objects.h"
 #include "gl/shaders.h"
+#include "render/filter_chain.h"
+#include "render/gpu_cloud.h"
 #include "render/image_textures.h"
 
 namespace pointnpr {
-
-namespace {
-template <class T>
-std::vector<T> take(std::vector<std::vector<T>>& list, size_t size) {
-  for (auto it = list.begin(); it != list.end(); ++it)
-    if (it->size() == size) {
-      std::vector<T> v = std::move(*it);
-      list.erase(it);
-      return v;
-    }
-  return std::vector<T>(size);
-}
-template <class T>
-void keep(std::vector<std::vector<T>>& list, std::vector<T>&& v) {
-  constexpr size_t kMaxKept = 6;  // a few frames' worth, in flight at once
-  if (!v.empty() && list.size() < kMaxKept) list.push_back(std::move(v));
-}
-}  // namespace
-
-std::vector<float> BufferPool::take_floats(size_t size) {
-  std::lock_guard lock(mutex_);
-  return take(floats_, size);
-}
-std::vector<int32_t> BufferPool::take_ints(size_t size) {
-  std::lock_guard lock(mutex_);
-  return take(ints_, size);
-}
-void BufferPool::give(std::vector<float>&& v) {
-  std::lock_guard lock(mutex_);
-  keep(floats_, std::move(v));
-}
-void BufferPool::give(std::vector<int32_t>&& v) {
-  std::lock_guard lock(mutex_);
-  keep(ints_, std::move(v));
-}
-
-RenderResult::~RenderResult() {
-  if (!pool) return;
-  pool->give(std::move(color));
-  pool->give(std::move(depth));
-  pool->give(std::move(segment_index));
-}
-
-RasterizerKind parse_rasterizer(const std::string& s) {
-  if (s == "compute") return RasterizerKind::Compute;
-  if (s == "gl_points") return RasterizerKind::GlPoints;
-  throw ParameterError("rasterizer must be 'compute' or 'gl_points', got '" + s + "'");
-}
 
 namespace {
 
@@ -72,45 +24,7 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-constexpr float kMaxSplatPixels = 32.0f;
 const float kInf = std::numeric_limits<float>::infinity();
-
-// GPU copy of a cloud: positions always, other attributes on demand.
-struct GpuCloud {
-  std::weak_ptr<const PointCloud> source;
-  gl::Buffer positions;
-  gl::Buffer colors, intensity, classification;
-  // snorm8 x3 per point, by source: 0 the cloud's own, k estimated from k
-  // neighbours (styles sharing a cloud may ask for different k).
-  std::map<int, gl::Buffer> normals;
-  bool own_normals = false;
-  gl::VertexArray vao;  // for the GL_POINTS path
-  uint32_t uploaded = 0;
-  float intensity_scale = 1.0f;
-};
-
-// Unit normals as signed 8-bit x, y, z (0.5 degree steps: plenty for
-// shading, a quarter of the upload).
-std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals) {
-  std::vector<uint32_t> out(normals.size());
-  for (size_t i = 0; i < normals.size(); ++i) {
-    uint32_t packed = 0;
-    for (int c = 0; c < 3; ++c) {
-      const float v = std::isfinite(normals[i][c]) ? std::clamp(normals[i][c], -1.0f, 1.0f) : 0.0f;
-      packed |= uint32_t(uint8_t(int8_t(std::lround(v * 127.0f)))) << (8 * c);
-    }
-    out[i] = packed;
-  }
-  return out;
-}
-
-// A chunk that survived culling, with its float view transform.
-struct VisibleChunk {
-  const GpuCloud* gpu;
-  const PointChunk* chunk;
-  glm::mat4 view_from_chunk;
-  uint32_t key_base;
-};
 
 struct FrameTargets {
   glm::ivec2 size{0, 0};
@@ -119,10 +33,22 @@ struct FrameTargets {
   gl::Buffer keys;        // uint per pixel (32-bit path)
   gl::Buffer bbox;        // 4 ints
   gl::Texture raster_color, raster_depth, color_a, color_b, inpainted, accum, accum_depth, accum_index;
-  gl::Texture gl_depth;   // depth attachment of the GL_POINTS path
+  gl::Texture gl_depth;   // depth attachment of GL-drawn marks
   gl::Framebuffer fbo;
-  std::deque<gl::Texture> scratch;  // deque: references stay valid as it grows
+  std::deque<gl::Texture> scratch;  // RGBA32F for filters; deque: references stay valid as it grows
+  std::map<std::pair<GLenum, int>, gl::Texture> mark_scratch;
 };
+
+// The colour attributes a mark asked for, when a cloud has none of them.
+std::string missing_color(const AttributeSet& needed, const GpuCloud& g) {
+  std::string asked;
+  for (AttributeKind a : {AttributeKind::Color, AttributeKind::Intensity, AttributeKind::Classification}) {
+    if (!needed.count({a})) continue;
+    if (g.find({a})) return "";
+    asked += (asked.empty() ? "" : " or ") + std::string(attribute_name(a));
+  }
+  return asked;
+}
 
 }  // namespace
 
@@ -130,65 +56,8 @@ struct Renderer::Impl {
   gl::ShaderLibrary shaders;
   ImageTextures images;
   std::shared_ptr<BufferPool> pool = std::make_shared<BufferPool>();
-  std::map<uint64_t, GpuCloud> clouds;
+  GpuCloudCache clouds;
   FrameTargets targets;
-  uint64_t uploads = 0;
-
-  void collect_garbage() {
-    for (auto it = clouds.begin(); it != clouds.end();)
-      it = it->second.source.expired() ? clouds.erase(it) : std::next(it);
-  }
-
-  template <class T>
-  gl::Buffer upload(const std::vector<T>& data) {
-    ++uploads;
-    return gl::make_buffer(data.size() * sizeof(T), data.data(), 0);
-  }
-
-  // normal_k: the neighbours to estimate normals from, where the style
-  // shades and the cloud has none of its own.
-  GpuCloud& gpu_cloud(const std::shared_ptr<const PointCloud>& cloud, uint32_t needed, int normal_k) {
-    GpuCloud& g = clouds[cloud->id()];
-    if (!g.positions) {
-      g.source = cloud;
-      g.own_normals = cloud->has(Attribute::Normal);
-      g.positions = upload(cloud->local_positions());
-      GLuint vao = 0;
-      glCreateVertexArrays(1, &vao);
-      g.vao = gl::VertexArray(vao);
-      glVertexArrayVertexBuffer(vao, 0, g.positions.id(), 0, sizeof(glm::vec3));
-      glEnableVertexArrayAttrib(vao, 0);
-      glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-      glVertexArrayAttribBinding(vao, 0, 0);
-    }
-    const uint32_t missing = needed & ~g.uploaded;
-    if ((missing & uint32_t(Attribute::Color)) && cloud->has(Attribute::Color))
-      g.colors = upload(cloud->colors());
-    if ((missing & uint32_t(Attribute::Intensity)) && cloud->has(Attribute::Intensity)) {
-      g.intensity = upload(cloud->intensity());
-      float peak = 0.0f;
-      for (float v : cloud->intensity()) peak = std::max(peak, v);
-      g.intensity_scale = peak > 0.0f ? 1.0f / peak : 1.0f;
-    }
-    if ((missing & uint32_t(Attribute::Classification)) && cloud->has(Attribute::Classification))
-      g.classification = upload(cloud->classification());
-    if (needed & uint32_t(Attribute::Normal)) {
-      const int source = g.own_normals ? 0 : normal_k;
-      if (!g.normals.count(source)) {
-        if (source == 0) {
-          g.normals[0] = upload(pack_normals(cloud->normals()));
-        } else {
-          // Estimated once per cloud and k (the cloud's geometry cache keeps
-          // them), consistently oriented; the shading is two-sided anyway.
-          const auto estimated = cloud->analysis().normals({source, geometry::Orientation::Consistent, {}});
-          g.normals[source] = upload(pack_normals(*estimated));
-        }
-      }
-    }
-    g.uploaded |= needed;
-    gl::check_gl("point upload");
-    return g;
-  }
 
   void ensure_targets(glm::ivec2 size, bool int64) {
     if (targets.size == size && targets.int64 == int64) return;
@@ -230,6 +99,13 @@ struct Renderer::Impl {
     return targets.scratch[size_t(index)];
   }
 
+  const gl::Texture& mark_scratch(GLenum format, int index) {
+    auto it = targets.mark_scratch.find({format, index});
+    if (it == targets.mark_scratch.end())
+      it = targets.mark_scratch.emplace(std::make_pair(format, index), gl::Texture(format, targets.size)).first;
+    return it->second;
+  }
+
   void clear_texture(const gl::Texture& t, const Rect& r, const void* value, GLenum format, GLenum type) {
     if (r.empty()) return;
     glClearTexSubImage(t.id(), 0, r.min.x, r.min.y, 0, r.size().x, r.size().y, 1, format, type, value);
@@ -246,7 +122,7 @@ struct Renderer::Impl {
   }
 
   void begin_frame(const RenderSettings& s) {
-    collect_garbage();
+    clouds.collect_garbage();
     ensure_targets({s.width, s.height}, gl::Device::instance().info().int64_atomics);
     const Rect all{{0, 0}, targets.size};
     const float zero4[4] = {0, 0, 0, 0};
@@ -257,17 +133,22 @@ struct Renderer::Impl {
     gl::check_gl("frame start");
   }
 
-  // Culls chunks against the view volume (in double) and returns the
-  // conservative screen rectangle the survivors can touch.
-  std::vector<VisibleChunk> cull(const Segment& seg, const Camera& cam, Rect& screen,
-                                 RenderResult& result) {
-    std::vector<VisibleChunk> visible;
-    const uint32_t needed = seg.style.required_attributes();
+  struct Culled {
+    std::vector<VisibleChunk> chunks;
+    Rect screen;  // conservative screen rectangle the marks can touch
+    double depth_min = std::numeric_limits<double>::max(), depth_max = 0.0;
+  };
+
+  // Culls chunks (their bounds grown by the mark's extent) against the view
+  // volume, in double; uploads what the mark needs for the survivors' clouds.
+  Culled cull(const Segment& seg, const Camera& cam, RenderResult& result) {
+    Culled out;
+    const AttributeSet needed = seg.style.attributes();
+    const MarkExtent extent = seg.style.mark.mark->extent(seg.style.mark.params);
     uint32_t key_base = 0;
     int total = 0, culled = 0;
-    screen = Rect{};
     const glm::ivec2 size = targets.size;
-    const float margin = kMaxSplatPixels * 0.5f + 1.0f;
+    const double margin = double(extent.pixels);
     for (const Instance& inst : seg.instances) {
       if (!inst.cloud || inst.cloud->size() == 0) continue;
       GpuCloud* gpu = nullptr;
@@ -275,14 +156,18 @@ struct Renderer::Impl {
       for (const PointChunk& chunk : inst.cloud->chunks()) {
         ++total;
         const glm::dmat4 view_from_chunk = view_from_object * glm::translate(glm::dmat4(1.0), chunk.origin);
+        const glm::dvec3 lo_box = glm::dvec3(chunk.local_min) - extent.world;
+        const glm::dvec3 hi_box = glm::dvec3(chunk.local_max) + extent.world;
         bool all_near = true, all_far = true, crosses_near = false;
+        double dmin = std::numeric_limits<double>::max(), dmax = 0.0;
         glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
         for (int c = 0; c < 8; ++c) {
-          const glm::dvec3 corner((c & 1) ? chunk.local_max.x : chunk.local_min.x,
-                                  (c & 2) ? chunk.local_max.y : chunk.local_min.y,
-                                  (c & 4) ? chunk.local_max.z : chunk.local_min.z);
+          const glm::dvec3 corner((c & 1) ? hi_box.x : lo_box.x, (c & 2) ? hi_box.y : lo_box.y,
+                                  (c & 4) ? hi_box.z : lo_box.z);
           const glm::dvec4 v = view_from_chunk * glm::dvec4(corner, 1.0);
           const double dist = -v.z;
+          dmin = std::min(dmin, dist);
+          dmax = std::max(dmax, dist);
           all_near = all_near && dist < cam.clip_start;
           all_far = all_far && dist > cam.clip_end;
           if (!cam.orthographic && dist < cam.clip_start * 0.5) {
@@ -298,131 +183,45 @@ struct Renderer::Impl {
         if (crosses_near) {
           r = Rect{{0, 0}, size};
         } else {
-          r.min = glm::ivec2(glm::max(glm::floor(lo - double(margin)), glm::dvec2(0.0)));
-          r.max = glm::ivec2(glm::min(glm::ceil(hi + double(margin)), glm::dvec2(size)));
+          r.min = glm::ivec2(glm::max(glm::floor(lo - margin), glm::dvec2(0.0)));
+          r.max = glm::ivec2(glm::min(glm::ceil(hi + margin), glm::dvec2(size)));
         }
         if (all_near || all_far || r.empty()) {
           ++culled;
           key_base += chunk.count;
           continue;
         }
-        if (!gpu) gpu = &gpu_cloud(inst.cloud, needed, seg.style.rasterize.get_int("normal_neighbors"));
-        screen = screen.united(r);
-        visible.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base});
+        if (!gpu) {
+          gpu = &clouds.get(inst.cloud, needed);
+          const std::string missing = missing_color(needed, *gpu);
+          if (!missing.empty())
+            result.warnings.push_back("segment '" + seg.name + "': its style colours points by " + missing +
+                                      " but a cloud has none; the constant colour is used");
+        }
+        out.screen = out.screen.united(r);
+        out.depth_min = std::min(out.depth_min, std::max(dmin, cam.clip_start));
+        out.depth_max = std::max(out.depth_max, std::min(dmax, cam.clip_end));
+        out.chunks.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base});
         key_base += chunk.count;
       }
-      const uint32_t color = seg.style.color_attribute();
-      if (color && !inst.cloud->has(Attribute(color)))
-        result.warnings.push_back("segment '" + seg.name + "': its style colors points by " +
-                                  seg.style.rasterize.get_enum_name("color_source") +
-                                  " but a cloud has none; the constant color is used");
     }
     result.stats["chunks_total"] += total;
     result.stats["chunks_culled"] += culled;
-    return visible;
+    return out;
   }
 
-  void set_raster_uniforms(const gl::Program& p, const Segment& seg, const Camera& cam, const Rect& clip) {
-    const ParamValues& r = seg.style.rasterize;
-    glUniformMatrix4fv(p.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
-    glUniform2i(p.location("u_size"), targets.size.x, targets.size.y);
-    glUniform1f(p.location("u_near"), float(cam.clip_start));
-    glUniform1f(p.location("u_far"), float(cam.clip_end));
-    glUniform1i(p.location("u_ortho"), cam.orthographic ? 1 : 0);
-    glUniform1i(p.location("u_size_mode"), r.get_enum("size_mode"));
-    glUniform1f(p.location("u_point_size"), float(r.get_float("point_size")));
-    glUniform1f(p.location("u_world_size"), float(r.get_float("world_size")));
-    glUniform1f(p.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, targets.size.y)));
-    glUniform1f(p.location("u_max_size"), kMaxSplatPixels);
-    const glm::vec4 c = r.get_color("color");
-    glUniform4f(p.location("u_constant_color"), c.r, c.g, c.b, c.a);
-    glUniform4i(p.location("u_clip_rect"), clip.min.x, clip.min.y, clip.max.x, clip.max.y);
-    // Towards the light, in view space: elevation away from the view axis,
-    // azimuth around it (0 from the right, 90 from above).
-    const double azimuth = glm::radians(r.get_float("light_azimuth")),
-                 elevation = glm::radians(r.get_float("light_elevation"));
-    glUniform1i(p.location("u_shading"), seg.style.shaded() ? 1 : 0);
-    glUniform1f(p.location("u_shading_strength"), float(r.get_float("shading_strength")));
-    glUniform3f(p.location("u_light_dir"), float(std::sin(elevation) * std::cos(azimuth)),
-                float(std::sin(elevation) * std::sin(azimuth)), float(std::cos(elevation)));
-  }
-
-  // Binds the chunk's cloud buffers and chooses the color source it can serve.
-  void bind_cloud(const gl::Program& p, const VisibleChunk& v, const Segment& seg) {
-    const GpuCloud& g = *v.gpu;
-    int source = seg.style.rasterize.get_enum("color_source");
-    const gl::Buffer* attr = nullptr;
-    if (source == int(ColorSource::Rgb)) attr = &g.colors;
-    if (source == int(ColorSource::Intensity)) attr = &g.intensity;
-    if (source == int(ColorSource::Classification)) attr = &g.classification;
-    if (attr && !*attr) source = int(ColorSource::Constant);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.positions.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, attr && *attr ? attr->id() : g.positions.id());
-    const auto normals = seg.style.shaded()
-                             ? g.normals.find(g.own_normals ? 0 : seg.style.rasterize.get_int("normal_neighbors"))
-                             : g.normals.end();
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, normals != g.normals.end() ? normals->second.id() : g.positions.id());
-    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(v.view_from_chunk)));
-    glUniformMatrix3fv(p.location("u_normal_matrix"), 1, GL_FALSE, glm::value_ptr(normal_matrix));
-    glUniform1i(p.location("u_color_source"), source);
-    glUniform1f(p.location("u_intensity_scale"), g.intensity_scale);
-    glUniformMatrix4fv(p.location("u_view_from_chunk"), 1, GL_FALSE, glm::value_ptr(v.view_from_chunk));
-    glUniform1ui(p.location("u_first"), v.chunk->first);
-    glUniform1ui(p.location("u_count"), v.chunk->count);
-    glUniform1ui(p.location("u_key_base"), v.key_base);
-  }
-
-  void rasterize_compute(const Segment& seg, const Camera& cam, const std::vector<VisibleChunk>& chunks,
-                         const Rect& clip) {
-    const bool int64 = targets.int64;
-    std::vector<std::vector<std::string>> passes;
-    if (int64) {
-      passes = {{"INT64_ATOMICS", "PASS_DEPTH"}, {"INT64_ATOMICS", "PASS_COLOR"}};
-    } else {
-      passes = {{"PASS_DEPTH"}, {"PASS_KEY"}, {"PASS_COLOR"}};
-    }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, targets.depth_keys.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, targets.keys.id());
-    glBindImageTexture(0, targets.raster_color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, targets.raster_depth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    for (const auto& defines : passes) {
-      const gl::Program& p = shaders.compute("raster_points.comp", defines);
-      p.use();
-      set_raster_uniforms(p, seg, cam, clip);
-      for (const VisibleChunk& v : chunks) {
-        bind_cloud(p, v, seg);
-        glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
-      }
-      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    }
-  }
-
-  void rasterize_gl_points(const Segment& seg, const Camera& cam, const std::vector<VisibleChunk>& chunks,
-                           const Rect& clip) {
-    const gl::Program& p = shaders.graphics("raster_points.vert", "raster_points.frag");
-    glBindFramebuffer(GL_FRAMEBUFFER, targets.fbo.id());
-    glViewport(0, 0, targets.size.x, targets.size.y);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
-    const float zero = 0.0f;
-    glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z: 0 is the far end
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-    glEnable(GL_PROGRAM_POINT_SIZE);
-    p.use();
-    set_raster_uniforms(p, seg, cam, clip);
-    for (const VisibleChunk& v : chunks) {
-      bind_cloud(p, v, seg);
-      glBindVertexArray(v.gpu->vao.id());
-      glDrawArrays(GL_POINTS, GLint(v.chunk->first), GLsizei(v.chunk->count));
-    }
-    glBindVertexArray(0);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_SCISSOR_TEST);
-    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  MarkTargets mark_targets() {
+    MarkTargets t;
+    t.size = targets.size;
+    t.int64_atomics = targets.int64;
+    t.color = &targets.raster_color;
+    t.depth = &targets.raster_depth;
+    t.gl_depth = &targets.gl_depth;
+    t.fbo = targets.fbo.id();
+    t.depth_keys = &targets.depth_keys;
+    t.keys = &targets.keys;
+    t.scratch = [this](GLenum format, int index) -> const gl::Texture& { return mark_scratch(format, index); };
+    return t;
   }
 
   // Tight bounds of the covered pixels inside `search`.
@@ -453,38 +252,45 @@ struct Renderer::Impl {
   void render_segment(const Segment& seg, int index, const Camera& cam, const RenderSettings& s,
                       RenderResult& result) {
     auto t0 = Clock::now();
-    Rect screen;
-    std::vector<VisibleChunk> chunks = cull(seg, cam, screen, result);
-    if (chunks.empty()) return;
+    const Culled visible = cull(seg, cam, result);
+    if (visible.chunks.empty()) return;
+    const Rect& screen = visible.screen;
     size_t points = 0;
-    for (const auto& v : chunks) points += v.chunk->count;
+    for (const auto& v : visible.chunks) points += v.chunk->count;
     result.stats["points_drawn"] += double(points);
 
     // Everything this segment may read or write lies within `work`.
-    int total_footprint = 0;
-    for (const FilterStep& f : seg.style.filters) total_footprint += f.filter->footprint(f.params);
     const CompositeMode mode = CompositeMode(s.composite.get_enum("mode"));
     const int radius = seg.style.inpaint.get_int("radius");
-    const Rect work = screen.grown(2 * total_footprint + radius + 1, targets.size);
+    const Rect work = screen.grown(2 * total_footprint(seg.style.filters) + radius + 1, targets.size);
 
     const float zero4[4] = {0, 0, 0, 0};
     clear_texture(targets.raster_color, work, zero4, GL_RGBA, GL_FLOAT);
     clear_texture(targets.raster_depth, work, &kInf, GL_RED, GL_FLOAT);
-    if (s.rasterizer == RasterizerKind::Compute) {
-      clear_rows(targets.depth_keys, work, targets.int64 ? 8 : 4);
-      if (!targets.int64) clear_rows(targets.keys, work, 4);
-      rasterize_compute(seg, cam, chunks, screen);
-    } else {
-      rasterize_gl_points(seg, cam, chunks, screen);
-    }
-    gl::check_gl("rasterization");
+    clear_rows(targets.depth_keys, work, targets.int64 ? 8 : 4);
+    if (!targets.int64) clear_rows(targets.keys, work, 4);
+
+    MarkContext mark;
+    mark.shaders = &shaders;
+    mark.images = &images;
+    mark.camera = &cam;
+    mark.targets = mark_targets();
+    mark.chunks = visible.chunks;
+    mark.clip = screen;
+    mark.depth_min = visible.depth_min;
+    mark.depth_max = std::max(visible.depth_max, visible.depth_min);
+    mark.time = s.time;
+    mark.segment_seed = uint32_t(index) * 2654435761u;
+    mark.stats = &result.stats;
+    mark.warnings = &result.warnings;
+    mark.capture = s.capture_marks ? &result.marks : nullptr;
+    seg.style.mark.mark->draw(mark, seg.style.mark.params);
+    gl::check_gl(("mark " + seg.style.mark.info->schema.id).c_str());
     const Rect covered = coverage_bounds(screen);
     glFinish();
-    result.stats["rasterize_ms"] += ms_since(t0);
+    result.stats["mark_ms"] += ms_since(t0);
     if (covered.empty()) return;
 
-    // Filter chain: ping-pong between two images, each filter's rect grows
-    // by its footprint (cost follows coverage, not the frame size).
     t0 = Clock::now();
     const gl::Texture* current = &targets.raster_color;
     Rect rect = covered;
@@ -495,27 +301,18 @@ struct Renderer::Impl {
                          targets.color_a.id(), GL_TEXTURE_2D, 0, screen.min.x, screen.min.y, 0, screen.size().x,
                          screen.size().y, 1);
       gl::check_gl("copy to the filter chain");
-      current = &targets.color_a;
-      const gl::Texture* other = &targets.color_b;
-      const SurfaceFrame surface = make_surface_frame(cam, targets.size, surface_anchor(seg));
-      for (const FilterStep& f : seg.style.filters) {
-        rect = rect.grown(f.filter->footprint(f.params), targets.size);
-        FilterContext ctx;
-        ctx.shaders = &shaders;
-        ctx.images = &images;
-        ctx.input = current;
-        ctx.output = other;
-        ctx.raster_depth = &targets.raster_depth;
-        ctx.scratch = [this](int i) -> const gl::Texture& { return scratch(i); };
-        ctx.rect = rect;
-        ctx.image_size = targets.size;
-        ctx.time = s.time;
-        ctx.segment_seed = uint32_t(index) * 2654435761u;
-        ctx.surface = surface;
-        f.filter->apply(ctx, f.params);
-        gl::check_gl(("filter " + f.info->schema.id).c_str());
-        std::swap(current, other);
-      }
+      FilterChainImages chain;
+      chain.shaders = &shaders;
+      chain.images = &images;
+      chain.first = &targets.color_a;
+      chain.second = &targets.color_b;
+      chain.raster_depth = &targets.raster_depth;
+      chain.scratch = [this](int i) -> const gl::Texture& { return scratch(i); };
+      chain.image_size = targets.size;
+      chain.time = s.time;
+      chain.segment_seed = mark.segment_seed;
+      chain.surface = make_surface_frame(cam, targets.size, surface_anchor(seg));
+      current = run_filter_chain(seg.style.filters, chain, rect);
     }
     glFinish();
     result.stats["filters_ms"] += ms_since(t0);
@@ -623,15 +420,18 @@ size_t Renderer::cached_clouds() const {
   return gl::Device::instance().run([this] { return impl_->clouds.size(); });
 }
 
-uint32_t Renderer::uploaded_attributes(uint64_t cloud_id) const {
-  return gl::Device::instance().run([this, cloud_id]() -> uint32_t {
-    auto it = impl_->clouds.find(cloud_id);
-    return it == impl_->clouds.end() ? 0u : it->second.uploaded;
+AttributeSet Renderer::uploaded_attributes(uint64_t cloud_id) const {
+  return gl::Device::instance().run([this, cloud_id] {
+    AttributeSet set;
+    if (const GpuCloud* g = impl_->clouds.find(cloud_id))
+      for (const auto& [key, buffer] : g->buffers)
+        if (buffer) set.insert(key);
+    return set;
   });
 }
 
 uint64_t Renderer::upload_count() const {
-  return gl::Device::instance().run([this] { return impl_->uploads; });
+  return gl::Device::instance().run([this] { return impl_->clouds.uploads(); });
 }
 
 }  // namespace pointnpr

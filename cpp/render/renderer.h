@@ -1,5 +1,5 @@
 #pragma once
-// Renders a Scene of segments: per segment rasterize -> filters -> depth
+// Renders a Scene of segments: per segment cull -> mark -> filters -> depth
 // inpainting -> composite (Wegen et al. 2024), on the core's GL thread.
 #include <functional>
 #include <map>
@@ -20,16 +20,14 @@ class RenderCancelled : public Cancelled {
   RenderCancelled() : Cancelled("render cancelled") {}
 };
 
-enum class RasterizerKind { Compute, GlPoints };
-RasterizerKind parse_rasterizer(const std::string& s);
-
 struct RenderSettings {
   int width = 0;
   int height = 0;
   double time = 0.0;  // scene time in seconds (animated filters)
   ParamValues composite = validate(composite_schema(), {});
   glm::dvec4 background{0.0, 0.0, 0.0, 0.0};  // scene-linear, straight alpha
-  RasterizerKind rasterizer = RasterizerKind::Compute;
+  // Hand back every mark drawn (RenderResult::marks), for tests and debugging.
+  bool capture_marks = false;
   // Called between segments on the calling thread; returning false cancels.
   std::function<bool(double fraction, const std::string& what)> progress;
 };
@@ -61,6 +59,7 @@ struct RenderResult {
   std::vector<float> color;           // w*h*4, scene-linear premultiplied RGBA, row 0 = bottom
   std::vector<float> depth;           // w*h, linear view depth; background = kBackgroundDepth
   std::vector<int32_t> segment_index; // w*h, front segment, -1 = background
+  std::vector<CapturedMark> marks;    // with RenderSettings::capture_marks
   std::map<std::string, double> stats;
   std::vector<std::string> warnings;
   std::shared_ptr<BufferPool> pool;
@@ -83,7 +82,7 @@ class Renderer {
   // Number of clouds with GPU buffers, and which attributes they hold
   // (for tests of lazy, cached uploads).
   size_t cached_clouds() const;
-  uint32_t uploaded_attributes(uint64_t cloud_id) const;
+  AttributeSet uploaded_attributes(uint64_t cloud_id) const;
   uint64_t upload_count() const;  // buffers uploaded since construction
 
   struct Impl;

@@ -1,6 +1,6 @@
 #pragma once
-// A style is a segment's pipeline: rasterize -> filters -> depth inpainting.
-// The three fixed stages declare their parameters like filters do.
+// A style is a segment's pipeline: one mark -> filters -> depth inpainting.
+// The fixed stages declare their parameters like marks and filters do.
 #include <memory>
 #include <string>
 #include <vector>
@@ -8,37 +8,38 @@
 #include <glm/mat4x4.hpp>
 
 #include "core/params.h"
-#include "render/filter.h"
+#include "render/filter_chain.h"
+#include "render/mark.h"
 #include "scene/point_cloud.h"
 
 namespace pointnpr {
 
-const Schema& rasterize_schema();
 const Schema& inpaint_schema();
 const Schema& composite_schema();
 
-enum class ColorSource { Rgb = 0, Intensity = 1, Classification = 2, Constant = 3 };
-enum class SizeMode { Pixels = 0, World = 1 };
 enum class CompositeMode { Layering = 0, DepthTest = 1, Inpaint = 2 };
 
-struct FilterStep {
-  const FilterInfo* info = nullptr;
-  std::shared_ptr<const Filter> filter;
+struct MarkStep {
+  const MarkInfo* info = nullptr;
+  std::shared_ptr<const Mark> mark;
   ParamValues params;
 };
+MarkStep make_mark(const std::string& id, const std::map<std::string, std::vector<double>>& params = {},
+                   const std::map<std::string, std::string>& paths = {});
 
 struct Style {
-  ParamValues rasterize = validate(rasterize_schema(), {});
+  MarkStep mark = make_mark("points");
   std::vector<FilterStep> filters;
   ParamValues inpaint = validate(inpaint_schema(), {});
 
+  void set_mark(const std::string& id, const std::map<std::string, std::vector<double>>& params = {},
+                const std::map<std::string, std::string>& paths = {});
   void add_filter(const std::string& id, const std::map<std::string, std::vector<double>>& params,
                   const std::map<std::string, std::string>& paths = {});
-  // The cloud attributes the rasterize stage reads (only those are uploaded;
-  // normals a cloud lacks are estimated for it, once, when a style asks).
-  uint32_t required_attributes() const;
-  uint32_t color_attribute() const;  // the one of the color source (0: constant)
-  bool shaded() const;
+  // The per-point attributes the mark reads (only those are computed and
+  // uploaded, once per cloud), and the ones of them a host supplies.
+  AttributeSet attributes() const { return mark.mark->attributes(mark.params); }
+  std::vector<std::string> source_attributes() const { return source_attribute_names(attributes()); }
 };
 
 struct Instance {

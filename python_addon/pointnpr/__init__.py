@@ -60,12 +60,15 @@ _pointnpr.set_shader_dir(_os.path.join(_os.path.dirname(_os.path.abspath(__file_
 _atexit.register(_pointnpr.shutdown)
 
 
-def schema(schema_id):
-    """The parameter schema of one stage or filter (see schemas())."""
+def schema(schema_id, kind=None):
+    """The parameter schema of one mark, filter or stage (see schemas()).
+    ``kind`` ('mark', 'filter' or 'stage') tells apart a mark and a filter
+    of the same id (``hatching``); without it the first match wins, marks
+    first."""
     for s in schemas():
-        if s["id"] == schema_id:
+        if s["id"] == schema_id and kind in (None, s["kind"]):
             return s
-    raise KeyError(f"no schema named {schema_id!r}")
+    raise KeyError(f"no {kind or 'schema'} named {schema_id!r}")
 
 
 def look_at(eye, target, up=(0.0, 0.0, 1.0)):

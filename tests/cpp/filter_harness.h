@@ -1,6 +1,6 @@
 #pragma once
-// Runs filters on a synthetic image the way the Renderer calls them
-// (cpp/render/renderer.cpp): the rect starts at the covered bounds and grows
+// Runs filters on a synthetic image through the Renderer's filter chain
+// (cpp/render/filter_chain.cpp): the rect starts at the covered bounds and grows
 // by each filter's footprint, filters ping-pong two RGBA32F images, get the
 // raster depth and scratch images. Used by tests/cpp/test_filters*.cpp and
 // bench/bench_filters.cpp; the Renderer itself is exercised by the
@@ -26,7 +26,7 @@
 #include "gl/device.h"
 #include "gl/objects.h"
 #include "gl/shaders.h"
-#include "render/filter.h"
+#include "render/filter_chain.h"
 
 namespace pointnpr::test {
 
@@ -78,11 +78,8 @@ inline Rect covered_bounds(const Image& img) {
 // benchmarks) and reports the mean time.
 inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, double time = 0.0, int repeat = 1,
                              std::optional<Rect> start_rect = std::nullopt) {
-  std::vector<std::pair<const FilterInfo*, ParamValues>> chain;
-  for (const Step& s : steps) {
-    const FilterInfo& info = find_filter(s.id);
-    chain.emplace_back(&info, validate(info.schema, s.params, s.paths));
-  }
+  std::vector<FilterStep> chain;
+  for (const Step& s : steps) chain.push_back(make_filter_step(s.id, s.params, s.paths));
   std::vector<float> depth = in.depth;
   if (depth.empty()) {
     depth.resize(size_t(in.size.x) * size_t(in.size.y));
@@ -107,37 +104,28 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
       for (auto& t : scratch) glClearTexImage(t.id(), 0, GL_RGBA, GL_FLOAT, nan4);
       glFinish();
       const auto t0 = std::chrono::steady_clock::now();
-      const gl::Texture* current = &a;
-      const gl::Texture* other = &b;
       Rect rect = start_rect ? *start_rect : covered_bounds(in);
-      for (const auto& [info, params] : chain) {
-        const std::unique_ptr<Filter> filter = info->create();
-        rect = rect.grown(filter->footprint(params), size);
-        FilterContext ctx;
-        ctx.shaders = shaders;
-        ctx.images = &standalone_image_textures();
-        ctx.input = current;
-        ctx.output = other;
-        ctx.raster_depth = &z;
-        ctx.scratch = [&](int i) -> const gl::Texture& {
-          while (int(scratch.size()) <= i) {
-            scratch.emplace_back(GL_RGBA32F, size);
-            glClearTexImage(scratch.back().id(), 0, GL_RGBA, GL_FLOAT, nan4);
-          }
-          return scratch[size_t(i)];
-        };
-        ctx.rect = rect;
-        ctx.image_size = size;
-        ctx.time = time;
-        ctx.segment_seed = 12345u;
-        // An orthographic view one world unit per pixel: the surface point
-        // of pixel q at depth d is (q, -d).
-        ctx.surface.x0 = {1.0f, 0.0f, 0.0f};
-        ctx.surface.y0 = {0.0f, 1.0f, 0.0f};
-        filter->apply(ctx, params);
-        gl::check_gl(("filter " + info->schema.id).c_str());
-        std::swap(current, other);
-      }
+      FilterChainImages images;
+      images.shaders = shaders;
+      images.images = &standalone_image_textures();
+      images.first = &a;
+      images.second = &b;
+      images.raster_depth = &z;
+      images.scratch = [&](int i) -> const gl::Texture& {
+        while (int(scratch.size()) <= i) {
+          scratch.emplace_back(GL_RGBA32F, size);
+          glClearTexImage(scratch.back().id(), 0, GL_RGBA, GL_FLOAT, nan4);
+        }
+        return scratch[size_t(i)];
+      };
+      images.image_size = size;
+      images.time = time;
+      images.segment_seed = 12345u;
+      // An orthographic view one world unit per pixel: the surface point
+      // of pixel q at depth d is (q, -d).
+      images.surface.x0 = {1.0f, 0.0f, 0.0f};
+      images.surface.y0 = {0.0f, 1.0f, 0.0f};
+      const gl::Texture* current = run_filter_chain(chain, images, rect);
       glFinish();
       total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       run.rect = rect;

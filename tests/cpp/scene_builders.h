@@ -41,11 +41,12 @@ inline Segment segment(const std::string& name, std::shared_ptr<PointCloud> clou
   return s;
 }
 
-inline Style style_with(std::map<std::string, std::vector<double>> rasterize,
+// A style drawing the points mark with `points` parameters.
+inline Style style_with(std::map<std::string, std::vector<double>> points,
                         std::vector<std::pair<std::string, std::map<std::string, std::vector<double>>>> filters = {},
                         std::map<std::string, std::vector<double>> inpaint = {}) {
   Style s;
-  s.rasterize = validate(rasterize_schema(), rasterize);
+  s.set_mark("points", points);
   for (auto& [id, params] : filters) s.add_filter(id, params);
   s.inpaint = validate(inpaint_schema(), inpaint);
   return s;
@@ -60,8 +61,7 @@ inline Camera front_camera(glm::dvec3 eye, glm::ivec2 size, double clip_start = 
                              size);
 }
 
-inline RenderSettings settings(glm::ivec2 size, const std::string& composite = "inpaint", double time = 0.0,
-                               RasterizerKind kind = RasterizerKind::Compute) {
+inline RenderSettings settings(glm::ivec2 size, const std::string& composite = "inpaint", double time = 0.0) {
   RenderSettings s;
   s.width = size.x;
   s.height = size.y;
@@ -69,8 +69,21 @@ inline RenderSettings settings(glm::ivec2 size, const std::string& composite = "
   const auto& items = composite_schema().params[0].items;
   const double mode = double(std::find(items.begin(), items.end(), composite) - items.begin());
   s.composite = validate(composite_schema(), {{"mode", {mode}}});
-  s.rasterizer = kind;
   return s;
+}
+
+// The points mark's two rasterizers.
+enum class RasterizerKind { Compute = 0, GlPoints = 1 };
+
+// `scene` with every points mark set to rasterizer `kind`.
+inline Scene with_rasterizer(Scene scene, RasterizerKind kind) {
+  for (Segment& seg : scene.segments) {
+    if (seg.style.mark.info->schema.id != "points") continue;
+    auto params = seg.style.mark.params.raw();
+    params["rasterizer"] = {double(kind)};
+    seg.style.set_mark("points", params);
+  }
+  return scene;
 }
 
 }  // namespace pointnpr::test

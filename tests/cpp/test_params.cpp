@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <algorithm>
 
 #include <cmath>
 #include <limits>
@@ -10,10 +11,10 @@
 using namespace pointnpr;
 
 TEST(Params, DefaultsFillEveryParameter) {
-  const ParamValues v = validate(rasterize_schema(), {});
+  const ParamValues v = validate(find_mark("points").schema, {});
   EXPECT_DOUBLE_EQ(v.get_float("point_size"), 2.0);
-  EXPECT_EQ(v.get_enum_name("color_source"), "rgb");
-  EXPECT_EQ(v.raw().size(), rasterize_schema().params.size());
+  EXPECT_EQ(v.get_enum_name("color_source"), "auto");
+  EXPECT_EQ(v.raw().size(), find_mark("points").schema.params.size());
 }
 
 TEST(Params, GivenValuesOverrideDefaults) {
@@ -39,8 +40,8 @@ TEST(Params, RejectsNaNInfinityAndOutOfRange) {
   EXPECT_THROW(validate(inpaint_schema(), {{"radius", {0}}}), ParameterError);
   EXPECT_THROW(validate(inpaint_schema(), {{"radius", {65}}}), ParameterError);
   EXPECT_THROW(validate(inpaint_schema(), {{"radius", {2.5}}}), ParameterError);  // ints are whole
-  EXPECT_THROW(validate(rasterize_schema(), {{"color_source", {4}}}), ParameterError);
-  EXPECT_THROW(validate(rasterize_schema(), {{"color", {1, 0, 0}}}), ParameterError);  // RGBA expected
+  EXPECT_THROW(validate(find_mark("points").schema, {{"color_source", {5}}}), ParameterError);
+  EXPECT_THROW(validate(find_mark("points").schema, {{"color", {1, 0, 0}}}), ParameterError);  // RGBA expected
 }
 
 TEST(Params, ReadingWithTheWrongTypeFails) {
@@ -64,4 +65,54 @@ TEST(Params, EveryFilterSchemaIsWellFormed) {
     }
   }
   EXPECT_THROW(find_filter("no_such_filter"), ParameterError);
+}
+
+TEST(Params, MarksAndFiltersAreLookedUpByKindAndMayShareAnId) {
+  EXPECT_EQ(find_mark("hatching").schema.kind, "mark");
+  EXPECT_EQ(find_filter("hatching").schema.kind, "filter");
+  EXPECT_NE(&find_mark("hatching").schema, &find_filter("hatching").schema);
+  EXPECT_EQ(find_mark("points").schema.kind, "mark");
+  EXPECT_EQ(inpaint_schema().kind, "stage");
+  try {
+    find_mark("cartoon");  // a filter, not a mark
+    FAIL() << "no mark named cartoon";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown mark 'cartoon' (marks: hatching, points"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Params, EveryConditionNamesAnEnumOrBoolOfItsSchemaAndOneOfItsValues) {
+  std::vector<const Schema*> all = {&inpaint_schema(), &composite_schema()};
+  for (const MarkInfo* m : registered_marks()) all.push_back(&m->schema);
+  for (const FilterInfo* f : registered_filters()) all.push_back(&f->schema);
+  int conditions = 0;
+  for (const Schema* schema : all) {
+    for (const ParamSpec& p : schema->params) {
+      if (p.when_param.empty()) continue;
+      ++conditions;
+      const ParamSpec* other = schema->find(p.when_param);
+      ASSERT_NE(other, nullptr) << schema->id << "." << p.name << " depends on unknown " << p.when_param;
+      ASSERT_TRUE(other->type == ParamType::Enum || other->type == ParamType::Bool) << schema->id << "." << p.name;
+      ASSERT_FALSE(p.when_values.empty());
+      for (const std::string& v : p.when_values) {
+        const std::vector<std::string> allowed =
+            other->type == ParamType::Bool ? std::vector<std::string>{"true", "false"} : other->items;
+        EXPECT_NE(std::find(allowed.begin(), allowed.end(), v), allowed.end())
+            << schema->id << "." << p.name << ": " << v << " is not a value of " << other->name;
+      }
+    }
+  }
+  EXPECT_GE(conditions, 6);
+}
+
+TEST(Params, ConditionsFollowTheCurrentValues) {
+  const Schema& points = find_mark("points").schema;
+  const ParamValues pixels = validate(points, {});
+  const ParamValues world = validate(points, {{"size_mode", {1}}});
+  EXPECT_TRUE(applies(*points.find("point_size"), pixels));
+  EXPECT_FALSE(applies(*points.find("world_size"), pixels));
+  EXPECT_FALSE(applies(*points.find("point_size"), world));
+  EXPECT_TRUE(applies(*points.find("world_size"), world));
+  EXPECT_TRUE(applies(*points.find("color_source"), world));  // unconditional
 }

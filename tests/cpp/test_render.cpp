@@ -141,7 +141,7 @@ TEST(Render, SegmentsOneCentimetreApartAtOneKilometreCompositeInOrder) {
         scene.segments.push_back(back_last ? segment("front", front, s) : segment("back", back, s));
         scene.segments.push_back(back_last ? segment("back", back, s) : segment("front", front, s));
         const int front_index = back_last ? 0 : 1;
-        const RenderResult r = renderer.render(scene, cam, settings(kSize, mode, 0.0, kind));
+        const RenderResult r = renderer.render(with_rasterizer(scene, kind), cam, settings(kSize, mode, 0.0));
         size_t covered = 0, wrong = 0;
         for (int32_t idx : r.segment_index) {
           covered += idx >= 0;
@@ -162,8 +162,8 @@ TEST(Render, ComputeAndGlPointsRasterizersAgree) {
                                    style_with({{"point_size", {3}}})));
   scene.segments.push_back(segment("b", plane_cloud(-2, 3, -1.5, 1.5, -10, 0.11, {40, 60, 230}, {}, 0.05),
                                    style_with({{"point_size", {5}}})));
-  const RenderResult c = renderer.render(scene, cam, settings(kSize, "depth_test", 0.0, RasterizerKind::Compute));
-  const RenderResult g = renderer.render(scene, cam, settings(kSize, "depth_test", 0.0, RasterizerKind::GlPoints));
+  const RenderResult c = renderer.render(with_rasterizer(scene, RasterizerKind::Compute), cam, settings(kSize, "depth_test", 0.0));
+  const RenderResult g = renderer.render(with_rasterizer(scene, RasterizerKind::GlPoints), cam, settings(kSize, "depth_test", 0.0));
   size_t either = 0, mismatch = 0, index_mismatch = 0;
   for (size_t i = 0; i < c.segment_index.size(); ++i) {
     const bool cc = c.color[4 * i + 3] > 0, gc = g.color[4 * i + 3] > 0;
@@ -195,12 +195,12 @@ TEST(Render, OnlyAttributesTheStyleUsesAreUploadedOnce) {
   Scene constant;
   constant.segments.push_back(segment("c", cloud, style_with({{"color_source", {3}}})));
   renderer.render(constant, cam, settings(kSize));
-  EXPECT_EQ(renderer.uploaded_attributes(cloud->id()), 0u);  // positions only
+  EXPECT_TRUE(renderer.uploaded_attributes(cloud->id()).empty());  // positions only
   const uint64_t uploads_after_positions = renderer.upload_count();
   Scene rgb;
-  rgb.segments.push_back(segment("c", cloud, style_with({})));
+  rgb.segments.push_back(segment("c", cloud, style_with({{"color_source", {0}}})));
   renderer.render(rgb, cam, settings(kSize));
-  EXPECT_EQ(renderer.uploaded_attributes(cloud->id()), uint32_t(Attribute::Color));
+  EXPECT_EQ(renderer.uploaded_attributes(cloud->id()), AttributeSet{{AttributeKind::Color}});
   EXPECT_EQ(renderer.upload_count(), uploads_after_positions + 1);
   renderer.render(rgb, cam, settings(kSize));  // redraw: nothing new
   EXPECT_EQ(renderer.upload_count(), uploads_after_positions + 1);
@@ -237,14 +237,14 @@ TEST(Render, DiffuseShadingUsesNormalsEstimatedOnlyWhenAStyleAsks) {
     auto cloud = sphere_cloud(false);
     Scene scene;
     scene.segments.push_back(segment("ball", cloud, flat));
-    const RenderResult plain = renderer.render(scene, cam, settings(kSize, "inpaint", 0.0, kind));
+    const RenderResult plain = renderer.render(with_rasterizer(scene, kind), cam, settings(kSize, "inpaint", 0.0));
     EXPECT_TRUE(cloud->analysis().computed().empty());  // a style without shading estimates nothing
-    EXPECT_EQ(renderer.uploaded_attributes(cloud->id()) & uint32_t(Attribute::Normal), 0u);
+    EXPECT_FALSE(renderer.uploaded_attributes(cloud->id()).count({AttributeKind::Normal, 16}));
     scene.segments[0].style = lit;
-    const RenderResult shaded = renderer.render(scene, cam, settings(kSize, "inpaint", 0.0, kind));
+    const RenderResult shaded = renderer.render(with_rasterizer(scene, kind), cam, settings(kSize, "inpaint", 0.0));
     const auto computed = cloud->analysis().computed();
     EXPECT_NE(std::find(computed.begin(), computed.end(), "normals:16:consistent"), computed.end());
-    EXPECT_NE(renderer.uploaded_attributes(cloud->id()) & uint32_t(Attribute::Normal), 0u);
+    EXPECT_TRUE(renderer.uploaded_attributes(cloud->id()).count({AttributeKind::Normal, 16}));
     // Light from the camera: the centre faces it, 0.9 of the way to the rim
     // the surface is turned 64 degrees away (cos = 0.44).
     const int rim_x = 160 + 82;
@@ -254,25 +254,25 @@ TEST(Render, DiffuseShadingUsesNormalsEstimatedOnlyWhenAStyleAsks) {
     EXPECT_GT(gray_at(shaded, rim_x, 120), 0.05f);
     // A second frame reuses the uploaded normals.
     const uint64_t uploads = renderer.upload_count();
-    renderer.render(scene, cam, settings(kSize, "inpaint", 0.0, kind));
+    renderer.render(with_rasterizer(scene, kind), cam, settings(kSize, "inpaint", 0.0));
     EXPECT_EQ(renderer.upload_count(), uploads);
     // Two styles shading one cloud from different k keep a buffer each:
     // after the first frame, nothing is estimated or uploaded again.
     Scene two = scene;
     Style coarse = lit;
-    coarse.rasterize = validate(rasterize_schema(), {{"point_size", {3}}, {"color_source", {3}},
-                                                     {"shading", {1}}, {"normal_neighbors", {8}}});
+    coarse.set_mark("points", {{"point_size", {3}}, {"color_source", {3}}, {"shading", {1}},
+                               {"normal_neighbors", {8}}, {"rasterizer", {double(kind)}}});
     two.segments.push_back(segment("ball again", cloud, coarse));
-    renderer.render(two, cam, settings(kSize, "inpaint", 0.0, kind));
+    renderer.render(with_rasterizer(two, kind), cam, settings(kSize, "inpaint", 0.0));
     const uint64_t both = renderer.upload_count();
     EXPECT_EQ(both, uploads + 1);
-    renderer.render(two, cam, settings(kSize, "inpaint", 0.0, kind));
+    renderer.render(with_rasterizer(two, kind), cam, settings(kSize, "inpaint", 0.0));
     EXPECT_EQ(renderer.upload_count(), both);
 
     // A cloud with normals of its own is lit by them; nothing is estimated.
     auto own = sphere_cloud(true);
     scene.segments[0].instances[0].cloud = own;
-    const RenderResult given = renderer.render(scene, cam, settings(kSize, "inpaint", 0.0, kind));
+    const RenderResult given = renderer.render(with_rasterizer(scene, kind), cam, settings(kSize, "inpaint", 0.0));
     EXPECT_TRUE(own->analysis().computed().empty());
     EXPECT_NEAR(gray_at(given, rim_x, 120), gray_at(shaded, rim_x, 120), 0.05f);
   }

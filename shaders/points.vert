@@ -1,7 +1,7 @@
 // Conventional GL_POINTS path: the reference and benchmark baseline.
 // Reversed-Z (glClipControl 0..1, GL_GREATER) keeps depth precise far away;
 // linear depth is written to a colour attachment for compositing.
-#include "raster_points.glsl"
+#include "points.glsl"
 
 flat out vec4 v_color;
 flat out float v_depth;

@@ -7,7 +7,7 @@
 #extension GL_NV_shader_atomic_int64 : require
 #endif
 #include "common.glsl"
-#include "raster_points.glsl"
+#include "points.glsl"
 
 layout(local_size_x = 128) in;
 #ifdef INT64_ATOMICS

@@ -4,7 +4,7 @@ flat in float v_diameter;
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out float o_depth;
 
-// Same coverage rule as raster_points.glsl's covers().
+// Same coverage rule as points.glsl's covers().
 void main() {
   vec2 offset = (gl_PointCoord - 0.5) * v_diameter;
   if (v_diameter >= 2.0 && dot(offset, offset) > 0.25 * v_diameter * v_diameter) discard;

@@ -1,0 +1,166 @@
+// The points mark: every point a round splat (seed 000's rasterization),
+// by a compute rasterizer (after Schuetz et al. 2021: visibility by atomicMin
+// on linear depth, deterministic tie break on the point key) or by
+// conventional GL_POINTS (the reference and benchmark baseline). Optional
+// diffuse shading by per-point normals.
+#include "marks/points.h"
+
+#include <cmath>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "scene/camera.h"
+
+namespace pointnpr {
+namespace {
+
+void set_splat_uniforms(const gl::Program& p, const MarkContext& ctx, const SplatSettings& s) {
+  const Camera& cam = *ctx.camera;
+  const glm::ivec2 size = ctx.targets.size;
+  glUniformMatrix4fv(p.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
+  glUniform2i(p.location("u_size"), size.x, size.y);
+  glUniform1f(p.location("u_near"), float(cam.clip_start));
+  glUniform1f(p.location("u_far"), float(cam.clip_end));
+  glUniform1i(p.location("u_ortho"), cam.orthographic ? 1 : 0);
+  glUniform1i(p.location("u_size_mode"), s.world_size ? 1 : 0);
+  glUniform1f(p.location("u_point_size"), s.point_size);
+  glUniform1f(p.location("u_world_size"), s.world_diameter);
+  glUniform1f(p.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, size.y)));
+  glUniform1f(p.location("u_max_size"), kMaxSplatPixels);
+  glUniform4fv(p.location("u_constant_color"), 1, glm::value_ptr(s.constant_color));
+  glUniform4i(p.location("u_clip_rect"), ctx.clip.min.x, ctx.clip.min.y, ctx.clip.max.x, ctx.clip.max.y);
+  glUniform1i(p.location("u_shading"), s.shading ? 1 : 0);
+  glUniform1f(p.location("u_shading_strength"), s.shading_strength);
+  glUniform3fv(p.location("u_light_dir"), 1, glm::value_ptr(s.light_dir));
+}
+
+void bind_splat_chunk(const gl::Program& p, const VisibleChunk& v, const SplatSettings& s) {
+  const gl::Buffer* normals = s.shading ? v.gpu->find({AttributeKind::Normal, s.normal_k}) : nullptr;
+  bind_chunk(p, v, s.color_source, {{2, normals}});
+}
+
+// Towards the light, in view space: elevation away from the view axis,
+// azimuth around it (0 from the right, 90 from above).
+glm::vec3 view_light(double azimuth_deg, double elevation_deg) {
+  const double azimuth = glm::radians(azimuth_deg), elevation = glm::radians(elevation_deg);
+  return {float(std::sin(elevation) * std::cos(azimuth)), float(std::sin(elevation) * std::sin(azimuth)),
+          float(std::cos(elevation))};
+}
+
+class Points final : public Mark {
+ public:
+  AttributeSet attributes(const ParamValues& p) const override {
+    AttributeSet set = color_attributes(ColorSource(p.get_enum("color_source")));
+    if (p.get_enum("shading") != 0) set.insert({AttributeKind::Normal, p.get_int("normal_neighbors")});
+    return set;
+  }
+
+  MarkExtent extent(const ParamValues& p) const override {
+    const float diameter = p.get_enum("size_mode") == 0 ? float(p.get_float("point_size")) : kMaxSplatPixels;
+    return {0.0, 0.5f * diameter + 1.0f};
+  }
+
+  void draw(const MarkContext& ctx, const ParamValues& p) const override {
+    SplatSettings s;
+    s.world_size = p.get_enum("size_mode") == 1;
+    s.point_size = float(p.get_float("point_size"));
+    s.world_diameter = float(p.get_float("world_size"));
+    s.color_source = ColorSource(p.get_enum("color_source"));
+    s.constant_color = p.get_color("color");
+    s.shading = p.get_enum("shading") != 0;
+    s.shading_strength = float(p.get_float("shading_strength"));
+    s.light_dir = view_light(p.get_float("light_azimuth"), p.get_float("light_elevation"));
+    s.normal_k = p.get_int("normal_neighbors");
+    if (p.get_enum_name("rasterizer") == "compute")
+      draw_splats_compute(ctx, s);
+    else
+      draw_splats_gl(ctx, s);
+  }
+};
+
+const MarkRegistration registration{{
+    Schema{"points",
+           "Points",
+           "Draws the segment's points as round splats into its own colour and depth images.",
+           {
+               enum_param("rasterizer", {"compute", "gl_points"}, 0,
+                          "compute: compute-shader splatting (deterministic ties); gl_points: conventional GL points"),
+               enum_param("size_mode", {"pixels", "world"}, 0,
+                          "Point size in screen pixels, or in scene units projected by the camera"),
+               only_when(float_param("point_size", 2.0, 0.5, 32.0, "px", "Splat diameter in pixels (size_mode = pixels)"),
+                         "size_mode", {"pixels"}),
+               only_when(float_param("world_size", 0.05, 0.0001, 100.0, "m",
+                                     "Splat diameter in scene units (size_mode = world); capped at 32 px on screen"),
+                         "size_mode", {"world"}),
+               color_source_param(),
+               color_param("color", {0.8, 0.8, 0.8, 1.0}, "Constant color (display sRGB)"),
+               enum_param("shading", {"none", "diffuse"}, 0,
+                          "Light the points by their normals (the cloud's own, else estimated from neighbours, once)"),
+               only_when(float_param("shading_strength", 0.7, 0.0, 1.0, "",
+                                     "How dark surfaces turned away from the light get (diffuse shading)"),
+                         "shading", {"diffuse"}),
+               only_when(float_param("light_azimuth", 135.0, -180.0, 180.0, "deg",
+                                     "Light direction around the view axis, from the camera (0: from the right, 90: from above)"),
+                         "shading", {"diffuse"}),
+               only_when(float_param("light_elevation", 45.0, 0.0, 90.0, "deg",
+                                     "Light direction away from the view axis (0: along it, from the camera)"),
+                         "shading", {"diffuse"}),
+               only_when(int_param("normal_neighbors", 16, 3, 64, "",
+                                   "Neighbours the normals are estimated from where a cloud has none (PCA, seed 001 eq. 1)"),
+                         "shading", {"diffuse"}),
+           }},
+    [] { return std::make_unique<Points>(); }}};
+
+}  // namespace
+
+void draw_splats_compute(const MarkContext& ctx, const SplatSettings& s) {
+  const bool int64 = ctx.targets.int64_atomics;
+  std::vector<std::vector<std::string>> passes;
+  if (int64)
+    passes = {{"INT64_ATOMICS", "PASS_DEPTH"}, {"INT64_ATOMICS", "PASS_COLOR"}};
+  else
+    passes = {{"PASS_DEPTH"}, {"PASS_KEY"}, {"PASS_COLOR"}};
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, ctx.targets.depth_keys->id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, ctx.targets.keys->id());
+  glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  for (const auto& defines : passes) {
+    const gl::Program& p = ctx.shaders->compute("points.comp", defines);
+    p.use();
+    set_splat_uniforms(p, ctx, s);
+    for (const VisibleChunk& v : ctx.chunks) {
+      bind_splat_chunk(p, v, s);
+      glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
+}
+
+void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s) {
+  const gl::Program& p = ctx.shaders->graphics("points.vert", "points.frag");
+  const Rect& clip = ctx.clip;
+  glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
+  glViewport(0, 0, ctx.targets.size.x, ctx.targets.size.y);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
+  const float zero = 0.0f;
+  glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z: 0 is the far end
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  p.use();
+  set_splat_uniforms(p, ctx, s);
+  for (const VisibleChunk& v : ctx.chunks) {
+    bind_splat_chunk(p, v, s);
+    glBindVertexArray(v.gpu->vao.id());
+    glDrawArrays(GL_POINTS, GLint(v.chunk->first), GLsizei(v.chunk->count));
+  }
+  glBindVertexArray(0);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_SCISSOR_TEST);
+  glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+}  // namespace pointnpr

@@ -1,0 +1,29 @@
+#pragma once
+// Round splats (the `points` mark), also used by other marks for their
+// depth passes: discs at each point, nearest wins, ties broken by point key.
+#include "render/mark.h"
+
+namespace pointnpr {
+
+struct SplatSettings {
+  bool world_size = false;     // diameter in scene units (else pixels)
+  float point_size = 2.0f;     // pixels
+  float world_diameter = 0.05f;
+  ColorSource color_source = ColorSource::Constant;
+  glm::vec4 constant_color{0.8f, 0.8f, 0.8f, 1.0f};
+  bool shading = false;
+  float shading_strength = 0.0f;
+  glm::vec3 light_dir{0.0f, 0.0f, 1.0f};  // towards the light, view space
+  int normal_k = 16;           // normals read when shading
+};
+
+// Largest splat on screen, in pixels (world sizes are capped to it).
+constexpr float kMaxSplatPixels = 32.0f;
+
+// Compute rasterizer (visibility by atomics, deterministic ties).
+void draw_splats_compute(const MarkContext& ctx, const SplatSettings& s);
+// GL_POINTS with reversed-Z depth into targets.gl_depth; also writes colour
+// and linear depth to targets.color / targets.depth.
+void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s);
+
+}  // namespace pointnpr

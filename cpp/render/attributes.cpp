@@ -1,0 +1,49 @@
+#include "render/attributes.h"
+
+namespace pointnpr {
+
+const char* attribute_name(AttributeKind attribute) {
+  switch (attribute) {
+    case AttributeKind::Color: return "colors";
+    case AttributeKind::Intensity: return "intensity";
+    case AttributeKind::Classification: return "classification";
+    case AttributeKind::PointId: return "point_index";
+    case AttributeKind::Normal: return "normals";
+    case AttributeKind::Curvature: return "curvature";
+    case AttributeKind::LocalResolution: return "local_resolution";
+    case AttributeKind::FeatureDegree: return "feature_degree";
+  }
+  return "?";
+}
+
+bool is_source_attribute(AttributeKind attribute) {
+  switch (attribute) {
+    case AttributeKind::Color:
+    case AttributeKind::Intensity:
+    case AttributeKind::Classification:
+    case AttributeKind::PointId:
+    case AttributeKind::Normal: return true;
+    default: return false;
+  }
+}
+
+std::vector<std::string> source_attribute_names(const AttributeSet& set) {
+  std::vector<std::string> out;
+  for (const AttributeKey& key : set) {
+    if (!is_source_attribute(key.attribute)) continue;
+    const std::string name = attribute_name(key.attribute);
+    if (out.empty() || out.back() != name) out.push_back(name);
+  }
+  return out;
+}
+
+std::string to_string(const AttributeKey& key) {
+  std::string s = attribute_name(key.attribute);
+  if (key.k > 0) {
+    s.push_back(':');
+    s.append(std::to_string(key.k));
+  }
+  return s;
+}
+
+}  // namespace pointnpr

@@ -1,0 +1,43 @@
+#pragma once
+// The per-point attributes a mark may read, owned here in C++: each mark
+// declares the set its current parameters need; the GPU cache computes
+// (through the cloud's geometry cache), uploads and keeps exactly those, and
+// the host reads from its scene only the *source* attributes of that set.
+#include <compare>
+#include <cstdint>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace pointnpr {
+
+enum class AttributeKind : uint8_t {
+  Color,            // source: packed RGBA8 display sRGB
+  Intensity,        // source: float, scaled by the cloud's peak on upload
+  Classification,   // source: uint (ASPRS class)
+  PointId,          // source: the cloud's stable point ids (uint)
+  Normal,           // the cloud's own (source), else estimated from k neighbours; snorm8 x3
+  Curvature,        // surface variation from k neighbours (lambda0 / sum), float
+  LocalResolution,  // mean distance to the k nearest neighbours, float
+  FeatureDegree,    // seed 001 feature degree from k neighbours, float in [0, 1]
+};
+
+// An attribute and, for computed ones, the neighbourhood size it uses.
+struct AttributeKey {
+  AttributeKind attribute = AttributeKind::Color;
+  int k = 0;  // 0 for source attributes
+  auto operator<=>(const AttributeKey&) const = default;
+};
+using AttributeSet = std::set<AttributeKey>;
+
+// Name used by the bindings and the add-on ("colors", "normals", ...).
+const char* attribute_name(AttributeKind attribute);
+// Attributes a host can supply with the points (read from its scene).
+bool is_source_attribute(AttributeKind attribute);
+// Names of the source attributes in `set`, each once (normals included:
+// a host that has them saves the estimation).
+std::vector<std::string> source_attribute_names(const AttributeSet& set);
+// "normals:16", "colors", ... for messages and tests.
+std::string to_string(const AttributeKey& key);
+
+}  // namespace pointnpr

@@ -1,0 +1,44 @@
+#pragma once
+// A segment's image filters in order, ping-ponging two images; each
+// filter's rect is its input's grown by its footprint, so the cost follows
+// the segment's coverage, not the frame size. Used by the Renderer and by
+// the filter test harness.
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "core/params.h"
+#include "render/filter.h"
+
+namespace pointnpr {
+
+struct FilterStep {
+  const FilterInfo* info = nullptr;
+  std::shared_ptr<const Filter> filter;
+  ParamValues params;
+};
+FilterStep make_filter_step(const std::string& id, const std::map<std::string, std::vector<double>>& params = {},
+                            const std::map<std::string, std::string>& paths = {});
+
+struct FilterChainImages {
+  gl::ShaderLibrary* shaders = nullptr;
+  ImageTextures* images = nullptr;
+  const gl::Texture* first = nullptr;   // holds the chain's input
+  const gl::Texture* second = nullptr;  // the other image of the ping-pong
+  const gl::Texture* raster_depth = nullptr;
+  std::function<const gl::Texture&(int index)> scratch;
+  glm::ivec2 image_size{0, 0};
+  double time = 0.0;
+  uint32_t segment_seed = 0;
+  SurfaceFrame surface;
+};
+
+// Runs `steps` from `rect` (the input's covered bounds); returns the image
+// holding the result (`first` when there are no steps) and leaves `rect` at
+// the last filter's rect.
+const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const FilterChainImages& images, Rect& rect);
+
+// Sum of the filters' footprints: how far the chain can reach beyond its input.
+int total_footprint(const std::vector<FilterStep>& steps);
+
+}  // namespace pointnpr

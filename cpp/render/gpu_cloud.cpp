@@ -1,0 +1,104 @@
+#include "render/gpu_cloud.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/analysis.h"
+#include "gl/device.h"
+
+namespace pointnpr {
+
+std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals) {
+  std::vector<uint32_t> out(normals.size());
+  for (size_t i = 0; i < normals.size(); ++i) {
+    const glm::vec3 n = normals[i];
+    const float len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+    if (!std::isfinite(len) || len < 1e-6f) continue;  // 0: no usable normal
+    uint32_t packed = 0;
+    for (int c = 0; c < 3; ++c) {
+      const float v = std::clamp(n[c] / len, -1.0f, 1.0f);
+      packed |= uint32_t(uint8_t(int8_t(std::lround(v * 127.0f)))) << (8 * c);
+    }
+    out[i] = packed;
+  }
+  return out;
+}
+
+const gl::Buffer* GpuCloud::find(AttributeKey key) const {
+  if (key.attribute == AttributeKind::Normal && own_normals) key.k = 0;
+  if (is_source_attribute(key.attribute) && key.attribute != AttributeKind::Normal) key.k = 0;
+  auto it = buffers.find(key);
+  return it == buffers.end() || !it->second ? nullptr : &it->second;
+}
+
+template <class T>
+gl::Buffer GpuCloudCache::upload(const std::vector<T>& data) {
+  ++uploads_;
+  return gl::make_buffer(data.size() * sizeof(T), data.data(), 0);
+}
+
+void GpuCloudCache::collect_garbage() {
+  for (auto it = clouds_.begin(); it != clouds_.end();)
+    it = it->second.source.expired() ? clouds_.erase(it) : std::next(it);
+}
+
+const GpuCloud* GpuCloudCache::find(uint64_t cloud_id) const {
+  auto it = clouds_.find(cloud_id);
+  return it == clouds_.end() ? nullptr : &it->second;
+}
+
+GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, const AttributeSet& needed) {
+  GpuCloud& g = clouds_[cloud->id()];
+  if (!g.positions) {
+    g.source = cloud;
+    g.own_normals = cloud->has(Attribute::Normal);
+    g.positions = upload(cloud->local_positions());
+    GLuint vao = 0;
+    glCreateVertexArrays(1, &vao);
+    g.vao = gl::VertexArray(vao);
+    glVertexArrayVertexBuffer(vao, 0, g.positions.id(), 0, sizeof(glm::vec3));
+    glEnableVertexArrayAttrib(vao, 0);
+    glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, 0, 0);
+  }
+  for (AttributeKey key : needed) {
+    // Source attributes have no k; the cloud's own normals serve every k.
+    if (is_source_attribute(key.attribute) && key.attribute != AttributeKind::Normal) key.k = 0;
+    if (key.attribute == AttributeKind::Normal && g.own_normals) key.k = 0;
+    if (g.buffers.count(key)) continue;
+    gl::Buffer& buffer = g.buffers[key];  // stays empty where the cloud lacks a source attribute
+    geometry::Analysis* analysis = is_source_attribute(key.attribute) && key.k == 0 ? nullptr : &cloud->analysis();
+    switch (key.attribute) {
+      case AttributeKind::Color:
+        if (cloud->has(Attribute::Color)) buffer = upload(cloud->colors());
+        break;
+      case AttributeKind::Intensity:
+        if (cloud->has(Attribute::Intensity)) {
+          buffer = upload(cloud->intensity());
+          float peak = 0.0f;
+          for (float v : cloud->intensity()) peak = std::max(peak, v);
+          g.intensity_scale = peak > 0.0f ? 1.0f / peak : 1.0f;
+        }
+        break;
+      case AttributeKind::Classification:
+        if (cloud->has(Attribute::Classification)) buffer = upload(cloud->classification());
+        break;
+      case AttributeKind::PointId: buffer = upload(cloud->point_index()); break;
+      case AttributeKind::Normal:
+        if (key.k == 0) {
+          buffer = upload(pack_normals(cloud->normals()));
+        } else {
+          // Consistently oriented; marks treat them as two-sided anyway.
+          buffer = upload(pack_normals(*analysis->normals({key.k, geometry::Orientation::Consistent, {}})));
+        }
+        break;
+      case AttributeKind::Curvature: buffer = upload(*analysis->curvature(key.k)); break;
+      case AttributeKind::LocalResolution: buffer = upload(analysis->local_resolution(key.k)->r); break;
+      case AttributeKind::FeatureDegree: buffer = upload(*analysis->feature_degree(key.k, {})); break;
+    }
+  }
+  gl::check_gl("point upload");
+  return g;
+}
+
+}  // namespace pointnpr

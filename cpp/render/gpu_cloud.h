@@ -1,0 +1,49 @@
+#pragma once
+// GPU copies of point clouds: positions always, every other attribute only
+// when a mark asks for it, computed once (through the cloud's geometry
+// cache), uploaded once and kept per attribute key while the cloud lives.
+// GL thread only.
+#include <map>
+#include <memory>
+
+#include "gl/objects.h"
+#include "render/attributes.h"
+#include "scene/point_cloud.h"
+
+namespace pointnpr {
+
+struct GpuCloud {
+  std::weak_ptr<const PointCloud> source;
+  gl::Buffer positions;  // vec3 float offsets, chunk after chunk
+  gl::VertexArray vao;   // positions as attribute 0 (GL_POINTS paths)
+  bool own_normals = false;
+  float intensity_scale = 1.0f;  // 1 / the cloud's peak intensity
+  std::map<AttributeKey, gl::Buffer> buffers;
+
+  // The buffer of `key` (the cloud's own normals answer any k), or null when
+  // it was not uploaded or the cloud lacks that source attribute.
+  const gl::Buffer* find(AttributeKey key) const;
+};
+
+class GpuCloudCache {
+ public:
+  // The cloud with every attribute of `needed` it can have uploaded.
+  GpuCloud& get(const std::shared_ptr<const PointCloud>& cloud, const AttributeSet& needed);
+  void collect_garbage();  // drops clouds whose source is gone
+  size_t size() const { return clouds_.size(); }
+  uint64_t uploads() const { return uploads_; }  // buffers uploaded so far
+  const GpuCloud* find(uint64_t cloud_id) const;
+
+ private:
+  template <class T>
+  gl::Buffer upload(const std::vector<T>& data);
+  std::map<uint64_t, GpuCloud> clouds_;
+  uint64_t uploads_ = 0;
+};
+
+// Unit normals as signed 8-bit x, y, z (0.5 degree steps: plenty for
+// shading and stroke directions, a quarter of the upload). Non-finite or
+// zero normals pack to (0, 0, 0), which shaders read as "no normal".
+std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals);
+
+}  // namespace pointnpr

@@ -1,0 +1,69 @@
+#include "render/mark.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+namespace pointnpr {
+
+const std::vector<const MarkInfo*>& registered_marks() { return Registry<MarkInfo>::instance().all(); }
+
+const MarkInfo& find_mark(const std::string& id) { return Registry<MarkInfo>::instance().find(id); }
+
+ParamSpec color_source_param() {
+  // "auto" comes last so stored enum indices of older files keep their meaning.
+  return enum_param("color_source", {"rgb", "intensity", "classification", "constant", "auto"}, 4,
+                    "Where point colours come from; auto: RGB, else intensity, else the class palette; a cloud "
+                    "lacking the chosen one uses the constant colour");
+}
+
+AttributeSet color_attributes(ColorSource source) {
+  switch (source) {
+    case ColorSource::Rgb: return {{AttributeKind::Color}};
+    case ColorSource::Intensity: return {{AttributeKind::Intensity}};
+    case ColorSource::Classification: return {{AttributeKind::Classification}};
+    case ColorSource::Constant: return {};
+    case ColorSource::Auto:
+      return {{AttributeKind::Color}, {AttributeKind::Intensity}, {AttributeKind::Classification}};
+  }
+  return {};
+}
+
+ColorSource resolve_color_source(ColorSource source, const GpuCloud& g) {
+  auto has = [&](AttributeKind a) { return g.find({a}) != nullptr; };
+  switch (source) {
+    case ColorSource::Rgb: return has(AttributeKind::Color) ? source : ColorSource::Constant;
+    case ColorSource::Intensity: return has(AttributeKind::Intensity) ? source : ColorSource::Constant;
+    case ColorSource::Classification: return has(AttributeKind::Classification) ? source : ColorSource::Constant;
+    case ColorSource::Constant: return source;
+    case ColorSource::Auto:
+      if (has(AttributeKind::Color)) return ColorSource::Rgb;
+      if (has(AttributeKind::Intensity)) return ColorSource::Intensity;
+      if (has(AttributeKind::Classification)) return ColorSource::Classification;
+      return ColorSource::Constant;
+  }
+  return ColorSource::Constant;
+}
+
+void bind_chunk(const gl::Program& p, const VisibleChunk& v, ColorSource source,
+                const std::vector<std::pair<int, const gl::Buffer*>>& extra) {
+  const GpuCloud& g = *v.gpu;
+  source = resolve_color_source(source, g);
+  const gl::Buffer* color = nullptr;
+  if (source == ColorSource::Rgb) color = g.find({AttributeKind::Color});
+  if (source == ColorSource::Intensity) color = g.find({AttributeKind::Intensity});
+  if (source == ColorSource::Classification) color = g.find({AttributeKind::Classification});
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.positions.id());
+  // Unused bindings get the positions: a valid buffer the shader never reads.
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, color ? color->id() : g.positions.id());
+  for (const auto& [binding, buffer] : extra)
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding), buffer ? buffer->id() : g.positions.id());
+  const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(v.view_from_chunk)));
+  glUniformMatrix3fv(p.location("u_normal_matrix"), 1, GL_FALSE, glm::value_ptr(normal_matrix));
+  glUniform1i(p.location("u_color_source"), int(source));
+  glUniform1f(p.location("u_intensity_scale"), g.intensity_scale);
+  glUniformMatrix4fv(p.location("u_view_from_chunk"), 1, GL_FALSE, glm::value_ptr(v.view_from_chunk));
+  glUniform1ui(p.location("u_first"), v.chunk->first);
+  glUniform1ui(p.location("u_count"), v.chunk->count);
+  glUniform1ui(p.location("u_key_base"), v.key_base);
+}
+
+}  // namespace pointnpr

@@ -1,0 +1,128 @@
+#pragma once
+// Marks: how a segment's points become marks on the picture (round splats,
+// hatching strokes, ...). A mark is one .cpp in marks/ that declares its
+// Schema and registers itself, plus its GLSL in shaders/.
+//
+// A mark writes the segment's raster images: colour (RGBA32F, straight
+// alpha, display sRGB, alpha = coverage) and linear view depth (R32F, +inf
+// where empty; finite exactly where coverage > 0), within `ctx.clip`. Every
+// filter, the depth inpainting and the compositing read those, whichever
+// mark made them.
+#include <functional>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/params.h"
+#include "gl/objects.h"
+#include "gl/shaders.h"
+#include "render/attributes.h"
+#include "render/filter.h"  // Rect
+#include "render/gpu_cloud.h"
+#include "render/registry.h"
+
+namespace pointnpr {
+
+struct Camera;
+class ImageTextures;
+
+// A chunk that survived culling, with its float view transform (composed in
+// double on the CPU, so float holds at any georeferenced offset).
+struct VisibleChunk {
+  const GpuCloud* gpu = nullptr;
+  const PointChunk* chunk = nullptr;
+  glm::mat4 view_from_chunk{1.0f};
+  uint32_t key_base = 0;  // segment-wide index of the chunk's first point
+};
+
+// The frame's images a mark draws with. `color` and `depth` are the outputs
+// (cleared to transparent and +inf over the segment's work area); the rest
+// is scratch shared by the marks.
+struct MarkTargets {
+  glm::ivec2 size{0, 0};
+  bool int64_atomics = false;
+  const gl::Texture* color = nullptr;
+  const gl::Texture* depth = nullptr;
+  const gl::Texture* gl_depth = nullptr;  // DEPTH_COMPONENT32F for GL draws
+  GLuint fbo = 0;                         // color0 = color, color1 = depth, depth = gl_depth
+  const gl::Buffer* depth_keys = nullptr; // per pixel uint (uint64 with int64 atomics), cleared to ~0
+  const gl::Buffer* keys = nullptr;       // per pixel uint (32-bit path), cleared to ~0
+  // Frame-sized scratch textures of a format, by index; contents undefined.
+  std::function<const gl::Texture&(GLenum format, int index)> scratch;
+};
+
+// One stroke / splat a mark placed, when the caller asked to see them
+// (tests of coherence and direction, debugging).
+struct CapturedMark {
+  uint32_t point_id = 0;
+  glm::vec3 center{0.0f};     // view space
+  glm::vec3 direction{0.0f};  // view space, unit (first line)
+  glm::vec3 normal{0.0f};     // view space, unit (the surface it lies on)
+  bool crossed = false;       // a second, crossing line
+  float length = 0.0f;        // scene units
+  glm::vec4 color{0.0f};      // display sRGB, alpha = stroke opacity
+};
+
+struct MarkContext {
+  gl::ShaderLibrary* shaders = nullptr;
+  ImageTextures* images = nullptr;
+  const Camera* camera = nullptr;
+  MarkTargets targets;
+  std::span<const VisibleChunk> chunks;
+  Rect clip;                    // screen bounds of the chunks (+ the mark's extent)
+  double depth_min = 0.0;       // view depth range of the visible chunks' bounds
+  double depth_max = 1.0;
+  double time = 0.0;
+  uint32_t segment_seed = 0;
+  std::map<std::string, double>* stats = nullptr;
+  std::vector<std::string>* warnings = nullptr;
+  std::vector<CapturedMark>* capture = nullptr;  // null unless asked
+};
+
+// How far beyond its points a mark may draw: added to the chunks' bounds
+// before culling and to their screen rectangle.
+struct MarkExtent {
+  double world = 0.0;   // scene units around every point
+  float pixels = 0.0f;  // pixels around every projected point
+};
+
+class Mark {
+ public:
+  virtual ~Mark() = default;
+  // The per-point attributes the mark reads with these parameters.
+  virtual AttributeSet attributes(const ParamValues& params) const = 0;
+  virtual MarkExtent extent(const ParamValues& params) const = 0;
+  virtual void draw(const MarkContext& ctx, const ParamValues& params) const = 0;
+};
+
+struct MarkInfo {
+  static constexpr const char* kKind = "mark";
+  Schema schema;
+  std::function<std::unique_ptr<Mark>()> create;
+};
+
+const std::vector<const MarkInfo*>& registered_marks();
+const MarkInfo& find_mark(const std::string& id);  // throws ParameterError
+using MarkRegistration = Registration<MarkInfo>;
+
+// Colour sources shared by the marks (the `color_source` parameter).
+enum class ColorSource { Rgb = 0, Intensity = 1, Classification = 2, Constant = 3, Auto = 4 };
+ParamSpec color_source_param();
+// The attributes a colour source reads (auto: any of the three).
+AttributeSet color_attributes(ColorSource source);
+// The source a cloud can serve: auto picks RGB, else intensity, else the
+// classification palette; a source the cloud lacks becomes constant.
+ColorSource resolve_color_source(ColorSource source, const GpuCloud& cloud);
+
+// Binds a chunk's positions (binding 0), colour attribute (1) and, when
+// given, a further attribute buffer per binding, and sets the uniforms of
+// shaders/point_attributes.glsl (u_color_source, u_intensity_scale,
+// u_view_from_chunk, u_normal_matrix, u_first, u_count, u_key_base).
+void bind_chunk(const gl::Program& program, const VisibleChunk& chunk, ColorSource source,
+                const std::vector<std::pair<int, const gl::Buffer*>>& extra = {});
+
+}  // namespace pointnpr

@@ -1,0 +1,56 @@
+// The points mark (cpp/marks/points.cpp): per-point setup shared by the
+// compute rasterizer and the GL_POINTS path.
+#include "point_attributes.glsl"
+
+uniform mat4 u_projection;
+uniform ivec2 u_size;
+uniform float u_near;
+uniform float u_far;
+uniform int u_ortho;
+uniform int u_size_mode;      // 0 pixels, 1 world
+uniform float u_point_size;
+uniform float u_world_size;
+uniform float u_px_per_unit;  // pixels per scene unit at view depth 1
+uniform float u_max_size;
+uniform ivec4 u_clip_rect;
+uniform int u_shading;           // 0 none, 1 diffuse
+uniform float u_shading_strength;
+uniform vec3 u_light_dir;        // towards the light, view space
+
+struct Splat {
+  vec2 center;     // window coordinates (pixels)
+  float depth;     // linear view depth
+  float diameter;  // pixels
+  bool visible;
+};
+
+Splat project_point(uint index) {
+  Splat s;
+  vec4 v = u_view_from_chunk * vec4(point_position(index), 1.0);
+  s.depth = -v.z;
+  s.visible = s.depth >= u_near && s.depth <= u_far;
+  vec4 clip = u_projection * v;
+  s.center = (clip.xy / clip.w * 0.5 + 0.5) * vec2(u_size);
+  float w = u_ortho != 0 ? 1.0 : s.depth;
+  s.diameter = u_size_mode == 0 ? u_point_size : clamp(u_world_size * u_px_per_unit / w, 1.0, u_max_size);
+  return s;
+}
+
+vec4 point_color(uint index) {
+  vec4 c = source_color(index);
+  if (u_shading != 0) {
+    vec3 n = view_normal(index);
+    // Two-sided: estimated normals need not face the camera.
+    float lambert = n != vec3(0.0) ? abs(dot(n, u_light_dir)) : 1.0;
+    c.rgb *= 1.0 - u_shading_strength * (1.0 - lambert);
+  }
+  return c;
+}
+
+// Coverage rule shared by both rasterizers: pixel centres within the disk
+// of the splat; below 2 px, within its square (as GL point sprites do).
+bool covers(vec2 offset, float diameter) {
+  float r = 0.5 * diameter;
+  if (diameter < 2.0) return abs(offset.x) <= r && abs(offset.y) <= r;
+  return dot(offset, offset) <= r * r;
+}
