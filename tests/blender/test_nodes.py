@@ -51,7 +51,7 @@ def test_node_idnames_are_unique_though_a_mark_and_a_filter_share_an_id():
     idnames = [c.bl_idname for c in nodes.node_classes()]
     assert len(idnames) == len(set(idnames)), idnames
     for cls in nodes.node_classes():
-        assert getattr(bpy.types, cls.bl_idname) is cls
+        assert bpy.types.Node.bl_rna_get_subclass_py(cls.bl_idname) is cls
 
 
 def test_add_menu_has_a_marks_category_and_no_legacy_node():
@@ -63,7 +63,7 @@ def test_add_menu_has_a_marks_category_and_no_legacy_node():
     offered = {i for idnames in cats.values() for i in idnames}
     # The legacy Rasterize node stays registered (old files) but is not offered.
     assert nodes.LEGACY_RASTERIZE_IDNAME not in offered
-    assert bpy.types.PointNPRRasterizeNode.is_registered
+    assert nodes.find_node_class(nodes.ROLE_RASTERIZE, "rasterize").is_registered
     assert offered == {c.bl_idname for c in nodes.node_classes()} - {nodes.LEGACY_RASTERIZE_IDNAME}
 
 
@@ -366,16 +366,19 @@ def test_parameters_are_greyed_out_when_their_condition_does_not_hold(scene):
     assert checked >= 2, "no schema parameter has a 'when' condition"
 
 
-def test_points_color_applies_only_to_constant_colour(scene):
-    """The rule on a known parameter: the points mark's colour is used only
-    with color_source 'constant'."""
-    points = nodes.new_style("Const").nodes["Points"]
-    param = next(p for p, _pid in points.pointnpr_params if p["name"] == "color")
-    assert param["when"] == {"param": "color_source", "values": ["constant"]}
-    points.color_source = "constant"
-    assert nodes.param_applies(points, param)
-    points.color_source = "auto"
-    assert not nodes.param_applies(points, param)
+def test_points_size_parameters_follow_size_mode(scene):
+    """The rule on known parameters: the points mark's point_size applies in
+    size_mode 'pixels', world_size in 'world'."""
+    points = nodes.new_style("Sizes").nodes["Points"]
+    params = {p["name"]: p for p, _pid in points.pointnpr_params}
+    assert params["point_size"]["when"] == {"param": "size_mode", "values": ["pixels"]}
+    assert params["world_size"]["when"] == {"param": "size_mode", "values": ["world"]}
+    points.size_mode = "pixels"
+    assert nodes.param_applies(points, params["point_size"])
+    assert not nodes.param_applies(points, params["world_size"])
+    points.size_mode = "world"
+    assert not nodes.param_applies(points, params["point_size"])
+    assert nodes.param_applies(points, params["world_size"])
 
 
 # ---------------------------------------------------------------------------
