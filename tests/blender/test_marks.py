@@ -6,9 +6,7 @@ import pytest
 from pointnpr.blender import nodes, sync
 
 import helpers
-from helpers import BLUE, WIDTH, HEIGHT
 
-CENTRE = (HEIGHT // 2, WIDTH // 2)
 
 
 def _hatching_scene():

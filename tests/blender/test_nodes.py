@@ -431,3 +431,41 @@ def test_new_style_operator_with_a_preset(scene):
     tree = scene.pointnpr_default_style
     assert tree.name not in before
     _assert_tree_is_preset(tree, presets.PRESETS[name])
+
+
+def test_set_mark_operator_replaces_the_mark(scene):
+    tree = nodes.new_style("Swap")
+    points = tree.nodes["Points"]
+    points.point_size = 7.0
+    nodes.append_node(tree, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
+    assert bpy.ops.pointnpr.set_mark(tree=tree.name, mark="hatching") == {'FINISHED'}
+    chain = nodes.style_chain(tree)
+    assert [n.bl_idname for n in chain] == ["PointNPRMarkHatchingNode", "PointNPRFilterCartoonNode"]
+    assert "Points" not in tree.nodes
+    assert bpy.ops.pointnpr.set_mark(tree=tree.name, mark="points") == {'FINISHED'}
+    chain = nodes.style_chain(tree)
+    assert chain[0].bl_idname == "PointNPRMarkPointsNode" and chain[1].name == "Cartoon"
+    assert nodes.read_style(tree, 1.0)["warnings"] == []
+    # A style whose mark was deleted gets one in front of its first step.
+    tree.nodes.remove(chain[0])
+    assert nodes.read_style(tree, 1.0)["warnings"]
+    assert bpy.ops.pointnpr.set_mark(tree=tree.name, mark="points") == {'FINISHED'}
+    assert [n.name for n in nodes.style_chain(tree)] == ["Points", "Cartoon"]
+    assert nodes.read_style(tree, 1.0)["warnings"] == []
+
+
+def test_replacing_a_mark_keeps_shared_values_and_their_animation(scene):
+    tree = nodes.new_style("Keep")
+    old = tree.nodes["Points"]
+    old.point_size = 2.0
+    old.keyframe_insert("point_size", frame=1)
+    old.point_size = 12.0
+    old.keyframe_insert("point_size", frame=11)
+    old.color_source = "intensity"
+    nodes.append_node(tree, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
+    new = nodes.replace_mark(tree, "points")
+    assert new.name == "Points" and len(tree.nodes) == 3
+    assert new.color_source == "intensity"
+    assert [n.name for n in nodes.style_chain(tree)] == ["Points", "Cartoon"]
+    assert [fc.data_path for fc in tree.animation_data.action.fcurves] == ['nodes["Points"].point_size']
+    assert nodes.read_style(tree, 6.0)["mark"][1]["point_size"] == pytest.approx(7.0, abs=0.6)

@@ -383,6 +383,83 @@ def new_style(name="Style", mark=POINTS_MARK):
     return tree
 
 
+def replace_mark(tree, mark_id):
+    """Makes ``tree`` start with a ``mark_id`` mark node instead of its
+    current mark (which is removed; parameters of the same name keep their
+    values). Returns the new node."""
+    cls = find_node_class(ROLE_MARK, mark_id)
+    if cls is None:
+        raise KeyError("no mark named %r" % mark_id)
+    old = mark_node(tree)
+    new = tree.nodes.new(cls.bl_idname)
+    new.name = cls.bl_label
+    if old is None:
+        out = find_output_node(tree)
+        first = style_chain(tree)[0] if style_chain(tree) else out
+        new.location = (first.location.x - 250.0, first.location.y) if first else (-250.0, 0.0)
+        if first is not None and first.inputs and not first.inputs[0].is_linked:
+            tree.links.new(new.outputs[0], first.inputs[0])
+        return new
+    new.location = old.location
+    new_pids = {param["name"]: (param, pid) for param, pid in new.pointnpr_params}
+    shared = set()
+    for param, pid in old.pointnpr_params:
+        target = new_pids.get(param["name"])
+        if target is not None and target[0]["type"] == param["type"] and target[1] == pid:
+            try:
+                setattr(new, pid, getattr(old, pid))
+                shared.add(pid)
+            except (TypeError, ValueError):
+                pass   # e.g. an enum item the new mark does not have
+    # The animation of the parameters both marks have moves to the new
+    # node (the rest goes with the old one).
+    old.name = "__pointnpr_replaced_mark__"
+    tmp_name = old.name
+    targets = [link.to_socket for link in old.outputs[0].links]
+    new.name = cls.bl_label
+    repoint_curves(tree, tmp_name, new.name, shared)
+    tree.nodes.remove(old)
+    for sock in targets:
+        tree.links.new(new.outputs[0], sock)
+    return new
+
+
+def _node_path_prefix(name):
+    return 'nodes["%s"]' % name.replace("\\", "\\\\").replace('"', '\\"')
+
+
+def tree_curves(tree):
+    """Every F-Curve and driver of ``tree``: the active action's, the NLA
+    strips' actions', and the drivers."""
+    anim = getattr(tree, "animation_data", None)
+    if anim is None:
+        return []
+    curves = []
+    if anim.action is not None:
+        curves.extend(_action_fcurves(anim, anim.action))
+    for track in getattr(anim, "nla_tracks", ()):
+        for strip in track.strips:
+            action = getattr(strip, "action", None)
+            if action is not None and action != anim.action:
+                curves.extend(_action_fcurves(anim, action))
+    curves.extend(anim.drivers)
+    return curves
+
+
+def repoint_curves(tree, old_name, new_name, properties=None):
+    """Points the F-Curves and drivers of node ``old_name``'s properties at
+    node ``new_name`` (only those of ``properties``, a set of property
+    identifiers, when given)."""
+    old, new = _node_path_prefix(old_name), _node_path_prefix(new_name)
+    for fc in tree_curves(tree):
+        path = fc.data_path
+        if not path.startswith(old + "."):
+            continue
+        prop = path[len(old) + 1:].split("[", 1)[0]
+        if properties is None or prop in properties:
+            fc.data_path = new + path[len(old):]
+
+
 def mark_node(tree):
     """The mark node of ``tree``'s chain (the first step), or None."""
     chain = style_chain(tree)

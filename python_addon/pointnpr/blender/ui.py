@@ -98,6 +98,34 @@ class POINTNPR_OT_add_step(bpy.types.Operator):
         return {'RUNNING_MODAL'}
 
 
+def _mark_items(_self, _context):
+    items = [(cls.pointnpr_schema_id, cls.bl_label, cls.bl_description)
+             for cls in nodes.node_classes() if cls.pointnpr_role == nodes.ROLE_MARK]
+    return items or [("", "None", "")]
+
+
+class POINTNPR_OT_set_mark(bpy.types.Operator):
+    """Change how the style's points become marks (Points, Hatching, ...)"""
+    bl_idname = "pointnpr.set_mark"
+    bl_label = "Set Mark"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    tree: bpy.props.StringProperty(name="Style")
+    mark: bpy.props.EnumProperty(name="Mark", items=_mark_items)
+
+    def execute(self, context):
+        tree = bpy.data.node_groups.get(self.tree)
+        if not nodes.is_style_tree(tree):
+            self.report({'ERROR'}, "No PointNPR style named '%s'" % self.tree)
+            return {'CANCELLED'}
+        current = nodes.mark_node(tree)
+        if current is None or current.pointnpr_schema_id != self.mark or \
+                current.pointnpr_role != nodes.ROLE_MARK:
+            nodes.replace_mark(tree, self.mark)
+        nodes.bump_generation()
+        return {'FINISHED'}
+
+
 class POINTNPR_OT_remove_step(bpy.types.Operator):
     """Remove this step from the style, relinking its neighbours"""
     bl_idname = "pointnpr.remove_step"
@@ -134,7 +162,10 @@ def draw_style(layout, tree):
         box = layout.box()
         row = box.row()
         row.label(text=node.label or node.bl_label, icon='NODE')
-        if node.pointnpr_role not in (nodes.ROLE_MARK, nodes.ROLE_RASTERIZE):
+        if node.pointnpr_role in (nodes.ROLE_MARK, nodes.ROLE_RASTERIZE):
+            row.operator_menu_enum(POINTNPR_OT_set_mark.bl_idname, "mark", text="", icon='DOWNARROW_HLT') \
+                .tree = tree.name
+        else:
             op = row.operator(POINTNPR_OT_remove_step.bl_idname, text="", icon='X', emboss=False)
             op.tree = tree.name
             op.node = node.name
@@ -280,6 +311,7 @@ def remove_engine_from_builtin_panels():
 _classes = (
     POINTNPR_OT_new_style,
     POINTNPR_OT_add_step,
+    POINTNPR_OT_set_mark,
     POINTNPR_OT_remove_step,
     RENDER_PT_pointnpr,
     COLLECTION_PT_pointnpr_style,

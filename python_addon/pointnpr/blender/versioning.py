@@ -29,40 +29,6 @@ from . import nodes
 _TMP_NAME = "__pointnpr_legacy_rasterize__"
 
 
-def _escaped(name):
-    return name.replace("\\", "\\\\").replace('"', '\\"')
-
-
-def _node_prefix(name):
-    return 'nodes["%s"]' % _escaped(name)
-
-
-def _animated_curves(tree):
-    """Every F-Curve and driver of ``tree`` that names a node: the active
-    action's, the NLA strips' actions', and the drivers."""
-    anim = getattr(tree, "animation_data", None)
-    if anim is None:
-        return []
-    curves = []
-    if anim.action is not None:
-        curves.extend(nodes._action_fcurves(anim, anim.action))
-    for track in getattr(anim, "nla_tracks", ()):
-        for strip in track.strips:
-            action = getattr(strip, "action", None)
-            if action is not None and action != anim.action:
-                curves.extend(nodes._action_fcurves(anim, action))
-    curves.extend(anim.drivers)
-    return curves
-
-
-def _repoint_curves(tree, old_name, new_name):
-    old, new = _node_prefix(old_name), _node_prefix(new_name)
-    for fc in _animated_curves(tree):
-        path = fc.data_path
-        if path.startswith(old + ".") or path.startswith(old + "["):
-            fc.data_path = new + path[len(old):]
-
-
 def _scenes_using(tree):
     found = []
     for scene in bpy.data.scenes:
@@ -110,7 +76,7 @@ def migrate_node(tree, old, rasterizer):
     tmp_name = old.name
     new = tree.nodes.new(points_cls.bl_idname)
     new.name = name
-    _repoint_curves(tree, tmp_name, new.name)
+    nodes.repoint_curves(tree, tmp_name, new.name)
     _copy_node_state(old, new)
     new_pids = {param["name"]: pid for param, pid in new.pointnpr_params}
     for param, pid in old.pointnpr_params:
