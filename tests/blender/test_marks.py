@@ -8,7 +8,6 @@ from pointnpr.blender import nodes, sync
 import helpers
 
 
-
 def _hatching_scene():
     scene = helpers.reset_scene()
     helpers.add_camera(location=(0.0, -6.0, 6.0))
