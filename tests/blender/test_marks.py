@@ -180,11 +180,17 @@ def test_a_style_asking_for_normals_reads_them():
     scene, tree = _hatching_scene()
     obj = bpy.data.objects["Surface"]
     attrs = set(nodes.make_core_style(nodes.read_style(tree, 1.0)).source_attributes)
+    assert "normals" in attrs            # hatching follows the surface
+    assert not {"colors", "intensity", "classification"} & attrs   # constant stroke colour
     n = len(obj.data.vertices)
-    attr = obj.data.attributes.new("normal", 'FLOAT_VECTOR', 'POINT')
+    # ("normal" is a name Blender reserves on meshes; "N" is the other one read.)
+    attr = obj.data.attributes.new("N", 'FLOAT_VECTOR', 'POINT')
     attr.data.foreach_set("vector", np.tile([0.0, 0.0, 1.0], n).astype(np.float32))
     _sync()
-    assert set(_reads("Surface")) == attrs & set(sync._READERS)
+    assert set(_reads("Surface")) == attrs
+    # Without a normal attribute the core estimates them: no warning.
+    obj.data.attributes.remove(obj.data.attributes["N"])
+    assert _sync().warnings == []
     # A Points style with constant colour and no shading reads none of them.
     points = nodes.new_style("Flat")
     nodes.mark_node(points).color_source = "constant"

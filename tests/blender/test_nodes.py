@@ -354,7 +354,9 @@ def test_parameters_are_greyed_out_when_their_condition_does_not_hold(scene):
             assert set(when["values"]) <= set(_other_values(other)), (schema["id"], param["name"])
             for value in _other_values(other):
                 _set_when_value(node, other, value)
-                expected = value in when["values"]
+                # A condition on a parameter that does not apply itself
+                # does not hold either (chains of conditions).
+                expected = value in when["values"] and nodes.param_applies(node, other)
                 assert nodes.param_applies(node, param) == expected, (schema["id"], param["name"], value)
                 # The drawn row is greyed out exactly then.
                 layout = _FakeLayout()
@@ -364,6 +366,28 @@ def test_parameters_are_greyed_out_when_their_condition_does_not_hold(scene):
                 assert row.active == expected
                 checked += 1
     assert checked >= 2, "no schema parameter has a 'when' condition"
+
+
+def test_chained_conditions(scene):
+    """hatching: pencil_image applies when pencil_set is 'image', which
+    applies when pencil_quantize is on."""
+    node = nodes.new_style("Chain", mark="hatching").nodes["Hatching"]
+    params = {p["name"]: p for p, _pid in node.pointnpr_params}
+    assert params["pencil_image"]["when"] == {"param": "pencil_set", "values": ["image"]}
+    assert params["pencil_set"]["when"] == {"param": "pencil_quantize", "values": ["true"]}
+    node.pencil_set = "image"
+    node.pencil_quantize = False
+    assert not nodes.param_applies(node, params["pencil_set"])
+    assert not nodes.param_applies(node, params["pencil_image"])
+    node.pencil_quantize = True
+    assert nodes.param_applies(node, params["pencil_image"])
+    node.pencil_set = "box_12"
+    assert not nodes.param_applies(node, params["pencil_image"])
+    # The hatching mark's colour source matters only for point colouring.
+    node.coloring = "constant"
+    assert not nodes.param_applies(node, params["color_source"])
+    node.coloring = "point"
+    assert nodes.param_applies(node, params["color_source"])
 
 
 def test_points_size_parameters_follow_size_mode(scene):

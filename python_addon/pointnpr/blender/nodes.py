@@ -244,17 +244,26 @@ def when_holds(when, value):
     return value is not None and str(value) in [str(v) for v in when.get("values", ())]
 
 
-def param_applies(node, param):
+def param_applies(node, param, _seen=None):
     """Whether ``param`` (a schema dict of one of ``node``'s parameters)
-    applies with the node's current values: its "when" condition holds. A
-    condition naming a parameter the node does not have is taken to hold."""
+    applies with the node's current values: its "when" condition holds and
+    the parameter it names applies itself (conditions chain: the hatching
+    mark's pencil_image needs pencil_set "image", which needs
+    pencil_quantize on). A condition naming a parameter the node does not
+    have is taken to hold."""
     when = param.get("when")
     if not when:
         return True
     value = _when_value(node, when.get("param"))
     if value is None:
         return True
-    return when_holds(when, value)
+    if not when_holds(when, value):
+        return False
+    seen = set(_seen or ()) | {param["name"]}
+    if when["param"] in seen:
+        return True   # a cycle in the schema: do not loop
+    other = next(p for p, _pid in node.pointnpr_params if p["name"] == when["param"])
+    return param_applies(node, other, seen)
 
 
 def draw_node_properties(node, layout):
