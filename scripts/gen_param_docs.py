@@ -43,8 +43,12 @@ def render():
                   "| parameter | type | default | range | unit | description |",
                   "|---|---|---|---|---|---|"]
         for p in s["params"]:
+            when = p.get("when")
+            doc = p["doc"]
+            if when:
+                doc += " (applies when `%s` is %s)" % (when["param"], " or ".join(f"`{v}`" for v in when["values"]))
             lines.append(f"| `{p['name']}` | {p['type']} | {_value(p, p['default'])} | {_range(p)} | "
-                         f"{p['unit'] or ''} | {p['doc']} |")
+                         f"{p['unit'] or ''} | {doc} |")
         lines.append("")
     return "\n".join(lines)
 

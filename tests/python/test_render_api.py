@@ -11,10 +11,19 @@ import pointnpr
 from conftest import BUILD_DIR, plane
 
 
-def test_schemas_describe_every_stage_and_filter():
-    ids = [s["id"] for s in pointnpr.schemas()]
-    assert ids[0] == "rasterize" and "inpaint" in ids and "composite" in ids
-    assert {"cartoon", "warp"} <= set(ids)
+def test_schemas_describe_every_mark_filter_and_stage():
+    kinds = {(s["id"], s["kind"]) for s in pointnpr.schemas()}
+    assert {("points", "mark"), ("hatching", "mark"), ("hatching", "filter"), ("cartoon", "filter"),
+            ("warp", "filter"), ("inpaint", "stage"), ("composite", "stage")} <= kinds
+    assert "rasterize" not in {i for i, _ in kinds}
+    assert pointnpr.schema("hatching", kind="filter")["label"] == "Pencil Hatching"
+    assert pointnpr.schema("hatching", kind="mark")["label"] == "Hatching"
+    with pytest.raises(KeyError):
+        pointnpr.schema("cartoon", kind="mark")
+    points = pointnpr.schema("points")["params"]
+    world = next(p for p in points if p["name"] == "world_size")
+    assert world["when"] == {"param": "size_mode", "values": ["world"]}
+    assert next(p for p in points if p["name"] == "color_source")["when"] is None
     warp = pointnpr.schema("warp")
     amp = next(p for p in warp["params"] if p["name"] == "amplitude")
     assert amp["type"] == "float" and amp["unit"] == "px" and amp["min"] == 0.0 and amp["doc"]
@@ -37,6 +46,10 @@ def test_style_validates_against_the_schema():
         pointnpr.Style(rasterize={"color_source": "rainbow"})
     with pytest.raises(ValueError, match="unknown filter"):
         pointnpr.Style(filters=["sepia_deluxe"])
+    # rasterize= is the points mark under its older name.
+    assert style.mark[0] == "points" and style.mark[1]["point_size"] == 4.0
+    hatch = pointnpr.Style(mark=("hatching", {"cross_hatch": 0.0}))
+    assert hatch.mark[0] == "hatching" and hatch.mark[1]["cross_hatch"] == 0.0 and hatch.rasterize is None
     with pytest.raises(pointnpr.ParameterError):
         pointnpr.Style(filters=[("warp", {"amplitud": 3})])
 
@@ -80,7 +93,11 @@ def test_bad_render_arguments_raise(renderer, two_planes, camera):
     with pytest.raises(ValueError):
         renderer.render(two_planes, camera, 0, 240)
     with pytest.raises(ValueError, match="rasterizer"):
-        renderer.render(two_planes, camera, 320, 240, rasterizer="raytrace")
+        pointnpr.Style(mark=("points", {"rasterizer": "raytrace"}))
+    with pytest.raises(ValueError, match="unknown mark"):
+        pointnpr.Style(mark="cartoon")
+    with pytest.raises(ValueError, match="not both"):
+        pointnpr.Style(mark="points", rasterize={"point_size": 3})
     with pytest.raises(ValueError, match="mode"):
         renderer.render(two_planes, camera, 320, 240, composite={"mode": "magic"})
     with pytest.raises(ValueError):
