@@ -41,9 +41,9 @@ camera = engine.make_camera(depsgraph, scene.camera, width, height)
 t0 = time.perf_counter()
 synced = sync.build_scene(depsgraph, engine.scene_frame(scene))
 t_sync = time.perf_counter() - t0
-composite, rasterizer = sync.scene_settings(scene)
+composite = sync.scene_settings(scene)
 result = engine.renderer().render(synced.scene, camera, width, height, time=engine.scene_time(scene),
-                                  composite=composite, background=engine.background(scene), rasterizer=rasterizer)
+                                  composite=composite, background=engine.background(scene))
 print(f"first frame (uploads, shader compiles): {cold * 1000:.0f} ms")
 print(f"warm frames: median {statistics.median(warm) * 1000:.0f} ms, min {min(warm) * 1000:.0f} ms "
       f"over {len(warm)} frames (bpy.ops.render.render: sync + core + passes)")

@@ -116,19 +116,19 @@ def make_urban():
     root = bpy.data.collections["lidarhd_myria3d_870000_6618000_subset"]
 
     ground = nodes.new_style("Ground Toon")
-    set_params(ground.nodes["Rasterize"], size_mode="world", world_size=0.55, color_source="rgb")
+    set_params(nodes.mark_node(ground), size_mode="world", world_size=0.55, color_source="rgb")
     cartoon = nodes.append_node(ground, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
     set_params(cartoon, levels=6, outline_width=0, edge_strength=0.6)
     root.pointnpr_style = ground  # "Ground (2)" has none of its own: it inherits this
 
     buildings = nodes.new_style("Ink Buildings")
-    set_params(buildings.nodes["Rasterize"], size_mode="world", world_size=0.5, color_source="rgb")
+    set_params(nodes.mark_node(buildings), size_mode="world", world_size=0.5, color_source="rgb")
     ink = nodes.append_node(buildings, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
     set_params(ink, levels=4, outline_width=2, edge_color=(0.1, 0.08, 0.08, 1.0))
     nodes.append_node(buildings, nodes.ROLE_INPAINT, "inpaint", name="Inpaint Depth")
 
     trees = nodes.new_style("Trees White Outline")
-    set_params(trees.nodes["Rasterize"], size_mode="world", world_size=0.6, color_source="rgb")
+    set_params(nodes.mark_node(trees), size_mode="world", world_size=0.6, color_source="rgb")
     toon = nodes.append_node(trees, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
     set_params(toon, levels=4, outline_width=1, fill_gaps=4, edge_color=(1.0, 1.0, 1.0, 1.0))
     warp = nodes.append_node(trees, nodes.ROLE_FILTER, "warp", name="Warp")
@@ -168,7 +168,7 @@ def make_lion_benchmark():
         mesh = importer.create_point_mesh(name, positions[mask], colors[mask])
         coll.objects.link(bpy.data.objects.new(name, mesh))
         style = nodes.new_style(name + " Style")
-        set_params(style.nodes["Rasterize"], point_size=3.0, color_source="rgb")
+        set_params(nodes.mark_node(style), point_size=3.0, color_source="rgb")
         if filter_id:
             nodes.append_node(style, nodes.ROLE_FILTER, filter_id, name=filter_id.title())
         coll.pointnpr_style = style
@@ -193,13 +193,13 @@ def make_warsaw():
     # The file's collection: colours from the scan, cartoon look. Classes
     # without a style of their own (Ground, Never Classified) inherit it.
     base = nodes.new_style("Scan Cartoon")
-    set_params(base.nodes["Rasterize"], size_mode="world", world_size=0.8, color_source="rgb")
+    set_params(nodes.mark_node(base), size_mode="world", world_size=0.8, color_source="rgb")
     nodes.append_node(base, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
     root.pointnpr_style = base
 
     # Vegetation: one shared style, a constant green with a keyframed warp.
     veg = nodes.new_style("Vegetation Warp")
-    set_params(veg.nodes["Rasterize"], size_mode="world", world_size=0.7, color_source="constant",
+    set_params(nodes.mark_node(veg), size_mode="world", world_size=0.7, color_source="constant",
                color=(0.25, 0.55, 0.2, 1.0))
     warp = nodes.append_node(veg, nodes.ROLE_FILTER, "warp", name="Warp")
     nodes.append_node(veg, nodes.ROLE_INPAINT, "inpaint", name="Inpaint Depth")

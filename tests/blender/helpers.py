@@ -121,10 +121,10 @@ def pid(name):
 
 def constant_style(name, color, point_size=6.0):
     tree = nodes.new_style(name)
-    rast = tree.nodes["Rasterize"]
-    rast.color_source = "constant"
-    setattr(rast, pid("color"), color)
-    rast.point_size = point_size
+    points = tree.nodes["Points"]
+    points.color_source = "constant"
+    setattr(points, pid("color"), color)
+    points.point_size = point_size
     return tree
 
 

@@ -56,3 +56,52 @@ def test_zip_installs_and_enables(tmp_path):
     assert proc.returncode == 0 and "ADDON_OK" in out, out[-3000:]
     assert (user / "addons" / "pointnpr" / "blender" / "engine.py").exists()
     shutil.rmtree(user, ignore_errors=True)
+
+
+INSTALL_AND_SAVE = r'''
+import sys, addon_utils, bpy
+bpy.ops.preferences.addon_install(filepath=sys.argv[-1], overwrite=True)
+assert addon_utils.enable("pointnpr", default_set=True, handle_error=None) is not None
+bpy.ops.wm.save_userpref()
+print("SAVED_PREFS")
+'''
+
+CHECK_MIGRATED = r'''
+import bpy
+tree = bpy.data.node_groups["Constant"]
+node = tree.nodes["Rasterize"]
+print("MIGRATED", node.bl_idname, node.rasterizer, node.color_source)
+'''
+
+
+def test_installed_addon_migrates_the_legacy_file_it_opens(tmp_path):
+    """An add-on enabled in the preferences registers at startup (bpy.data
+    is not reachable then); the legacy file opened on the command line is
+    migrated by the load_post handler."""
+    package = os.path.join(os.environ["POINTNPR_BUILD_DIR"], "pointnpr")
+    archive = tmp_path / "pointnpr-addon.zip"
+    with zipfile.ZipFile(archive, "w", zipfile.ZIP_DEFLATED) as z:
+        for root, dirs, files in os.walk(package):
+            dirs[:] = [d for d in dirs if d != "__pycache__"]
+            for name in files:
+                path = os.path.join(root, name)
+                z.write(path, os.path.join("pointnpr", os.path.relpath(path, package)))
+    user = tmp_path / "user"
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(user), BLENDER_USER_CONFIG=str(user / "config"))
+    install = tmp_path / "install.py"
+    install.write_text(INSTALL_AND_SAVE)
+    proc = subprocess.run([bpy.app.binary_path, "-b", "--python-exit-code", "1", "--python", str(install),
+                           "--", str(archive)], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          timeout=300)
+    out = proc.stdout.decode(errors="replace")
+    assert proc.returncode == 0 and "SAVED_PREFS" in out, out[-3000:]
+    check = tmp_path / "check.py"
+    check.write_text(CHECK_MIGRATED)
+    legacy = os.path.join(os.path.dirname(__file__), "..", "data", "legacy_rasterize_anim.blend")
+    proc = subprocess.run([bpy.app.binary_path, "-b", os.path.abspath(legacy), "--python-exit-code", "1",
+                           "--python", str(check)], env=env, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, timeout=300)
+    out = proc.stdout.decode(errors="replace")
+    assert proc.returncode == 0, out[-3000:]
+    assert "MIGRATED PointNPRMarkPointsNode gl_points constant" in out, out[-3000:]
+    shutil.rmtree(user, ignore_errors=True)

@@ -3,6 +3,7 @@ import math
 import bpy
 import pointnpr
 import pytest
+from pointnpr import presets
 from pointnpr.blender import nodes
 
 import helpers
@@ -13,26 +14,69 @@ def _schemas():
 
 
 def _node_class_for(schema):
-    if schema["id"] == "rasterize":
-        return nodes.find_node_class(nodes.ROLE_RASTERIZE, "rasterize")
-    if schema["id"] == "inpaint":
-        return nodes.find_node_class(nodes.ROLE_INPAINT, "inpaint")
-    return nodes.find_node_class(nodes.ROLE_FILTER, schema["id"])
+    if schema["kind"] == "stage":
+        return nodes.find_node_class(nodes.ROLE_INPAINT, "inpaint") if schema["id"] == "inpaint" else None
+    role = nodes.ROLE_MARK if schema["kind"] == "mark" else nodes.ROLE_FILTER
+    return nodes.find_node_class(role, schema["id"])
 
 
-def test_every_stage_and_filter_has_a_node():
-    ids = {s["id"] for s in _schemas()}
-    assert {"rasterize", "inpaint", "composite"} <= ids
-    filters = [s for s in _schemas() if s["kind"] == "filter"]
-    assert filters, "the core registers no filter"
-    for schema in _schemas():
-        if schema["id"] == "composite":
-            continue
+def _node_schemas():
+    return [s for s in _schemas() if s["id"] != "composite"]
+
+
+def test_every_mark_stage_and_filter_has_a_node():
+    by_kind = {}
+    for s in _schemas():
+        by_kind.setdefault(s["kind"], set()).add(s["id"])
+    assert {"points", "hatching"} <= by_kind["mark"]
+    assert by_kind["stage"] == {"inpaint", "composite"}
+    assert "rasterize" not in {s["id"] for s in _schemas()}
+    assert by_kind["filter"], "the core registers no filter"
+    for schema in _node_schemas():
         cls = _node_class_for(schema)
         assert cls is not None, schema["id"]
         assert cls.bl_label == schema["label"]
         assert cls.is_registered
     assert nodes.find_node_class(nodes.ROLE_OUTPUT) is not None
+    assert nodes.find_node_class(nodes.ROLE_MARK, "points").bl_idname == "PointNPRMarkPointsNode"
+    assert nodes.find_node_class(nodes.ROLE_MARK, "hatching").bl_idname == "PointNPRMarkHatchingNode"
+
+
+def test_node_idnames_are_unique_though_a_mark_and_a_filter_share_an_id():
+    assert "hatching" in {s["id"] for s in _schemas() if s["kind"] == "filter"}
+    filt = nodes.find_node_class(nodes.ROLE_FILTER, "hatching")
+    mark = nodes.find_node_class(nodes.ROLE_MARK, "hatching")
+    assert filt is not None and mark is not None and filt is not mark
+    assert filt.pointnpr_role == nodes.ROLE_FILTER and mark.pointnpr_role == nodes.ROLE_MARK
+    idnames = [c.bl_idname for c in nodes.node_classes()]
+    assert len(idnames) == len(set(idnames)), idnames
+    for cls in nodes.node_classes():
+        assert bpy.types.Node.bl_rna_get_subclass_py(cls.bl_idname) is cls
+
+
+def test_add_menu_has_a_marks_category_and_no_legacy_node():
+    cats = {label: idnames for _id, label, idnames in nodes.node_categories()}
+    marks = [s["id"] for s in _schemas() if s["kind"] == "mark"]
+    assert cats["Marks"] == [nodes.find_node_class(nodes.ROLE_MARK, m).bl_idname for m in marks]
+    assert "PointNPRFilterHatchingNode" in cats["Filters"]
+    assert not any(i.startswith("PointNPRMark") for i in cats["Filters"] + cats["Stages"])
+    offered = {i for idnames in cats.values() for i in idnames}
+    # The legacy Rasterize node stays registered (old files) but is not offered.
+    assert nodes.LEGACY_RASTERIZE_IDNAME not in offered
+    assert nodes.find_node_class(nodes.ROLE_RASTERIZE, "rasterize").is_registered
+    assert offered == {c.bl_idname for c in nodes.node_classes()} - {nodes.LEGACY_RASTERIZE_IDNAME}
+
+
+def test_legacy_rasterize_node_has_the_old_parameters_and_defaults():
+    legacy = nodes.find_node_class(nodes.ROLE_RASTERIZE, "rasterize")
+    points = pointnpr.schema("points", kind="mark")
+    names = [p["name"] for p, _pid in legacy.pointnpr_params]
+    assert names == [p["name"] for p in points["params"] if p["name"] != "rasterizer"]
+    props = legacy.bl_rna.properties
+    assert props["color_source"].default == "rgb"
+    # Stored enum indices of old files: the first four items are unchanged.
+    assert [i.identifier for i in props["color_source"].enum_items][:4] == \
+        ["rgb", "intensity", "classification", "constant"]
 
 
 def _check_property(rna, param):
@@ -73,9 +117,7 @@ def _check_property(rna, param):
 
 def test_node_properties_follow_schemas():
     checked = 0
-    for schema in _schemas():
-        if schema["id"] == "composite":
-            continue
+    for schema in _node_schemas():
         cls = _node_class_for(schema)
         props = cls.bl_rna.properties
         assert len(cls.pointnpr_params) == len(schema["params"])
@@ -93,19 +135,34 @@ def test_scene_settings_follow_composite_schema():
     props = bpy.types.Scene.bl_rna.properties["pointnpr"].fixed_type.properties
     for param in schema["params"]:
         _check_property(props.get(nodes.property_identifier(param["name"])), param)
+    # The legacy scene-wide rasterizer stays registered (old files keep it;
+    # versioning moves it into their Points nodes) but is not drawn.
     assert [i.identifier for i in props["rasterizer"].enum_items] == ["compute", "gl_points"]
+    import inspect
+    from pointnpr.blender import ui
+    assert '"rasterizer"' not in inspect.getsource(ui.RENDER_PT_pointnpr.draw)
+    points = pointnpr.schema("points", kind="mark")
+    rasterizer = next(p for p in points["params"] if p["name"] == "rasterizer")
+    assert rasterizer["items"] == ["compute", "gl_points"] and rasterizer["default"] == "compute"
 
 
 def test_new_style_chain_and_defaults(scene):
     tree = nodes.new_style("S")
     chain = nodes.style_chain(tree)
-    assert [n.pointnpr_role for n in chain] == [nodes.ROLE_RASTERIZE]
+    assert [n.pointnpr_role for n in chain] == [nodes.ROLE_MARK]
+    assert chain[0].bl_idname == "PointNPRMarkPointsNode" and chain[0].name == "Points"
+    assert nodes.mark_node(tree) == chain[0]
     desc = nodes.read_style(tree, 1.0)
     assert desc["filters"] == [] and desc["inpaint"] is None and desc["warnings"] == []
-    rast_schema = pointnpr.schema("rasterize")
-    assert set(desc["rasterize"]) == {p["name"] for p in rast_schema["params"]}
-    # The description is accepted by the core.
-    nodes.make_core_style(desc)
+    mark_id, values = desc["mark"]
+    assert mark_id == "points"
+    points_schema = pointnpr.schema("points", kind="mark")
+    assert set(values) == {p["name"] for p in points_schema["params"]}
+    assert values["color_source"] == "auto" and values["rasterizer"] == "compute"
+    # The description is accepted by the core, as the points mark.
+    style = nodes.make_core_style(desc)
+    assert style.mark[0] == "points"
+    assert style.mark[1]["color_source"] == "auto"
 
 
 def test_chain_follows_links_not_creation_order(scene):
@@ -113,31 +170,33 @@ def test_chain_follows_links_not_creation_order(scene):
     filters = [s["id"] for s in pointnpr.schemas() if s["kind"] == "filter"]
     a = nodes.append_node(tree, nodes.ROLE_FILTER, filters[0], name="A")
     b = nodes.append_node(tree, nodes.ROLE_FILTER, filters[-1], name="B")
-    assert [n.name for n in nodes.style_chain(tree)] == ["Rasterize", "A", "B"]
-    # Relink Rasterize -> B -> A -> Output.
+    assert [n.name for n in nodes.style_chain(tree)] == ["Points", "A", "B"]
+    # Relink Points -> B -> A -> Output.
     out = nodes.find_output_node(tree)
-    rast = tree.nodes["Rasterize"]
+    rast = tree.nodes["Points"]
     for link in list(tree.links):
         tree.links.remove(link)
     tree.links.new(rast.outputs[0], b.inputs[0])
     tree.links.new(b.outputs[0], a.inputs[0])
     tree.links.new(a.outputs[0], out.inputs[0])
-    assert [n.name for n in nodes.style_chain(tree)] == ["Rasterize", "B", "A"]
+    assert [n.name for n in nodes.style_chain(tree)] == ["Points", "B", "A"]
     desc = nodes.read_style(tree, 1.0)
     assert [f[0] for f in desc["filters"]] == [filters[-1], filters[0]]
     # A muted node is skipped.
     b.mute = True
     assert [f[0] for f in nodes.read_style(tree, 1.0)["filters"]] == [filters[0]]
-    # Unlinked output: no rasterize -> warning, defaults.
+    # Unlinked output: no mark -> warning, the default points mark.
     for link in list(out.inputs[0].links):
         tree.links.remove(link)
     desc = nodes.read_style(tree, 1.0)
-    assert desc["warnings"] and desc["filters"] == []
+    assert desc["warnings"] and desc["filters"] == [] and desc["mark"] == ("points", {})
+    assert "no mark node" in desc["warnings"][0]
+    assert nodes.make_core_style(desc).mark[0] == "points"
 
 
 def test_animation_is_evaluated_by_node_name(scene):
     tree = nodes.new_style("Anim")
-    rast = tree.nodes["Rasterize"]
+    rast = tree.nodes["Points"]
     rast.point_size = 2.0
     rast.keyframe_insert("point_size", frame=1)
     rast.point_size = 20.0
@@ -156,10 +215,10 @@ def test_animation_is_evaluated_by_node_name(scene):
             kp.interpolation = 'LINEAR'
     # The static value is whatever was set last; read_style must not use it.
     rast.point_size = 5.0
-    d1 = nodes.read_style(tree, 1.0)["rasterize"]
-    d6 = nodes.read_style(tree, 6.0)["rasterize"]
-    d11 = nodes.read_style(tree, 11.0)["rasterize"]
-    d50 = nodes.read_style(tree, 50.0)["rasterize"]
+    d1 = nodes.read_style(tree, 1.0)["mark"][1]
+    d6 = nodes.read_style(tree, 6.0)["mark"][1]
+    d11 = nodes.read_style(tree, 11.0)["mark"][1]
+    d50 = nodes.read_style(tree, 50.0)["mark"][1]
     assert math.isclose(d1["point_size"], 2.0, abs_tol=1e-4)
     assert math.isclose(d6["point_size"], 11.0, abs_tol=1e-4)
     assert math.isclose(d11["point_size"], 20.0, abs_tol=1e-4)
@@ -169,12 +228,12 @@ def test_animation_is_evaluated_by_node_name(scene):
     # Renaming the node keeps its animation (paths are re-keyed by name).
     rast.name = "Renamed"
     assert any('nodes["Renamed"]' in fc.data_path for fc in tree.animation_data.action.fcurves)
-    assert math.isclose(nodes.read_style(tree, 6.0)["rasterize"]["point_size"], 11.0, abs_tol=1e-4)
+    assert math.isclose(nodes.read_style(tree, 6.0)["mark"][1]["point_size"], 11.0, abs_tol=1e-4)
 
 
 def test_animation_clamped_to_hard_range(scene):
     tree = nodes.new_style("Clamp")
-    rast = tree.nodes["Rasterize"]
+    rast = tree.nodes["Points"]
     rast.point_size = 30.0
     rast.keyframe_insert("point_size", frame=1)
     rast.point_size = 32.0
@@ -183,10 +242,10 @@ def test_animation_clamped_to_hard_range(scene):
     fc.extrapolation = 'LINEAR'
     for kp in fc.keyframe_points:
         kp.interpolation = 'LINEAR'
-    hi = pointnpr.schema("rasterize")["params"]
+    hi = pointnpr.schema("points", kind="mark")["params"]
     hi = next(p for p in hi if p["name"] == "point_size")["max"]
     assert fc.evaluate(10.0) > hi
-    assert nodes.read_style(tree, 10.0)["rasterize"]["point_size"] == hi
+    assert nodes.read_style(tree, 10.0)["mark"][1]["point_size"] == hi
 
 
 def test_style_operators(scene):
@@ -196,7 +255,7 @@ def test_style_operators(scene):
     assert bpy.ops.pointnpr.new_style(target='COLLECTION') == {'FINISHED'}
     tree = coll.pointnpr_style
     assert nodes.is_style_tree(tree)
-    assert [n.pointnpr_role for n in nodes.style_chain(tree)] == [nodes.ROLE_RASTERIZE]
+    assert [n.pointnpr_role for n in nodes.style_chain(tree)] == [nodes.ROLE_MARK]
     assert bpy.ops.pointnpr.new_style(target='SCENE') == {'FINISHED'}
     assert nodes.is_style_tree(scene.pointnpr_default_style)
     assert scene.pointnpr_default_style != tree
@@ -204,12 +263,13 @@ def test_style_operators(scene):
     for step in filters + ["inpaint"]:
         assert bpy.ops.pointnpr.add_step(tree=tree.name, step=step) == {'FINISHED'}
     chain = nodes.style_chain(tree)
-    assert [n.pointnpr_schema_id for n in chain] == ["rasterize"] + filters + ["inpaint"]
+    assert [n.pointnpr_schema_id for n in chain] == ["points"] + filters + ["inpaint"]
+    assert [n.pointnpr_role for n in chain[1:-1]] == [nodes.ROLE_FILTER] * len(filters)
     # Removing a middle step relinks its neighbours.
     middle = chain[1]
     assert bpy.ops.pointnpr.remove_step(tree=tree.name, node=middle.name) == {'FINISHED'}
     assert [n.pointnpr_schema_id for n in nodes.style_chain(tree)] == \
-        ["rasterize"] + filters[1:] + ["inpaint"]
+        ["points"] + filters[1:] + ["inpaint"]
     with pytest.raises(RuntimeError):
         bpy.ops.pointnpr.add_step(tree="no such style", step=filters[0])
 
@@ -229,3 +289,207 @@ def test_collection_style_pointer_accepts_only_style_trees(scene):
         pass
     from pointnpr.blender import sync
     assert sync.resolve_style(scene, coll) == default
+
+
+# ---------------------------------------------------------------------------
+# "when": parameters that apply only for some values of another parameter
+
+def test_when_rule():
+    when = {"param": "color_source", "values": ["constant"]}
+    assert nodes.when_holds(None, "anything")
+    assert nodes.when_holds(when, "constant")
+    assert not nodes.when_holds(when, "rgb")
+    assert not nodes.when_holds(when, None)
+    on = {"param": "enabled", "values": ["true"]}
+    assert nodes.when_holds(on, True) and nodes.when_holds(on, "true")
+    assert not nodes.when_holds(on, False) and not nodes.when_holds(on, "false")
+
+
+def _other_values(param):
+    """All values a controlling (enum or bool) parameter can take, as the
+    "when" conditions spell them."""
+    if param["type"] == "bool":
+        return ["true", "false"]
+    assert param["type"] == "enum", param
+    return list(param["items"])
+
+
+def _set_when_value(node, param, value):
+    pid = nodes.property_identifier(param["name"])
+    setattr(node, pid, (value == "true") if param["type"] == "bool" else value)
+
+
+class _FakeRow:
+    def __init__(self, rows):
+        self.active = True
+        self.props = []
+        rows.append(self)
+
+    def prop(self, data, pid, **_kw):
+        self.props.append(pid)
+
+
+class _FakeLayout:
+    def __init__(self):
+        self.rows = []
+
+    def row(self, **_kw):
+        return _FakeRow(self.rows)
+
+
+def test_parameters_are_greyed_out_when_their_condition_does_not_hold(scene):
+    checked = 0
+    tree = bpy.data.node_groups.new("When", nodes.TREE_IDNAME)
+    for schema in _node_schemas():
+        cls = _node_class_for(schema)
+        by_name = {p["name"]: p for p in schema["params"]}
+        node = tree.nodes.new(cls.bl_idname)
+        for param in schema["params"]:
+            when = param.get("when")
+            if not when:
+                assert nodes.param_applies(node, param)
+                continue
+            other = by_name[when["param"]]
+            assert other["type"] in ("enum", "bool"), (schema["id"], param["name"])
+            assert set(when["values"]) <= set(_other_values(other)), (schema["id"], param["name"])
+            for value in _other_values(other):
+                _set_when_value(node, other, value)
+                # A condition on a parameter that does not apply itself
+                # does not hold either (chains of conditions).
+                expected = value in when["values"] and nodes.param_applies(node, other)
+                assert nodes.param_applies(node, param) == expected, (schema["id"], param["name"], value)
+                # The drawn row is greyed out exactly then.
+                layout = _FakeLayout()
+                nodes.draw_node_properties(node, layout)
+                pid = nodes.property_identifier(param["name"])
+                row = next(r for r in layout.rows if r.props == [pid])
+                assert row.active == expected
+                checked += 1
+    assert checked >= 2, "no schema parameter has a 'when' condition"
+
+
+def test_chained_conditions(scene):
+    """hatching: pencil_image applies when pencil_set is 'image', which
+    applies when pencil_quantize is on."""
+    node = nodes.new_style("Chain", mark="hatching").nodes["Hatching"]
+    params = {p["name"]: p for p, _pid in node.pointnpr_params}
+    assert params["pencil_image"]["when"] == {"param": "pencil_set", "values": ["image"]}
+    assert params["pencil_set"]["when"] == {"param": "pencil_quantize", "values": ["true"]}
+    node.pencil_set = "image"
+    node.pencil_quantize = False
+    assert not nodes.param_applies(node, params["pencil_set"])
+    assert not nodes.param_applies(node, params["pencil_image"])
+    node.pencil_quantize = True
+    assert nodes.param_applies(node, params["pencil_image"])
+    node.pencil_set = "box_12"
+    assert not nodes.param_applies(node, params["pencil_image"])
+    # The hatching mark's colour source matters only for point colouring.
+    node.coloring = "constant"
+    assert not nodes.param_applies(node, params["color_source"])
+    node.coloring = "point"
+    assert nodes.param_applies(node, params["color_source"])
+
+
+def test_points_size_parameters_follow_size_mode(scene):
+    """The rule on known parameters: the points mark's point_size applies in
+    size_mode 'pixels', world_size in 'world'."""
+    points = nodes.new_style("Sizes").nodes["Points"]
+    params = {p["name"]: p for p, _pid in points.pointnpr_params}
+    assert params["point_size"]["when"] == {"param": "size_mode", "values": ["pixels"]}
+    assert params["world_size"]["when"] == {"param": "size_mode", "values": ["world"]}
+    points.size_mode = "pixels"
+    assert nodes.param_applies(points, params["point_size"])
+    assert not nodes.param_applies(points, params["world_size"])
+    points.size_mode = "world"
+    assert not nodes.param_applies(points, params["point_size"])
+    assert nodes.param_applies(points, params["world_size"])
+
+
+# ---------------------------------------------------------------------------
+# Presets
+
+def _preset_mark(preset):
+    if "mark" in preset:
+        mark = preset["mark"]
+        return (mark, {}) if isinstance(mark, str) else (mark[0], dict(mark[1]))
+    return "points", dict(preset["rasterize"])
+
+
+def _assert_tree_is_preset(tree, preset):
+    desc = nodes.read_style(tree, 1.0)
+    mark_id, mark_values = _preset_mark(preset)
+    assert desc["mark"][0] == mark_id
+    for name, value in mark_values.items():
+        got = desc["mark"][1][name]
+        assert got == pytest.approx(value) if isinstance(value, float) else got == value, name
+    assert [f for f, _v in desc["filters"]] == [f for f, _v in preset["filters"]]
+    for (fid, got), (_fid, want) in zip(desc["filters"], preset["filters"]):
+        for name, value in want.items():
+            assert got[name] == pytest.approx(value), (fid, name)
+    assert desc["warnings"] == []
+    nodes.make_core_style(desc)
+
+
+@pytest.mark.parametrize("name", sorted(presets.PRESETS))
+def test_style_from_every_preset(scene, name):
+    tree = nodes.new_style_from_preset(name)
+    assert tree.name == name
+    _assert_tree_is_preset(tree, presets.PRESETS[name])
+
+
+def test_style_from_preset_accepts_both_keys(scene, monkeypatch):
+    monkeypatch.setitem(presets.PRESETS, "_old", {"rasterize": {"point_size": 7.0, "color_source": "intensity"},
+                                                  "filters": [("cartoon", {"levels": 3})]})
+    monkeypatch.setitem(presets.PRESETS, "_hatch", {"mark": ("hatching", {}), "filters": []})
+    monkeypatch.setitem(presets.PRESETS, "_named", {"mark": "hatching", "filters": [("cartoon", {})]})
+    for key in ("_old", "_hatch", "_named"):
+        _assert_tree_is_preset(nodes.new_style_from_preset(key), presets.PRESETS[key])
+    assert nodes.mark_node(bpy.data.node_groups["_old"]).bl_idname == "PointNPRMarkPointsNode"
+    assert nodes.mark_node(bpy.data.node_groups["_hatch"]).bl_idname == "PointNPRMarkHatchingNode"
+
+
+def test_new_style_operator_with_a_preset(scene):
+    name = sorted(presets.PRESETS)[0]
+    before = set(bpy.data.node_groups.keys())
+    assert bpy.ops.pointnpr.new_style(target='SCENE', preset=name) == {'FINISHED'}
+    tree = scene.pointnpr_default_style
+    assert tree.name not in before
+    _assert_tree_is_preset(tree, presets.PRESETS[name])
+
+
+def test_set_mark_operator_replaces_the_mark(scene):
+    tree = nodes.new_style("Swap")
+    points = tree.nodes["Points"]
+    points.point_size = 7.0
+    nodes.append_node(tree, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
+    assert bpy.ops.pointnpr.set_mark(tree=tree.name, mark="hatching") == {'FINISHED'}
+    chain = nodes.style_chain(tree)
+    assert [n.bl_idname for n in chain] == ["PointNPRMarkHatchingNode", "PointNPRFilterCartoonNode"]
+    assert "Points" not in tree.nodes
+    assert bpy.ops.pointnpr.set_mark(tree=tree.name, mark="points") == {'FINISHED'}
+    chain = nodes.style_chain(tree)
+    assert chain[0].bl_idname == "PointNPRMarkPointsNode" and chain[1].name == "Cartoon"
+    assert nodes.read_style(tree, 1.0)["warnings"] == []
+    # A style whose mark was deleted gets one in front of its first step.
+    tree.nodes.remove(chain[0])
+    assert nodes.read_style(tree, 1.0)["warnings"]
+    assert bpy.ops.pointnpr.set_mark(tree=tree.name, mark="points") == {'FINISHED'}
+    assert [n.name for n in nodes.style_chain(tree)] == ["Points", "Cartoon"]
+    assert nodes.read_style(tree, 1.0)["warnings"] == []
+
+
+def test_replacing_a_mark_keeps_shared_values_and_their_animation(scene):
+    tree = nodes.new_style("Keep")
+    old = tree.nodes["Points"]
+    old.point_size = 2.0
+    old.keyframe_insert("point_size", frame=1)
+    old.point_size = 12.0
+    old.keyframe_insert("point_size", frame=11)
+    old.color_source = "intensity"
+    nodes.append_node(tree, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
+    new = nodes.replace_mark(tree, "points")
+    assert new.name == "Points" and len(tree.nodes) == 3
+    assert new.color_source == "intensity"
+    assert [n.name for n in nodes.style_chain(tree)] == ["Points", "Cartoon"]
+    assert [fc.data_path for fc in tree.animation_data.action.fcurves] == ['nodes["Points"].point_size']
+    assert nodes.read_style(tree, 6.0)["mark"][1]["point_size"] == pytest.approx(7.0, abs=0.6)

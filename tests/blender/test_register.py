@@ -70,11 +70,11 @@ def test_style_survives_reregistration(scene):
     coll = bpy.data.collections.new("KeepColl")
     scene.collection.children.link(coll)
     coll.pointnpr_style = tree
-    tree.nodes["Rasterize"].point_size = 7.5
+    tree.nodes["Points"].point_size = 7.5
     pointnpr.unregister()
     pointnpr.register()
     assert coll.pointnpr_style == tree
-    assert abs(tree.nodes["Rasterize"].point_size - 7.5) < 1e-6
+    assert abs(tree.nodes["Points"].point_size - 7.5) < 1e-6
 
 
 def test_engine_panels_use_engine(scene):

@@ -98,7 +98,7 @@ def _animated_warp_scene():
     helpers.add_points("W", coll, helpers.grid_points(1.2, 0.05, 0.0),
                        colors=rng.random((49 * 49, 3)))
     tree = nodes.new_style("Warp Style")
-    tree.nodes["Rasterize"].point_size = 4.0
+    tree.nodes["Points"].point_size = 4.0
     warp = nodes.append_node(tree, nodes.ROLE_FILTER, "warp", name="Warp")
     coll.pointnpr_style = tree
     _schema, params = _warp_schema()
@@ -289,8 +289,13 @@ def test_animation_render_writes_every_frame(tmp_path):
 
 @pytest.mark.parametrize("rasterizer", ["compute", "gl_points"])
 def test_rasterizer_choice(tmp_path, rasterizer):
-    scene, _, _ = helpers.two_planes_scene("depth_test")
-    scene.pointnpr.rasterizer = rasterizer
+    """The rasterizer is the Points mark's parameter; the legacy scene
+    setting is ignored."""
+    scene, near, far = helpers.two_planes_scene("depth_test")
+    for coll in (near, far):
+        coll.pointnpr_style.nodes["Points"].rasterizer = rasterizer
+    assert nodes.read_style(near.pointnpr_style, 1.0)["mark"][1]["rasterizer"] == rasterizer
+    scene.pointnpr.rasterizer = "compute" if rasterizer == "gl_points" else "gl_points"
     px, _ = helpers.render_pixels(tmp_path, rasterizer + ".png")
     assert is_color(px[CENTRE], RED), px[CENTRE]
     assert is_color(px[FAR_ONLY], BLUE), px[FAR_ONLY]
@@ -302,7 +307,7 @@ def _schema_filters():
 
 @pytest.mark.parametrize("filter_id", _schema_filters())
 def test_every_filter_node_renders(tmp_path, filter_id):
-    """Rasterize -> <filter> -> Inpaint Depth -> Output with default values."""
+    """Points -> <filter> -> Inpaint Depth -> Output with default values."""
     scene, near, far = helpers.two_planes_scene("inpaint")
     tree = near.pointnpr_style
     nodes.append_node(tree, nodes.ROLE_FILTER, filter_id, name="F")
@@ -334,7 +339,7 @@ def test_camera_shift_and_pixel_aspect(tmp_path):
     # Pixels twice as wide as tall, horizontal sensor fit (Blender's
     # viewplane): the same columns, twice the rows.
     scene.camera.location.z = 20.0
-    near.pointnpr_style.nodes["Rasterize"].point_size = 1.0   # measure geometry, not splats
+    near.pointnpr_style.nodes["Points"].point_size = 1.0   # measure geometry, not splats
     square, _ = helpers.render_pixels(tmp_path, "square.png")
     scene.render.pixel_aspect_x = 2.0
     wide, _ = helpers.render_pixels(tmp_path, "aspect.png")
@@ -365,16 +370,20 @@ def test_intensity_attribute_is_read_only_when_needed(tmp_path):
     helpers.add_points("Ramp", coll, pts, colors=np.tile([[1.0, 0.0, 0.0]], (len(pts), 1)),
                        intensity=ramp * 1000.0)
     tree = nodes.new_style("Intensity")
-    tree.nodes["Rasterize"].color_source = "intensity"
-    tree.nodes["Rasterize"].point_size = 5.0
+    tree.nodes["Points"].color_source = "intensity"
+    tree.nodes["Points"].point_size = 5.0
     coll.pointnpr_style = tree
+    sync.clear_cache()
     px, _ = helpers.render_pixels(tmp_path, "intensity.png")
     row = px[CENTRE[0]]
     left, right = row[WIDTH // 2 - 12][:3], row[WIDTH // 2 + 12][:3]
     # Grey levels from intensity, increasing to the right; not the red colours.
     assert abs(left[0] - left[2]) < 0.05 and abs(right[0] - right[2]) < 0.05
     assert right.mean() > left.mean() + 0.1
-    assert sync.required_attribute(nodes.read_style(tree, 1.0)) == "intensity"
+    assert sync.source_attributes(nodes.make_core_style(nodes.read_style(tree, 1.0))) == ("intensity",)
+    # Only the intensity was read, not the colours the object also has.
+    assert [a for o, a in sync.read_log if o == "Ramp"][-1:] == ["intensity"]
+    assert ("Ramp", "colors") not in sync.read_log
 
 
 def _red_box(color):
@@ -400,7 +409,7 @@ def test_camera_matches_blender_projection(config):
     projection (Object.calc_matrix_camera) for the same settings."""
     scene, near, _ = helpers.two_planes_scene("depth_test")
     scene.camera.location.z = 20.0
-    near.pointnpr_style.nodes["Rasterize"].point_size = 1.0
+    near.pointnpr_style.nodes["Points"].point_size = 1.0
     cam = scene.camera.data
     w, h = config.get("resolution", (WIDTH, HEIGHT))
     scene.render.resolution_x, scene.render.resolution_y = w, h
@@ -479,7 +488,7 @@ def test_style_without_output_falls_back_to_default(tmp_path):
     tree = near.pointnpr_style
     tree.nodes.remove(tree.nodes["Output"])
     desc = nodes.read_style(tree, 1.0)
-    assert desc["warnings"] and desc["rasterize"] == {}
+    assert desc["warnings"] and desc["mark"] == ("points", {})
     px, _ = helpers.render_pixels(tmp_path, "no_output.png")
     # Default style: the points' own colours; these have none -> not red.
     assert not is_color(px[CENTRE], RED)

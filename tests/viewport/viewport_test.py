@@ -66,7 +66,7 @@ def styled_collection(name, color):
     coll = bpy.data.collections.new(name)
     bpy.context.scene.collection.children.link(coll)
     tree = nodes.new_style(name + " Style")
-    rast = tree.nodes["Rasterize"]
+    rast = nodes.mark_node(tree)
     rast.color_source = "constant"
     setattr(rast, nodes.property_identifier("color"), color)
     rast.point_size = 6.0
@@ -202,7 +202,7 @@ def check_moved(view):
 
 def restyle():
     tree = bpy.data.collections["Red"].pointnpr_style
-    setattr(tree.nodes["Rasterize"], nodes.property_identifier("color"), (0.0, 1.0, 0.0, 1.0))
+    setattr(nodes.mark_node(tree), nodes.property_identifier("color"), (0.0, 1.0, 0.0, 1.0))
 
 
 def move_blue_points():

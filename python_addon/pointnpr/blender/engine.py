@@ -133,10 +133,10 @@ def do_render(scene_depsgraph, camera, width, height, progress=None, trust_cache
     """Sync and render; returns (pointnpr render result, SyncResult)."""
     scene = scene_depsgraph.scene
     synced = sync.build_scene(scene_depsgraph, scene_frame(scene), trust_cache=trust_cache)
-    composite, rasterizer = sync.scene_settings(scene)
+    composite = sync.scene_settings(scene)
     result = renderer().render(synced.scene, camera, width, height, time=scene_time(scene),
                                composite=composite, background=background(scene),
-                               rasterizer=rasterizer, progress=progress)
+                               progress=progress)
     return result, synced
 
 

@@ -1,9 +1,17 @@
 """Styles as node trees.
 
-A style is a ``PointNPRStyleTree``: a chain Rasterize -> filters ->
-Inpaint Depth -> Output. Every node class and every node property is
-generated at register() time from ``pointnpr.schemas()``, so a parameter is
-declared once, in the C++ schema. Styles are read back per frame by
+A style is a ``PointNPRStyleTree``: a chain of one mark node (how points
+become marks: Points, Hatching, ...) -> filters -> Inpaint Depth -> Output.
+Every node class and every node property is generated at register() time
+from ``pointnpr.schemas()``, so a parameter is declared once, in the C++
+schema; a parameter whose schema has a "when" condition is greyed out while
+the condition does not hold (``param_applies``).
+
+Files saved before the mark stage have Rasterize nodes: a legacy
+``PointNPRRasterizeNode`` class stays registered (not in the Add menu) so
+their stored values load, and ``migrate_legacy_nodes`` (run on file load and
+when the add-on is enabled) replaces each by a Points mark node of the same
+name, location, links, values and animation. Styles are read back per frame by
 ``read_style`` which evaluates the tree's animation itself (custom node
 trees are not reliably evaluated by the depsgraph during final renders).
 """
@@ -19,10 +27,18 @@ OUTPUT_IDNAME = "PointNPROutputNode"
 NODE_CATEGORY_ID = "POINTNPR_STYLE_NODES"
 
 # Role of a node in the pipeline.
-ROLE_RASTERIZE = "rasterize"
+ROLE_MARK = "mark"
+ROLE_RASTERIZE = "rasterize"   # legacy Rasterize node (files from before the mark stage)
 ROLE_FILTER = "filter"
 ROLE_INPAINT = "inpaint"
 ROLE_OUTPUT = "output"
+
+POINTS_MARK = "points"        # the default mark: splats, what Rasterize was
+LEGACY_RASTERIZE_IDNAME = "PointNPRRasterizeNode"
+# Parameters of the points mark that the legacy Rasterize node did not have,
+# and the legacy defaults that differ from the points mark's.
+_LEGACY_ABSENT_PARAMS = ("rasterizer",)
+_LEGACY_DEFAULTS = {"color_source": "rgb"}
 
 # Bumped whenever a style changes (property edit, relink): the viewport
 # compares it to decide whether to re-render.
@@ -192,7 +208,7 @@ class _StyleNodeMixin:
         return ntree.bl_idname == TREE_IDNAME
 
     def init(self, context):
-        if self.pointnpr_role != ROLE_RASTERIZE:
+        if self.pointnpr_role not in (ROLE_MARK, ROLE_RASTERIZE):
             self.inputs.new(SOCKET_IDNAME, "Image")
         if self.pointnpr_role != ROLE_OUTPUT:
             self.outputs.new(SOCKET_IDNAME, "Image")
@@ -204,17 +220,71 @@ class _StyleNodeMixin:
         return self.bl_label
 
 
+def _when_value(node, param_name):
+    """The current value of ``node``'s parameter ``param_name`` as a "when"
+    condition names it: enum item, or "true"/"false" for a bool; None if the
+    node has no such parameter."""
+    for param, pid in getattr(node, "pointnpr_params", ()):
+        if param["name"] == param_name:
+            value = getattr(node, pid)
+            if param["type"] == "bool":
+                return "true" if value else "false"
+            return str(value)
+    return None
+
+
+def when_holds(when, value):
+    """Whether a schema "when" condition ({"param": name, "values": [...]}, or
+    None) holds for the other parameter's ``value`` (enum item or
+    "true"/"false"; a bool or None is accepted too)."""
+    if not when:
+        return True
+    if isinstance(value, bool):
+        value = "true" if value else "false"
+    return value is not None and str(value) in [str(v) for v in when.get("values", ())]
+
+
+def param_applies(node, param, _seen=None):
+    """Whether ``param`` (a schema dict of one of ``node``'s parameters)
+    applies with the node's current values: its "when" condition holds and
+    the parameter it names applies itself (conditions chain: the hatching
+    mark's pencil_image needs pencil_set "image", which needs
+    pencil_quantize on). A condition naming a parameter the node does not
+    have is taken to hold."""
+    when = param.get("when")
+    if not when:
+        return True
+    value = _when_value(node, when.get("param"))
+    if value is None:
+        return True
+    if not when_holds(when, value):
+        return False
+    seen = set(_seen or ()) | {param["name"]}
+    if when["param"] in seen:
+        return True   # a cycle in the schema: do not loop
+    other = next(p for p, _pid in node.pointnpr_params if p["name"] == when["param"])
+    return param_applies(node, other, seen)
+
+
 def draw_node_properties(node, layout):
-    for _param, pid in getattr(node, "pointnpr_params", ()):
-        layout.prop(node, pid)
+    """One row per parameter; rows whose "when" condition does not hold are
+    greyed out (still editable: the value is kept for when it applies)."""
+    for param, pid in getattr(node, "pointnpr_params", ()):
+        row = layout.row()
+        row.active = param_applies(node, param)
+        row.prop(node, pid)
 
 
 def _class_name(role, schema_id):
     if role == ROLE_OUTPUT:
         return OUTPUT_IDNAME
+    if role == ROLE_RASTERIZE:
+        return LEGACY_RASTERIZE_IDNAME
     parts = "".join(p.capitalize() for p in schema_id.split("_"))
     if role == ROLE_FILTER:
         return "PointNPRFilter%sNode" % parts
+    if role == ROLE_MARK:
+        return "PointNPRMark%sNode" % parts
     return "PointNPR%sNode" % parts
 
 
@@ -243,23 +313,51 @@ def _make_node_class(role, schema):
         "pointnpr_schema_id": schema["id"] if schema else "",
         "pointnpr_params": tuple(params),
     }
-    if role == ROLE_RASTERIZE:
+    if role in (ROLE_MARK, ROLE_RASTERIZE):
         attrs["bl_width_default"] = 200
     return type(idname, (_StyleNodeMixin, bpy.types.Node), attrs)
 
 
+def legacy_rasterize_schema(points_schema):
+    """The schema the legacy Rasterize node is generated from: the points
+    mark's parameters without those Rasterize did not have, with Rasterize's
+    defaults (color_source "rgb"), so values stored in old files (and values
+    never set, which take the class default) read back as they were saved.
+    Enum items keep the points mark's order: "auto" was appended last, so
+    stored item indices mean the same item."""
+    params = []
+    for param in points_schema.get("params", ()):
+        if param["name"] in _LEGACY_ABSENT_PARAMS:
+            continue
+        param = dict(param)
+        if param["name"] in _LEGACY_DEFAULTS:
+            param["default"] = _LEGACY_DEFAULTS[param["name"]]
+        param["when"] = None   # the legacy node is never drawn for editing
+        params.append(param)
+    return {"id": "rasterize", "label": "Rasterize (legacy)", "kind": "legacy",
+            "doc": "Rasterize node of a file saved before the mark stage; replaced by a Points "
+                   "mark node when the file is loaded",
+            "params": params}
+
+
 def build_node_classes(schemas):
-    """Node classes for a list of schema dicts (not registered)."""
-    by_id = {s["id"]: s for s in schemas}
+    """Node classes for a list of schema dicts (not registered): one per mark,
+    filter and the inpaint stage, the Output node, and the legacy Rasterize
+    node (from the points mark's schema)."""
     classes = []
-    if "rasterize" in by_id:
-        classes.append(_make_node_class(ROLE_RASTERIZE, by_id["rasterize"]))
+    for schema in schemas:
+        if schema.get("kind") == "mark":
+            classes.append(_make_node_class(ROLE_MARK, schema))
     for schema in schemas:
         if schema.get("kind") == "filter":
             classes.append(_make_node_class(ROLE_FILTER, schema))
-    if "inpaint" in by_id:
-        classes.append(_make_node_class(ROLE_INPAINT, by_id["inpaint"]))
+    for schema in schemas:
+        if schema.get("kind") == "stage" and schema["id"] == "inpaint":
+            classes.append(_make_node_class(ROLE_INPAINT, schema))
     classes.append(_make_node_class(ROLE_OUTPUT, None))
+    points = next((s for s in schemas if s.get("kind") == "mark" and s["id"] == POINTS_MARK), None)
+    if points is not None:
+        classes.append(_make_node_class(ROLE_RASTERIZE, legacy_rasterize_schema(points)))
     return classes
 
 
@@ -277,22 +375,152 @@ def find_node_class(role, schema_id=""):
 # ---------------------------------------------------------------------------
 # Creating styles
 
-def new_style(name="Style"):
-    """A new style tree with Rasterize -> Output linked."""
+def new_style(name="Style", mark=POINTS_MARK):
+    """A new style tree with <mark> -> Output linked (a Points mark node
+    named "Points" by default)."""
     tree = bpy.data.node_groups.new(name, TREE_IDNAME)
-    rast = tree.nodes.new(node_idname(ROLE_RASTERIZE, "rasterize"))
-    rast.name = "Rasterize"
-    rast.location = (-250.0, 0.0)
+    cls = find_node_class(ROLE_MARK, mark)
+    if cls is None:
+        raise KeyError("no mark named %r" % mark)
+    node = tree.nodes.new(cls.bl_idname)
+    node.name = cls.bl_label
+    node.location = (-250.0, 0.0)
     out = tree.nodes.new(OUTPUT_IDNAME)
     out.name = "Output"
     out.location = (150.0, 0.0)
-    tree.links.new(rast.outputs[0], out.inputs[0])
+    tree.links.new(node.outputs[0], out.inputs[0])
+    return tree
+
+
+def replace_mark(tree, mark_id):
+    """Makes ``tree`` start with a ``mark_id`` mark node instead of its
+    current mark (which is removed; parameters of the same name keep their
+    values). Returns the new node."""
+    cls = find_node_class(ROLE_MARK, mark_id)
+    if cls is None:
+        raise KeyError("no mark named %r" % mark_id)
+    old = mark_node(tree)
+    new = tree.nodes.new(cls.bl_idname)
+    new.name = cls.bl_label
+    if old is None:
+        out = find_output_node(tree)
+        first = style_chain(tree)[0] if style_chain(tree) else out
+        new.location = (first.location.x - 250.0, first.location.y) if first else (-250.0, 0.0)
+        if first is not None and first.inputs and not first.inputs[0].is_linked:
+            tree.links.new(new.outputs[0], first.inputs[0])
+        return new
+    new.location = old.location
+    new_pids = {param["name"]: (param, pid) for param, pid in new.pointnpr_params}
+    shared = set()
+    for param, pid in old.pointnpr_params:
+        target = new_pids.get(param["name"])
+        if target is not None and target[0]["type"] == param["type"] and target[1] == pid:
+            try:
+                setattr(new, pid, getattr(old, pid))
+                shared.add(pid)
+            except (TypeError, ValueError):
+                pass   # e.g. an enum item the new mark does not have
+    # The animation of the parameters both marks have moves to the new
+    # node (the rest goes with the old one).
+    old.name = "__pointnpr_replaced_mark__"
+    tmp_name = old.name
+    targets = [link.to_socket for link in old.outputs[0].links]
+    new.name = cls.bl_label
+    repoint_curves(tree, tmp_name, new.name, shared)
+    tree.nodes.remove(old)
+    for sock in targets:
+        tree.links.new(new.outputs[0], sock)
+    return new
+
+
+def _node_path_prefix(name):
+    return 'nodes["%s"]' % name.replace("\\", "\\\\").replace('"', '\\"')
+
+
+def tree_curves(tree):
+    """Every F-Curve and driver of ``tree``: the active action's, the NLA
+    strips' actions', and the drivers."""
+    anim = getattr(tree, "animation_data", None)
+    if anim is None:
+        return []
+    curves = []
+    if anim.action is not None:
+        curves.extend(_action_fcurves(anim, anim.action))
+    for track in getattr(anim, "nla_tracks", ()):
+        for strip in track.strips:
+            action = getattr(strip, "action", None)
+            if action is not None and action != anim.action:
+                curves.extend(_action_fcurves(anim, action))
+    curves.extend(anim.drivers)
+    return curves
+
+
+def repoint_curves(tree, old_name, new_name, properties=None):
+    """Points the F-Curves and drivers of node ``old_name``'s properties at
+    node ``new_name`` (only those of ``properties``, a set of property
+    identifiers, when given)."""
+    old, new = _node_path_prefix(old_name), _node_path_prefix(new_name)
+    for fc in tree_curves(tree):
+        path = fc.data_path
+        if not path.startswith(old + "."):
+            continue
+        prop = path[len(old) + 1:].split("[", 1)[0]
+        if properties is None or prop in properties:
+            fc.data_path = new + path[len(old):]
+
+
+def mark_node(tree):
+    """The mark node of ``tree``'s chain (the first step), or None."""
+    chain = style_chain(tree)
+    if chain and chain[0].pointnpr_role in (ROLE_MARK, ROLE_RASTERIZE):
+        return chain[0]
+    return None
+
+
+def set_node_values(node, values):
+    """Sets schema parameters of ``node`` from {name: value}."""
+    known = {param["name"]: pid for param, pid in node.pointnpr_params}
+    for name, value in values.items():
+        if name not in known:
+            raise KeyError("%s has no parameter %r" % (node.bl_label, name))
+        setattr(node, known[name], value)
+
+
+def _preset_mark(preset):
+    """(mark id, params) of a pointnpr.presets.PRESETS entry: its "mark"
+    (an id or (id, params)), or the older "rasterize" (params of the points
+    mark)."""
+    mark = preset.get("mark")
+    if mark is None:
+        return POINTS_MARK, dict(preset.get("rasterize") or {})
+    if isinstance(mark, str):
+        return mark, {}
+    mark_id, params = mark
+    return mark_id, dict(params or {})
+
+
+def new_style_from_preset(preset_name, name=None):
+    """A style tree built from ``pointnpr.presets.PRESETS[preset_name]``: its
+    mark node, filters in order, Inpaint Depth if the preset has one."""
+    from .. import presets
+
+    preset = presets.PRESETS[preset_name]
+    mark_id, mark_values = _preset_mark(preset)
+    tree = new_style(name or preset_name, mark=mark_id)
+    set_node_values(mark_node(tree), mark_values)
+    for filter_id, values in preset.get("filters", ()):
+        set_node_values(append_node(tree, ROLE_FILTER, filter_id), values or {})
+    if preset.get("inpaint") is not None:
+        set_node_values(append_node(tree, ROLE_INPAINT, "inpaint"), preset["inpaint"])
     return tree
 
 
 def append_node(tree, role, schema_id="", name=None):
     """Insert a node just before the Output node of ``tree``'s chain."""
-    node = tree.nodes.new(node_idname(role, schema_id))
+    cls = find_node_class(role, schema_id)
+    if cls is None:
+        raise KeyError("no %s node for %r" % (role, schema_id))
+    node = tree.nodes.new(cls.bl_idname)
     if name:
         node.name = name
     out = find_output_node(tree)
@@ -442,26 +670,31 @@ def node_values(node, frame, curves=None):
 
 def read_style(tree, frame):
     """Style description of ``tree`` at ``frame``: a dict with keys
-    rasterize (dict), filters (list of (id, dict)), inpaint (dict or None),
-    warnings (list of str). ``tree`` None gives the built-in default."""
-    desc = {"rasterize": {}, "filters": [], "inpaint": None, "warnings": []}
+    mark ((id, dict)), filters (list of (id, dict)), inpaint (dict or None),
+    warnings (list of str). ``tree`` None gives the built-in default (the
+    points mark with its defaults)."""
+    desc = {"mark": (POINTS_MARK, {}), "filters": [], "inpaint": None, "warnings": []}
     if tree is None:
         return desc
     tree = getattr(tree, "original", tree)
     curves = animated_values(tree)
     chain = style_chain(tree)
-    rasterizers = [n for n in chain if n.pointnpr_role == ROLE_RASTERIZE]
-    if not rasterizers:
+    marks = [n for n in chain if n.pointnpr_role in (ROLE_MARK, ROLE_RASTERIZE)]
+    if not marks:
         if find_output_node(tree) is None:
             desc["warnings"].append("style '%s' has no Output node: default style used" % tree.name)
         else:
-            desc["warnings"].append("style '%s' has no Rasterize node linked to its Output: "
-                                    "default rasterize settings used" % tree.name)
+            desc["warnings"].append("style '%s' has no mark node linked to its Output: "
+                                    "default Points mark used" % tree.name)
     for node in chain:
         role = node.pointnpr_role
         values = node_values(node, frame, curves)
-        if role == ROLE_RASTERIZE:
-            desc["rasterize"] = values
+        if role == ROLE_MARK:
+            desc["mark"] = (node.pointnpr_schema_id, values)
+        elif role == ROLE_RASTERIZE:
+            # Only left where a tree could not be migrated (linked from a
+            # library file): it is the points mark it was.
+            desc["mark"] = (POINTS_MARK, values)
         elif role == ROLE_FILTER:
             desc["filters"].append((node.pointnpr_schema_id, values))
         elif role == ROLE_INPAINT:
@@ -470,7 +703,7 @@ def read_style(tree, frame):
 
 
 def make_core_style(desc):
-    kwargs = {"rasterize": desc["rasterize"], "filters": desc["filters"]}
+    kwargs = {"mark": tuple(desc["mark"]), "filters": desc["filters"]}
     if desc.get("inpaint") is not None:
         kwargs["inpaint"] = desc["inpaint"]
     return _core().Style(**kwargs)
@@ -491,14 +724,27 @@ def _node_categories():
             space = context.space_data
             return space is not None and getattr(space, "tree_type", "") == TREE_IDNAME
 
-    stages = [nodeitems_utils.NodeItem(c.bl_idname) for c in _generated_classes
-              if c.pointnpr_role != ROLE_FILTER]
-    filters = [nodeitems_utils.NodeItem(c.bl_idname) for c in _generated_classes
-               if c.pointnpr_role == ROLE_FILTER]
-    cats = [PointNPRNodeCategory("POINTNPR_STAGES", "Stages", items=stages)]
+    def items(role_test):
+        return [nodeitems_utils.NodeItem(c.bl_idname) for c in _generated_classes
+                if role_test(c.pointnpr_role)]
+
+    cats = []
+    marks = items(lambda role: role == ROLE_MARK)
+    if marks:
+        cats.append(PointNPRNodeCategory("POINTNPR_MARKS", "Marks", items=marks))
+    filters = items(lambda role: role == ROLE_FILTER)
     if filters:
         cats.append(PointNPRNodeCategory("POINTNPR_FILTERS", "Filters", items=filters))
+    # The legacy Rasterize node is not offered: files that have one are migrated.
+    cats.append(PointNPRNodeCategory("POINTNPR_STAGES", "Stages",
+                                     items=items(lambda role: role in (ROLE_INPAINT, ROLE_OUTPUT))))
     return nodeitems_utils, cats
+
+
+def node_categories():
+    """[(category id, label, [node idnames])] of the Add menu."""
+    _utils, cats = _node_categories()
+    return [(c.identifier, c.name, [i.nodetype for i in c.items(None)]) for c in cats or ()]
 
 
 _static_classes = (PointNPRStyleTree, PointNPRStyleSocket)

@@ -1,7 +1,11 @@
 """Scene and collection properties.
 
 Scene.pointnpr holds the composite settings, generated from
-``pointnpr.schema("composite")``, plus the rasterizer choice.
+``pointnpr.schema("composite")``. Its ``rasterizer`` is a legacy setting:
+the rasterizer is now a parameter of each Points mark node; files saved
+before that keep the value here, and versioning.py copies it into the Points
+nodes that replace their Rasterize nodes. It is no longer drawn nor used for
+rendering.
 Collection.pointnpr_style and Scene.pointnpr_default_style point to styles.
 """
 
@@ -33,8 +37,9 @@ def build_settings_class(schema):
         annotations[pid] = nodes.make_property(param, update=nodes.on_property_update)
         params.append((dict(param), pid))
     annotations["rasterizer"] = bpy.props.EnumProperty(
-        name="Rasterizer", items=RASTERIZERS, default="compute",
-        description="How points are rasterized", update=nodes.on_property_update)
+        name="Rasterizer (legacy)", items=RASTERIZERS, default="compute",
+        description="Scene-wide rasterizer of files saved before the mark stage; now the "
+                    "Points mark node's Rasterizer")
     return type("PointNPRSceneSettings", (bpy.types.PropertyGroup,), {
         "__annotations__": annotations,
         "__doc__": schema.get("doc", "PointNPR scene settings"),

@@ -17,13 +17,12 @@ import numpy as np
 
 from . import nodes
 
-# color_source value -> cloud attribute it needs
-_SOURCE_ATTRIBUTE = {
-    "rgb": "colors",
-    "intensity": "intensity",
-    "classification": "classification",
-    "constant": None,
-}
+# The colour attributes a points mark with color_source "auto" lists: it
+# takes the first the cloud has, so only those present are read and a
+# missing one is no warning unless all are.
+_COLOR_ATTRIBUTES = ("colors", "intensity", "classification")
+# Attributes the core computes itself when the host has none: never warned about.
+_OPTIONAL_ATTRIBUTES = ("point_index", "normals")
 
 _COLOR_TYPES = {'BYTE_COLOR', 'FLOAT_COLOR'}
 
@@ -69,16 +68,11 @@ def resolve_style(scene, collection):
     return None
 
 
-def required_attribute(style_desc):
-    """Cloud attribute the style's rasterize stage reads, or None."""
-    source = style_desc["rasterize"].get("color_source")
-    if source is None:
-        try:
-            param = next(p for p in _core().schema("rasterize")["params"] if p["name"] == "color_source")
-            source = nodes._enum_default(param)
-        except Exception:
-            source = "rgb"
-    return _SOURCE_ATTRIBUTE.get(source)
+def source_attributes(core_style):
+    """The per-point attributes (names as pointnpr.PointCloud's keywords) the
+    host reads for ``core_style`` (a pointnpr.Style), as a tuple in a fixed
+    order: what the core's ``Style.source_attributes`` lists."""
+    return tuple(sorted(set(core_style.source_attributes)))
 
 
 # ---------------------------------------------------------------------------
@@ -174,11 +168,49 @@ def read_classification(obj):
     return np.clip(values, 0, 255).astype(np.uint8)
 
 
+def read_point_index(obj):
+    """Stable point ids from an integer point attribute named "point_index",
+    or None (the core then numbers the points in order)."""
+    attrs = _point_attributes(obj.data)
+    attr = attrs.get("point_index") if attrs else None
+    if attr is None or attr.domain != 'POINT' or attr.data_type != 'INT':
+        return None
+    values = np.empty(len(attr.data), dtype=np.int32)
+    attr.data.foreach_get("value", values)
+    return values.astype(np.uint32)
+
+
+def read_normals(obj):
+    """(N,3) float32 normals from a float-vector point attribute named
+    "normal" or "N", only for point clouds and meshes without faces (a
+    mesh's own "normal" would be its shading normals); None otherwise: the
+    core then estimates normals itself. Nothing is made up here."""
+    data = obj.data
+    if obj.type == 'MESH' and len(getattr(data, "polygons", ())) > 0:
+        return None
+    attrs = _point_attributes(data)
+    if not attrs:
+        return None
+    for name in ("normal", "N"):
+        attr = attrs.get(name)
+        if attr is not None and attr.domain == 'POINT' and attr.data_type == 'FLOAT_VECTOR':
+            values = np.empty(len(attr.data) * 3, dtype=np.float32)
+            attr.data.foreach_get("vector", values)
+            return values.reshape(-1, 3)
+    return None
+
+
 _READERS = {
     "colors": read_colors,
     "intensity": read_intensity,
     "classification": read_classification,
+    "point_index": read_point_index,
+    "normals": read_normals,
 }
+
+# Attributes read per object, for tests and diagnostics:
+# [(object name, attribute name)] of the reads since the last clear.
+read_log = []
 
 
 # ---------------------------------------------------------------------------
@@ -205,6 +237,7 @@ def cache_stats():
 def clear_cache():
     _cloud_cache.clear()
     _stats["uploads"] = _stats["hits"] = 0
+    del read_log[:]
 
 
 def invalidate(name):
@@ -214,46 +247,79 @@ def invalidate(name):
         del _cloud_cache[key]
 
 
-def prune_cache():
-    """Drop the clouds of objects that no longer exist (frees their GPU memory)."""
+def prune_cache(used=None):
+    """Drop the clouds of objects that no longer exist (frees their GPU
+    memory) and, with ``used`` (the cache keys a scene build used), the
+    clouds of those objects made for another set of attributes (their style
+    changed)."""
     names = set(bpy.data.objects.keys())
-    for key in [k for k in _cloud_cache if k[1] not in names]:
+    used = set(used or ())
+    used_objects = {k[:2] for k in used}
+    for key in [k for k in _cloud_cache if k[1] not in names or (k[:2] in used_objects and k not in used)]:
         del _cloud_cache[key]
 
 
-def cloud_for(obj, attribute, trust_cache=False):
-    """(pointnpr.PointCloud, warning or None) for evaluated object ``obj``
-    with the one attribute the style needs (or None).
+def _missing_warning(name, attributes, values):
+    """A warning for the attributes the style asks for that ``values`` lacks,
+    or None. The three colour attributes together are the points mark's
+    color_source "auto": one of them is enough."""
+    absent = [a for a in attributes if a not in values and a not in _OPTIONAL_ATTRIBUTES]
+    if all(a in attributes for a in _COLOR_ATTRIBUTES):
+        if any(a in values for a in _COLOR_ATTRIBUTES):
+            absent = [a for a in absent if a not in _COLOR_ATTRIBUTES]
+        elif absent:
+            others = [a for a in absent if a not in _COLOR_ATTRIBUTES]
+            return "object '%s' has no colour attribute (colors, intensity or classification)%s" % (
+                name, "" if not others else ", nor %s" % ", ".join(others))
+    if not absent:
+        return None
+    if len(absent) == 1:
+        return "object '%s' has no %s attribute the style asks for" % (name, absent[0])
+    return "object '%s' has no %s attributes the style asks for" % (name, ", ".join(absent))
 
-    The cache key is the object name, the attribute, and a CRC32 of the
-    coordinates and attribute bytes. With ``trust_cache`` (viewport, where
-    depsgraph updates invalidate entries) a cached cloud is reused without
-    reading the geometry again."""
+
+def cloud_for(obj, attributes, trust_cache=False):
+    """(pointnpr.PointCloud, warning or None) for evaluated object ``obj``
+    with the source attributes the style needs (a tuple of names, see
+    source_attributes(); a single name or None is accepted too). Only those
+    attributes are read from the object.
+
+    The cache key is the object, the set of attribute names, and a CRC32 of
+    the coordinates and attribute bytes. With ``trust_cache`` (viewport,
+    where depsgraph updates invalidate entries) a cached cloud is reused
+    without reading the geometry again."""
+    if attributes is None:
+        attributes = ()
+    elif isinstance(attributes, str):
+        attributes = (attributes,)
+    attributes = tuple(sorted(set(attributes)))
     name = obj.name
     # Geometry-nodes output appears as an instance named like its object
-    # but of another type: the type is part of the key.
-    cache_key = (obj.type, name)
+    # but of another type: the type is part of the key. Two styles asking
+    # for different attributes of one object keep one cloud each.
+    cache_key = (obj.type, name, attributes)
     entry = _cloud_cache.get(cache_key)
-    if trust_cache and entry is not None and entry.key[0] == attribute:
+    if trust_cache and entry is not None:
         _stats["hits"] += 1
         return entry.cloud, entry.missing
     positions = read_positions(obj)
-    values = _READERS[attribute](obj) if attribute else None
+    values = {}
     crc = zlib.crc32(positions.tobytes())
-    if values is not None:
-        crc = zlib.crc32(values.tobytes(), crc)
-    key = (attribute, positions.shape[0], crc)
+    for attribute in attributes:
+        reader = _READERS.get(attribute)
+        if reader is None:
+            continue   # an attribute this add-on cannot read: the core's to handle
+        read_log.append((name, attribute))
+        value = reader(obj)
+        if value is not None:
+            values[attribute] = value
+            crc = zlib.crc32(value.tobytes(), crc)
+    key = (tuple(sorted(values)), positions.shape[0], crc)
     if entry is not None and entry.key == key:
         _stats["hits"] += 1
         return entry.cloud, entry.missing
-    kwargs = {}
-    missing = None
-    if attribute:
-        if values is None:
-            missing = "object '%s' has no %s attribute the style asks for" % (name, attribute)
-        else:
-            kwargs[attribute] = values
-    cloud = _core().PointCloud(positions.astype(np.float64), **kwargs)
+    missing = _missing_warning(name, attributes, values)
+    cloud = _core().PointCloud(positions.astype(np.float64), **values)
     _cloud_cache[cache_key] = _CacheEntry(key, cloud, getattr(obj.data, "name", None), missing)
     _stats["uploads"] += 1
     return cloud, missing
@@ -319,17 +385,20 @@ def build_scene(depsgraph, frame, trust_cache=False):
 
     core_scene = core.Scene()
     style_cache = {}
+    used_keys = set()
     for idx in sorted(members):
         coll, tree = order[idx]
         key = tree.name if tree is not None else None
         if key not in style_cache:
             desc = nodes.read_style(tree, frame)
             result.warnings.extend(desc["warnings"])
-            style_cache[key] = (nodes.make_core_style(desc), required_attribute(desc))
-        style, attribute = style_cache[key]
+            core_style = nodes.make_core_style(desc)
+            style_cache[key] = (core_style, source_attributes(core_style))
+        style, attributes = style_cache[key]
         instances = []
         for obj, matrix in sorted(members[idx], key=lambda m: m[0].name):
-            cloud, missing = cloud_for(obj, attribute, trust_cache=trust_cache)
+            cloud, missing = cloud_for(obj, attributes, trust_cache=trust_cache)
+            used_keys.add((obj.type, obj.name, attributes))
             if missing:
                 result.warnings.append(missing)
             instances.append((cloud, matrix))
@@ -338,19 +407,20 @@ def build_scene(depsgraph, frame, trust_cache=False):
         core_scene.add_segment(coll.name, style, instances)
         result.segment_names.append(coll.name)
     result.scene = core_scene
-    prune_cache()
+    prune_cache(used_keys)
     return result
 
 
 def scene_settings(scene):
-    """Composite settings dict and rasterizer name from Scene.pointnpr."""
+    """Composite settings dict from Scene.pointnpr (the rasterizer is a
+    parameter of the Points mark now, not a scene setting)."""
     settings = getattr(scene, "pointnpr", None)
     if settings is None:
-        return {}, "compute"
+        return {}
     composite = {}
     for param, pid in getattr(settings, "pointnpr_params", ()):
         value = getattr(settings, pid)
         if param["type"] == "color":
             value = tuple(value)
         composite[param["name"]] = value
-    return composite, settings.rasterizer
+    return composite

@@ -15,8 +15,21 @@ def _engine_is_ours(context):
 # ---------------------------------------------------------------------------
 # Operators
 
+_preset_item_cache = []
+
+
+def _preset_items(_self, _context):
+    # Blender needs the strings of dynamic enum items kept alive.
+    if not _preset_item_cache:
+        from .. import presets
+        _preset_item_cache.append(("NONE", "Empty", "A Points mark and the Output, nothing else"))
+        for i, name in enumerate(presets.PRESETS):
+            _preset_item_cache.append((name, name, "The '%s' preset" % name))
+    return _preset_item_cache
+
+
 class POINTNPR_OT_new_style(bpy.types.Operator):
-    """Create a PointNPR style (Rasterize -> Output) and assign it"""
+    """Create a PointNPR style (Points -> Output) and assign it"""
     bl_idname = "pointnpr.new_style"
     bl_label = "New Style"
     bl_options = {'REGISTER', 'UNDO'}
@@ -27,13 +40,18 @@ class POINTNPR_OT_new_style(bpy.types.Operator):
                ("SCENE", "Scene", "The scene's default style"),
                ("NONE", "None", "Only create the style")),
         default="COLLECTION")
+    preset: bpy.props.EnumProperty(name="Preset", items=_preset_items,
+                                   description="Ready-made style (pointnpr.presets) to start from")
 
     def execute(self, context):
         name = "Style"
         coll = getattr(context, "collection", None)
         if self.target == 'COLLECTION' and coll is not None:
             name = coll.name + " Style"
-        tree = nodes.new_style(name)
+        if self.preset and self.preset != "NONE":
+            tree = nodes.new_style_from_preset(self.preset, name)
+        else:
+            tree = nodes.new_style(name)
         if self.target == 'COLLECTION':
             if coll is None:
                 self.report({'WARNING'}, "No active collection: style created unassigned")
@@ -80,6 +98,34 @@ class POINTNPR_OT_add_step(bpy.types.Operator):
         return {'RUNNING_MODAL'}
 
 
+def _mark_items(_self, _context):
+    items = [(cls.pointnpr_schema_id, cls.bl_label, cls.bl_description)
+             for cls in nodes.node_classes() if cls.pointnpr_role == nodes.ROLE_MARK]
+    return items or [("", "None", "")]
+
+
+class POINTNPR_OT_set_mark(bpy.types.Operator):
+    """Change how the style's points become marks (Points, Hatching, ...)"""
+    bl_idname = "pointnpr.set_mark"
+    bl_label = "Set Mark"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    tree: bpy.props.StringProperty(name="Style")
+    mark: bpy.props.EnumProperty(name="Mark", items=_mark_items)
+
+    def execute(self, context):
+        tree = bpy.data.node_groups.get(self.tree)
+        if not nodes.is_style_tree(tree):
+            self.report({'ERROR'}, "No PointNPR style named '%s'" % self.tree)
+            return {'CANCELLED'}
+        current = nodes.mark_node(tree)
+        if current is None or current.pointnpr_schema_id != self.mark or \
+                current.pointnpr_role != nodes.ROLE_MARK:
+            nodes.replace_mark(tree, self.mark)
+        nodes.bump_generation()
+        return {'FINISHED'}
+
+
 class POINTNPR_OT_remove_step(bpy.types.Operator):
     """Remove this step from the style, relinking its neighbours"""
     bl_idname = "pointnpr.remove_step"
@@ -116,7 +162,10 @@ def draw_style(layout, tree):
         box = layout.box()
         row = box.row()
         row.label(text=node.label or node.bl_label, icon='NODE')
-        if node.pointnpr_role != nodes.ROLE_RASTERIZE:
+        if node.pointnpr_role in (nodes.ROLE_MARK, nodes.ROLE_RASTERIZE):
+            row.operator_menu_enum(POINTNPR_OT_set_mark.bl_idname, "mark", text="", icon='DOWNARROW_HLT') \
+                .tree = tree.name
+        else:
             op = row.operator(POINTNPR_OT_remove_step.bl_idname, text="", icon='X', emboss=False)
             op.tree = tree.name
             op.node = node.name
@@ -148,7 +197,6 @@ class RENDER_PT_pointnpr(PointNPRPanel, bpy.types.Panel):
         col = layout.column()
         for _param, pid in settings.pointnpr_params:
             col.prop(settings, pid)
-        col.prop(settings, "rasterizer")
         col.prop(scene.render, "film_transparent", text="Transparent Film")
         if scene.world is not None:
             col.prop(scene.world, "color", text="Background")
@@ -182,7 +230,7 @@ class COLLECTION_PT_pointnpr_style(PointNPRPanel, bpy.types.Panel):
             layout.label(text="Inherits '%s'" % inherited.name, icon='LINKED')
             draw_style(layout, inherited)
         else:
-            layout.label(text="Built-in default style (plain rasterize)", icon='INFO')
+            layout.label(text="Built-in default style (plain points)", icon='INFO')
 
 
 class NODE_PT_pointnpr_style(bpy.types.Panel):
@@ -211,7 +259,7 @@ class NODE_PT_pointnpr_style(bpy.types.Panel):
         else:
             col.label(text="Not assigned to a collection", icon='INFO')
         if not nodes.style_chain(tree):
-            layout.label(text="Link Rasterize -> ... -> Output", icon='ERROR')
+            layout.label(text="Link a mark (Points, ...) -> ... -> Output", icon='ERROR')
         op = layout.operator(POINTNPR_OT_add_step.bl_idname, icon='ADD')
         op.tree = tree.name
 
@@ -263,6 +311,7 @@ def remove_engine_from_builtin_panels():
 _classes = (
     POINTNPR_OT_new_style,
     POINTNPR_OT_add_step,
+    POINTNPR_OT_set_mark,
     POINTNPR_OT_remove_step,
     RENDER_PT_pointnpr,
     COLLECTION_PT_pointnpr_style,

@@ -1,0 +1,154 @@
+"""Opening files saved by older versions of the add-on.
+
+Before the mark stage a style began with a Rasterize node
+(``PointNPRRasterizeNode``) and the scene chose the rasterizer
+(``Scene.pointnpr.rasterizer``). ``migrate_legacy_nodes`` replaces every
+Rasterize node of every local style tree by a Points mark node with
+
+* the same node name, so F-Curves and drivers on ``nodes["Rasterize"].*``
+  keep animating it (the property identifiers are the same);
+* the same location, size, label, parent frame, mute state and links;
+* the same parameter values; ``color_source`` is set explicitly to the value
+  the old node had ("rgb" where it was never changed: the points mark's
+  default is "auto");
+* ``rasterizer`` = the ``Scene.pointnpr.rasterizer`` of a scene that uses
+  the style (the first scene when none does).
+
+It runs on every file load (a persistent load_post handler) and when the
+add-on is enabled, for a file that is already open. Trees linked from a
+library file cannot be edited: their Rasterize nodes are read as Points
+marks (nodes.read_style) until the library file is migrated itself.
+"""
+
+import bpy
+from bpy.app.handlers import persistent
+
+from . import nodes
+
+# Temporary name of a Rasterize node while its replacement takes its name.
+_TMP_NAME = "__pointnpr_legacy_rasterize__"
+
+
+def _scenes_using(tree):
+    found = []
+    for scene in bpy.data.scenes:
+        if scene.pointnpr_default_style == tree:
+            found.append(scene)
+            continue
+        colls = [scene.collection] + list(scene.collection.children_recursive)
+        if any(getattr(c, "pointnpr_style", None) == tree for c in colls):
+            found.append(scene)
+    return found
+
+
+def legacy_rasterizer(tree):
+    """The scene-wide rasterizer that applied to ``tree`` before the mark
+    stage: that of the first scene using it, else of the first scene."""
+    scenes = _scenes_using(tree) or list(bpy.data.scenes)
+    for scene in scenes:
+        settings = getattr(scene, "pointnpr", None)
+        if settings is not None and "rasterizer" in settings.bl_rna.properties:
+            return settings.rasterizer
+    return "compute"
+
+
+def _copy_node_state(old, new):
+    for attr in ("location", "width", "height", "label", "mute", "hide", "show_options",
+                 "use_custom_color", "color", "select"):
+        try:
+            setattr(new, attr, getattr(old, attr))
+        except (AttributeError, TypeError, ValueError):
+            pass
+    if old.parent is not None:
+        new.parent = old.parent
+        new.location = old.location
+
+
+def migrate_node(tree, old, rasterizer):
+    """Replaces the legacy Rasterize node ``old`` of ``tree`` by a Points
+    mark node; returns the new node."""
+    points_cls = nodes.find_node_class(nodes.ROLE_MARK, nodes.POINTS_MARK)
+    name = old.name
+    # F-Curves follow a node's renames and die with it: move the old node
+    # away first (its curves follow), give its name to the new node, then
+    # point the curves at the new node before removing the old one.
+    old.name = _TMP_NAME
+    tmp_name = old.name
+    new = tree.nodes.new(points_cls.bl_idname)
+    new.name = name
+    nodes.repoint_curves(tree, tmp_name, new.name)
+    _copy_node_state(old, new)
+    new_pids = {param["name"]: pid for param, pid in new.pointnpr_params}
+    for param, pid in old.pointnpr_params:
+        if param["name"] in new_pids:
+            # Explicit, never left to the class default: the defaults differ
+            # (color_source "rgb" before, "auto" now).
+            setattr(new, new_pids[param["name"]], getattr(old, pid))
+    if "rasterizer" in new_pids:
+        setattr(new, new_pids["rasterizer"], rasterizer)
+    targets = [link.to_socket for out in old.outputs for link in out.links]
+    sources = [link.from_socket for inp in old.inputs for link in inp.links]
+    tree.nodes.remove(old)
+    for sock in targets:
+        tree.links.new(new.outputs[0], sock)
+    for sock in sources:
+        if new.inputs:
+            tree.links.new(sock, new.inputs[0])
+    return new
+
+
+def migrate_tree(tree):
+    """Migrates the legacy nodes of one style tree; returns how many."""
+    if not nodes.is_style_tree(tree) or tree.library is not None:
+        return 0
+    legacy = [n for n in tree.nodes if n.bl_idname == nodes.LEGACY_RASTERIZE_IDNAME]
+    if not legacy:
+        return 0
+    if nodes.find_node_class(nodes.ROLE_MARK, nodes.POINTS_MARK) is None:
+        return 0
+    rasterizer = legacy_rasterizer(tree)
+    for node in legacy:
+        migrate_node(tree, node, rasterizer)
+    nodes.bump_generation()
+    return len(legacy)
+
+
+def migrate_legacy_nodes():
+    """Migrates every local style tree of the open file; returns the number
+    of nodes replaced."""
+    return sum(migrate_tree(tree) for tree in list(bpy.data.node_groups))
+
+
+@persistent
+def _on_load_post(*_args):
+    migrate_legacy_nodes()
+
+
+def _migrate_open_file():
+    try:
+        migrate_legacy_nodes()
+    except AttributeError:
+        # bpy.data is restricted while add-ons are enabled at startup; the
+        # load_post handler covers the file loaded next, a timer this one.
+        bpy.app.timers.register(_migrate_later, first_interval=0.0)
+
+
+def _migrate_later():
+    try:
+        migrate_legacy_nodes()
+    except AttributeError:
+        return 0.5
+    return None
+
+
+def register():
+    if _on_load_post not in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.append(_on_load_post)
+    _migrate_open_file()
+
+
+def unregister():
+    while _on_load_post in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.remove(_on_load_post)
+    if bpy.app.timers.is_registered(_migrate_later):
+        bpy.app.timers.unregister(_migrate_later)

@@ -1,0 +1,199 @@
+"""Marks other than Points, and which point attributes sync reads."""
+import bpy
+import numpy as np
+import pointnpr
+import pytest
+from pointnpr.blender import nodes, sync
+
+import helpers
+
+
+def _hatching_scene():
+    scene = helpers.reset_scene()
+    helpers.add_camera(location=(0.0, -6.0, 6.0))
+    scene.camera.rotation_euler = (0.785398, 0.0, 0.0)
+    scene.world.color = (1.0, 1.0, 1.0)
+    coll = helpers.new_collection("Hatched")
+    # A bumpy surface, so there is shading for strokes to follow.
+    pts = helpers.grid_points(2.0, 0.04, 0.0)
+    pts[:, 2] = 0.4 * np.sin(2.0 * pts[:, 0]) * np.cos(2.0 * pts[:, 1])
+    rng = np.random.default_rng(1)
+    helpers.add_points("Surface", coll, pts, colors=rng.random((len(pts), 3)) * 0.5 + 0.25)
+    tree = nodes.new_style("Hatch", mark="hatching")
+    coll.pointnpr_style = tree
+    return scene, tree
+
+
+def test_hatching_mark_node_has_its_schema_parameters(scene):
+    tree = nodes.new_style("Hatch", mark="hatching")
+    node = nodes.mark_node(tree)
+    assert node.bl_idname == "PointNPRMarkHatchingNode" and node.name == "Hatching"
+    schema = pointnpr.schema("hatching", kind="mark")
+    assert [p["name"] for p, _pid in node.pointnpr_params] == [p["name"] for p in schema["params"]]
+    for param in schema["params"]:
+        assert nodes.property_identifier(param["name"]) in node.bl_rna.properties
+    desc = nodes.read_style(tree, 1.0)
+    assert desc["mark"][0] == "hatching" and desc["warnings"] == []
+    assert set(desc["mark"][1]) == {p["name"] for p in schema["params"]}
+    style = nodes.make_core_style(desc)
+    assert style.mark[0] == "hatching"
+    # The filter of the same id is another node.
+    filt = nodes.append_node(tree, nodes.ROLE_FILTER, "hatching", name="Hatch filter")
+    assert filt.bl_idname == "PointNPRFilterHatchingNode"
+    desc = nodes.read_style(tree, 1.0)
+    assert desc["mark"][0] == "hatching" and [f for f, _v in desc["filters"]] == ["hatching"]
+    nodes.make_core_style(desc)
+
+
+def test_hatching_mark_renders(tmp_path):
+    scene, tree = _hatching_scene()
+    hatched, _ = helpers.render_pixels(tmp_path, "hatched.png")
+    rgb = hatched[..., :3]
+    dark = (rgb.mean(axis=2) < 0.7).mean()
+    assert 0.01 < dark < 0.9, dark      # strokes on white, not empty, not filled
+    # The same scene with a Points mark looks different.
+    points_tree = nodes.new_style("Points")
+    bpy.data.collections["Hatched"].pointnpr_style = points_tree
+    points, _ = helpers.render_pixels(tmp_path, "points.png")
+    assert np.abs(points[..., :3] - rgb).mean() > 0.02
+    # A hatching parameter, animated or not, reaches the render.
+    bpy.data.collections["Hatched"].pointnpr_style = tree
+    node = nodes.mark_node(tree)
+    changed = None
+    for param, pid in node.pointnpr_params:
+        if param["type"] == "float" and nodes.param_applies(node, param) and param["max"] > param["min"]:
+            default = getattr(node, pid)
+            setattr(node, pid, param["max"] if default < (param["min"] + param["max"]) / 2 else param["min"])
+            other, _ = helpers.render_pixels(tmp_path, "changed_%s.png" % pid)
+            setattr(node, pid, default)
+            if np.abs(other[..., :3] - rgb).mean() > 0.002:
+                changed = param["name"]
+                break
+    assert changed is not None, "no float parameter of the hatching mark changes the image"
+
+
+# ---------------------------------------------------------------------------
+# Which attributes are read
+
+def _attribute_scene(style_setup):
+    scene = helpers.reset_scene()
+    helpers.add_camera()
+    coll = helpers.new_collection("Attrs")
+    pts = helpers.grid_points(1.0, 0.1, 0.0)
+    obj = helpers.add_points("Obj", coll, pts, colors=np.tile([[1.0, 0.0, 0.0]], (len(pts), 1)),
+                             intensity=np.linspace(0.0, 100.0, len(pts)))
+    attr = obj.data.attributes.new("classification", 'INT', 'POINT')
+    attr.data.foreach_set("value", np.full(len(pts), 6, dtype=np.int32))
+    tree = nodes.new_style("S")
+    style_setup(nodes.mark_node(tree))
+    coll.pointnpr_style = tree
+    return scene, tree, obj
+
+
+def _reads(obj_name="Obj"):
+    return sorted(a for o, a in sync.read_log if o == obj_name)
+
+
+def _sync():
+    sync.clear_cache()
+    return sync.build_scene(bpy.context.evaluated_depsgraph_get(), 1.0)
+
+
+def _source(node, value):
+    node.color_source = value
+
+
+def test_constant_colour_reads_no_colour_attribute():
+    _scene, tree, _obj = _attribute_scene(lambda n: _source(n, "constant"))
+    result = _sync()
+    assert _reads() == [] and result.warnings == []
+    assert sync.source_attributes(nodes.make_core_style(nodes.read_style(tree, 1.0))) == ()
+
+
+@pytest.mark.parametrize("source,attribute", [("rgb", "colors"), ("intensity", "intensity"),
+                                              ("classification", "classification")])
+def test_one_colour_source_reads_only_its_attribute(source, attribute):
+    _attribute_scene(lambda n: _source(n, source))
+    result = _sync()
+    assert _reads() == [attribute] and result.warnings == []
+
+
+def test_auto_colour_reads_the_colour_attributes_present():
+    _scene, tree, obj = _attribute_scene(lambda n: _source(n, "auto"))
+    attrs = nodes.make_core_style(nodes.read_style(tree, 1.0)).source_attributes
+    assert {"colors", "intensity", "classification"} <= set(attrs)
+    result = _sync()
+    assert {"colors", "intensity", "classification"} <= set(_reads()) and result.warnings == []
+    # An object with only an intensity is fine for "auto": no warning.
+    obj.data.attributes.remove(obj.data.attributes["classification"])
+    obj.data.color_attributes.remove(obj.data.color_attributes["Col"])
+    assert _sync().warnings == []
+    # With none of them, the style is told.
+    obj.data.attributes.remove(obj.data.attributes["intensity"])
+    warnings = _sync().warnings
+    assert len(warnings) == 1 and "no colour attribute" in warnings[0], warnings
+
+
+def test_missing_attribute_is_a_warning():
+    _scene, _tree, obj = _attribute_scene(lambda n: _source(n, "rgb"))
+    obj.data.color_attributes.remove(obj.data.color_attributes["Col"])
+    warnings = _sync().warnings
+    assert warnings == ["object 'Obj' has no colors attribute the style asks for"]
+
+
+def test_cloud_cache_is_keyed_on_the_attribute_set():
+    _scene, tree, _obj = _attribute_scene(lambda n: _source(n, "constant"))
+    node = nodes.mark_node(tree)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    sync.clear_cache()
+    sync.build_scene(depsgraph, 1.0)
+    assert sync.cache_stats()["uploads"] == 1
+    sync.build_scene(depsgraph, 1.0)
+    assert sync.cache_stats()["uploads"] == 1
+    node.color_source = "rgb"           # another attribute set: another cloud
+    sync.build_scene(depsgraph, 1.0, trust_cache=True)
+    assert sync.cache_stats()["uploads"] == 2
+    assert sync.cache_stats()["objects"] == 1     # the constant-colour one is dropped
+    assert ("Obj", "colors") in sync.read_log
+
+
+def test_point_index_and_normals_are_read_from_their_attributes():
+    _scene, _tree, obj = _attribute_scene(lambda n: _source(n, "constant"))
+    n = len(obj.data.vertices)
+    assert sync.read_point_index(obj) is None and sync.read_normals(obj) is None
+    attr = obj.data.attributes.new("point_index", 'INT', 'POINT')
+    attr.data.foreach_set("value", np.arange(n, dtype=np.int32)[::-1].copy())
+    assert list(sync.read_point_index(obj)[:3]) == [n - 1, n - 2, n - 3]
+    normals = np.tile(np.array([0.0, 0.6, 0.8], dtype=np.float32), (n, 1))
+    attr = obj.data.attributes.new("N", 'FLOAT_VECTOR', 'POINT')
+    attr.data.foreach_set("vector", normals.ravel())
+    assert np.allclose(sync.read_normals(obj), normals)
+    # A mesh with faces has shading normals of its own: not read as point normals.
+    mesh = bpy.data.meshes.new("Faces")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
+    attr = mesh.attributes.new("N", 'FLOAT_VECTOR', 'POINT')
+    face_obj = bpy.data.objects.new("Faces", mesh)
+    assert sync.read_normals(face_obj) is None
+
+
+def test_a_style_asking_for_normals_reads_them():
+    scene, tree = _hatching_scene()
+    obj = bpy.data.objects["Surface"]
+    attrs = set(nodes.make_core_style(nodes.read_style(tree, 1.0)).source_attributes)
+    assert "normals" in attrs            # hatching follows the surface
+    assert not {"colors", "intensity", "classification"} & attrs   # constant stroke colour
+    n = len(obj.data.vertices)
+    # ("normal" is a name Blender reserves on meshes; "N" is the other one read.)
+    attr = obj.data.attributes.new("N", 'FLOAT_VECTOR', 'POINT')
+    attr.data.foreach_set("vector", np.tile([0.0, 0.0, 1.0], n).astype(np.float32))
+    _sync()
+    assert set(_reads("Surface")) == attrs
+    # Without a normal attribute the core estimates them: no warning.
+    obj.data.attributes.remove(obj.data.attributes["N"])
+    assert _sync().warnings == []
+    # A Points style with constant colour and no shading reads none of them.
+    points = nodes.new_style("Flat")
+    nodes.mark_node(points).color_source = "constant"
+    bpy.data.collections["Hatched"].pointnpr_style = points
+    _sync()
+    assert _reads("Surface") == []

@@ -1,0 +1,184 @@
+"""Files saved before the mark stage: their Rasterize nodes become Points
+mark nodes on load, and they render as they did.
+
+The references were rendered with the add-on from before the change:
+tests/data/golden/legacy_<example>.png by tests/blender/example_renders.py,
+tests/data/legacy_rasterize_anim.blend and legacy_anim_f<frame>.png by
+tests/blender/make_legacy_blend.py.
+"""
+import os
+
+import bpy
+import pytest
+from pointnpr.blender import nodes, versioning
+
+import example_renders
+import helpers
+
+ANIM_BLEND = os.path.join(helpers.REPO, "tests", "data", "legacy_rasterize_anim.blend")
+ANIM_FRAMES = (1, 6, 11)
+LEGACY = nodes.LEGACY_RASTERIZE_IDNAME
+
+
+def _style_trees():
+    return [t for t in bpy.data.node_groups if nodes.is_style_tree(t)]
+
+
+def _legacy_nodes():
+    return [(t.name, n.name) for t in _style_trees() for n in t.nodes if n.bl_idname == LEGACY]
+
+
+@pytest.fixture
+def fresh_file():
+    """Leaves an emptied scene behind for the tests that follow."""
+    yield
+    helpers.reset_scene()
+
+
+def _stored_legacy_values(path):
+    """{tree name: {param: raw stored value}} of the file's Rasterize nodes,
+    read from their ID properties (what the old add-on saved; a value never
+    set is absent). Read through a library load so no handler runs."""
+    helpers.reset_scene()   # no tree of the same name: names stay as in the file
+    with bpy.data.libraries.load(path, link=False) as (src, dst):
+        dst.node_groups = list(src.node_groups)
+    stored = {}
+    for tree in dst.node_groups:
+        for node in tree.nodes:
+            if node.bl_idname == LEGACY:
+                stored[tree.name] = {k: node[k] for k in node.keys()}
+                stored[tree.name]["_name"] = node.name
+        bpy.data.node_groups.remove(tree)
+    return stored
+
+
+@pytest.mark.parametrize("name", ["urban_lidarhd", "warsaw_styles", "lion_benchmark"])
+def test_example_file_is_migrated_and_renders_as_before(fresh_file, tmp_path, name):
+    path = example_renders.blend_path(name)
+    # The committed file really has legacy nodes, with color_source stored.
+    stored = _stored_legacy_values(path)
+    assert stored and all("color_source" in v and v["_name"] == "Rasterize" for v in stored.values())
+    scene = example_renders.open_example(name)
+    assert _legacy_nodes() == []
+    trees = _style_trees()
+    assert trees
+    for tree in trees:
+        mark = nodes.mark_node(tree)
+        assert mark is not None, tree.name
+        assert mark.bl_idname == "PointNPRMarkPointsNode"
+        assert mark.name == "Rasterize"        # the old name, for its F-Curves
+        assert mark.rasterizer == scene.pointnpr.rasterizer == "compute"
+        # make_examples.py set color_source on every Rasterize node.
+        assert mark.color_source in ("rgb", "constant")
+        assert mark.is_property_set("color_source")
+        desc = nodes.read_style(tree, 1.0)
+        assert desc["warnings"] == [] and desc["mark"][0] == "points"
+    out = example_renders.render_open_example(name, str(tmp_path / (name + ".png")))
+    code, output = example_renders.idiff(example_renders.golden_path(name), out, str(tmp_path / "diff.png"))
+    assert code == 0, "%s differs from its legacy render:\n%s" % (name, output)
+
+
+def test_migration_keeps_values_links_and_location(fresh_file):
+    stored = _stored_legacy_values(ANIM_BLEND)
+    assert set(stored) == {"Animated", "Constant"}
+    # The old add-on never stored color_source for "Animated" (left at its
+    # default "rgb"); "Constant" has index 3 ("constant").
+    assert "color_source" not in stored["Animated"]
+    assert stored["Constant"]["color_source"] == 3
+    bpy.ops.wm.open_mainfile(filepath=ANIM_BLEND, load_ui=False)
+    scene = bpy.context.scene
+    assert _legacy_nodes() == []
+    assert scene.pointnpr.rasterizer == "gl_points"
+    animated = bpy.data.node_groups["Animated"]
+    constant = bpy.data.node_groups["Constant"]
+    a = animated.nodes["Rasterize"]
+    c = constant.nodes["Rasterize"]
+    for node in (a, c):
+        assert node.bl_idname == "PointNPRMarkPointsNode"
+        assert node.rasterizer == "gl_points"          # was the scene's setting
+        assert tuple(node.location) == (-250.0, 0.0)
+    # Explicitly "rgb" (the new default is "auto"), not left unset.
+    assert a.color_source == "rgb" and a.is_property_set("color_source")
+    assert c.color_source == "constant"
+    assert c.point_size == pytest.approx(5.0)
+    # The chain is intact: mark -> Cartoon -> Output.
+    assert [n.name for n in nodes.style_chain(constant)] == ["Rasterize", "Cartoon"]
+    assert [n.name for n in nodes.style_chain(animated)] == ["Rasterize"]
+    assert nodes.read_style(constant, 1.0)["warnings"] == []
+    # Loading again is a no-op (nothing left to migrate).
+    assert versioning.migrate_legacy_nodes() == 0
+
+
+def test_animation_keyed_on_the_rasterize_node_survives(fresh_file, tmp_path):
+    bpy.ops.wm.open_mainfile(filepath=ANIM_BLEND, load_ui=False)
+    animated = bpy.data.node_groups["Animated"]
+    constant = bpy.data.node_groups["Constant"]
+    paths = sorted(fc.data_path for fc in animated.animation_data.action.fcurves)
+    assert paths == ['nodes["Rasterize"].point_size']
+    paths = {fc.data_path for fc in constant.animation_data.action.fcurves}
+    assert paths == {'nodes["Rasterize"].%s' % nodes.property_identifier("color")}
+    # point_size 2 -> 9 linear over frames 1..11; colour red -> blue.
+    for frame, size in ((1, 2.0), (6, 5.5), (11, 9.0)):
+        assert nodes.read_style(animated, frame)["mark"][1]["point_size"] == pytest.approx(size, abs=1e-4)
+    assert nodes.read_style(constant, 6)["mark"][1]["color"][:3] == pytest.approx((0.5, 0.0, 0.5), abs=1e-4)
+    # And the renders match the old add-on's, frame by frame.
+    scene = bpy.context.scene
+    scene.render.resolution_percentage = 100
+    for frame in ANIM_FRAMES:
+        scene.frame_set(frame)
+        out = helpers.render_to_png(str(tmp_path / ("f%d.png" % frame)))
+        golden = os.path.join(example_renders.GOLDEN, "legacy_anim_f%d.png" % frame)
+        code, output = example_renders.idiff(golden, out, str(tmp_path / "diff.png"))
+        assert code == 0, "frame %d differs from the legacy render:\n%s" % (frame, output)
+
+
+def test_migration_when_the_addon_is_enabled_on_an_open_file(fresh_file):
+    """A file opened before the add-on was enabled (blender -b old.blend
+    --python enable_addon.py) is migrated by register()."""
+    import pointnpr
+
+    pointnpr.unregister()
+    try:
+        # Without the add-on the Rasterize nodes load as undefined nodes
+        # that keep their idname and stored values.
+        bpy.ops.wm.open_mainfile(filepath=ANIM_BLEND, load_ui=False)
+        tree = bpy.data.node_groups["Constant"]
+        assert "Rasterize" in tree.nodes and not nodes.is_style_tree(tree)
+    finally:
+        pointnpr.register()
+    tree = bpy.data.node_groups["Constant"]
+    node = tree.nodes["Rasterize"]
+    assert node.bl_idname == "PointNPRMarkPointsNode"
+    assert node.color_source == "constant" and node.rasterizer == "gl_points"
+    assert [n.name for n in nodes.style_chain(tree)] == ["Rasterize", "Cartoon"]
+
+
+def test_migrated_node_name_and_drivers(fresh_file):
+    """A Rasterize node made now (the class is still registered) with an
+    odd name, a driver and a frame parent migrates with all of them."""
+    helpers.reset_scene()
+    tree = bpy.data.node_groups.new("Odd", nodes.TREE_IDNAME)
+    frame = tree.nodes.new("NodeFrame")
+    old = tree.nodes.new(LEGACY)
+    old.name = 'Ras "terize"'
+    old.parent = frame
+    old.location = (12.0, 34.0)
+    old.point_size = 4.0
+    out = tree.nodes.new(nodes.OUTPUT_IDNAME)
+    out.name = "Output"
+    tree.links.new(old.outputs[0], out.inputs[0])
+    driver = old.driver_add("point_size").driver
+    driver.expression = "3.0"
+    old.keyframe_insert(nodes.property_identifier("color"), frame=1)
+    bpy.context.scene.pointnpr.rasterizer = "gl_points"
+    bpy.context.scene.pointnpr_default_style = tree
+    assert versioning.migrate_legacy_nodes() == 1
+    new = tree.nodes['Ras "terize"']
+    assert new.bl_idname == "PointNPRMarkPointsNode"
+    assert new.parent == frame and tuple(new.location) == (12.0, 34.0)
+    assert new.rasterizer == "gl_points"
+    assert new.color_source == "rgb"
+    assert [d.data_path for d in tree.animation_data.drivers] == ['nodes["Ras \\"terize\\""].point_size']
+    assert {fc.data_path for fc in tree.animation_data.action.fcurves} == \
+        {'nodes["Ras \\"terize\\""].%s' % nodes.property_identifier("color")}
+    assert nodes.style_chain(tree) == [new]
