@@ -75,6 +75,7 @@ def main():
     for f in ["posterize", "color_grade", "blur", "xdog", "kuwahara", "watercolor", "edge_enhance", "hatching",
               "cartoon", "warp"]:
         styles[f] = pointnpr.Style(rasterize={"point_size": 2.0}, filters=[f])
+    styles["mark hatching"] = pointnpr.Style(mark="hatching")
     styles["hatching (screen space)"] = pointnpr.Style(rasterize={"point_size": 2.0},
                                                        filters=[("hatching", {"space": "screen"})])
     for name in presets.PRESETS:

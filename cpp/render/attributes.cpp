@@ -1,5 +1,7 @@
 #include "render/attributes.h"
 
+#include <algorithm>
+
 namespace pointnpr {
 
 const char* attribute_name(AttributeKind attribute) {
@@ -7,6 +9,7 @@ const char* attribute_name(AttributeKind attribute) {
     case AttributeKind::Color: return "colors";
     case AttributeKind::Intensity: return "intensity";
     case AttributeKind::Classification: return "classification";
+    case AttributeKind::AutoColor: return "auto_color";
     case AttributeKind::PointId: return "point_index";
     case AttributeKind::Normal: return "normals";
     case AttributeKind::Curvature: return "curvature";
@@ -21,6 +24,7 @@ bool is_source_attribute(AttributeKind attribute) {
     case AttributeKind::Color:
     case AttributeKind::Intensity:
     case AttributeKind::Classification:
+    case AttributeKind::AutoColor:
     case AttributeKind::PointId:
     case AttributeKind::Normal: return true;
     default: return false;
@@ -31,8 +35,13 @@ std::vector<std::string> source_attribute_names(const AttributeSet& set) {
   std::vector<std::string> out;
   for (const AttributeKey& key : set) {
     if (!is_source_attribute(key.attribute)) continue;
-    const std::string name = attribute_name(key.attribute);
-    if (out.empty() || out.back() != name) out.push_back(name);
+    // The host cannot know which colour a cloud it has not read yet has:
+    // it passes every one of them the object has.
+    const std::vector<std::string> names =
+        key.attribute == AttributeKind::AutoColor ? std::vector<std::string>{"colors", "intensity", "classification"}
+                                                  : std::vector<std::string>{attribute_name(key.attribute)};
+    for (const std::string& name : names)
+      if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
   }
   return out;
 }

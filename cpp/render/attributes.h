@@ -15,6 +15,7 @@ enum class AttributeKind : uint8_t {
   Color,            // source: packed RGBA8 display sRGB
   Intensity,        // source: float, scaled by the cloud's peak on upload
   Classification,   // source: uint (ASPRS class)
+  AutoColor,        // source: the first of Color, Intensity, Classification the cloud has (uploaded as that one)
   PointId,          // source: the cloud's stable point ids (uint)
   Normal,           // the cloud's own (source), else estimated from k neighbours; snorm8 x3
   Curvature,        // surface variation from k neighbours (lambda0 / sum), float

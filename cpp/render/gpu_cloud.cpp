@@ -62,6 +62,12 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
     glVertexArrayAttribBinding(vao, 0, 0);
   }
   for (AttributeKey key : needed) {
+    if (key.attribute == AttributeKind::AutoColor) {
+      // Stands for the first colour attribute the cloud has.
+      key.attribute = cloud->has(Attribute::Color)       ? AttributeKind::Color
+                      : cloud->has(Attribute::Intensity) ? AttributeKind::Intensity
+                                                         : AttributeKind::Classification;
+    }
     // Source attributes have no k; the cloud's own normals serve every k.
     if (is_source_attribute(key.attribute) && key.attribute != AttributeKind::Normal) key.k = 0;
     if (key.attribute == AttributeKind::Normal && g.own_normals) key.k = 0;
@@ -83,6 +89,7 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
       case AttributeKind::Classification:
         if (cloud->has(Attribute::Classification)) buffer = upload(cloud->classification());
         break;
+      case AttributeKind::AutoColor: break;  // resolved above
       case AttributeKind::PointId: buffer = upload(cloud->point_index()); break;
       case AttributeKind::Normal:
         if (key.k == 0) {

@@ -21,8 +21,7 @@ AttributeSet color_attributes(ColorSource source) {
     case ColorSource::Intensity: return {{AttributeKind::Intensity}};
     case ColorSource::Classification: return {{AttributeKind::Classification}};
     case ColorSource::Constant: return {};
-    case ColorSource::Auto:
-      return {{AttributeKind::Color}, {AttributeKind::Intensity}, {AttributeKind::Classification}};
+    case ColorSource::Auto: return {{AttributeKind::AutoColor}};
   }
   return {};
 }

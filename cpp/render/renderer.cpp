@@ -39,11 +39,13 @@ struct FrameTargets {
   std::map<std::pair<GLenum, int>, gl::Texture> mark_scratch;
 };
 
-// The colour attributes a mark asked for, when a cloud has none of them.
+// The colour attributes a mark asked for, when a cloud has none of them
+// ("" when it has one, or asked for none).
 std::string missing_color(const AttributeSet& needed, const GpuCloud& g) {
+  const AttributeKind colors[] = {AttributeKind::Color, AttributeKind::Intensity, AttributeKind::Classification};
   std::string asked;
-  for (AttributeKind a : {AttributeKind::Color, AttributeKind::Intensity, AttributeKind::Classification}) {
-    if (!needed.count({a})) continue;
+  for (AttributeKind a : colors) {
+    if (!needed.count({a}) && !needed.count({AttributeKind::AutoColor})) continue;
     if (g.find({a})) return "";
     asked += (asked.empty() ? "" : " or ") + std::string(attribute_name(a));
   }
