@@ -1,6 +1,4 @@
 // Hatching, pass 1: what each point draws (seed 002 sections 3.2-3.5).
-// One record per point at a fixed index, so the draw order never depends
-// on which points survive.
 #include "point_attributes.glsl"
 #include "hatching_common.glsl"
 
@@ -9,8 +7,11 @@ layout(std430, binding = 3) readonly buffer Curvature { float curvature[]; };
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 8) buffer Counters { uint kept; uint crossed; };
 layout(std430, binding = 9) readonly buffer Spacing { float spacing[]; };  // mean distance to 8 neighbours
+struct DrawCommand { uint count; uint instance_count; uint first; uint base_instance; };
+layout(std430, binding = 10) writeonly buffer Commands { DrawCommand commands[]; };
 
-uniform uint u_out_base;
+uniform uint u_out_base;      // first record slot of the chunk (a multiple of 128)
+uniform uint u_command_base;  // first draw command of the chunk
 uniform int u_ortho;
 uniform float u_near;
 uniform float u_far;
@@ -103,12 +104,9 @@ vec3 quantize(vec3 c, uint id) {
   return kc * pencil + vec3(kw);
 }
 
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= u_count) return;
+// The strokes of the chunk's point i, or false where it draws none.
+bool place_stroke(uint i, out Stroke s) {
   uint index = u_first + i;
-  uint out_index = u_out_base + i;
-  Stroke s;
   s.center_alpha = vec4(0.0);
   s.d1_length = vec4(0.0);
   s.n_width = vec4(0.0);
@@ -118,8 +116,7 @@ void main() {
   vec4 v = u_view_from_chunk * vec4(point_position(index), 1.0);
   float depth = -v.z;
   if (!(depth >= u_near && depth <= u_far)) {
-    strokes[out_index] = s;
-    return;
+    return false;
   }
   vec3 to_eye = u_ortho != 0 ? vec3(0.0, 0.0, 1.0) : normalize(-v.xyz);
   vec3 n = view_normal(index);
@@ -152,8 +149,7 @@ void main() {
     keep *= min(1.0, u_coverage * area / max(base_len * width * (1.0 + alpha_tex * u_cross), 1e-30));
   }
   if (hash01(id, 0u, u_seed) >= keep) {
-    strokes[out_index] = s;
-    return;
+    return false;
   }
   bool crossing = hash01(id, 1u, u_seed) < alpha_tex * u_cross;
 
@@ -202,14 +198,39 @@ void main() {
   float alpha = u_opacity * mix(1.0, alpha_tex, u_alpha_modification) *
                 (1.0 - u_alpha_jitter * hash01(id, 4u, u_seed));
   if (alpha <= 0.0) {
-    strokes[out_index] = s;
-    return;
+    return false;
   }
-  atomicAdd(kept, 1u);
-  if (crossing) atomicAdd(crossed, 1u);
   s.center_alpha = vec4(center, alpha);
   s.d1_length = vec4(d1, len);
   s.n_width = vec4(n, crossing ? -width : width);
   s.color = color;
-  strokes[out_index] = s;
+  return true;
+}
+
+// Records are compacted per workgroup in point order (a prefix sum in
+// shared memory), each workgroup issuing one indirect draw of its records:
+// only surviving strokes reach the rasterizer, in an order that never
+// depends on timing.
+shared uint s_scan[128];
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  uint lid = gl_LocalInvocationID.x;
+  Stroke s;
+  bool alive = i < u_count && place_stroke(i, s);
+  s_scan[lid] = alive ? 1u : 0u;
+  barrier();
+  for (uint offset = 1u; offset < 128u; offset <<= 1u) {
+    uint before = lid >= offset ? s_scan[lid - offset] : 0u;
+    barrier();
+    s_scan[lid] += before;
+    barrier();
+  }
+  uint base = u_out_base + gl_WorkGroupID.x * 128u;
+  if (alive) {
+    strokes[base + s_scan[lid] - 1u] = s;
+    atomicAdd(kept, 1u);
+    if (s.n_width.w < 0.0) atomicAdd(crossed, 1u);
+  }
+  if (lid == 127u) commands[u_command_base + gl_WorkGroupID.x] = DrawCommand(12u * s_scan[127], 1u, 12u * base, 0u);
 }

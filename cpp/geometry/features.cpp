@@ -35,6 +35,13 @@ LocalResolution local_resolution(const Neighborhoods& nb) {
   return out;
 }
 
+float percentile99(std::vector<float> v) {
+  if (v.empty()) return 0.0f;
+  const size_t at = std::min(v.size() - 1, size_t(double(v.size() - 1) * 0.99));
+  std::nth_element(v.begin(), v.begin() + long(at), v.end());
+  return v[at];
+}
+
 namespace {
 // Standard deviation of v over each neighbourhood.
 std::vector<float> variation(const Neighborhoods& nb, const std::vector<float>& v) {
@@ -51,15 +58,6 @@ std::vector<float> variation(const Neighborhoods& nb, const std::vector<float>& 
     out[i] = float(std::sqrt(std::max(0.0, s2 / std::max(nb.k, 1) - mean * mean)));
   });
   return out;
-}
-
-// The 99th percentile (0 for no values): a scale that a few extreme
-// values (glints, outliers) do not set.
-float percentile99(std::vector<float> v) {
-  if (v.empty()) return 0.0f;
-  const size_t at = std::min(v.size() - 1, size_t(double(v.size() - 1) * 0.99));
-  std::nth_element(v.begin(), v.begin() + long(at), v.end());
-  return v[at];
 }
 
 // Divides by the 99th percentile, but never by less than `floor`: a cloud

@@ -73,4 +73,8 @@ LineFit line_fit(const LocalPoints& pts, const std::vector<uint8_t>& mask_origin
 // std_ratio * stddev(d). Returns 1 for inliers (LocalPoints order).
 std::vector<uint8_t> inlier_mask(const Neighborhoods& nb_with_self, float std_ratio);
 
+// The 99th percentile (0 for no values): a scale that a few extreme values
+// (glints, outliers) do not set.
+float percentile99(std::vector<float> values);
+
 }  // namespace pointnpr::geometry

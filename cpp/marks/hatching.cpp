@@ -10,6 +10,8 @@
 //  - Probabilistic interpolation seeded by the point id: omission, cross vs
 //    parallel, pencil choice, jitter of alpha, length, position and angle
 //    are per-point hashes, so a point decides the same in every frame.
+//  - Survivors are compacted per workgroup in point order and drawn by
+//    indirect draws: the rasterizer sees only strokes that are drawn.
 //  - Lines: d1 = u - (u.n) n from a user direction, d2 = n x d1; length
 //    shortened by curvature; widths below 1.5 px are drawn at 1.5 px with
 //    proportionally less alpha (thin quads would otherwise shimmer).
@@ -184,8 +186,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   }
 
   // 2. Strokes: per batch of points, a compute pass decides each point's
-  // strokes (records at fixed indices, so the draw order never changes),
-  // then 12 vertices per point expand them.
+  // strokes, then 12 vertices per kept point expand them.
   const gl::Texture& accum = ctx.targets.scratch(GL_RGBA32F, 0);
   const gl::Texture& reveal = ctx.targets.scratch(GL_R32F, 0);
   const gl::Texture& stroke_depth = ctx.targets.scratch(GL_R32F, 1);
@@ -207,10 +208,17 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   if (glCheckNamedFramebufferStatus(fbo_id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw GLError("the hatching framebuffer is incomplete");
 
+  // Record slots: 128 per workgroup (each compacts its survivors to the
+  // front of its slots and issues one indirect draw of them).
+  auto slots_of = [](const VisibleChunk& v) { return (v.chunk->count + 127u) / 128u * 128u; };
   uint32_t largest = 0;
-  for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, v.chunk->count);
+  for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, slots_of(v));
   const uint32_t capacity = std::max(kBatchPoints, largest);
   const gl::Buffer strokes = gl::make_buffer(size_t(capacity) * sizeof(StrokeRecord), nullptr, 0);
+  struct DrawCommand {
+    uint32_t count, instance_count, first, base_instance;
+  };
+  const gl::Buffer commands = gl::make_buffer(size_t(capacity / 128u) * sizeof(DrawCommand), nullptr, 0);
   const uint32_t zero2[2] = {0, 0};
   const gl::Buffer counters = gl::make_buffer(sizeof(zero2), zero2, GL_DYNAMIC_STORAGE_BIT);
 
@@ -309,19 +317,21 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
 
   size_t batch_start = 0;
   while (batch_start < ctx.chunks.size()) {
-    // Chunks of this batch, written at consecutive offsets.
+    // Chunks of this batch, at consecutive record slots.
     size_t batch_end = batch_start;
     uint32_t used = 0;
     std::vector<uint32_t> offsets;
-    while (batch_end < ctx.chunks.size() && (used + ctx.chunks[batch_end].chunk->count <= capacity)) {
+    while (batch_end < ctx.chunks.size() && used + slots_of(ctx.chunks[batch_end]) <= capacity) {
       offsets.push_back(used);
-      used += ctx.chunks[batch_end].chunk->count;
+      used += slots_of(ctx.chunks[batch_end]);
       ++batch_end;
     }
+    const GLsizei draws = GLsizei(used / 128u);
     if (batch_start > 0) glFinish();  // the previous batch's draw has read the records
     select.use();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, strokes.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, counters.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, commands.id());
     for (size_t c = batch_start; c < batch_end; ++c) {
       const VisibleChunk& v = ctx.chunks[c];
       const GpuCloud& g = *v.gpu;
@@ -332,10 +342,11 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
       glUniform1i(select.location("u_has_spacing"),
                   g.find({AttributeKind::LocalResolution, kSpacingNeighbors}) ? 1 : 0);
       glUniform1ui(select.location("u_out_base"), offsets[c - batch_start]);
+      glUniform1ui(select.location("u_command_base"), offsets[c - batch_start] / 128u);
       glUniform1i(select.location("u_has_curvature"), g.find({AttributeKind::Curvature, k}) ? 1 : 0);
       glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
     }
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
 
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_id);
     glViewport(0, 0, size.x, size.y);
@@ -360,7 +371,9 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
     glCreateVertexArrays(1, &vao);
     const gl::VertexArray empty_vao(vao);
     glBindVertexArray(vao);
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(used) * 12);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands.id());
+    glMultiDrawArraysIndirect(GL_TRIANGLES, nullptr, draws, 0);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glBindVertexArray(0);
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);
@@ -372,18 +385,22 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
 
     if (ctx.capture) {
       std::vector<StrokeRecord> records(used);
+      std::vector<DrawCommand> issued(size_t(draws));
       glGetNamedBufferSubData(strokes.id(), 0, GLsizeiptr(used * sizeof(StrokeRecord)), records.data());
-      for (const StrokeRecord& r : records) {
-        if (!(r.center_alpha.w > 0.0f)) continue;
-        CapturedMark m;
-        m.point_id = r.point_id;
-        m.center = glm::vec3(r.center_alpha);
-        m.direction = glm::vec3(r.d1_length);
-        m.normal = glm::vec3(r.n_width);
-        m.crossed = r.n_width.w < 0.0f;
-        m.length = r.d1_length.w;
-        m.color = glm::vec4(glm::vec3(r.color), r.center_alpha.w);
-        ctx.capture->push_back(m);
+      glGetNamedBufferSubData(commands.id(), 0, GLsizeiptr(issued.size() * sizeof(DrawCommand)), issued.data());
+      for (const DrawCommand& cmd : issued) {
+        for (uint32_t r = cmd.first / 12u; r < (cmd.first + cmd.count) / 12u; ++r) {
+          const StrokeRecord& rec = records[r];
+          CapturedMark m;
+          m.point_id = rec.point_id;
+          m.center = glm::vec3(rec.center_alpha);
+          m.direction = glm::vec3(rec.d1_length);
+          m.normal = glm::vec3(rec.n_width);
+          m.crossed = rec.n_width.w < 0.0f;
+          m.length = rec.d1_length.w;
+          m.color = glm::vec4(rec.color, rec.center_alpha.w);
+          ctx.capture->push_back(m);
+        }
       }
     }
     batch_start = batch_end;

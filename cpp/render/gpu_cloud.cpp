@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "geometry/analysis.h"
+#include "geometry/features.h"
 #include "gl/device.h"
 
 namespace pointnpr {
@@ -81,9 +82,13 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
       case AttributeKind::Intensity:
         if (cloud->has(Attribute::Intensity)) {
           buffer = upload(cloud->intensity());
-          float peak = 0.0f;
-          for (float v : cloud->intensity()) peak = std::max(peak, v);
-          g.intensity_scale = peak > 0.0f ? 1.0f / peak : 1.0f;
+          // White at the 99th percentile: LiDAR intensity has rare glints
+          // (retro-reflectors) far above the rest, which a peak scale would
+          // leave nearly black.
+          float top = geometry::percentile99(cloud->intensity());
+          if (!(top > 0.0f))
+            for (float v : cloud->intensity()) top = std::max(top, v);
+          g.intensity_scale = top > 0.0f ? 1.0f / top : 1.0f;
         }
         break;
       case AttributeKind::Classification:

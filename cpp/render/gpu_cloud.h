@@ -17,7 +17,7 @@ struct GpuCloud {
   gl::Buffer positions;  // vec3 float offsets, chunk after chunk
   gl::VertexArray vao;   // positions as attribute 0 (GL_POINTS paths)
   bool own_normals = false;
-  float intensity_scale = 1.0f;  // 1 / the cloud's peak intensity
+  float intensity_scale = 1.0f;  // 1 / the cloud's 99th-percentile intensity (white there)
   std::map<AttributeKey, gl::Buffer> buffers;
 
   // The buffer of `key` (the cloud's own normals answer any k), or null when
