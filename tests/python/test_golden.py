@@ -78,7 +78,7 @@ def test_idiff_catches_a_changed_look(renderer, tmp_path):
     pass against the golden image."""
     scene, camera = _scene("Toon")
     changed = presets.PRESETS["Toon"]
-    style = pointnpr.Style(rasterize=changed["rasterize"],
+    style = pointnpr.Style(mark=changed["mark"],
                            filters=[(f, dict(p, levels=6) if f == "cartoon" else p) for f, p in changed["filters"]])
     scene = pointnpr.Scene()
     cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
