@@ -1,6 +1,9 @@
-"""Ready-made styles an artist can pick (issue 5): name -> keyword arguments
-of `pointnpr.Style`. Plain data, validated against the C++ schemas by
-tests/python/test_presets.py; `style(name)` builds one.
+"""Ready-made styles an artist can pick (issue 5): name -> {"mark": (id,
+params), "filters": [(id, params), ...]}, the arguments of `pointnpr.Style`.
+The first six draw the points mark then image filters; the hatching presets
+replace the points by strokes (seed 002, docs/marks.md). Plain data,
+validated against the C++ schemas by tests/python/test_presets.py;
+`style(name)` builds one.
 
     import pointnpr, pointnpr.presets
     style = pointnpr.presets.style("Watercolor")
@@ -10,7 +13,7 @@ PRESETS = {
     # Flat colour bands with outlines; a light oil-paint pass first removes
     # scan noise so the bands are clean.
     "Toon": {
-        "rasterize": {"point_size": 3.0},
+        "mark": ("points", {"point_size": 3.0}),
         "filters": [
             ("kuwahara", {"radius": 3.0}),
             ("cartoon", {"levels": 4, "outline_width": 2, "smoothing": 2}),
@@ -19,26 +22,29 @@ PRESETS = {
     # Black XDoG lines and silhouettes over a pale, desaturated fill; the
     # oil-paint pass first keeps scan noise from turning into specks.
     "Ink outlines": {
-        "rasterize": {"point_size": 3.0},
+        "mark": ("points", {"point_size": 3.0}),
         "filters": [
             ("kuwahara", {"radius": 4.0}),
             ("xdog", {"thickness": 2.0, "sharpen": 25.0}),
             ("color_grade", {"saturation": 0.0, "exposure": 1.5}),
         ],
     },
+    # The watercolor filter over 3 px splats.
     "Watercolor": {
-        "rasterize": {"point_size": 3.0},
+        "mark": ("points", {"point_size": 3.0}),
         "filters": [("watercolor", {})],
     },
+    # Kuwahara oil paint, a little more saturation and contrast.
     "Oil paint": {
-        "rasterize": {"point_size": 3.0},
+        "mark": ("points", {"point_size": 3.0}),
         "filters": [
             ("kuwahara", {"radius": 6.0}),
             ("color_grade", {"saturation": 1.15, "contrast": 1.1}),
         ],
     },
+    # Five lightness levels with XDoG lines, after an oil-paint pass.
     "Posterize": {
-        "rasterize": {"point_size": 3.0},
+        "mark": ("points", {"point_size": 3.0}),
         "filters": [
             ("kuwahara", {"radius": 3.0}),
             ("posterize", {"levels": 5, "space": "lightness"}),
@@ -48,11 +54,84 @@ PRESETS = {
     # Seed 000 Fig. 1: class colours, eye-dome shading (ambient-occlusion
     # like) with depth outlines, watercolor over all.
     "Urban map": {
-        "rasterize": {"point_size": 3.0, "color_source": "classification"},
+        "mark": ("points", {"point_size": 3.0, "color_source": "classification"}),
         "filters": [
             ("edge_enhance", {"edl_strength": 1.0, "outline_width": 1}),
             ("watercolor", {"wobble": 1.5, "edge_darkening": 0.8}),
         ],
+    },
+
+    # ---- Hatching presets (seed 002, Wagner et al.): one stroke mark per
+    # point, tuned on the lion scan and the LiDAR HD tile at 320x224. The
+    # light is in world space (Z up), from the front left and above
+    # (azimuth -60, elevation 35-40), so the strokes hold still as the
+    # camera moves; turn light_azimuth for scans facing another way.
+    #
+    # Graphite on white paper: pencil X-Toon (strokes where the light does
+    # not reach, crossed in the darkest tones), thin grey depth outlines.
+    "Pencil": {
+        "mark": ("hatching", {"xtoon": "pencil", "stroke_texture": "pencil", "coloring": "constant",
+                              "stroke_coverage": 2.5, "line_length": 12.0, "cross_hatch": 0.6,
+                              "light_azimuth": -60.0, "light_elevation": 40.0, "paper_color": (1.0, 1.0, 1.0, 1.0)}),
+        "filters": [
+            ("edge_enhance", {"edl_strength": 0.0, "outline_width": 1, "silhouette": False,
+                              "edge_color": (0.2, 0.2, 0.24, 0.7)}),
+        ],
+    },
+    # Coloured pencils (the paper's pencil quantization): each stroke the
+    # point's colour, snapped to two of 24 pencils mixed by chance plus
+    # black and white; the two-coloured X-Toon keeps strokes in the light.
+    "Coloured crayons": {
+        "mark": ("hatching", {"xtoon": "two_colored", "coloring": "point", "point_blend": 0.25,
+                              "pencil_quantize": True, "pencil_set": "box_24", "stroke_texture": "pencil",
+                              "stroke_coverage": 5.0, "line_length": 10.0, "line_width": 2.0, "cross_hatch": 0.6,
+                              "opacity": 1.0, "alpha_jitter": 0.2, "alpha_modification": 0.6,
+                              "light_azimuth": -60.0, "light_elevation": 40.0, "paper_color": (1.0, 1.0, 1.0, 1.0)}),
+        "filters": [],
+    },
+    # Wax crayons: the wax-crayon X-Toon's three warm bands give the colour
+    # and the omission; broad, waxy strokes.
+    "Wax crayons": {
+        "mark": ("hatching", {"xtoon": "wax_crayon", "coloring": "xtoon", "stroke_texture": "crayon",
+                              "stroke_coverage": 4.0, "line_length": 14.0, "line_width": 3.0, "cross_hatch": 0.4,
+                              "opacity": 0.9, "light_azimuth": -60.0, "light_elevation": 40.0,
+                              "paper_color": (1.0, 1.0, 1.0, 1.0)}),
+        "filters": [],
+    },
+    # White ink on blue paper: regular, nearly parallel ruled lines along
+    # world X in the shade, white depth and silhouette outlines.
+    "Blueprint": {
+        "mark": ("hatching", {"xtoon": "pencil", "coloring": "constant", "stroke_color": (0.92, 0.95, 1.0, 1.0),
+                              "stroke_texture": "ink", "paper_color": (0.08, 0.24, 0.52, 1.0),
+                              "placement": "regular", "cross_hatch": 0.1, "length_jitter": 0.1, "alpha_jitter": 0.1,
+                              "line_length": 14.0, "line_width": 1.0, "stroke_coverage": 2.0, "curvature_length": 0.3,
+                              "direction_azimuth": 0.0, "direction_elevation": 0.0,
+                              "light_azimuth": -60.0, "light_elevation": 40.0}),
+        "filters": [
+            ("edge_enhance", {"edl_strength": 0.0, "outline_width": 1, "silhouette": True,
+                              "edge_color": (0.92, 0.95, 1.0, 0.9)}),
+        ],
+    },
+    # Chalk on a blackboard: the chalk X-Toon puts light, grainy strokes
+    # where the light falls, on dark green-grey paper.
+    "Chalk": {
+        "mark": ("hatching", {"xtoon": "chalk", "coloring": "xtoon", "stroke_texture": "crayon",
+                              "paper_color": (0.13, 0.17, 0.15, 1.0), "stroke_coverage": 1.8, "line_length": 10.0,
+                              "line_width": 1.2, "cross_hatch": 0.5, "opacity": 0.95, "alpha_jitter": 0.2,
+                              "light_azimuth": -60.0, "light_elevation": 35.0}),
+        "filters": [],
+    },
+    # Pointillism: short soft dots, no crossing, jittered, in the point's
+    # colour quantized to 12 pencils; a saturation boost afterwards brings
+    # the dull scan colours toward pure pigments.
+    "Pointillism": {
+        "mark": ("hatching", {"xtoon": "two_colored", "coloring": "point", "point_blend": 0.15,
+                              "pencil_quantize": True, "pencil_set": "box_12", "stroke_texture": "soft",
+                              "line_length": 3.5, "line_width": 3.5, "length_jitter": 0.2, "cross_hatch": 0.0,
+                              "placement": "irregular", "position_jitter": 0.5, "curvature_length": 0.0,
+                              "stroke_coverage": 3.5, "opacity": 1.0, "alpha_modification": 0.3, "alpha_jitter": 0.1,
+                              "light_azimuth": -60.0, "light_elevation": 40.0, "paper_color": (1.0, 1.0, 1.0, 1.0)}),
+        "filters": [("color_grade", {"saturation": 1.8})],
     },
 }
 
@@ -63,4 +142,5 @@ def style(name):
 
     if name not in PRESETS:
         raise KeyError(f"unknown preset {name!r} (presets: {', '.join(PRESETS)})")
-    return pointnpr.Style(**PRESETS[name])
+    preset = PRESETS[name]
+    return pointnpr.Style(mark=preset["mark"], filters=preset.get("filters", []))

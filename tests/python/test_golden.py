@@ -1,6 +1,7 @@
 """Golden images: every preset rendered on a real scan (the lion
 photogrammetry scan; "Urban map" on the LiDAR HD tile, as it colours by
-class), compared with OpenImageIO's idiff.
+class; each hatching preset on both, preset_<name>_lion.png and
+preset_<name>_tile.png), compared with OpenImageIO's idiff.
 
 Tolerance: a pixel fails when a channel differs by more than 2/255 (8-bit
 PNG quantisation plus float rounding of a different build); up to 0.5 % of
@@ -30,8 +31,8 @@ W, H = 320, 224
 FAIL_ABOVE, FAIL_PERCENT = 2.0 / 255.0, 0.5
 
 
-def _scene(name):
-    if name == "Urban map":
+def _scene(name, scan=None):
+    if (scan or ("tile" if name == "Urban map" else "lion")) == "tile":
         tile = pointnpr.read(os.path.join(ROOT, "data", "lidarhd_myria3d_870000_6618000_subset.las"))
         pos = np.asarray(tile.positions)
         centre = (pos.min(0) + pos.max(0)) / 2
@@ -52,13 +53,26 @@ def _slug(name):
     return re.sub(r"[^a-z0-9]+", "_", name.lower()).strip("_")
 
 
-@pytest.mark.parametrize("name", sorted(presets.PRESETS))
-def test_preset_matches_its_golden_image(renderer, name, tmp_path):
-    scene, camera = _scene(name)
+def _cases():
+    """(preset, scan or None): the splat presets on their one scan (golden
+    names unchanged), the hatching presets on the lion and on the tile."""
+    cases = []
+    for name in sorted(presets.PRESETS):
+        if presets.PRESETS[name]["mark"][0] == "hatching":
+            cases += [(name, "lion"), (name, "tile")]
+        else:
+            cases.append((name, None))
+    return cases
+
+
+@pytest.mark.parametrize("name,scan", _cases())
+def test_preset_matches_its_golden_image(renderer, name, scan, tmp_path):
+    scene, camera = _scene(name, scan)
     color = np.asarray(renderer.render(scene, camera, W, H, background=(1, 1, 1, 1)).color)
-    out = str(tmp_path / (_slug(name) + ".png"))
+    slug = _slug(name) + (f"_{scan}" if scan else "")
+    out = str(tmp_path / (slug + ".png"))
     pointnpr.save_image(out, np.ascontiguousarray(color[..., :3]), srgb=True)
-    golden = os.path.join(GOLDEN, "preset_" + _slug(name) + ".png")
+    golden = os.path.join(GOLDEN, "preset_" + slug + ".png")
     if os.environ.get("POINTNPR_UPDATE_GOLDEN"):
         os.makedirs(GOLDEN, exist_ok=True)
         shutil.copyfile(out, golden)
@@ -78,7 +92,7 @@ def test_idiff_catches_a_changed_look(renderer, tmp_path):
     pass against the golden image."""
     scene, camera = _scene("Toon")
     changed = presets.PRESETS["Toon"]
-    style = pointnpr.Style(rasterize=changed["rasterize"],
+    style = pointnpr.Style(mark=changed["mark"],
                            filters=[(f, dict(p, levels=6) if f == "cartoon" else p) for f, p in changed["filters"]])
     scene = pointnpr.Scene()
     cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
