@@ -385,7 +385,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
 
     if (ctx.capture) {
       std::vector<StrokeRecord> records(used);
-      std::vector<DrawCommand> issued(size_t(draws));
+      std::vector<DrawCommand> issued(static_cast<size_t>(draws));
       glGetNamedBufferSubData(strokes.id(), 0, GLsizeiptr(used * sizeof(StrokeRecord)), records.data());
       glGetNamedBufferSubData(commands.id(), 0, GLsizeiptr(issued.size() * sizeof(DrawCommand)), issued.data());
       for (const DrawCommand& cmd : issued) {

@@ -91,19 +91,12 @@ def test_unknown_preset_names_the_known_ones():
 #    the whole tile, shaded by eye-dome lighting (MIN_STD holds, 0.18); no
 #    correlation with the intensity is asked of it.
 #
-# The core scales intensity by 1 / its peak (cpp/render/gpu_cloud.cpp). This
-# tile's peak is 21014 where its 99th percentile is 4172, so a typical point
-# is drawn at 0.1 and the picture is nearly black: the splat presets measure
-# 0.04-0.05 (std; "Ink outlines" passes at 0.09 with its black lines over a
-# dark fill, mean 0.17) and the point-coloured hatching presets lose the
-# intensity (correlation -0.1-0.15). Those cases are strict xfails until the
-# core normalises robustly; the same test on the intensity clipped at its
-# 99th percentile (what a percentile normalisation would draw) passes for
-# every preset, so the presets themselves are not at fault.
+# The core maps intensity's 99th percentile to white (cpp/render/gpu_cloud.cpp):
+# this tile's peak is 21014 where its 99th percentile is 4172, and a peak
+# scale drew it nearly black (std 0.04-0.05, below MIN_STD).
 MIN_STD = 0.06
 MIN_CORRELATION = 0.5
 W, H = 320, 224
-PEAK_NORMALISED_TOO_DARK = {"Toon", "Watercolor", "Oil paint", "Posterize", "Coloured crayons", "Pointillism"}
 
 
 def _colours_by_point(preset):
@@ -123,8 +116,7 @@ def intensity_tile():
     intensity = np.asarray(tile.attributes["intensity"], np.float32)
     camera = pointnpr.Camera.perspective(pointnpr.look_at((0.0, -70.0, 60.0), (0.0, 0.0, 0.0)), lens=35.0,
                                          clip_start=0.5, clip_end=1000.0, width=W, height=H)
-    return {"raw": pointnpr.PointCloud(pos, intensity=intensity),
-            "clipped": pointnpr.PointCloud(pos, intensity=np.minimum(intensity, np.percentile(intensity, 99)))}, camera
+    return pointnpr.PointCloud(pos, intensity=intensity), camera
 
 
 def _luminance(renderer, style, cloud, camera):
@@ -169,15 +161,9 @@ def _check_intensity_tones(renderer, name, cloud, camera):
         assert corr > MIN_CORRELATION, f"{name}: the intensity does not show (correlation {corr:.3f})"
 
 
-@pytest.mark.parametrize("name", [
-    pytest.param(n, marks=pytest.mark.xfail(strict=True, reason="core scales intensity by its peak: too dark"))
-    if n in PEAK_NORMALISED_TOO_DARK else n for n in POINTS_PRESETS + HATCHING_PRESETS])
-def test_preset_shows_the_tones_of_an_intensity_only_scan(renderer, intensity_tile, name):
-    clouds, camera = intensity_tile
-    _check_intensity_tones(renderer, name, clouds["raw"], camera)
-
-
 @pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS)
-def test_preset_shows_the_tones_of_a_robustly_scaled_intensity_scan(renderer, intensity_tile, name):
-    clouds, camera = intensity_tile
-    _check_intensity_tones(renderer, name, clouds["clipped"], camera)
+def test_preset_shows_the_tones_of_an_intensity_only_scan(renderer, intensity_tile, name):
+    # The tile's intensity has glints far above the rest (peak 21014, 99th
+    # percentile 4172): the core maps its 99th percentile to white.
+    cloud, camera = intensity_tile
+    _check_intensity_tones(renderer, name, cloud, camera)
