@@ -9,3 +9,4 @@ POINTNPR_SHADER_DIR=$PWD/shaders build/bench/bench_render --benchmark_min_time=2
   --benchmark_filter='BM_Rasterize|BM_EngineFrame'
 blender -b blend_examples/lion_benchmark.blend --python bench/bench_blender.py -- build 8 2>&1 |
   grep -E '^(scene|first|warm|  sync)'
+PYTHONPATH=build /usr/bin/python3 bench/bench_marks.py 5
