@@ -35,7 +35,10 @@ print("ADDON_OK")
 '''
 
 
-def test_zip_installs_and_enables(tmp_path):
+
+def _zip_and_user_dirs(tmp_path):
+    """The built package as an add-on zip, and an environment whose Blender
+    user folders are fresh ones under tmp_path."""
     package = os.path.join(os.environ["POINTNPR_BUILD_DIR"], "pointnpr")
     archive = tmp_path / "pointnpr-addon.zip"
     with zipfile.ZipFile(archive, "w", zipfile.ZIP_DEFLATED) as z:
@@ -45,7 +48,10 @@ def test_zip_installs_and_enables(tmp_path):
                 path = os.path.join(root, name)
                 z.write(path, os.path.join("pointnpr", os.path.relpath(path, package)))
     user = tmp_path / "user"
-    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(user), BLENDER_USER_CONFIG=str(user / "config"))
+    return archive, dict(os.environ, BLENDER_USER_SCRIPTS=str(user), BLENDER_USER_CONFIG=str(user / "config"))
+
+def test_zip_installs_and_enables(tmp_path):
+    archive, env = _zip_and_user_dirs(tmp_path)
     script = tmp_path / "install.py"
     script.write_text(SCRIPT)
     proc = subprocess.run(
@@ -78,16 +84,7 @@ def test_installed_addon_migrates_the_legacy_file_it_opens(tmp_path):
     """An add-on enabled in the preferences registers at startup (bpy.data
     is not reachable then); the legacy file opened on the command line is
     migrated by the load_post handler."""
-    package = os.path.join(os.environ["POINTNPR_BUILD_DIR"], "pointnpr")
-    archive = tmp_path / "pointnpr-addon.zip"
-    with zipfile.ZipFile(archive, "w", zipfile.ZIP_DEFLATED) as z:
-        for root, dirs, files in os.walk(package):
-            dirs[:] = [d for d in dirs if d != "__pycache__"]
-            for name in files:
-                path = os.path.join(root, name)
-                z.write(path, os.path.join("pointnpr", os.path.relpath(path, package)))
-    user = tmp_path / "user"
-    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(user), BLENDER_USER_CONFIG=str(user / "config"))
+    archive, env = _zip_and_user_dirs(tmp_path)
     install = tmp_path / "install.py"
     install.write_text(INSTALL_AND_SAVE)
     proc = subprocess.run([bpy.app.binary_path, "-b", "--python-exit-code", "1", "--python", str(install),

@@ -148,36 +148,32 @@ def read_colors(obj):
     return np.clip(np.rint(rgb * 255.0), 0, 255).astype(np.uint8)
 
 
-def read_intensity(obj):
+def _read_point_values(obj, name, data_types, dtype):
+    """The values of the point-domain attribute ``name`` of one of
+    ``data_types``, as ``dtype``, or None."""
     attrs = _point_attributes(obj.data)
-    attr = attrs.get("intensity") if attrs else None
-    if attr is None or attr.domain != 'POINT' or attr.data_type != 'FLOAT':
+    attr = attrs.get(name) if attrs else None
+    if attr is None or attr.domain != 'POINT' or attr.data_type not in data_types:
         return None
-    values = np.empty(len(attr.data), dtype=np.float32)
+    values = np.empty(len(attr.data), dtype=dtype)
     attr.data.foreach_get("value", values)
     return values
 
 
+def read_intensity(obj):
+    return _read_point_values(obj, "intensity", {'FLOAT'}, np.float32)
+
+
 def read_classification(obj):
-    attrs = _point_attributes(obj.data)
-    attr = attrs.get("classification") if attrs else None
-    if attr is None or attr.domain != 'POINT' or attr.data_type not in {'INT', 'INT8'}:
-        return None
-    values = np.empty(len(attr.data), dtype=np.int32)
-    attr.data.foreach_get("value", values)
-    return np.clip(values, 0, 255).astype(np.uint8)
+    values = _read_point_values(obj, "classification", {'INT', 'INT8'}, np.int32)
+    return None if values is None else np.clip(values, 0, 255).astype(np.uint8)
 
 
 def read_point_index(obj):
     """Stable point ids from an integer point attribute named "point_index",
     or None (the core then numbers the points in order)."""
-    attrs = _point_attributes(obj.data)
-    attr = attrs.get("point_index") if attrs else None
-    if attr is None or attr.domain != 'POINT' or attr.data_type != 'INT':
-        return None
-    values = np.empty(len(attr.data), dtype=np.int32)
-    attr.data.foreach_get("value", values)
-    return values.astype(np.uint32)
+    values = _read_point_values(obj, "point_index", {'INT'}, np.int32)
+    return None if values is None else values.astype(np.uint32)
 
 
 def read_normals(obj):

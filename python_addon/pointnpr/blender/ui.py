@@ -221,6 +221,8 @@ class COLLECTION_PT_pointnpr_style(PointNPRPanel, bpy.types.Panel):
         coll = context.collection
         scene = context.scene
         layout.template_ID(coll, "pointnpr_style", new=POINTNPR_OT_new_style.bl_idname)
+        # The preset list: a new style from pointnpr.presets, assigned here.
+        layout.operator_menu_enum(POINTNPR_OT_new_style.bl_idname, "preset", text="New from Preset", icon='PRESET')
         tree = coll.pointnpr_style
         if nodes.is_style_tree(tree):
             draw_style(layout, tree)
