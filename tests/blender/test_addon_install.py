@@ -52,6 +52,7 @@ def _zip_and_user_dirs(tmp_path):
 
 def test_zip_installs_and_enables(tmp_path):
     archive, env = _zip_and_user_dirs(tmp_path)
+    user = tmp_path / "user"
     script = tmp_path / "install.py"
     script.write_text(SCRIPT)
     proc = subprocess.run(
@@ -85,6 +86,7 @@ def test_installed_addon_migrates_the_legacy_file_it_opens(tmp_path):
     is not reachable then); the legacy file opened on the command line is
     migrated by the load_post handler."""
     archive, env = _zip_and_user_dirs(tmp_path)
+    user = tmp_path / "user"
     install = tmp_path / "install.py"
     install.write_text(INSTALL_AND_SAVE)
     proc = subprocess.run([bpy.app.binary_path, "-b", "--python-exit-code", "1", "--python", str(install),

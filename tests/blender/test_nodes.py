@@ -421,11 +421,11 @@ def _assert_tree_is_preset(tree, preset):
     assert desc["mark"][0] == mark_id
     for name, value in mark_values.items():
         got = desc["mark"][1][name]
-        assert got == pytest.approx(value) if isinstance(value, float) else got == value, name
+        assert got == pytest.approx(value) if isinstance(value, (float, tuple)) else got == value, name
     assert [f for f, _v in desc["filters"]] == [f for f, _v in preset["filters"]]
     for (fid, got), (_fid, want) in zip(desc["filters"], preset["filters"]):
         for name, value in want.items():
-            assert got[name] == pytest.approx(value), (fid, name)
+            assert (got[name] == pytest.approx(value)) if isinstance(value, (int, float, tuple)) and not isinstance(value, bool) else got[name] == value, (fid, name)
     assert desc["warnings"] == []
     nodes.make_core_style(desc)
 
