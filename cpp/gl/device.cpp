@@ -36,8 +36,7 @@ std::string egl_error_name(EGLint code) {
 constexpr const char* kInstallHint =
     "PointNPR renders with its own headless OpenGL 4.5 core context through EGL. "
     "Install a GPU driver with EGL support, or Mesa's software renderer "
-    "(Debian/Ubuntu: apt install libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0). "
-    "Set POINTNPR_EGL_DEVICE=software to force Mesa's surfaceless llvmpipe.";
+    "(Debian/Ubuntu: apt install libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0).";
 
 bool has_extension(const char* list, const char* name) {
   if (!list) return false;
@@ -48,9 +47,7 @@ bool has_extension(const char* list, const char* name) {
 }
 
 // Prefer a hardware EGL device (a real GPU), else Mesa's surfaceless platform.
-EGLDisplay open_display(std::string& platform, std::string& failures) {
-  const char* force = std::getenv("POINTNPR_EGL_DEVICE");
-  const bool force_software = force && std::string(force) == "software";
+EGLDisplay open_display(bool force_software, std::string& platform, std::vector<std::string>& failures) {
   const char* client_ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (!force_software && has_extension(client_ext, "EGL_EXT_device_enumeration")) {
     auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
@@ -68,7 +65,7 @@ EGLDisplay open_display(std::string& platform, std::string& failures) {
           platform = "device";
           return d;
         }
-        failures += "EGL device " + std::to_string(i) + ": " + egl_error_name(eglGetError()) + "; ";
+        failures.push_back("EGL device " + std::to_string(i) + ": " + egl_error_name(eglGetError()));
       }
     }
   }
@@ -78,9 +75,36 @@ EGLDisplay open_display(std::string& platform, std::string& failures) {
     platform = "surfaceless";
     return d;
   }
-  failures += "Mesa surfaceless platform: " + egl_error_name(eglGetError()) + "; ";
+  failures.push_back("Mesa surfaceless platform: " + egl_error_name(eglGetError()));
   return EGL_NO_DISPLAY;
 }
+
+}  // namespace
+
+bool software_device_forced() {
+  const char* value = std::getenv("POINTNPR_EGL_DEVICE");
+  const std::string v = value ? value : "";
+  if (v.empty() || v == "auto") return false;
+  if (v == "software") return true;
+  throw GLError("POINTNPR_EGL_DEVICE is '" + v +
+                "'; accepted values: 'auto' (a GPU when EGL enumerates one, else Mesa's llvmpipe; the default) or "
+                "'software' (Mesa's surfaceless llvmpipe only)");
+}
+
+std::string no_display_message(const std::vector<std::string>& failures, bool software_forced) {
+  std::string tried;
+  for (const std::string& f : failures) tried += (tried.empty() ? "" : "; ") + f;
+  std::string msg = "no EGL display could be opened";
+  if (!tried.empty()) msg += " (" + tried + ")";
+  msg += ". ";
+  msg += kInstallHint;
+  msg += software_forced ? " POINTNPR_EGL_DEVICE=software is set, so only Mesa's surfaceless llvmpipe was tried; "
+                           "unset it to try GPU devices too."
+                         : " Set POINTNPR_EGL_DEVICE=software to force Mesa's surfaceless llvmpipe.";
+  return msg;
+}
+
+namespace {
 
 }  // namespace
 
@@ -133,10 +157,10 @@ void Device::thread_main(std::promise<void> ready) {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
   try {
-    std::string failures;
-    display = open_display(info_.egl_platform, failures);
-    if (display == EGL_NO_DISPLAY)
-      throw GLError("no EGL display could be opened (" + failures + "). " + kInstallHint);
+    const bool forced = software_device_forced();
+    std::vector<std::string> failures;
+    display = open_display(forced, info_.egl_platform, failures);
+    if (display == EGL_NO_DISPLAY) throw GLError(no_display_message(failures, forced));
     if (!eglBindAPI(EGL_OPENGL_API))
       throw GLError("EGL has no desktop OpenGL API (" + egl_error_name(eglGetError()) + "). " + kInstallHint);
     const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,

@@ -15,6 +15,7 @@
 #include <string>
 #include <thread>
 #include <type_traits>
+#include <vector>
 
 namespace pointnpr::gl {
 
@@ -27,6 +28,13 @@ struct DeviceInfo {
   bool int64_atomics = false; // 64-bit SSBO atomicMin available
   int max_texture_size = 0;
 };
+
+// POINTNPR_EGL_DEVICE: unset or "auto" (a GPU when EGL enumerates one,
+// else Mesa's llvmpipe) or "software" (llvmpipe only); any other value
+// throws GLError listing the accepted ones.
+bool software_device_forced();
+// The error when no EGL display opens: what was tried, what to install.
+std::string no_display_message(const std::vector<std::string>& failures, bool software_forced);
 
 class Device {
  public:

@@ -19,7 +19,9 @@ namespace pointnpr::io {
 
 MappedFile::MappedFile(const std::string& path) : path_(path) {
 #ifdef POINTNPR_HAVE_MMAP
-  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  // Non-blocking: opening a FIFO without a writer would wait forever; it is
+  // refused below like any file that is not a regular one.
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) throw ReadError(path, std::string("cannot open file: ") + std::strerror(errno));
   struct stat st {};
   if (::fstat(fd, &st) != 0) {
@@ -33,7 +35,7 @@ MappedFile::MappedFile(const std::string& path) : path_(path) {
   }
   if (!S_ISREG(st.st_mode)) {
     ::close(fd);
-    throw ReadError(path, "is not a regular file");
+    throw ReadError(path, "is not a regular file (a named pipe, device or socket is not a point cloud file)");
   }
   size_ = static_cast<size_t>(st.st_size);
   if (size_ > 0) {

@@ -2,6 +2,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "python/bindings.h"
@@ -80,6 +81,46 @@ ParamValues validated(const Schema& schema, const py::object& values) {
   return validate(schema, raw.numbers, raw.paths);
 }
 
+std::string type_name(const py::handle& obj) {
+  return std::string("'") + py::str(py::type::handle_of(obj).attr("__name__")).cast<std::string>() + "'";
+}
+
+// One entry of Scene.add_segment's instance list, checked with a message
+// that says what was expected and what was given.
+Instance instance_of(const py::object& item, const std::string& segment, size_t k) {
+  const std::string where = "segment '" + segment + "', instance " + std::to_string(k) + ": ";
+  const std::string expected = "expected a PointCloud or (PointCloud, 4x4 matrix[, object name])";
+  Instance inst;
+  if (py::isinstance<PointCloud>(item)) {
+    inst.cloud = item.cast<std::shared_ptr<PointCloud>>();
+    return inst;
+  }
+  if (!py::isinstance<py::tuple>(item) && !py::isinstance<py::list>(item))
+    throw ParameterError(where + expected + ", got " + type_name(item));
+  auto t = item.cast<py::sequence>();
+  if (t.size() != 2 && t.size() != 3)
+    throw ParameterError(where + expected + ", got a sequence of " + std::to_string(t.size()) + " items");
+  if (!py::isinstance<PointCloud>(t[0]))
+    throw ParameterError(where + expected + ", got " + type_name(t[0]) + " where the PointCloud goes");
+  inst.cloud = t[0].cast<std::shared_ptr<PointCloud>>();
+  try {
+    inst.world_from_object = to_dmat4(t[1], "world_from_object");
+  } catch (const py::error_already_set&) {
+    throw ParameterError(where + "the matrix must be 4x4 numbers, got " + type_name(t[1]));
+  } catch (const ParameterError& e) {
+    throw ParameterError(where + e.what());
+  }
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      if (!std::isfinite(inst.world_from_object[c][r]))
+        throw ParameterError(where + "the matrix has a non-finite entry");
+  if (t.size() == 3) {
+    if (!py::isinstance<py::str>(t[2])) throw ParameterError(where + "the object name must be a str, got " + type_name(t[2]));
+    inst.name = t[2].cast<std::string>();
+  }
+  return inst;
+}
+
 // A plugin step given as 'id' or ('id', {params}).
 std::pair<std::string, py::dict> step_of(const py::handle& item, const char* what) {
   py::object step = py::reinterpret_borrow<py::object>(item);
@@ -150,6 +191,8 @@ void bind_render(py::module_& m) {
            py::arg("intensity") = py::none(), py::arg("classification") = py::none(),
            py::arg("point_index") = py::none(), py::arg("normals") = py::none(), py::arg("chunk_size") = 16384)
       .def_property_readonly("num_points", &PointCloud::size)
+      .def_property_readonly("skipped_points", &PointCloud::skipped_nonfinite,
+                             "Input points left out for a non-finite coordinate (NaN or inf).")
       .def_property_readonly("num_chunks", [](const PointCloud& c) { return c.chunks().size(); })
       .def_property_readonly("id", &PointCloud::id)
       .def_property_readonly("bounds", [](const PointCloud& c) {
@@ -193,25 +236,22 @@ void bind_render(py::module_& m) {
 
   py::class_<Scene>(m, "Scene", "Segments in layering order (later segments on top).")
       .def(py::init<>())
-      .def("add_segment", [](Scene& scene, const std::string& name, const Style& style, const py::list& instances) {
+      .def("add_segment", [](Scene& scene, const std::string& name, const Style& style, const py::object& instances) {
         Segment seg;
         seg.name = name;
         seg.style = style;
-        for (auto item : instances) {
-          py::object inst = py::reinterpret_borrow<py::object>(item);
-          Instance i;
-          if (py::isinstance<PointCloud>(inst)) {
-            i.cloud = inst.cast<std::shared_ptr<PointCloud>>();
-          } else {
-            auto t = inst.cast<py::sequence>();
-            i.cloud = t[0].cast<std::shared_ptr<PointCloud>>();
-            i.world_from_object = to_dmat4(t[1], "world_from_object");
-          }
-          seg.instances.push_back(std::move(i));
+        if (py::isinstance<py::str>(instances) || !py::isinstance<py::sequence>(instances))
+          throw ParameterError("segment '" + name + "': instances must be a list of PointCloud or "
+                               "(PointCloud, 4x4 matrix[, name]), got " + type_name(instances));
+        size_t k = 0;
+        for (auto item : instances.cast<py::sequence>()) {
+          seg.instances.push_back(instance_of(py::reinterpret_borrow<py::object>(item), name, k++));
         }
         scene.segments.push_back(std::move(seg));
         return scene.segments.size() - 1;
-      }, py::arg("name"), py::arg("style"), py::arg("instances"))
+      }, py::arg("name"), py::arg("style"), py::arg("instances"),
+         "instances: [cloud or (cloud, world_from_object 4x4) or (cloud, matrix, object name)]; the name is used in "
+         "render warnings.")
       .def_property_readonly("num_segments", [](const Scene& s) { return s.segments.size(); });
 
   py::class_<Camera>(m, "Camera", "Camera composed in double precision (Blender's camera model).")

@@ -39,23 +39,67 @@ struct FrameTargets {
   std::map<std::pair<GLenum, int>, gl::Texture> mark_scratch;
 };
 
-// The colour attributes a mark asked for, when a cloud has none of them
-// ("" when it has one, or asked for none).
+// The colour attribute a mark asked for by name, when the cloud lacks it
+// ("" otherwise; colour source auto takes what there is, constant included).
 std::string missing_color(const AttributeSet& needed, const GpuCloud& g) {
-  const AttributeKind colors[] = {AttributeKind::Color, AttributeKind::Intensity, AttributeKind::Classification};
-  std::string asked;
-  for (AttributeKind a : colors) {
-    if (!needed.count({a}) && !needed.count({AttributeKind::AutoColor})) continue;
-    if (g.find({a})) return "";
-    asked += (asked.empty() ? "" : " or ") + std::string(attribute_name(a));
-  }
-  return asked;
+  for (AttributeKind a : {AttributeKind::Color, AttributeKind::Intensity, AttributeKind::Classification})
+    if (needed.count({a}) && !g.find({a})) return attribute_name(a);
+  return "";
 }
+
+// Thousands separated: "1,204,511".
+std::string with_commas(size_t v) {
+  std::string digits = std::to_string(v), out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out.push_back(',');
+    out.push_back(digits[i]);
+  }
+  return out;
+}
+
+// What a frame has to say about its input, each cause said once with
+// counts and the first few names (500 uncoloured objects make one line).
+struct FrameWarnings {
+  static constexpr size_t kNamed = 3;
+  std::map<std::string, std::vector<std::string>> missing_color;  // asked -> objects
+  std::vector<std::string> nonfinite;                              // one line per object
+
+  static std::string object_name(const Instance& inst, const Segment& seg) {
+    return inst.name.empty() ? "a cloud of segment '" + seg.name + "'" : "'" + inst.name + "'";
+  }
+  void add_missing_color(const std::string& asked, const Instance& inst, const Segment& seg) {
+    missing_color[asked].push_back(object_name(inst, seg));
+  }
+  void add_nonfinite(const Instance& inst, const Segment& seg) {
+    const PointCloud& c = *inst.cloud;
+    const size_t total = c.size() + c.skipped_nonfinite();
+    nonfinite.push_back((inst.name.empty() ? "a cloud of segment '" + seg.name + "'" : "object '" + inst.name + "'") +
+                        ": " + with_commas(c.skipped_nonfinite()) + " of " + with_commas(total) +
+                        " points have non-finite coordinates and were skipped");
+  }
+  static std::string listed(const std::vector<std::string>& names) {
+    std::string out;
+    for (size_t i = 0; i < std::min(names.size(), kNamed); ++i) out += (i ? ", " : "") + names[i];
+    if (names.size() > kNamed) out += " and " + with_commas(names.size() - kNamed) + " more";
+    return out;
+  }
+  void report(std::vector<std::string>& out) const {
+    for (const auto& [asked, names] : missing_color)
+      out.push_back(with_commas(names.size()) + (names.size() == 1 ? " object has" : " objects have") + " no " +
+                    asked + (names.size() == 1 ? " for its" : " for their") + " style's colour source (" + listed(names) +
+                    "); drawn in the constant colour");
+    for (size_t i = 0; i < std::min(nonfinite.size(), kNamed); ++i) out.push_back(nonfinite[i]);
+    if (nonfinite.size() > kNamed)
+      out.push_back("and " + with_commas(nonfinite.size() - kNamed) +
+                    " more objects have points with non-finite coordinates (skipped)");
+  }
+};
 
 }  // namespace
 
 struct Renderer::Impl {
   gl::ShaderLibrary shaders;
+  FrameWarnings frame_warnings;
   ImageTextures images;
   std::shared_ptr<BufferPool> pool = std::make_shared<BufferPool>();
   GpuCloudCache clouds;
@@ -125,6 +169,7 @@ struct Renderer::Impl {
 
   void begin_frame(const RenderSettings& s) {
     clouds.collect_garbage();
+    frame_warnings = FrameWarnings();
     ensure_targets({s.width, s.height}, gl::Device::instance().info().int64_atomics);
     const Rect all{{0, 0}, targets.size};
     const float zero4[4] = {0, 0, 0, 0};
@@ -152,6 +197,7 @@ struct Renderer::Impl {
     const glm::ivec2 size = targets.size;
     const double margin = double(extent.pixels);
     for (const Instance& inst : seg.instances) {
+      if (inst.cloud && inst.cloud->skipped_nonfinite() > 0) frame_warnings.add_nonfinite(inst, seg);
       if (!inst.cloud || inst.cloud->size() == 0) continue;
       GpuCloud* gpu = nullptr;
       const glm::dmat4 view_from_object = cam.view_from_world * inst.world_from_object;
@@ -196,9 +242,7 @@ struct Renderer::Impl {
         if (!gpu) {
           gpu = &clouds.get(inst.cloud, needed);
           const std::string missing = missing_color(needed, *gpu);
-          if (!missing.empty())
-            result.warnings.push_back("segment '" + seg.name + "': its style colours points by " + missing +
-                                      " but a cloud has none; the constant colour is used");
+          if (!missing.empty()) frame_warnings.add_missing_color(missing, inst, seg);
         }
         out.screen = out.screen.united(r);
         out.depth_min = std::min(out.depth_min, std::max(dmin, cam.clip_start));
@@ -354,6 +398,7 @@ struct Renderer::Impl {
 
   void finish(const RenderSettings& s, RenderResult& result) {
     auto t0 = Clock::now();
+    frame_warnings.report(result.warnings);
     const size_t pixels = size_t(s.width) * size_t(s.height);
     result.width = s.width;
     result.height = s.height;
@@ -401,6 +446,10 @@ RenderResult Renderer::render(const Scene& scene, const Camera& camera, const Re
                          "x" + std::to_string(s.height));
   for (double v : {s.background.r, s.background.g, s.background.b, s.background.a})
     if (!std::isfinite(v)) throw ParameterError("background color must be finite");
+  if (camera.resolution != glm::ivec2(0) && camera.resolution != glm::ivec2(s.width, s.height))
+    throw ParameterError("the camera was made for " + std::to_string(camera.resolution.x) + "x" +
+                         std::to_string(camera.resolution.y) + " but the render is " + std::to_string(s.width) + "x" +
+                         std::to_string(s.height) + ": give the camera the render size (its aspect depends on it)");
   std::lock_guard frame_lock(render_mutex_);
   auto& device = gl::Device::instance();
   const auto t0 = Clock::now();

@@ -45,6 +45,7 @@ struct Style {
 struct Instance {
   std::shared_ptr<const PointCloud> cloud;
   glm::dmat4 world_from_object{1.0};
+  std::string name;  // the host's object name, for messages ("" = unnamed)
 };
 
 struct Segment {

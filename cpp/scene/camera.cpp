@@ -1,6 +1,7 @@
 #include "scene/camera.h"
 
 #include <cmath>
+#include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/error.h"
@@ -22,6 +23,20 @@ void check_common(double clip_start, double clip_end, glm::ivec2 res, double pix
                          ", " + std::to_string(clip_end) + ")");
   if (res.x <= 0 || res.y <= 0) throw ParameterError("camera resolution must be positive");
   if (!(pixel_aspect > 0.0)) throw ParameterError("pixel aspect must be positive");
+}
+
+// A camera matrix that can place a camera: finite, and invertible (a
+// camera scaled by 0 sees nothing and would render a silent blank frame).
+glm::dmat4 inverse_of_camera_matrix(const glm::dmat4& m, const char* what) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) throw ParameterError(std::string("camera ") + what + " has a non-finite entry");
+  const double det = glm::determinant(m);
+  double scale = 0.0;
+  for (int c = 0; c < 3; ++c) scale = std::max(scale, glm::length(glm::dvec3(m[c])));
+  if (!(std::abs(det) > 1e-12 * scale * scale * scale) || !std::isfinite(det))
+    throw ParameterError(std::string("camera ") + what + " is singular (a camera scaled by 0?)");
+  return glm::inverse(m);
 }
 
 // The view plane at distance 1 (perspective: scaled by clip_start later),
@@ -59,7 +74,8 @@ Camera Camera::perspective(const glm::dmat4& world_from_camera, double lens_mm, 
   if (!(lens_mm > 0.0) || !(sensor_width > 0.0) || !(sensor_height > 0.0))
     throw ParameterError("lens and sensor size must be positive");
   Camera c;
-  c.view_from_world = glm::inverse(world_from_camera);
+  c.view_from_world = inverse_of_camera_matrix(world_from_camera, "matrix (world_from_camera)");
+  c.resolution = resolution;
   const ViewPlane v = view_plane(sensor_for_fit(fit, sensor_width, sensor_height) / lens_mm, fit, shift_x, shift_y,
                                  resolution, pixel_aspect);
   c.projection = glm::frustum(v.xmin * clip_start, v.xmax * clip_start, v.ymin * clip_start, v.ymax * clip_start,
@@ -77,7 +93,8 @@ Camera Camera::orthographic_camera(const glm::dmat4& world_from_camera, double o
   check_common(std::max(clip_start, 1e-300), clip_end, resolution, pixel_aspect);
   if (!(ortho_scale > 0.0)) throw ParameterError("ortho_scale must be positive");
   Camera c;
-  c.view_from_world = glm::inverse(world_from_camera);
+  c.view_from_world = inverse_of_camera_matrix(world_from_camera, "matrix (world_from_camera)");
+  c.resolution = resolution;
   const ViewPlane v = view_plane(ortho_scale, fit, shift_x, shift_y, resolution, pixel_aspect);
   c.projection = glm::ortho(v.xmin, v.xmax, v.ymin, v.ymax, clip_start, clip_end);
   c.orthographic = true;
@@ -87,6 +104,10 @@ Camera Camera::orthographic_camera(const glm::dmat4& world_from_camera, double o
 }
 
 Camera Camera::from_matrices(const glm::dmat4& view_from_world, const glm::dmat4& projection) {
+  (void)inverse_of_camera_matrix(view_from_world, "view matrix");
+  for (int col = 0; col < 4; ++col)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(projection[col][r])) throw ParameterError("camera projection matrix has a non-finite entry");
   Camera c;
   c.view_from_world = view_from_world;
   c.projection = projection;

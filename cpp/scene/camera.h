@@ -18,6 +18,9 @@ struct Camera {
   bool orthographic = false;
   double clip_start = 0.1;
   double clip_end = 1000.0;
+  // The render size the camera was made for (its aspect and sensor fit
+  // depend on it); {0, 0} for cameras from matrices (the viewport).
+  glm::ivec2 resolution{0, 0};
 
   // Blender's camera model (BKE_camera_params_compute_viewplane).
   static Camera perspective(const glm::dmat4& world_from_camera, double lens_mm, double sensor_width,

@@ -17,7 +17,7 @@ std::atomic<uint64_t> g_next_cloud_id{1};
 
 PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : id_(g_next_cloud_id++) {
   if (in.positions.size() % 3 != 0) throw Error("positions must be an N x 3 array");
-  const size_t n = in.positions.size() / 3;
+  size_t n = in.positions.size() / 3;  // then the number of finite points
   if (n > std::numeric_limits<uint32_t>::max() / 2) throw Error("point cloud too large (more than 2^31 points)");
   if (in.color_channels != 3 && in.color_channels != 4) throw Error("colors must have 3 or 4 channels");
   if (!in.colors.empty() && in.colors.size() != n * size_t(in.color_channels))
@@ -31,14 +31,20 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
 
   const double* p = in.positions.data();
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  // Points with a non-finite coordinate are left out (counted; the host
+  // says so once per object); the others keep their ids.
+  std::vector<uint8_t> finite(n, 1);
   for (size_t i = 0; i < n; ++i) {
     glm::dvec3 q(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
-    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
-      throw Error("point " + std::to_string(i) + " has a non-finite coordinate");
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) {
+      finite[i] = 0;
+      ++skipped_nonfinite_;
+      continue;
+    }
     lo = glm::min(lo, q);
     hi = glm::max(hi, q);
   }
-  if (n == 0) lo = hi = glm::dvec3(0.0);
+  if (n == skipped_nonfinite_) lo = hi = glm::dvec3(0.0);
   bounds_min_ = lo;
   bounds_max_ = hi;
 
@@ -46,13 +52,16 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
   // compact boxes (good culling) and rasterization touches memory coherently.
   const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-12));
   const double scale = double((1u << 21) - 1) / std::max({extent.x, extent.y, extent.z});
-  std::vector<std::pair<uint64_t, uint32_t>> order(n);
+  std::vector<std::pair<uint64_t, uint32_t>> order;
+  order.reserve(n - skipped_nonfinite_);
   for (size_t i = 0; i < n; ++i) {
+    if (!finite[i]) continue;
     const uint64_t qx = uint64_t((p[3 * i] - lo.x) * scale);
     const uint64_t qy = uint64_t((p[3 * i + 1] - lo.y) * scale);
     const uint64_t qz = uint64_t((p[3 * i + 2] - lo.z) * scale);
-    order[i] = {morton_code(qx, qy, qz), uint32_t(i)};
+    order.push_back({morton_code(qx, qy, qz), uint32_t(i)});
   }
+  n = order.size();
   // Sorting by (code, index) is a total order: the layout is deterministic.
   std::sort(order.begin(), order.end());
 

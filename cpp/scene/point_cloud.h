@@ -41,12 +41,15 @@ struct PointCloudInput {
 
 class PointCloud {
  public:
-  // Copies and reorders the input into chunks. Throws Error on inconsistent
-  // sizes or non-finite coordinates.
+  // Copies and reorders the input into chunks, leaving out points with a
+  // non-finite coordinate (skipped_nonfinite()). Throws Error on
+  // inconsistent sizes.
   explicit PointCloud(const PointCloudInput& input, uint32_t max_chunk_points = 16384);
 
   uint64_t id() const { return id_; }   // unique per cloud in the process
   size_t size() const { return local_positions_.size(); }
+  // Input points left out for a non-finite coordinate (NaN, inf).
+  size_t skipped_nonfinite() const { return skipped_nonfinite_; }
   const std::vector<PointChunk>& chunks() const { return chunks_; }
   const std::vector<glm::vec3>& local_positions() const { return local_positions_; }
   const std::vector<uint32_t>& colors() const { return colors_; }          // packed RGBA8, sRGB
@@ -67,6 +70,7 @@ class PointCloud {
 
  private:
   uint64_t id_;
+  size_t skipped_nonfinite_ = 0;
   std::vector<PointChunk> chunks_;
   std::vector<glm::vec3> local_positions_;
   std::vector<uint32_t> colors_;

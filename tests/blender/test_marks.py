@@ -99,6 +99,18 @@ def _sync():
     return sync.build_scene(bpy.context.evaluated_depsgraph_get(), 1.0)
 
 
+def _frame_warnings():
+    """The warnings of a rendered frame (the core reports missing colours,
+    each cause once, naming the objects)."""
+    from pointnpr.blender import engine
+
+    sync.clear_cache()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    camera = engine.make_camera(depsgraph, bpy.context.scene.camera, 64, 48)
+    result, synced = engine.do_render(depsgraph, camera, 64, 48)
+    return list(synced.warnings) + list(result.warnings)
+
+
 def _source(node, value):
     node.color_source = value
 
@@ -127,18 +139,24 @@ def test_auto_colour_reads_the_colour_attributes_present():
     # An object with only an intensity is fine for "auto": no warning.
     obj.data.attributes.remove(obj.data.attributes["classification"])
     obj.data.color_attributes.remove(obj.data.color_attributes["Col"])
-    assert _sync().warnings == []
-    # With none of them, the style is told.
+    assert _frame_warnings() == []
+    # With none of them, auto takes the constant colour: nothing to warn about.
     obj.data.attributes.remove(obj.data.attributes["intensity"])
-    warnings = _sync().warnings
-    assert len(warnings) == 1 and "no colour attribute" in warnings[0], warnings
+    assert _frame_warnings() == []
 
 
-def test_missing_attribute_is_a_warning():
+def test_missing_attribute_is_one_warning_per_cause():
     _scene, _tree, obj = _attribute_scene(lambda n: _source(n, "rgb"))
     obj.data.color_attributes.remove(obj.data.color_attributes["Col"])
-    warnings = _sync().warnings
-    assert warnings == ["object 'Obj' has no colors attribute the style asks for"]
+    for k in range(5):  # four more uncoloured objects in the same collection
+        other = obj.copy()
+        other.data = obj.data.copy()
+        other.name = "Obj.%d" % k
+        obj.users_collection[0].objects.link(other)
+    assert _sync().warnings == []  # the sync itself does not repeat it
+    warnings = _frame_warnings()
+    assert warnings == ["6 objects have no colors for their style's colour source ('Obj', 'Obj.0', 'Obj.1' and 3 "
+                        "more); drawn in the constant colour"], warnings
 
 
 def test_cloud_cache_is_keyed_on_the_attribute_set():
@@ -197,3 +215,17 @@ def test_a_style_asking_for_normals_reads_them():
     bpy.data.collections["Hatched"].pointnpr_style = points
     _sync()
     assert _reads("Surface") == []
+
+
+def test_non_finite_points_are_skipped_with_one_warning_per_object():
+    _scene, _tree, obj = _attribute_scene(lambda n: _source(n, "rgb"))
+    co = np.empty(len(obj.data.vertices) * 3, np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    co[3 * 5] = np.nan
+    co[3 * 9 + 2] = np.inf
+    obj.data.vertices.foreach_set("co", co)
+    obj.data.update()
+    n = len(obj.data.vertices)
+    warnings = _frame_warnings()
+    assert warnings == ["object 'Obj': 2 of %s points have non-finite coordinates and were skipped" % f"{n:,}"], \
+        warnings

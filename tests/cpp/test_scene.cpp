@@ -1,3 +1,5 @@
+#include <limits>
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -40,13 +42,34 @@ TEST(PointCloud, GeoreferencedCoordinatesKeepMillimetres) {
   }
 }
 
+TEST(PointCloud, LeavesOutNonFinitePointsAndKeepsTheOthersIds) {
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> pos = {0, 0, 0, 1, std::nan(""), 0, 2, 0, 0, 3, 0, -inf, 4, 0, 0};
+  std::vector<uint8_t> colors = {10, 0, 0, 20, 0, 0, 30, 0, 0, 40, 0, 0, 50, 0, 0};
+  PointCloudInput in;
+  in.positions = pos;
+  in.colors = colors;
+  const PointCloud cloud(in);
+  EXPECT_EQ(cloud.size(), 3u);
+  EXPECT_EQ(cloud.skipped_nonfinite(), 2u);
+  std::vector<uint32_t> ids = cloud.point_index();
+  std::sort(ids.begin(), ids.end());
+  EXPECT_EQ(ids, (std::vector<uint32_t>{0, 2, 4}));
+  for (size_t k = 0; k < cloud.size(); ++k)  // colours follow their points
+    EXPECT_EQ(cloud.colors()[k] & 0xffu, 10u + 10u * cloud.point_index()[k]);
+  EXPECT_EQ(cloud.bounds_max().x, 4.0);
+  std::vector<double> all_nan = {std::nan(""), 0, 0};
+  in.positions = all_nan;
+  in.colors = {};
+  const PointCloud empty(in);
+  EXPECT_EQ(empty.size(), 0u);
+  EXPECT_EQ(empty.skipped_nonfinite(), 1u);
+}
+
 TEST(PointCloud, RejectsInconsistentInput) {
   std::vector<double> pos = {0, 0, 0, 1, 1};
   PointCloudInput in;
   in.positions = pos;
-  EXPECT_THROW(PointCloud{in}, Error);
-  std::vector<double> nan_pos = {0, 0, std::nan("")};
-  in.positions = nan_pos;
   EXPECT_THROW(PointCloud{in}, Error);
   std::vector<double> ok = {0, 0, 0};
   std::vector<uint8_t> colors = {1, 2};

@@ -96,11 +96,15 @@ def make_camera(depsgraph, cam_obj, width, height):
                   width=int(width), height=int(height),
                   # Blender's ycor: the core scales the image height by it.
                   pixel_aspect=float(r.pixel_aspect_y) / float(r.pixel_aspect_x))
-    if cam.type == 'ORTHO':
-        return core.Camera.orthographic(world_from_camera, ortho_scale=float(cam.ortho_scale), **common)
-    return core.Camera.perspective(world_from_camera, lens=float(cam.lens),
-                                   sensor_width=float(cam.sensor_width),
-                                   sensor_height=float(cam.sensor_height), **common)
+    try:
+        if cam.type == 'ORTHO':
+            return core.Camera.orthographic(world_from_camera, ortho_scale=float(cam.ortho_scale), **common)
+        return core.Camera.perspective(world_from_camera, lens=float(cam.lens),
+                                       sensor_width=float(cam.sensor_width),
+                                       sensor_height=float(cam.sensor_height), **common)
+    except core.ParameterError as e:
+        # A NaN in its matrix, a scale of 0...: say which camera.
+        raise core.ParameterError("camera '%s': %s" % (cam_obj.name, e)) from None
 
 
 def _set_pass(render_pass, array):

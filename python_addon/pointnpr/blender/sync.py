@@ -17,12 +17,6 @@ import numpy as np
 
 from . import nodes
 
-# The colour attributes a points mark with color_source "auto" lists: it
-# takes the first the cloud has, so only those present are read and a
-# missing one is no warning unless all are.
-_COLOR_ATTRIBUTES = ("colors", "intensity", "classification")
-# Attributes the core computes itself when the host has none: never warned about.
-_OPTIONAL_ATTRIBUTES = ("point_index", "normals")
 
 _COLOR_TYPES = {'BYTE_COLOR', 'FLOAT_COLOR'}
 
@@ -213,13 +207,12 @@ read_log = []
 # Cloud cache
 
 class _CacheEntry:
-    __slots__ = ("key", "cloud", "data_name", "missing")
+    __slots__ = ("key", "cloud", "data_name")
 
-    def __init__(self, key, cloud, data_name, missing):
+    def __init__(self, key, cloud, data_name):
         self.key = key
         self.cloud = cloud
         self.data_name = data_name
-        self.missing = missing
 
 
 _cloud_cache = {}   # (object type, object name) -> _CacheEntry
@@ -255,27 +248,8 @@ def prune_cache(used=None):
         del _cloud_cache[key]
 
 
-def _missing_warning(name, attributes, values):
-    """A warning for the attributes the style asks for that ``values`` lacks,
-    or None. The three colour attributes together are the points mark's
-    color_source "auto": one of them is enough."""
-    absent = [a for a in attributes if a not in values and a not in _OPTIONAL_ATTRIBUTES]
-    if all(a in attributes for a in _COLOR_ATTRIBUTES):
-        if any(a in values for a in _COLOR_ATTRIBUTES):
-            absent = [a for a in absent if a not in _COLOR_ATTRIBUTES]
-        elif absent:
-            others = [a for a in absent if a not in _COLOR_ATTRIBUTES]
-            return "object '%s' has no colour attribute (colors, intensity or classification)%s" % (
-                name, "" if not others else ", nor %s" % ", ".join(others))
-    if not absent:
-        return None
-    if len(absent) == 1:
-        return "object '%s' has no %s attribute the style asks for" % (name, absent[0])
-    return "object '%s' has no %s attributes the style asks for" % (name, ", ".join(absent))
-
-
 def cloud_for(obj, attributes, trust_cache=False):
-    """(pointnpr.PointCloud, warning or None) for evaluated object ``obj``
+    """The pointnpr.PointCloud of evaluated object ``obj``
     with the source attributes the style needs (a tuple of names, see
     source_attributes(); a single name or None is accepted too). Only those
     attributes are read from the object.
@@ -297,7 +271,7 @@ def cloud_for(obj, attributes, trust_cache=False):
     entry = _cloud_cache.get(cache_key)
     if trust_cache and entry is not None:
         _stats["hits"] += 1
-        return entry.cloud, entry.missing
+        return entry.cloud
     positions = read_positions(obj)
     values = {}
     crc = zlib.crc32(positions.tobytes())
@@ -313,12 +287,11 @@ def cloud_for(obj, attributes, trust_cache=False):
     key = (tuple(sorted(values)), positions.shape[0], crc)
     if entry is not None and entry.key == key:
         _stats["hits"] += 1
-        return entry.cloud, entry.missing
-    missing = _missing_warning(name, attributes, values)
+        return entry.cloud
     cloud = _core().PointCloud(positions.astype(np.float64), **values)
-    _cloud_cache[cache_key] = _CacheEntry(key, cloud, getattr(obj.data, "name", None), missing)
+    _cloud_cache[cache_key] = _CacheEntry(key, cloud, getattr(obj.data, "name", None))
     _stats["uploads"] += 1
-    return cloud, missing
+    return cloud
 
 
 # ---------------------------------------------------------------------------
@@ -393,11 +366,11 @@ def build_scene(depsgraph, frame, trust_cache=False):
         style, attributes = style_cache[key]
         instances = []
         for obj, matrix in sorted(members[idx], key=lambda m: m[0].name):
-            cloud, missing = cloud_for(obj, attributes, trust_cache=trust_cache)
+            cloud = cloud_for(obj, attributes, trust_cache=trust_cache)
             used_keys.add((obj.type, obj.name, attributes))
-            if missing:
-                result.warnings.append(missing)
-            instances.append((cloud, matrix))
+            # Named for the core's warnings: it reports each cause once per
+            # frame (missing colours, non-finite points) with the objects.
+            instances.append((cloud, matrix, obj.name))
             result.num_objects += 1
             result.num_points += cloud.num_points
         core_scene.add_segment(coll.name, style, instances)
