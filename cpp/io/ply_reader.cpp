@@ -218,7 +218,11 @@ class PlyReader : private io::ReaderBase {
 
 void PlyReader::parse_header() {
   if (size_ == 0) fail("file is empty (0 bytes)");
-  if (size_ < 4 || std::memcmp(d_, "ply", 3) != 0 || (d_[3] != '\n' && d_[3] != '\r'))
+  // "ply", then optional spaces or tabs (some writers leave them), then the line end.
+  size_t magic_end = 3;
+  while (magic_end < size_ && (d_[magic_end] == ' ' || d_[magic_end] == '\t')) ++magic_end;
+  if (size_ < 4 || std::memcmp(d_, "ply", 3) != 0 || magic_end >= size_ ||
+      (d_[magic_end] != '\n' && d_[magic_end] != '\r'))
     fail("not a PLY file: it does not start with the line 'ply'", 0);
   size_t pos = 0;
   bool have_format = false, done = false;
@@ -568,11 +572,17 @@ void PlyReader::read_ascii(PointData& out) {
       }
     }
   }
+  // MeshLab/VCG can write more vertex lines than the header declares: the
+  // declared records are read, the rest is ignored and said so.
   std::string_view tok;
-  if (next_token(tok))
-    fail("unexpected data '" + std::string(tok.substr(0, 40)) +
-             "' after the last element; the element counts in the header are too small",
-         static_cast<int64_t>(pos - tok.size()));
+  if (next_token(tok)) {
+    const size_t extra_start = pos - tok.size();
+    size_t lines = 1;
+    for (size_t i = extra_start; i < size_; ++i) lines += d_[i] == '\n' && i + 1 < size_;
+    out.metadata["trailing_bytes"] = static_cast<int64_t>(size_ - extra_start);
+    out.metadata["warning"] = "ignored " + std::to_string(size_ - extra_start) + " bytes (" + std::to_string(lines) +
+                              " lines) after the last element declared in the header";
+  }
 }
 
 uint8_t to_u8(float v) {

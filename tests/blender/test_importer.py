@@ -303,3 +303,26 @@ def test_interactive_import_shows_progress_and_cancels_with_esc(tmp_path):
     assert "STARTED full ['FINISHED']" in out, out[-3000:]
     assert "FULL %d %d" % (classes, data.num_points) in out, out[-3000:]
     assert "CANCEL unchanged not-linked" in out, out[-3000:]
+
+
+def test_empty_las_with_split_leaves_no_residue(scene, tmp_path):
+    # A LAS with a header and no points (written by the project's writer).
+    empty = pointnpr.PointData(np.zeros((0, 3)), {"classification": np.zeros(0, np.uint8)})
+    path = str(tmp_path / "empty.las")
+    pointnpr.write(path, empty)
+    assert las_header_point_count(path) == 0
+    before = _scene_snapshot()
+    with pytest.raises(RuntimeError, match="contains no points"):
+        bpy.ops.import_scene.pointnpr_cloud(filepath=path, split_by_classification=True)
+    assert _scene_snapshot() == before
+
+
+def test_ply_with_more_vertex_lines_than_declared_imports_with_a_warning(scene, tmp_path):
+    # MeshLab/VCG write such files: the declared vertices are imported, the rest said.
+    path = tmp_path / "extra.ply"
+    path.write_text("ply \nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                    "property float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n")
+    warnings = []
+    objects = importer.import_point_cloud(bpy.context, str(path), warnings=warnings)
+    assert len(objects) == 1 and len(objects[0].data.vertices) == 3
+    assert warnings == ["ignored 6 bytes (1 lines) after the last element declared in the header"]

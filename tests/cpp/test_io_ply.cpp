@@ -331,8 +331,15 @@ TEST(IoPlyBroken, TruncatedAndInvalidAscii) {
   EXPECT_READ_ERROR(write_file("ta2.ply", h + "0.0 0.0 0.0\n1.0 1.0\n"),
                     "element 'vertex' ends after 1 of 2 records");
   EXPECT_READ_ERROR(write_file("ta3.ply", h + "0 0 0\n1 1x 1\n"), "invalid number '1x' for property 'y' in record 1");
-  EXPECT_READ_ERROR(write_file("ta4.ply", h + "0 0 0\n1 1 1\n2 2 2\n"),
-                    "unexpected data '2' after the last element");
+  {
+    // More vertex lines than declared (MeshLab/VCG): the declared ones, and a warning.
+    const PointData d = read_point_cloud(write_file("ta4.ply", h + "0 0 0\n1 1 1\n2 2 2\n3 3 3\n"));
+    EXPECT_EQ(d.num_points(), 2u);
+    EXPECT_EQ(d.positions[3], 1.0);
+    EXPECT_EQ(std::get<std::string>(d.metadata.at("warning")),
+              "ignored 12 bytes (2 lines) after the last element declared in the header");
+    EXPECT_EQ(std::get<int64_t>(d.metadata.at("trailing_bytes")), 12);
+  }
   const std::string hc =
       "ply\nformat ascii 1.0\nelement vertex 1000000\nproperty float x\nproperty float y\n"
       "property float z\nend_header\n0 0 0\n";
@@ -366,6 +373,21 @@ TEST(IoPlyGenerated, ElementsWithoutPropertiesAndHugeCounts) {
       "property float z\nelement junk 18000000000000000000\nend_header\n1 2 3\n";
   PointData d = read_point_cloud(write_file("junk.ply", s));
   EXPECT_EQ(d.num_points(), 1u);
+}
+
+TEST(IoPlyLenient, TrailingWhitespaceInTheHeaderIsAccepted) {
+  // Writers leave spaces after "ply" and other header lines; other tools read such files.
+  const std::string body = "0 0 0\n1 2 3\n";
+  for (const char* first : {"ply \n", "ply\t\r\n", "ply  \r\n"}) {
+    const std::string s = std::string(first) +
+                          "format ascii 1.0 \nelement vertex 2\t\nproperty float x \nproperty float y\n"
+                          "property float z  \nend_header \n" + body;
+    const PointData d = read_point_cloud(write_file("ws.ply", s));
+    ASSERT_EQ(d.num_points(), 2u) << first;
+    EXPECT_EQ(d.positions[5], 3.0);
+  }
+  EXPECT_READ_ERROR(write_file("ws_bad.ply", "plyx\nformat ascii 1.0\n"), "does not start with the line 'ply'");
+  EXPECT_READ_ERROR(write_file("ws_bad2.ply", "ply x\nformat ascii 1.0\n"), "does not start with the line 'ply'");
 }
 
 }  // namespace

@@ -172,6 +172,7 @@ class ImportJob(PointObjectJob):
         self._groups = None
         self._next_group = 0
         self.done = False
+        self.warnings = []  # the reader's (metadata "warning")
 
     # -- progress: steps done / total (total is known once the file is read)
     @property
@@ -228,6 +229,12 @@ class ImportJob(PointObjectJob):
 
     def _prepare(self, data):
         self._positions = np.asarray(data.positions, dtype=np.float64)
+        if len(self._positions) == 0:
+            # Nothing to add: an empty collection would be residue.
+            raise ValueError("the file contains no points; nothing was imported")
+        warning = dict(data.metadata).get("warning")
+        if warning:
+            self.warnings.append(str(warning))
         attrs = dict(data.attributes)
         self._colors = attrs.get("colors")
         self._intensity = attrs.get("intensity")
@@ -258,13 +265,14 @@ class ImportJob(PointObjectJob):
 
 
 def import_point_cloud(context, filepath, split_by_classification=False, recentre=True,
-                       progress=None, cancelled=None):
+                       progress=None, cancelled=None, warnings=None):
     """Read ``filepath`` and add it to the scene; returns the created objects.
 
     ``progress(done, total, stage)`` is called after each step and
     ``cancelled()`` is asked between steps (True: stop, raise ImportCancelled).
     On any failure (pointnpr.ReadError, OSError, ...) or cancel, the scene is
-    left exactly as it was."""
+    left exactly as it was, and so it is for a file with no points (ValueError).
+    What the reader let pass with a warning is appended to ``warnings``."""
     job = ImportJob(context, filepath, split_by_classification, recentre)
     try:
         while True:
@@ -279,6 +287,8 @@ def import_point_cloud(context, filepath, split_by_classification=False, recentr
     except BaseException:
         job.cleanup()
         raise
+    if warnings is not None:
+        warnings.extend(job.warnings)
     return job.objects
 
 
@@ -304,9 +314,11 @@ class _WindowProgress:
             self.total = None
 
 
-def _report_result(op, objects, recentre):
+def _report_result(op, objects, recentre, warnings=()):
     points = sum(len(o.data.vertices) for o in objects)
     op.report({'INFO'}, "Imported %d points into %d object(s)" % (points, len(objects)))
+    for warning in warnings:  # what the reader let pass (e.g. extra data after a PLY's last element)
+        op.report({'WARNING'}, warning)
     if not recentre and objects:
         far = max(max(abs(c) for c in o.bound_box[i]) for o in objects for i in range(8))
         if far > 1.0e5:
@@ -367,7 +379,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
         if not complete:
             return {'RUNNING_MODAL'}
         self._finish(context)
-        _report_result(self, self._job.objects, self.recentre)
+        _report_result(self, self._job.objects, self.recentre, self._job.warnings)
         return {'FINISHED'}
 
 
@@ -404,15 +416,16 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
                 split_by_classification=self.split_by_classification, recentre=self.recentre)
             return {'FINISHED'} if started & {'RUNNING_MODAL', 'FINISHED'} else {'CANCELLED'}
         progress = _WindowProgress(context.window_manager)
+        warnings = []
         try:
             objects = import_point_cloud(context, self.filepath, self.split_by_classification,
-                                         self.recentre, progress=progress)
+                                         self.recentre, progress=progress, warnings=warnings)
         except _import_errors() as exc:
             self.report({'ERROR'}, "Cannot import %s: %s" % (os.path.basename(self.filepath), exc))
             return {'CANCELLED'}
         finally:
             progress.end()
-        _report_result(self, objects, self.recentre)
+        _report_result(self, objects, self.recentre, warnings)
         return {'FINISHED'}
 
 
