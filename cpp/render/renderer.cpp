@@ -32,7 +32,7 @@ struct FrameTargets {
   gl::Buffer depth_keys;  // uint per pixel (or uint64 per pixel with int64 atomics)
   gl::Buffer keys;        // uint per pixel (32-bit path)
   gl::Buffer bbox;        // 4 ints
-  gl::Texture raster_color, raster_depth, color_a, color_b, inpainted, accum, accum_depth, accum_index;
+  gl::Texture raster_color, raster_depth, color_a, color_b, inpainted, accum, accum_depth, accum_index, accum_added;
   gl::Texture gl_depth;   // depth attachment of GL-drawn marks
   gl::Framebuffer fbo;
   std::deque<gl::Texture> scratch;  // RGBA32F for filters; deque: references stay valid as it grows
@@ -126,6 +126,7 @@ struct Renderer::Impl {
     targets.accum = gl::Texture(GL_RGBA32F, size);
     targets.accum_depth = gl::Texture(GL_R32F, size);
     targets.accum_index = gl::Texture(GL_R32I, size);
+    targets.accum_added = gl::Texture(GL_R32I, size);
     targets.gl_depth = gl::Texture(GL_DEPTH_COMPONENT32F, size);
     GLuint fbo = 0;
     glCreateFramebuffers(1, &fbo);
@@ -177,6 +178,8 @@ struct Renderer::Impl {
     clear_texture(targets.accum, all, zero4, GL_RGBA, GL_FLOAT);
     clear_texture(targets.accum_depth, all, &kInf, GL_RED, GL_FLOAT);
     clear_texture(targets.accum_index, all, &minus_one, GL_RED_INTEGER, GL_INT);
+    const int32_t zero = 0;
+    clear_texture(targets.accum_added, all, &zero, GL_RED_INTEGER, GL_INT);
     gl::check_gl("frame start");
   }
 
@@ -370,6 +373,8 @@ struct Renderer::Impl {
       p.use();
       glUniform1f(p.location("u_threshold"), float(seg.style.inpaint.get_float("threshold")));
       glUniform1i(p.location("u_radius"), radius);
+      glUniform1i(p.location("u_method"), seg.style.inpaint.get_enum("method"));
+      glUniform1f(p.location("u_discontinuity"), float(seg.style.inpaint.get_float("discontinuity")));
       glBindImageTexture(0, targets.raster_color.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
       glBindImageTexture(1, current->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
       glBindImageTexture(2, targets.raster_depth.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
@@ -390,6 +395,7 @@ struct Renderer::Impl {
     glBindImageTexture(2, targets.accum.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(3, targets.accum_depth.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
     glBindImageTexture(4, targets.accum_index.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32I);
+    glBindImageTexture(5, targets.accum_added.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32I);
     dispatch_rect(p, rect);
     gl::check_gl("compositing");
     glFinish();

@@ -6,12 +6,22 @@ const Schema& inpaint_schema() {
   static const Schema schema{
       "inpaint",
       "Inpaint Depth",
-      "Gives pixels that the filters changed a depth: the mean depth of covered pixels within a radius "
-      "(Wegen et al., Listing 1).",
+      "Gives the pixels the filters drew a depth, so that filtered borders keep their place in front of or "
+      "behind other segments (Wegen et al., Listing 1, made safe at depth discontinuities).",
       {
-          float_param("threshold", 0.02, 0.0, 1.0, "",
-                      "Gray-level (or coverage) change above which a pixel counts as changed by the filters"),
-          int_param("radius", 4, 1, 64, "px", "Radius of the circle whose covered depths are averaged"),
+          enum_param("method", {"surface", "paper", "strict"}, 0,
+                     "surface: pixels the points cover keep their depth, pixels the filters added take the "
+                     "nearest surface's (no mean across depth jumps); paper: Listing 1, every pixel whose colour "
+                     "changed takes the mean covered depth around it; strict: as surface, but paint beyond a "
+                     "silhouette never covers another segment's points"),
+          only_when(float_param("threshold", 0.02, 0.0, 1.0, "",
+                                "Gray-level (or coverage) change above which a pixel counts as changed by the filters"),
+                    "method", {"paper"}),
+          int_param("radius", 4, 1, 64, "px", "Radius of the circle whose covered depths are used"),
+          only_when(float_param("discontinuity", 0.03, 0.0, 1.0, "",
+                                "Relative depth gap that separates two surfaces: an added pixel takes the mean of "
+                                "the covered depths within this of the nearest one"),
+                    "method", {"surface", "strict"}),
       }};
   return schema;
 }

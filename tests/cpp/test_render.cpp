@@ -1,5 +1,6 @@
 // Renderer behaviour on synthetic scenes with known ground truth.
 #include <gtest/gtest.h>
+#include <iostream>
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -69,11 +70,64 @@ TEST(Render, CompositingModesOrderAsInFig12) {
   const int layering = wrong_front_pixels(renderer.render(scene, cam, settings(kSize, "layering")));
   const int depth_test = wrong_front_pixels(renderer.render(scene, cam, settings(kSize, "depth_test")));
   const int inpaint = wrong_front_pixels(renderer.render(scene, cam, settings(kSize, "inpaint")));
+  // Listing 1 as the paper has it.
+  Scene paper = scene;
+  for (Segment& seg : paper.segments) seg.style.inpaint = validate(inpaint_schema(), {{"method", {1}}});
+  const int inpaint_paper = wrong_front_pixels(renderer.render(paper, cam, settings(kSize, "inpaint")));
   // About 130 x 100 pixels lie inside the near plane.
   EXPECT_GT(layering, 10000);
   EXPECT_GT(layering, depth_test);
   EXPECT_GT(depth_test, 500);  // filled gaps without depth let the far plane through
   EXPECT_LT(inpaint * 20, depth_test) << "layering " << layering << " depth test " << depth_test;
+  EXPECT_LT(inpaint_paper * 20, depth_test);
+  std::cout << "Fig. 12 wrong pixels: layering " << layering << ", depth test " << depth_test << ", inpaint "
+            << inpaint << " (paper " << inpaint_paper << ")\n";
+}
+
+TEST(Render, SurfaceInpaintingKeepsCoveredDepthsAndStrictNeverPaintsOverOtherPoints) {
+  // A small square in front of a large plane; the square's style draws
+  // outlines beyond its silhouette (cartoon, width 3) and changes colours.
+  Renderer renderer;
+  const Camera cam = front_camera({0, 0, 0}, kSize);
+  auto scene_with = [](double method) {
+    Scene scene;
+    Style outlined = style_with({{"point_size", {4}}}, {{"cartoon", {{"outline_width", {3}}}}});
+    outlined.inpaint = validate(inpaint_schema(), {{"method", {method}}});
+    scene.segments.push_back(segment("square", plane_cloud(-0.3, 0.3, -0.3, 0.3, -5, 0.01, {230, 60, 40}), outlined));
+    scene.segments.push_back(segment("plane", plane_cloud(-0.2, 3, -1.5, 1.5, -10, 0.02, {40, 60, 230}),
+                                     style_with({{"point_size", {4}}})));
+    return scene;
+  };
+  Scene plain = scene_with(0);
+  plain.segments[0].style = style_with({{"point_size", {4}}});
+  const RenderResult reference = renderer.render(plain, cam, settings(kSize, "depth_test"));
+  const RenderResult tested = renderer.render(scene_with(0), cam, settings(kSize, "depth_test"));
+  const RenderResult surface = renderer.render(scene_with(0), cam, settings(kSize, "inpaint"));
+  const RenderResult strict = renderer.render(scene_with(2), cam, settings(kSize, "inpaint"));
+  size_t covered = 0, tested_wrong = 0, strict_wrong = 0, surface_over_plane = 0, depth_moved = 0;
+  size_t surface_over_background = 0, strict_over_background = 0;
+  for (size_t i = 0; i < reference.segment_index.size(); ++i) {
+    const int ref = reference.segment_index[i];
+    if (ref >= 0) {
+      ++covered;
+      tested_wrong += tested.segment_index[i] != ref;
+      strict_wrong += strict.segment_index[i] != ref;
+      // The square's outline in front of the plane behind it.
+      surface_over_plane += ref == 1 && surface.segment_index[i] == 0;
+      // Where the square's points are in front, the depth is theirs.
+      if (ref == 0 && surface.segment_index[i] == 0) depth_moved += surface.depth[i] != reference.depth[i];
+    } else {
+      surface_over_background += surface.segment_index[i] == 0;
+      strict_over_background += strict.segment_index[i] == 0;
+    }
+  }
+  EXPECT_GT(covered, 20000u);
+  EXPECT_EQ(depth_moved, 0u);
+  EXPECT_GT(surface_over_plane, 300u);     // outlines keep their place in front
+  EXPECT_LE(strict_wrong, tested_wrong);   // strict: never worse than the depth test
+  // Both draw the outline where nothing else is (left of the plane, x < -0.2 m).
+  EXPECT_GT(surface_over_background, 100u);
+  EXPECT_EQ(strict_over_background, surface_over_background);
 }
 
 TEST(Render, InpaintingWithoutCoveredNeighboursKeepsBackgroundDepth) {
@@ -285,9 +339,12 @@ TEST(Render, MissingAttributeFallsBackToConstantColorWithAWarning) {
   in.positions = pos;
   Scene scene;
   scene.segments.push_back(segment("no colors", std::make_shared<PointCloud>(in),
-                                   style_with({{"point_size", {4}}, {"color", {0, 1, 0, 1}}})));
+                                   style_with({{"point_size", {4}}, {"color", {0, 1, 0, 1}}, {"color_source", {0}}})));
   const RenderResult r = renderer.render(scene, front_camera({0, 0, 0}, kSize), settings(kSize));
   ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_EQ(r.warnings[0],
+            "1 object has no colors for its style's colour source (a cloud of segment 'no colors'); drawn in the "
+            "constant colour");
   const float* c = &r.color[4 * (120 * 320 + 160)];
   EXPECT_FLOAT_EQ(c[1], 1.0f);
   EXPECT_FLOAT_EQ(c[0], 0.0f);

@@ -193,7 +193,7 @@ def test_a_cloud_computes_nothing_until_asked_then_caches(renderer, camera):
     cloud = plane(-1, 1, -1, 1, -5, 0.05, (200, 100, 50))
     scene = pointnpr.Scene()
     scene.add_segment("s", pointnpr.Style(filters=[("cartoon", {})]), [cloud])
-    renderer.render(scene, camera, 160, 120)
+    renderer.render(scene, camera, 320, 240)
     assert pointnpr.computed_attributes(cloud) == []  # no style needs normals: none computed
     n1 = pointnpr.estimate_normals(cloud, k=10)
     assert "normals:10:consistent" in pointnpr.computed_attributes(cloud)
@@ -210,10 +210,10 @@ def test_a_shaded_style_estimates_normals_once_for_the_cloud(renderer, camera):
     cloud = plane(-1, 1, -1, 1, -5, 0.05, (200, 100, 50))
     scene = pointnpr.Scene()
     scene.add_segment("s", pointnpr.Style(rasterize={"shading": "diffuse", "normal_neighbors": 12}), [cloud])
-    first = renderer.render(scene, camera, 160, 120)
+    first = renderer.render(scene, camera, 320, 240)
     assert "normals:12:consistent" in pointnpr.computed_attributes(cloud)
     before = pointnpr.computed_attributes(cloud)
-    again = renderer.render(scene, camera, 160, 120)
+    again = renderer.render(scene, camera, 320, 240)
     assert pointnpr.computed_attributes(cloud) == before  # nothing recomputed
     np.testing.assert_array_equal(first.color, again.color)
     # The plane faces the camera: a light from the camera leaves it as it
@@ -223,12 +223,12 @@ def test_a_shaded_style_estimates_normals_once_for_the_cloud(renderer, camera):
     grazing = pointnpr.Scene()
     grazing.add_segment("s", pointnpr.Style(rasterize={"shading": "diffuse", "normal_neighbors": 12,
                                                        "light_elevation": 75, "shading_strength": 1.0}), [cloud])
-    centre = lambda r: r.color[60, 80, :3]  # noqa: E731
-    plain, low = centre(renderer.render(flat, camera, 160, 120)), centre(renderer.render(grazing, camera, 160, 120))
+    centre = lambda r: r.color[120, 160, :3]  # noqa: E731
+    plain, low = centre(renderer.render(flat, camera, 320, 240)), centre(renderer.render(grazing, camera, 320, 240))
     head_on = pointnpr.Style(rasterize={"shading": "diffuse", "normal_neighbors": 12, "light_elevation": 0})
     lit = pointnpr.Scene()
     lit.add_segment("s", head_on, [cloud])
-    np.testing.assert_allclose(centre(renderer.render(lit, camera, 160, 120)), plain, rtol=0.01)
+    np.testing.assert_allclose(centre(renderer.render(lit, camera, 320, 240)), plain, rtol=0.01)
     expected = 1.0 - (1.0 - np.cos(np.radians(75)))  # display-referred factor
     srgb = lambda v: np.where(v <= 0.0031308, 12.92 * v, 1.055 * v ** (1 / 2.4) - 0.055)  # noqa: E731
     np.testing.assert_allclose(srgb(low) / srgb(plain), expected, rtol=0.03)

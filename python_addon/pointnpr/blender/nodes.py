@@ -31,6 +31,10 @@ ROLE_MARK = "mark"
 ROLE_RASTERIZE = "rasterize"   # legacy Rasterize node (files from before the mark stage)
 ROLE_FILTER = "filter"
 ROLE_INPAINT = "inpaint"
+# Tree property set by versioning: the inpainting method of styles saved
+# before there was a choice (Listing 1, "paper"), used where the style has
+# no Inpaint Depth node of its own.
+LEGACY_INPAINT_KEY = "pointnpr_inpaint_method"
 ROLE_OUTPUT = "output"
 
 POINTS_MARK = "points"        # the default mark: splats, what Rasterize was
@@ -699,6 +703,9 @@ def read_style(tree, frame):
             desc["filters"].append((node.pointnpr_schema_id, values))
         elif role == ROLE_INPAINT:
             desc["inpaint"] = values
+    legacy_method = tree.get(LEGACY_INPAINT_KEY)
+    if legacy_method and desc["inpaint"] is None:
+        desc["inpaint"] = {"method": str(legacy_method)}
     return desc
 
 

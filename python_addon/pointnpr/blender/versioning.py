@@ -109,8 +109,21 @@ def migrate_tree(tree):
     rasterizer = legacy_rasterizer(tree)
     for node in legacy:
         migrate_node(tree, node, rasterizer)
+    keep_paper_inpainting(tree)
     nodes.bump_generation()
     return len(legacy)
+
+
+def keep_paper_inpainting(tree):
+    """Styles saved before the inpainting methods existed keep Listing 1
+    ("paper"), so they render as they did; new styles get the default."""
+    tree[nodes.LEGACY_INPAINT_KEY] = "paper"
+    for node in tree.nodes:
+        if getattr(node, "pointnpr_role", None) != nodes.ROLE_INPAINT:
+            continue
+        for param, pid in node.pointnpr_params:
+            if param["name"] == "method" and node.get(pid) is None:
+                setattr(node, pid, "paper")
 
 
 def migrate_legacy_nodes():
