@@ -236,3 +236,44 @@ def test_an_image_stroke_texture_sets_the_stroke_alpha(renderer, tmp_path):
     assert (b[..., 3] > 0.5).sum() > 2000
     with pytest.raises(pointnpr.ParameterError):
         render(renderer, {"stroke_texture": "image"}, [c], capture=False)
+
+
+# ---------------------------------------------------------------------------
+# The queue on the points mark (the project's level of detail)
+
+def _points(renderer, params, c, z):
+    scene = pointnpr.Scene()
+    scene.add_segment("s", pointnpr.Style(mark=("points", params)), [(c, np.eye(4))])
+    r = renderer.render(scene, camera(z), W, H, background=(1, 1, 1, 0))
+    return np.asarray(r.color)[..., 3] > 0
+
+
+@pytest.mark.parametrize("rasterizer", ["compute", "gl_points"])
+def test_points_mark_keeps_its_density_on_screen_with_the_queue(renderer, rasterizer):
+    pos, _ = wall(1.2, 0.9, 0.005, -4.0)
+    c = pointnpr.PointCloud(pos)
+    f = 50.0 / 36.0 * W
+    params = {"rasterizer": rasterizer, "point_size": 1.5, "color_source": "constant",
+              "density_mode": "constant_on_screen", "queue_level": 0.1}
+    fractions = []
+    for z, distance in ((0.0, 4.0), (4.0, 8.0)):
+        covered = _points(renderer, params, c, z).sum()
+        area = (1.2 * f / distance) * (0.9 * f / distance)
+        fractions.append(covered / area)
+    assert 0.05 < fractions[0] < 0.5
+    assert abs(fractions[1] / fractions[0] - 1.0) < 0.15, fractions
+    # Off: every point, the far wall fully covered.
+    off = _points(renderer, dict(params, density_mode="all_points"), c, 4.0).sum()
+    assert off / ((1.2 * f / 8.0) * (0.9 * f / 8.0)) > 0.9
+
+
+def test_points_mark_rasterizers_draw_the_same_queue_points(renderer):
+    pos, _ = wall(1.2, 0.9, 0.005, -4.0)
+    c = pointnpr.PointCloud(pos)
+    # 3 px discs: the two rasterizers' coverage rules agree exactly there.
+    params = {"point_size": 3.0, "color_source": "constant", "density_mode": "constant_on_screen", "queue_level": 0.02}
+    a = _points(renderer, dict(params, rasterizer="compute"), c, 0.0)
+    b = _points(renderer, dict(params, rasterizer="gl_points"), c, 0.0)
+    full = _points(renderer, dict(params, density_mode="all_points"), c, 0.0)
+    assert 1000 < a.sum() < 0.5 * full.sum()
+    assert np.array_equal(a, b)
