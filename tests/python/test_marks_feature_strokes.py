@@ -277,3 +277,19 @@ def test_points_mark_rasterizers_draw_the_same_queue_points(renderer):
     full = _points(renderer, dict(params, density_mode="all_points"), c, 0.0)
     assert 1000 < a.sum() < 0.5 * full.sum()
     assert np.array_equal(a, b)
+
+
+def test_hatching_mark_keeps_its_stroke_density_on_screen_with_the_queue():
+    renderer = pointnpr.Renderer()
+    pos, _ = wall(1.2, 0.9, 0.005, -4.0)
+    c = pointnpr.PointCloud(pos, normals=np.tile(np.float32([0, 0, 1]), (len(pos), 1)))
+    params = {"density_mode": "constant_on_screen", "queue_level": 0.05, "stroke_coverage": 0.0,
+              "xtoon": "ink", "light_space": "camera", "light_elevation": 80.0, "paper_color": [1, 1, 1, 1]}
+    dens = []
+    for z in (0.0, 4.0):
+        scene = pointnpr.Scene()
+        scene.add_segment("s", pointnpr.Style(mark=("hatching", params)), [(c, np.eye(4))])
+        r = renderer.render(scene, camera(z), W, H, background=(1, 1, 1, 0))
+        dens.append(r.stats["strokes_drawn"] / (np.asarray(r.color)[..., 3] > 0).sum())
+    assert dens[1] > 0.01
+    assert abs(dens[1] / dens[0] - 1.0) < 0.15, dens
