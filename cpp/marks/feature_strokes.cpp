@@ -249,7 +249,6 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   glUniform1i(expand.location("u_texture_image"), 0);
   glBindTextureUnit(0, texture_image ? texture_image->id() : accum.id());
 
-  uint64_t classes[3] = {0, 0, 0};
   size_t batch_start = 0;
   while (batch_start < ctx.chunks.size()) {
     size_t batch_end = batch_start;
@@ -367,7 +366,6 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     for (uint32_t n : drawn) queued += double(n);
     (*ctx.stats)["queue_points"] += queued;
   }
-  (void)classes;
 }
 
 const std::vector<std::string> kPrimitives = {"none", "point_sprite", "line_segment", "textured_stroke"};
