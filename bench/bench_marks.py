@@ -39,7 +39,10 @@ def main():
     camera = pointnpr.Camera.perspective(pointnpr.look_at(EYE, TARGET), lens=35.0, clip_start=0.1, clip_end=100.0,
                                          width=W, height=H)
     marks = {"points": pointnpr.Style(mark=("points", {"point_size": 2.0})),
-             "hatching": pointnpr.Style(mark="hatching")}
+             "hatching": pointnpr.Style(mark="hatching"),
+             "feature_strokes": pointnpr.Style(mark="feature_strokes"),
+             "feature_strokes (queue)": pointnpr.Style(mark=("feature_strokes", {"density_mode": "constant_on_screen",
+                                                                                  "queue_level": 0.25}))}
     print(f"{W}x{H}, {FRAMES} frames each, alternating; {pointnpr.gl_info()['renderer']}")
     print("| cloud | mark | frame ms (median) | frame ms (best) | mark ms (median) | strokes | vs. points (frame) |")
     print("|---|---|---|---|---|---|---|")

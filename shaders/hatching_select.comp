@@ -6,6 +6,8 @@ layout(local_size_x = 128) in;
 layout(std430, binding = 3) readonly buffer Curvature { float curvature[]; };
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 8) buffer Counters { uint kept; uint crossed; };
+layout(std430, binding = 5) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices (u_queue)
+uniform int u_queue;  // 1: invocation i draws the chunk's i-th point of the resolution queue
 layout(std430, binding = 9) readonly buffer Spacing { float spacing[]; };  // mean distance to 8 neighbours
 struct DrawCommand { uint count; uint instance_count; uint first; uint base_instance; };
 layout(std430, binding = 10) writeonly buffer Commands { DrawCommand commands[]; };
@@ -106,7 +108,7 @@ vec3 quantize(vec3 c, uint id) {
 
 // The strokes of the chunk's point i, or false where it draws none.
 bool place_stroke(uint i, out Stroke s) {
-  uint index = u_first + i;
+  uint index = u_first + (u_queue != 0 ? queue_order[u_first + i] : i);
   s.center_alpha = vec4(0.0);
   s.d1_length = vec4(0.0);
   s.n_width = vec4(0.0);

@@ -16,20 +16,23 @@ layout(std430, binding = 4) buffer DepthKeys { uint64_t depth_keys[]; };
 layout(std430, binding = 4) buffer Depths { uint depths[]; };
 layout(std430, binding = 5) buffer Keys { uint keys[]; };
 #endif
+layout(std430, binding = 3) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices (u_queue)
+uniform int u_queue;  // 1: the i-th invocation draws the chunk's i-th point of the resolution queue
 layout(rgba32f, binding = 0) uniform writeonly image2D u_color_out;
 layout(r32f, binding = 1) uniform writeonly image2D u_depth_out;
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= u_count) return;
-  uint index = u_first + i;
+  uint local = u_queue != 0 ? queue_order[u_first + i] : i;
+  uint index = u_first + local;
   Splat s = project_point(index);
   if (!s.visible) return;
   float r = 0.5 * s.diameter;
   ivec2 lo = max(ivec2(floor(s.center - r)), u_clip_rect.xy);
   ivec2 hi = min(ivec2(ceil(s.center + r)), u_clip_rect.zw - 1);
   uint depth_bits = floatBitsToUint(s.depth);  // positive floats order as uints
-  uint key = u_key_base + i;
+  uint key = u_key_base + local;
 #ifdef PASS_COLOR
   vec4 color = point_color(index);
 #endif

@@ -98,6 +98,7 @@ class Hatching final : public Mark {
   AttributeSet attributes(const ParamValues& p) const override {
     const int k = p.get_int("normal_neighbors");
     AttributeSet set{{AttributeKind::PointId}, {AttributeKind::Normal, k}};
+    if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
     if (p.get_float("curvature_length") > 0.0) set.insert({AttributeKind::Curvature, k});
     if (p.get_float("stroke_coverage") > 0.0) set.insert({AttributeKind::LocalResolution, kSpacingNeighbors});
     if (p.get_enum_name("coloring") == "point") {
@@ -210,7 +211,9 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
 
   // Record slots: 128 per workgroup (each compacts its survivors to the
   // front of its slots and issues one indirect draw of them).
-  auto slots_of = [](const VisibleChunk& v) { return (v.chunk->count + 127u) / 128u * 128u; };
+  // Continuous resolution queue (render/mark.h): a chunk's first
+  // queue_count() points of its queue order (all of them when off).
+  auto slots_of = [&p](const VisibleChunk& v) { return (queue_count(v, p) + 127u) / 128u * 128u; };
   uint32_t largest = 0;
   for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, slots_of(v));
   const uint32_t capacity = std::max(kBatchPoints, largest);
@@ -344,7 +347,15 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
       glUniform1ui(select.location("u_out_base"), offsets[c - batch_start]);
       glUniform1ui(select.location("u_command_base"), offsets[c - batch_start] / 128u);
       glUniform1i(select.location("u_has_curvature"), g.find({AttributeKind::Curvature, k}) ? 1 : 0);
-      glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
+      const uint32_t count = queue_count(v, p);
+      glUniform1i(select.location("u_queue"), queue_enabled(p) ? 1 : 0);
+      if (queue_enabled(p)) {
+        const gl::Buffer* order = g.find({AttributeKind::QueueOrder});
+        if (!order) throw GLError("hatching: the queue order was not uploaded");
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, order->id());
+        glUniform1ui(select.location("u_count"), count);
+      }
+      if (count > 0) glDispatchCompute((count + 127) / 128, 1, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
 
@@ -519,6 +530,8 @@ const MarkRegistration registration{{
                int_param("normal_neighbors", 16, 3, 64, "",
                          "Neighbours normals and curvature are estimated from where a cloud has none (PCA)"),
                int_param("seed", 0, 0, 65535, "", "Varies every random choice (still fixed per point)"),
+               density_mode_param(),
+               queue_level_param(0.05),
            }},
     [] { return std::make_unique<Hatching>(); }}};
 

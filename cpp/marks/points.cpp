@@ -8,6 +8,7 @@
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/error.h"
 #include "scene/camera.h"
 
 namespace pointnpr {
@@ -51,6 +52,7 @@ class Points final : public Mark {
   AttributeSet attributes(const ParamValues& p) const override {
     AttributeSet set = color_attributes(ColorSource(p.get_enum("color_source")));
     if (p.get_enum("shading") != 0) set.insert({AttributeKind::Normal, p.get_int("normal_neighbors")});
+    if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
     return set;
   }
 
@@ -70,6 +72,8 @@ class Points final : public Mark {
     s.shading_strength = float(p.get_float("shading_strength"));
     s.light_dir = view_light(p.get_float("light_azimuth"), p.get_float("light_elevation"));
     s.normal_k = p.get_int("normal_neighbors");
+    if (queue_enabled(p))
+      for (const VisibleChunk& v : ctx.chunks) s.queue_counts.push_back(queue_count(v, p));
     if (p.get_enum_name("rasterizer") == "compute")
       draw_splats_compute(ctx, s);
     else
@@ -107,6 +111,8 @@ const MarkRegistration registration{{
                only_when(int_param("normal_neighbors", 16, 3, 64, "",
                                    "Neighbours the normals are estimated from where a cloud has none (PCA, seed 001 eq. 1)"),
                          "shading", {"diffuse"}),
+               density_mode_param(),
+               queue_level_param(0.5),
            }},
     [] { return std::make_unique<Points>(); }}};
 
@@ -127,9 +133,20 @@ void draw_splats_compute(const MarkContext& ctx, const SplatSettings& s) {
     const gl::Program& p = ctx.shaders->compute("points.comp", defines);
     p.use();
     set_splat_uniforms(p, ctx, s);
-    for (const VisibleChunk& v : ctx.chunks) {
+    const bool queue = !s.queue_counts.empty();
+    glUniform1i(p.location("u_queue"), queue ? 1 : 0);
+    for (size_t c = 0; c < ctx.chunks.size(); ++c) {
+      const VisibleChunk& v = ctx.chunks[c];
       bind_splat_chunk(p, v, s);
-      glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
+      uint32_t count = v.chunk->count;
+      if (queue) {
+        const gl::Buffer* order = v.gpu->find({AttributeKind::QueueOrder});
+        if (!order) throw GLError("points: the queue order was not uploaded");
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, order->id());
+        count = s.queue_counts[c];
+        glUniform1ui(p.location("u_count"), count);
+      }
+      if (count > 0) glDispatchCompute((count + 127) / 128, 1, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
@@ -150,10 +167,23 @@ void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s) {
   glEnable(GL_PROGRAM_POINT_SIZE);
   p.use();
   set_splat_uniforms(p, ctx, s);
-  for (const VisibleChunk& v : ctx.chunks) {
+  for (size_t c = 0; c < ctx.chunks.size(); ++c) {
+    const VisibleChunk& v = ctx.chunks[c];
     bind_splat_chunk(p, v, s);
     glBindVertexArray(v.gpu->vao.id());
-    glDrawArrays(GL_POINTS, GLint(v.chunk->first), GLsizei(v.chunk->count));
+    if (s.queue_counts.empty()) {
+      glDrawArrays(GL_POINTS, GLint(v.chunk->first), GLsizei(v.chunk->count));
+    } else if (s.queue_counts[c] > 0) {
+      // The queue order as the element buffer: element = chunk-local index,
+      // + base vertex = the point's index (gl_VertexID).
+      const gl::Buffer* order = v.gpu->find({AttributeKind::QueueOrder});
+      if (!order) throw GLError("points: the queue order was not uploaded");
+      glVertexArrayElementBuffer(v.gpu->vao.id(), order->id());
+      glDrawElementsBaseVertex(GL_POINTS, GLsizei(s.queue_counts[c]), GL_UNSIGNED_INT,
+                               reinterpret_cast<const void*>(size_t(v.chunk->first) * sizeof(uint32_t)),
+                               GLint(v.chunk->first));
+      glVertexArrayElementBuffer(v.gpu->vao.id(), 0);
+    }
   }
   glBindVertexArray(0);
   glDisable(GL_DEPTH_TEST);

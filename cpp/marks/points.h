@@ -15,6 +15,9 @@ struct SplatSettings {
   float shading_strength = 0.0f;
   glm::vec3 light_dir{0.0f, 0.0f, 1.0f};  // towards the light, view space
   int normal_k = 16;           // normals read when shading
+  // Continuous resolution queue (render/mark.h): when not empty, chunk c
+  // draws only the first queue_counts[c] points of its queue order.
+  std::vector<uint32_t> queue_counts;
 };
 
 // Largest splat on screen, in pixels (world sizes are capped to it).

@@ -303,10 +303,12 @@ void bind_render(py::module_& m) {
         py::array_t<float> center({n, py::ssize_t(3)}), direction({n, py::ssize_t(3)}), normal({n, py::ssize_t(3)});
         py::array_t<float> length(n), color({n, py::ssize_t(4)});
         py::array_t<bool> crossed(n);
+        py::array_t<uint32_t> kind(n);
         for (py::ssize_t i = 0; i < n; ++i) {
           const CapturedMark& mk = r.marks[size_t(i)];
           id.mutable_at(i) = mk.point_id;
           crossed.mutable_at(i) = mk.crossed;
+          kind.mutable_at(i) = mk.kind;
           length.mutable_at(i) = mk.length;
           for (int c = 0; c < 3; ++c) {
             center.mutable_at(i, c) = mk.center[c];
@@ -323,9 +325,10 @@ void bind_render(py::module_& m) {
         d["crossed"] = crossed;
         d["length"] = length;
         d["color"] = color;
+        d["kind"] = kind;
         return d;
       }, "Marks drawn (render(..., capture_marks=True)), view space: point_id, center, direction, normal, "
-         "crossed, length (scene units), color (display sRGB, alpha = opacity).")
+         "crossed, length (scene units), color (display sRGB, alpha = opacity), kind (the mark's class of point).")
       .def_readonly("stats", &RenderResult::stats)
       .def_readonly("warnings", &RenderResult::warnings)
       .def_readonly("width", &RenderResult::width)

@@ -1,6 +1,7 @@
 #include "render/attributes.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace pointnpr {
 
@@ -15,6 +16,8 @@ const char* attribute_name(AttributeKind attribute) {
     case AttributeKind::Curvature: return "curvature";
     case AttributeKind::LocalResolution: return "local_resolution";
     case AttributeKind::FeatureDegree: return "feature_degree";
+    case AttributeKind::QueueOrder: return "queue_order";
+    case AttributeKind::FeatureLine: return "feature_line";
   }
   return "?";
 }
@@ -44,6 +47,12 @@ std::vector<std::string> source_attribute_names(const AttributeSet& set) {
       if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
   }
   return out;
+}
+
+AttributeKey feature_line_key(int line_neighbors, int feature_neighbors, double threshold) {
+  const int step = std::clamp(int(std::floor(threshold * 20.0 + 1e-9)), 0, 20);
+  return {AttributeKind::FeatureLine,
+          std::clamp(line_neighbors, 1, 99) + 100 * std::clamp(feature_neighbors, 1, 99) + 10000 * step};
 }
 
 std::string to_string(const AttributeKey& key) {

@@ -21,6 +21,10 @@ enum class AttributeKind : uint8_t {
   Curvature,        // surface variation from k neighbours (lambda0 / sum), float
   LocalResolution,  // mean distance to the k nearest neighbours, float
   FeatureDegree,    // seed 001 feature degree from k neighbours, float in [0, 1]
+  QueueOrder,       // continuous resolution queue (seed 001 section 6.3): per chunk, its points' chunk-local
+                    // indices in a stable seeded random order (by a hash of the point id), uint; k = 0
+  FeatureLine,      // seed 001 eq. 2 line fit among feature points: snorm8 x3 direction + unorm8 error;
+                    // k packs both neighbourhoods and the feature threshold, see feature_line_key()
 };
 
 // An attribute and, for computed ones, the neighbourhood size it uses.
@@ -30,6 +34,12 @@ struct AttributeKey {
   auto operator<=>(const AttributeKey&) const = default;
 };
 using AttributeSet = std::set<AttributeKey>;
+
+// The FeatureLine key: lines through the `line_neighbors` nearest feature
+// points, feature points those whose feature degree (of `feature_neighbors`)
+// is >= threshold rounded down to a multiple of 0.05 (at most 21 variants);
+// k = line_neighbors + 100 feature_neighbors + 10000 step (both <= 99).
+AttributeKey feature_line_key(int line_neighbors, int feature_neighbors, double threshold);
 
 // Name used by the bindings and the add-on ("colors", "normals", ...).
 const char* attribute_name(AttributeKind attribute);

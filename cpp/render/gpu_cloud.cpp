@@ -25,6 +25,28 @@ std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals) {
   return out;
 }
 
+uint32_t queue_hash(uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+
+std::vector<uint32_t> queue_order(const PointCloud& cloud) {
+  const std::vector<uint32_t>& ids = cloud.point_index();
+  std::vector<uint32_t> order(cloud.size());
+  std::vector<std::pair<uint32_t, uint32_t>> keyed;
+  for (const PointChunk& chunk : cloud.chunks()) {
+    keyed.resize(chunk.count);
+    for (uint32_t i = 0; i < chunk.count; ++i) keyed[i] = {queue_hash(ids[chunk.first + i] ^ kQueueSeed), i};
+    std::sort(keyed.begin(), keyed.end());  // ties (equal hashes) by index: a total order
+    for (uint32_t i = 0; i < chunk.count; ++i) order[chunk.first + i] = keyed[i].second;
+  }
+  return order;
+}
+
 const gl::Buffer* GpuCloud::find(AttributeKey key) const {
   if (key.attribute == AttributeKind::Normal && own_normals) key.k = 0;
   if (is_source_attribute(key.attribute) && key.attribute != AttributeKind::Normal) key.k = 0;
@@ -107,6 +129,22 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
       case AttributeKind::Curvature: buffer = upload(*analysis->curvature(key.k)); break;
       case AttributeKind::LocalResolution: buffer = upload(analysis->local_resolution(key.k)->r); break;
       case AttributeKind::FeatureDegree: buffer = upload(*analysis->feature_degree(key.k, {})); break;
+      case AttributeKind::QueueOrder: buffer = upload(queue_order(*cloud)); break;
+      case AttributeKind::FeatureLine: {
+        const int k = key.k % 100, feature_k = key.k / 100 % 100;
+        const float threshold = float(key.k / 10000) * 0.05f;
+        const std::vector<float>& degree = *analysis->feature_degree(feature_k, {});
+        std::vector<uint8_t> mask(degree.size());
+        for (size_t i = 0; i < degree.size(); ++i) mask[i] = degree[i] >= threshold ? 1 : 0;
+        const geometry::LineFit fit = analysis->line_fit(mask, k);
+        std::vector<uint32_t> packed = pack_normals(fit.direction);
+        for (size_t i = 0; i < packed.size(); ++i) {
+          const float e = std::isfinite(fit.error[i]) ? std::clamp(fit.error[i], 0.0f, 1.0f) : 1.0f;
+          packed[i] = (packed[i] & 0x00ffffffu) | (uint32_t(std::lround(e * 255.0f)) << 24);
+        }
+        buffer = upload(packed);
+        break;
+      }
     }
   }
   gl::check_gl("point upload");

@@ -46,4 +46,12 @@ class GpuCloudCache {
 // zero normals pack to (0, 0, 0), which shaders read as "no normal".
 std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals);
 
+// The continuous resolution queue (seed 001 sections 6.3, 7.2): for each
+// chunk, its points' chunk-local indices ordered by queue_hash(point id ^
+// kQueueSeed) (ties by index), so the first n of a chunk are the same
+// points in every frame and process, and n + 1 adds exactly one point.
+constexpr uint32_t kQueueSeed = 0x5eed001u;
+uint32_t queue_hash(uint32_t x);  // lowbias32, as the shaders' hash_u32
+std::vector<uint32_t> queue_order(const PointCloud& cloud);
+
 }  // namespace pointnpr

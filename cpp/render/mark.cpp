@@ -1,5 +1,7 @@
 #include "render/mark.h"
 
+#include <algorithm>
+#include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 
 namespace pointnpr {
@@ -40,6 +42,28 @@ ColorSource resolve_color_source(ColorSource source, const GpuCloud& g) {
       return ColorSource::Constant;
   }
   return ColorSource::Constant;
+}
+
+ParamSpec density_mode_param() {
+  return enum_param("density_mode", {"all_points", "constant_on_screen"}, 0,
+                    "all_points: every point of the visible chunks; constant_on_screen: the continuous resolution "
+                    "queue, each chunk drawing the first queue_level x its projected area (pixels) of its points in a "
+                    "fixed random order, so the density of marks on screen stays the same at any distance");
+}
+
+ParamSpec queue_level_param(double default_level) {
+  return only_when(float_param("queue_level", default_level, 0.0, 4.0, "",
+                               "Points drawn per pixel of each chunk's projected bounding-box area (constant_on_screen)"),
+                   "density_mode", {"constant_on_screen"});
+}
+
+bool queue_enabled(const ParamValues& p) { return p.get_enum_name("density_mode") == "constant_on_screen"; }
+
+uint32_t queue_count(const VisibleChunk& v, const ParamValues& p) {
+  const uint32_t n = v.chunk->count;
+  if (!queue_enabled(p) || !(v.screen_area >= 0.0)) return n;
+  const double wanted = std::floor(p.get_float("queue_level") * v.screen_area + 0.5);
+  return wanted >= double(n) ? n : uint32_t(std::max(wanted, 0.0));
 }
 
 void bind_chunk(const gl::Program& p, const VisibleChunk& v, ColorSource source,

@@ -37,6 +37,10 @@ struct VisibleChunk {
   const PointChunk* chunk = nullptr;
   glm::mat4 view_from_chunk{1.0f};
   uint32_t key_base = 0;  // segment-wide index of the chunk's first point
+  // Projected screen area M of the chunk's bounding box (pixels: the convex
+  // hull of its 8 projected corners, not clipped to the image); negative
+  // where the box crosses the camera plane (then every point is drawn).
+  double screen_area = -1.0;
 };
 
 // The frame's images a mark draws with. `color` and `depth` are the outputs
@@ -65,6 +69,7 @@ struct CapturedMark {
   bool crossed = false;       // a second, crossing line
   float length = 0.0f;        // scene units
   glm::vec4 color{0.0f};      // display sRGB, alpha = stroke opacity
+  uint32_t kind = 0;          // the mark's class of point (feature_strokes: 0 directional, 1 non-directional, 2 dithering)
 };
 
 struct MarkContext {
@@ -117,6 +122,20 @@ AttributeSet color_attributes(ColorSource source);
 // The source a cloud can serve: auto picks RGB, else intensity, else the
 // classification palette; a source the cloud lacks becomes constant.
 ColorSource resolve_color_source(ColorSource source, const GpuCloud& cloud);
+
+// The continuous resolution queue (seed 001 sections 6.3, 7.2), for every
+// mark: each chunk's points in a stable seeded order (AttributeKind::
+// QueueOrder, cached per cloud); a mark drawing "constant on screen" draws
+// only the first queue_count() of them, level x M points for a projected
+// area of M pixels, so the density of marks on screen stays constant as the
+// camera moves and one more pixel of area adds at most one point at the
+// queue's end. The shared parameters: `density_mode` (all_points,
+// constant_on_screen) and `queue_level` (points per pixel of area).
+ParamSpec density_mode_param();
+ParamSpec queue_level_param(double default_level);
+bool queue_enabled(const ParamValues& params);  // density_mode == constant_on_screen
+// How many of the chunk's points to draw: all of them when the queue is off.
+uint32_t queue_count(const VisibleChunk& chunk, const ParamValues& params);
 
 // Binds a chunk's positions (binding 0), colour attribute (1) and, when
 // given, a further attribute buffer per binding, and sets the uniforms of

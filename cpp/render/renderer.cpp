@@ -95,6 +95,26 @@ struct FrameWarnings {
   }
 };
 
+// Area of the convex hull of 8 points (the projected corners of a box), by
+// Andrew's monotone chain: the continuous resolution queue's M.
+double hull_area(glm::dvec2 (&p)[8]) {
+  std::sort(std::begin(p), std::end(p), [](glm::dvec2 a, glm::dvec2 b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
+  auto cross = [](glm::dvec2 o, glm::dvec2 a, glm::dvec2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
+  glm::dvec2 hull[16];
+  int k = 0;
+  for (int i = 0; i < 8; ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 0.0) --k;
+    hull[k++] = p[i];
+  }
+  for (int i = 6, t = k + 1; i >= 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], p[i]) <= 0.0) --k;
+    hull[k++] = p[i];
+  }
+  double area = 0.0;
+  for (int i = 0; i + 1 < k; ++i) area += hull[i].x * hull[i + 1].y - hull[i + 1].x * hull[i].y;
+  return std::abs(area) * 0.5;
+}
+
 }  // namespace
 
 struct Renderer::Impl {
@@ -212,6 +232,7 @@ struct Renderer::Impl {
         bool all_near = true, all_far = true, crosses_near = false;
         double dmin = std::numeric_limits<double>::max(), dmax = 0.0;
         glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+        glm::dvec2 projected[8];
         for (int c = 0; c < 8; ++c) {
           const glm::dvec3 corner((c & 1) ? hi_box.x : lo_box.x, (c & 2) ? hi_box.y : lo_box.y,
                                   (c & 4) ? hi_box.z : lo_box.z);
@@ -229,6 +250,7 @@ struct Renderer::Impl {
           const glm::dvec2 win = (glm::dvec2(clip) / clip.w * 0.5 + 0.5) * glm::dvec2(size);
           lo = glm::min(lo, win);
           hi = glm::max(hi, win);
+          projected[c] = win;
         }
         Rect r;
         if (crosses_near) {
@@ -250,7 +272,8 @@ struct Renderer::Impl {
         out.screen = out.screen.united(r);
         out.depth_min = std::min(out.depth_min, std::max(dmin, cam.clip_start));
         out.depth_max = std::max(out.depth_max, std::min(dmax, cam.clip_end));
-        out.chunks.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base});
+        out.chunks.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base,
+                              crosses_near ? -1.0 : hull_area(projected)});
         key_base += chunk.count;
       }
     }

@@ -1,7 +1,8 @@
 """Ready-made styles an artist can pick (issue 5): name -> {"mark": (id,
 params), "filters": [(id, params), ...]}, the arguments of `pointnpr.Style`.
 The first six draw the points mark then image filters; the hatching presets
-replace the points by strokes (seed 002, docs/marks.md). Plain data,
+replace the points by strokes (seed 002, docs/marks.md); the feature
+strokes presets draw seed 001's feature and dithering points. Plain data,
 validated against the C++ schemas by tests/python/test_presets.py;
 `style(name)` builds one.
 
@@ -132,6 +133,31 @@ PRESETS = {
                               "stroke_coverage": 3.5, "opacity": 1.0, "alpha_modification": 0.3, "alpha_jitter": 0.1,
                               "light_azimuth": -60.0, "light_elevation": 40.0, "paper_color": (1.0, 1.0, 1.0, 1.0)}),
         "filters": [("color_grade", {"saturation": 1.8})],
+    },
+    # Seed 001 Fig. 1 / 7(b): directional feature points as long tapered
+    # textured strokes along their fitted 3D lines, the other feature points
+    # and the dithering points as Gaussian point sprites (stipples) for the
+    # tone; the continuous resolution queue keeps the density on screen.
+    "Feature strokes + stipples": {
+        "mark": ("feature_strokes", {"directional": "textured_stroke", "stroke_texture": "taper",
+                                     "directional_length": 16.0, "stroke_width": 3.0,
+                                     "non_directional": "point_sprite", "dithering": "point_sprite",
+                                     "sprite_size": 2.5, "feature_threshold": 0.3, "line_error": 0.25,
+                                     "dither": 0.2, "dither_tone": 0.6,
+                                     "density_mode": "constant_on_screen", "queue_level": 0.25}),
+        "filters": [],
+    },
+    # Seed 001 Fig. 7(c)-(d): directional points as bristle-brush strokes,
+    # non-directional and dithering points as short line segments in one
+    # constant screen direction (a hatched tone on flat surfaces).
+    "Feature strokes + hatching": {
+        "mark": ("feature_strokes", {"directional": "textured_stroke", "stroke_texture": "brush",
+                                     "directional_length": 18.0, "stroke_width": 3.5,
+                                     "non_directional": "line_segment", "dithering": "line_segment",
+                                     "other_length": 5.0, "line_width": 1.0, "screen_angle": 45.0,
+                                     "feature_threshold": 0.45, "line_error": 0.25, "dither": 0.1, "dither_tone": 0.4,
+                                     "density_mode": "constant_on_screen", "queue_level": 0.25}),
+        "filters": [],
     },
 }
 

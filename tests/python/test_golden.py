@@ -1,7 +1,8 @@
 """Golden images: every preset rendered on a real scan (the lion
 photogrammetry scan; "Urban map" on the LiDAR HD tile, as it colours by
 class; each hatching preset on both, preset_<name>_lion.png and
-preset_<name>_tile.png), compared with OpenImageIO's idiff.
+preset_<name>_tile.png; each feature strokes preset on the tile and the
+bunny, preset_<name>_tile.png and preset_<name>_bunny.png), compared with OpenImageIO's idiff.
 
 Tolerance: a pixel fails when a channel differs by more than 2/255 (8-bit
 PNG quantisation plus float rounding of a different build); up to 0.5 % of
@@ -39,6 +40,14 @@ def _scene(name, scan=None):
         cloud = pointnpr.PointCloud(pos - centre, colors=np.asarray(tile.attributes["colors"]),
                                     classification=np.asarray(tile.attributes["classification"]))
         eye, target, clip = (0.0, -70.0, 60.0), (0.0, 0.0, 0.0), (0.5, 1000.0)
+    elif scan == "bunny":
+        cloud = pointnpr.read(os.path.join(ROOT, "tests", "data", "io", "bun_zipper_res2.ply")).to_cloud()
+        eye, target, clip = (-0.03, 0.14, 0.32), (-0.02, 0.11, 0.0), (0.01, 10.0)
+        camera = pointnpr.Camera.perspective(pointnpr.look_at(eye, target, up=(0.0, 1.0, 0.0)), lens=35.0,
+                                             clip_start=clip[0], clip_end=clip[1], width=W, height=H)
+        scene = pointnpr.Scene()
+        scene.add_segment("scan", presets.style(name), [(cloud, np.eye(4))])
+        return scene, camera
     else:
         cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
         eye, target, clip = (2.6, -1.6, 1.5), (-2.9, 3.9, -1.2), (0.1, 100.0)
@@ -60,6 +69,8 @@ def _cases():
     for name in sorted(presets.PRESETS):
         if presets.PRESETS[name]["mark"][0] == "hatching":
             cases += [(name, "lion"), (name, "tile")]
+        elif presets.PRESETS[name]["mark"][0] == "feature_strokes":
+            cases += [(name, "tile"), (name, "bunny")]
         else:
             cases.append((name, None))
     return cases

@@ -356,6 +356,9 @@ MARK_STYLES = {
     "points": [{}, {"shading": "diffuse"}, {"rasterizer": "gl_points", "color_source": "constant"}],
     "hatching": [{}, {"coloring": "point", "curvature_length": 0.0, "stroke_coverage": 0.0},
                  {"units": "world", "placement": "irregular", "pencil_quantize": True, "coloring": "point"}],
+    "feature_strokes": [{}, {"density_mode": "constant_on_screen", "directional": "line_segment",
+                             "dithering": "textured_stroke", "stroke_texture": "brush"},
+                        {"coloring": "point", "stroke_texture": "dry", "paper_color": [1, 1, 1, 0], "dither_tone": 0.0}],
 }
 
 

@@ -1,0 +1,437 @@
+// Feature-point strokes (seed 001, Xu et al., sections 5 to 7): the points
+// of high feature degree and a dithered share of the others become point
+// sprites, line segments or textured strokes.
+//
+//  - Feature points: feature degree (geometry/features, section 5.2 on
+//    points) above `feature_threshold`. Dithering points (section 5.2): a
+//    non-feature point is kept when a seeded per-point value (hash of its
+//    id) is below dither x (r / r_median)^2 x tone, r its local resolution:
+//    sparse scans (far from the scanner) keep more of their points, so the
+//    dithering points are uniform in 3D (the paper's range-aware dithering
+//    for unorganised clouds); tone: darker points more likely.
+//  - Directional vs non-directional (section 5.3): the eq. 2 line fit of
+//    each feature point's nearest feature points (AttributeKind::
+//    FeatureLine); error below `line_error` = directional, with the fitted
+//    3D direction projected on screen; otherwise (and for dithering points)
+//    a constant screen direction.
+//  - Primitives per class: point sprites (Gaussian kernel), line segments,
+//    textured strokes (quads along the projected direction, Fig. 5 texture
+//    coordinates, alpha stroke textures: procedural or any image).
+//  - Two-pass visibility splatting (section 6.1): pass 1 draws every point
+//    as an opaque disc of its local resolution's projected size (hole-free)
+//    into depth, pushed away along the view ray by `depth_offset` local
+//    resolutions; pass 2 draws the primitives with the depth test and no
+//    depth writes, blended order-independently (weighted-average colour,
+//    product of transmittances, minimum depth, as the hatching mark; its
+//    resolve pass puts ink over paper).
+//  - Continuous resolution queue (sections 6.3, 7.2; render/mark.h): with
+//    density_mode = constant_on_screen each chunk draws only the first
+//    queue_level x M points of its seeded order (M: its projected area), so
+//    stroke density on screen is constant as the camera moves and a step
+//    adds or removes points at the end of the queue only. Pass 1 keeps
+//    every point (visibility stays hole-free).
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/type_ptr.hpp>
+#include <limits>
+#include <mutex>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "geometry/analysis.h"
+#include "gl/device.h"
+#include "render/image_textures.h"
+#include "render/mark.h"
+#include "scene/point_cloud.h"
+#include "scene/camera.h"
+
+namespace pointnpr {
+namespace {
+
+// GPU record of one primitive (std430, 64 bytes; feature_strokes_common.glsl).
+struct Record {
+  glm::vec4 center_kind;   // view-space centre, class (0 directional, 1 non-directional, 2 dithering)
+  glm::vec4 dir_length;    // view-space unit 3D direction (directional) or 0, length (px)
+  glm::vec4 color;         // display sRGB, opacity
+  uint32_t point_id;
+  uint32_t primitive;      // 1 sprite, 2 line, 3 textured stroke
+  float width;             // px
+  float pad;
+};
+static_assert(sizeof(Record) == 64);
+
+constexpr uint32_t kBatchPoints = 1u << 18;  // records per batch (16 MiB)
+constexpr int kResolutionNeighbors = 8;      // local resolution: disc sizes and dithering
+
+class FeatureStrokes final : public Mark {
+ public:
+  AttributeSet attributes(const ParamValues& p) const override {
+    const int k = p.get_int("feature_neighbors");
+    AttributeSet set{{AttributeKind::PointId},
+                     {AttributeKind::FeatureDegree, k},
+                     {AttributeKind::LocalResolution, kResolutionNeighbors}};
+    if (p.get_enum_name("directional") != "none") 
+      set.insert(feature_line_key(p.get_int("line_neighbors"), k, p.get_float("feature_threshold")));
+    if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
+    if (p.get_enum_name("coloring") == "point" || p.get_float("dither_tone") > 0.0) {
+      const AttributeSet colors = color_attributes(ColorSource(p.get_enum("color_source")));
+      set.insert(colors.begin(), colors.end());
+    }
+    return set;
+  }
+
+  MarkExtent extent(const ParamValues& p) const override {
+    const double longest = std::max({p.get_float("directional_length"), p.get_float("other_length"),
+                                     p.get_float("sprite_size"), p.get_float("stroke_width")});
+    MarkExtent e;
+    e.pixels = float(0.5 * longest * 1.5 + 2.0 + 0.5 * kMaxDiscPixels);
+    return e;
+  }
+
+  void draw(const MarkContext& ctx, const ParamValues& p) const override;
+
+  static constexpr float kMaxDiscPixels = 64.0f;
+
+ private:
+  float median_resolution(const VisibleChunk& v) const;
+  mutable std::mutex mutex_;
+  mutable std::map<uint64_t, std::pair<std::weak_ptr<const PointCloud>, float>> medians_;
+};
+
+float FeatureStrokes::median_resolution(const VisibleChunk& v) const {
+  const std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
+  if (!cloud) return 1.0f;
+  std::lock_guard lock(mutex_);
+  for (auto it = medians_.begin(); it != medians_.end();)
+    it = it->second.first.expired() ? medians_.erase(it) : std::next(it);
+  auto it = medians_.find(cloud->id());
+  if (it != medians_.end()) return it->second.second;
+  std::vector<float> r = cloud->analysis().local_resolution(kResolutionNeighbors)->r;  // cached: uploaded already
+  float median = 1.0f;
+  if (!r.empty()) {
+    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+    median = r[r.size() / 2];
+  }
+  if (!(median > 0.0f) || !std::isfinite(median)) median = 1.0f;
+  medians_[cloud->id()] = {cloud, median};
+  return median;
+}
+
+int primitive_of(const std::string& name) {
+  return name == "point_sprite" ? 1 : name == "line_segment" ? 2 : name == "textured_stroke" ? 3 : 0;
+}
+
+void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
+  const Camera& cam = *ctx.camera;
+  const glm::ivec2 size = ctx.targets.size;
+  const float px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
+  const int k = p.get_int("feature_neighbors");
+  const bool queue = queue_enabled(p);
+  const Rect& clip = ctx.clip;
+  const ColorSource color_source = ColorSource(p.get_enum("color_source"));
+  const AttributeKey line_key = feature_line_key(p.get_int("line_neighbors"), k, p.get_float("feature_threshold"));
+  const bool use_lines = p.get_enum_name("directional") != "none";
+
+  // 1. Visibility splatting: every point as an opaque disc into depth.
+  {
+    const gl::Program& d = ctx.shaders->graphics("feature_strokes_depth.vert", "feature_strokes_depth.frag");
+    glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
+    glViewport(0, 0, size.x, size.y);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
+    const float zero = 0.0f;
+    glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    d.use();
+    glUniformMatrix4fv(d.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
+    glUniform2i(d.location("u_size"), size.x, size.y);
+    glUniform1f(d.location("u_near"), float(cam.clip_start));
+    glUniform1f(d.location("u_far"), float(cam.clip_end));
+    glUniform1i(d.location("u_ortho"), cam.orthographic ? 1 : 0);
+    glUniform1f(d.location("u_px_per_unit"), px_per_unit);
+    glUniform1f(d.location("u_disc_scale"), float(p.get_float("disc_scale")));
+    glUniform1f(d.location("u_offset"), float(p.get_float("depth_offset")));
+    glUniform1f(d.location("u_max_size"), kMaxDiscPixels);
+    for (const VisibleChunk& v : ctx.chunks) {
+      bind_chunk(d, v, ColorSource::Constant,
+                 {{2, nullptr}, {9, v.gpu->find({AttributeKind::LocalResolution, kResolutionNeighbors})}});
+      glBindVertexArray(v.gpu->vao.id());
+      glDrawArrays(GL_POINTS, GLint(v.chunk->first), GLsizei(v.chunk->count));
+    }
+    glBindVertexArray(0);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    gl::check_gl("feature strokes visibility pass");
+  }
+
+  // 2. Primitives: per batch, a compute pass classifies the queue's first
+  // points and compacts the drawn ones; 6 vertices per record expand them.
+  const gl::Texture& accum = ctx.targets.scratch(GL_RGBA32F, 0);
+  const gl::Texture& reveal = ctx.targets.scratch(GL_R32F, 0);
+  const gl::Texture& stroke_depth = ctx.targets.scratch(GL_R32F, 1);
+  const float zero4[4] = {0, 0, 0, 0}, one = 1.0f, inf = std::numeric_limits<float>::infinity();
+  glClearTexSubImage(accum.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RGBA, GL_FLOAT, zero4);
+  glClearTexSubImage(reveal.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &one);
+  glClearTexSubImage(stroke_depth.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &inf);
+
+  GLuint fbo_id = 0;
+  glCreateFramebuffers(1, &fbo_id);
+  const gl::Framebuffer fbo(fbo_id);
+  glNamedFramebufferTexture(fbo_id, GL_COLOR_ATTACHMENT0, accum.id(), 0);
+  glNamedFramebufferTexture(fbo_id, GL_COLOR_ATTACHMENT1, reveal.id(), 0);
+  glNamedFramebufferTexture(fbo_id, GL_COLOR_ATTACHMENT2, stroke_depth.id(), 0);
+  glNamedFramebufferTexture(fbo_id, GL_DEPTH_ATTACHMENT, ctx.targets.gl_depth->id(), 0);
+  const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+  glNamedFramebufferDrawBuffers(fbo_id, 3, bufs);
+  if (glCheckNamedFramebufferStatus(fbo_id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw GLError("the feature strokes framebuffer is incomplete");
+
+  std::vector<uint32_t> drawn(ctx.chunks.size());
+  for (size_t c = 0; c < ctx.chunks.size(); ++c) drawn[c] = queue_count(ctx.chunks[c], p);
+  auto slots_of = [&](size_t c) { return (drawn[c] + 127u) / 128u * 128u; };
+  uint32_t largest = 0;
+  for (size_t c = 0; c < ctx.chunks.size(); ++c) largest = std::max(largest, slots_of(c));
+  const uint32_t capacity = std::max(kBatchPoints, largest);
+  const gl::Buffer records = gl::make_buffer(size_t(capacity) * sizeof(Record), nullptr, 0);
+  struct DrawCommand {
+    uint32_t count, instance_count, first, base_instance;
+  };
+  const gl::Buffer commands = gl::make_buffer(size_t(capacity / 128u) * sizeof(DrawCommand), nullptr, 0);
+  const uint32_t zero3[3] = {0, 0, 0};
+  const gl::Buffer counters = gl::make_buffer(sizeof(zero3), zero3, GL_DYNAMIC_STORAGE_BIT);
+
+  const gl::Texture* texture_image = nullptr;
+  if (p.get_enum_name("stroke_texture") == "image") {
+    const std::string& path = p.get_path("texture_image");
+    if (path.empty()) throw ParameterError("feature_strokes: stroke_texture 'image' needs a texture_image");
+    texture_image = &ctx.images->get(path, "stroke", ImageTextures::Sampling::Clamped, [](Image i) { return i; });
+  }
+
+  const gl::Program& select = ctx.shaders->compute("feature_strokes_select.comp");
+  select.use();
+  glUniform1f(select.location("u_near"), float(cam.clip_start));
+  glUniform1f(select.location("u_far"), float(cam.clip_end));
+  glUniform1f(select.location("u_threshold"), float(p.get_float("feature_threshold")));
+  glUniform1f(select.location("u_line_error"), float(p.get_float("line_error")));
+  glUniform1i(select.location("u_use_lines"), use_lines ? 1 : 0);
+  glUniform1f(select.location("u_dither"), float(p.get_float("dither")));
+  glUniform1f(select.location("u_dither_tone"), float(p.get_float("dither_tone")));
+  glUniform1i(select.location("u_prim_directional"), primitive_of(p.get_enum_name("directional")));
+  glUniform1i(select.location("u_prim_other"), primitive_of(p.get_enum_name("non_directional")));
+  glUniform1i(select.location("u_prim_dither"), primitive_of(p.get_enum_name("dithering")));
+  glUniform1f(select.location("u_directional_length"), float(p.get_float("directional_length")));
+  glUniform1f(select.location("u_other_length"), float(p.get_float("other_length")));
+  glUniform1f(select.location("u_sprite_size"), float(p.get_float("sprite_size")));
+  glUniform1f(select.location("u_stroke_width"), float(p.get_float("stroke_width")));
+  glUniform1f(select.location("u_line_width"), float(p.get_float("line_width")));
+  glUniform1i(select.location("u_point_coloring"), p.get_enum_name("coloring") == "point" ? 1 : 0);
+  glUniform4fv(select.location("u_constant_color"), 1, glm::value_ptr(p.get_color("stroke_color")));
+  glUniform1f(select.location("u_opacity"), float(p.get_float("opacity")));
+  glUniform1ui(select.location("u_seed"), uint32_t(p.get_int("seed")));
+  glUniform1i(select.location("u_queue"), queue ? 1 : 0);
+
+  const double angle = glm::radians(p.get_float("screen_angle"));
+  const gl::Program& expand = ctx.shaders->graphics("feature_strokes.vert", "feature_strokes.frag");
+  expand.use();
+  glUniformMatrix4fv(expand.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
+  glUniform2i(expand.location("u_size"), size.x, size.y);
+  glUniform1i(expand.location("u_ortho"), cam.orthographic ? 1 : 0);
+  glUniform1f(expand.location("u_near"), float(cam.clip_start));
+  glUniform1f(expand.location("u_far"), float(cam.clip_end));
+  glUniform2f(expand.location("u_screen_dir"), float(std::cos(angle)), float(std::sin(angle)));
+  glUniform1i(expand.location("u_texture"), p.get_enum("stroke_texture"));
+  glUniform1i(expand.location("u_texture_image"), 0);
+  glBindTextureUnit(0, texture_image ? texture_image->id() : accum.id());
+
+  size_t batch_start = 0;
+  while (batch_start < ctx.chunks.size()) {
+    size_t batch_end = batch_start;
+    uint32_t used = 0;
+    std::vector<uint32_t> offsets;
+    while (batch_end < ctx.chunks.size() && used + slots_of(batch_end) <= capacity) {
+      offsets.push_back(used);
+      used += slots_of(batch_end);
+      ++batch_end;
+    }
+    const GLsizei draws = GLsizei(used / 128u);
+    if (batch_start > 0) glFinish();  // the previous batch's draw has read the records
+    select.use();
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, records.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, counters.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, commands.id());
+    for (size_t c = batch_start; c < batch_end; ++c) {
+      const VisibleChunk& v = ctx.chunks[c];
+      const GpuCloud& g = *v.gpu;
+      const gl::Buffer* lines = use_lines ? g.find(line_key) : nullptr;
+      bind_chunk(select, v, color_source,
+                 {{2, nullptr}, {3, g.find({AttributeKind::FeatureDegree, k})}, {4, lines},
+                  {5, queue ? g.find({AttributeKind::QueueOrder}) : nullptr}, {6, g.find({AttributeKind::PointId})},
+                  {9, g.find({AttributeKind::LocalResolution, kResolutionNeighbors})}});
+      glUniform1i(select.location("u_has_lines"), lines ? 1 : 0);
+      glUniform1i(select.location("u_has_color"),
+                  resolve_color_source(color_source, g) != ColorSource::Constant ? 1 : 0);
+      glUniform1f(select.location("u_inv_median_r"), 1.0f / median_resolution(v));
+      glUniform1ui(select.location("u_drawn"), drawn[c]);
+      glUniform1ui(select.location("u_out_base"), offsets[c - batch_start]);
+      glUniform1ui(select.location("u_command_base"), offsets[c - batch_start] / 128u);
+      glDispatchCompute(slots_of(c) / 128u, 1, 1);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_id);
+    glViewport(0, 0, size.x, size.y);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GEQUAL);  // reversed Z
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendEquationi(0, GL_FUNC_ADD);
+    glBlendFunci(0, GL_ONE, GL_ONE);
+    glBlendEquationi(1, GL_FUNC_ADD);
+    glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR);
+    glBlendEquationi(2, GL_MIN);
+    glBlendFunci(2, GL_ONE, GL_ONE);
+    expand.use();
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, records.id());
+    GLuint vao = 0;
+    glCreateVertexArrays(1, &vao);
+    const gl::VertexArray empty_vao(vao);
+    glBindVertexArray(vao);
+    if (draws > 0) {
+      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands.id());
+      glMultiDrawArraysIndirect(GL_TRIANGLES, nullptr, draws, 0);
+      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    }
+    glBindVertexArray(0);
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::check_gl("feature strokes");
+
+    if (ctx.capture && draws > 0) {
+      std::vector<Record> recs(used);
+      std::vector<DrawCommand> issued(static_cast<size_t>(draws));
+      glGetNamedBufferSubData(records.id(), 0, GLsizeiptr(used * sizeof(Record)), recs.data());
+      glGetNamedBufferSubData(commands.id(), 0, GLsizeiptr(issued.size() * sizeof(DrawCommand)), issued.data());
+      for (const DrawCommand& cmd : issued) {
+        for (uint32_t r = cmd.first / 6u; r < (cmd.first + cmd.count) / 6u; ++r) {
+          const Record& rec = recs[r];
+          CapturedMark m;
+          m.point_id = rec.point_id;
+          m.center = glm::vec3(rec.center_kind);
+          m.direction = glm::vec3(rec.dir_length);
+          m.kind = uint32_t(rec.center_kind.w);
+          const float depth = cam.orthographic ? 1.0f : -rec.center_kind.z;
+          m.length = rec.dir_length.w * depth / px_per_unit;
+          m.color = rec.color;
+          ctx.capture->push_back(m);
+        }
+      }
+    }
+    batch_start = batch_end;
+  }
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+
+  // 3. Resolve (the hatching mark's): ink over paper, the surface's depth.
+  const gl::Program& resolve = ctx.shaders->compute("hatching_resolve.comp");
+  resolve.use();
+  glUniform4fv(resolve.location("u_paper"), 1, glm::value_ptr(p.get_color("paper_color")));
+  glUniform1i(resolve.location("u_surface"), 1);
+  glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
+  glBindImageTexture(2, accum.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+  glBindImageTexture(3, reveal.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  glBindImageTexture(4, stroke_depth.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  dispatch_rect(resolve, clip);
+
+  uint32_t counts[3] = {0, 0, 0};
+  glGetNamedBufferSubData(counters.id(), 0, sizeof(counts), counts);
+  if (ctx.stats) {
+    (*ctx.stats)["strokes_drawn"] += double(counts[0]) + double(counts[1]) + double(counts[2]);
+    (*ctx.stats)["strokes_directional"] += double(counts[0]);
+    (*ctx.stats)["strokes_non_directional"] += double(counts[1]);
+    (*ctx.stats)["strokes_dithering"] += double(counts[2]);
+    double queued = 0.0;
+    for (uint32_t n : drawn) queued += double(n);
+    (*ctx.stats)["queue_points"] += queued;
+  }
+}
+
+const std::vector<std::string> kPrimitives = {"none", "point_sprite", "line_segment", "textured_stroke"};
+
+const MarkRegistration registration{{
+    Schema{"feature_strokes",
+           "Feature strokes",
+           "Feature points (high feature degree) and dithering points drawn as point sprites, line segments or "
+           "textured strokes along their fitted 3D directions, behind a visibility-splatting depth pass (Xu et al., "
+           "stylized rendering of 3D scanned real world environments).",
+           {
+               float_param("feature_threshold", 0.35, 0.0, 1.0, "",
+                           "tau: points whose feature degree is above it are feature points"),
+               int_param("feature_neighbors", 8, 4, 64, "",
+                         "Neighbours of the feature degree (fewer: thinner feature bands along edges)"),
+               int_param("line_neighbors", 48, 4, 99, "",
+                         "Nearest feature points the stroke direction is fitted to (eq. 2; more: straighter "
+                         "directions along wide feature bands)"),
+               enum_param("directional", kPrimitives, 3,
+                          "Primitive of directional feature points (line fit error below line_error), along the "
+                          "projected fitted direction; none: not drawn (and no line fit computed: every feature "
+                          "point is non-directional)"),
+               float_param("line_error", 0.2, 0.0, 0.67, "",
+                           "Line fit error (eq. 2, (l0 + l1) / sum, 0 = a perfect line) below which a feature point "
+                           "is directional"),
+               enum_param("non_directional", kPrimitives, 2,
+                          "Primitive of the other feature points, along the constant screen direction"),
+               enum_param("dithering", kPrimitives, 1,
+                          "Primitive of the dithering points (non-feature points kept for tone), along the constant "
+                          "screen direction"),
+               float_param("dither", 0.15, 0.0, 1.0, "",
+                           "Share of non-feature points kept as dithering points at the cloud's median spacing; "
+                           "more where the scan is sparser (uniform in 3D)"),
+               float_param("dither_tone", 0.5, 0.0, 1.0, "",
+                           "How much darker point colours raise the dithering odds (0: colour unused)"),
+               float_param("directional_length", 14.0, 1.0, 128.0, "px", "Length of directional strokes and lines"),
+               float_param("other_length", 6.0, 1.0, 128.0, "px",
+                           "Length of non-directional and dithering strokes and lines"),
+               float_param("stroke_width", 4.0, 0.5, 32.0, "px", "Width of textured strokes"),
+               float_param("line_width", 1.2, 0.5, 8.0, "px", "Width of line segments"),
+               float_param("sprite_size", 3.0, 0.5, 32.0, "px", "Diameter of point sprites (Gaussian kernel)"),
+               float_param("screen_angle", 45.0, -180.0, 180.0, "deg",
+                           "The constant screen direction of non-directional and dithering primitives (0: to the "
+                           "right, 90: up)"),
+               enum_param("stroke_texture", {"taper", "brush", "dry", "image"}, 0,
+                          "Alpha texture of textured strokes (seed 001 Fig. 4): tapered, bristle brush, dry brush, "
+                          "or an image (x along the stroke, y across; its alpha times its darkness)"),
+               only_when(image_param("texture_image", "Stroke alpha texture (x along the stroke, y across)"),
+                         "stroke_texture", {"image"}),
+               enum_param("coloring", {"constant", "point"}, 0, "constant: the stroke colour; point: the point's colour"),
+               color_param("stroke_color", {0.08, 0.08, 0.1, 1.0}, "Stroke colour (display sRGB)"),
+               color_source_param(),
+               float_param("opacity", 0.9, 0.0, 1.0, "", "Opacity of every primitive"),
+               color_param("paper_color", {0.97, 0.96, 0.92, 1.0},
+                           "Colour under the strokes where the surface is (alpha: its opacity; 0 leaves strokes only)"),
+               float_param("disc_scale", 1.5, 0.5, 4.0, "",
+                           "Visibility pass: disc diameter in local resolutions (mean spacing to 8 neighbours; "
+                           "large enough for a hole-free surface)"),
+               float_param("depth_offset", 1.5, 0.0, 10.0, "",
+                           "Visibility pass: discs pushed away along the view ray by this many local resolutions, so "
+                           "strokes on the visible surface pass the depth test"),
+               density_mode_param(),
+               queue_level_param(0.05),
+               int_param("seed", 0, 0, 65535, "", "Varies the dithering choice (still fixed per point)"),
+           }},
+    [] { return std::make_unique<FeatureStrokes>(); }}};
+
+}  // namespace
+}  // namespace pointnpr
