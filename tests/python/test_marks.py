@@ -356,6 +356,8 @@ MARK_STYLES = {
     "points": [{}, {"shading": "diffuse"}, {"rasterizer": "gl_points", "color_source": "constant"}],
     "hatching": [{}, {"coloring": "point", "curvature_length": 0.0, "stroke_coverage": 0.0},
                  {"units": "world", "placement": "irregular", "pencil_quantize": True, "coloring": "point"}],
+    "stipples": [{}, {"specular": True, "size_jitter": 0.5, "level": 5.5},
+                 {"paper_color": (1.0, 1.0, 1.0, 0.0), "shadow_casters": "visible", "level": 5.0}],
 }
 
 
