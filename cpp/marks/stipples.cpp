@@ -111,7 +111,14 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   const glm::vec2 origin = 0.5f * (lo + hi) - 0.5f * extent;
 
   const bool diffuse = p.get_bool("diffuse");
-  const double level = p.get_float("level");
+  double level = p.get_float("level");
+  if (diffuse && p.get_enum_name("level_scale") == "point_count") {
+    // LEVEL as for 4^7 points: a cloud of N points gets log4(N / 4^7)
+    // levels more, so 2^level cells hold as many points whatever the scan.
+    double points = 0.0;
+    for (const VisibleChunk& v : ctx.chunks) points += double(v.chunk->count);
+    level = std::clamp(level + 0.5 * std::log2(std::max(points, 1.0) / 16384.0), 0.0, double(kMaxLevel));
+  }
   const int levels = std::clamp(int(std::ceil(level)), 1, kMaxLevel);
   const int level_lo = std::min(int(std::floor(level)), levels);
   const float level_frac = float(level - std::floor(level));
@@ -384,6 +391,11 @@ const MarkRegistration registration{{
                                      "Quadtree LEVEL: 2^LEVEL cells across the segment seen from the light; the point "
                                      "closest to the light in each is hidden (higher: more cells, lit areas thinner; "
                                      "fractions blend adjacent levels point by point)"),
+                         "diffuse", {"true"}),
+               only_when(enum_param("level_scale", {"absolute", "point_count"}, 0,
+                                    "absolute: LEVEL as given (the paper's); point_count: LEVEL for 16384 points, "
+                                    "plus log4 of the segment's point count over that, so sparse and dense scans "
+                                    "thin alike"),
                          "diffuse", {"true"}),
                only_when(enum_param("shadow_casters", {"all", "visible"}, 0,
                                     "Points the light sees: all (hidden ones too, so surfaces behind others from the "

@@ -1,7 +1,8 @@
 """Ready-made styles an artist can pick (issue 5): name -> {"mark": (id,
 params), "filters": [(id, params), ...]}, the arguments of `pointnpr.Style`.
 The first six draw the points mark then image filters; the hatching presets
-replace the points by strokes (seed 002, docs/marks.md). Plain data,
+replace the points by strokes (seed 002, docs/marks.md); the stipple presets
+draw dots by density (seed 003). Plain data,
 validated against the C++ schemas by tests/python/test_presets.py;
 `style(name)` builds one.
 
@@ -132,6 +133,30 @@ PRESETS = {
                               "stroke_coverage": 3.5, "opacity": 1.0, "alpha_modification": 0.3, "alpha_jitter": 0.1,
                               "light_azimuth": -60.0, "light_elevation": 40.0, "paper_color": (1.0, 1.0, 1.0, 1.0)}),
         "filters": [("color_grade", {"saturation": 1.8})],
+    },
+    # Stippling (seed 003): black dots on white paper, no normals needed;
+    # hidden points removed in image space, lit surfaces thinned by the
+    # light-view quadtree (diffuse only).
+    "Stipple diffuse": {
+        "mark": ("stipples", {"level": 8.0, "level_scale": "point_count", "light_azimuth": 135.0,
+                              "light_elevation": 50.0}),
+        "filters": [],
+    },
+    # The same with highlights opened where the surface faces between eye
+    # and light (diffuse + specular).
+    "Stipple specular": {
+        "mark": ("stipples", {"level": 8.0, "level_scale": "point_count", "light_azimuth": 135.0,
+                              "light_elevation": 50.0, "specular": True, "tau": 0.25}),
+        "filters": [],
+    },
+    # Ink stippling: smaller sepia dots of varying size on cream paper, a
+    # finer quadtree level (more thinning in the light) and a highlight.
+    "Ink stippling": {
+        "mark": ("stipples", {"dot_size": 1.6, "size_jitter": 0.5, "dot_color": (0.18, 0.10, 0.05, 1.0),
+                              "paper_color": (0.97, 0.93, 0.84, 1.0), "level": 8.0, "level_scale": "point_count",
+                              "light_azimuth": 120.0,
+                              "light_elevation": 45.0, "specular": True, "tau": 0.15}),
+        "filters": [],
     },
 }
 

@@ -195,3 +195,14 @@ def test_seed_varies_the_fractional_choices_only(renderer, ball):
     whole_a, _ = kept_points(renderer, stipples(level=6.0, **CAMERA_LIGHT), c)
     whole_b, _ = kept_points(renderer, stipples(level=6.0, seed=9, **CAMERA_LIGHT), c)
     assert np.array_equal(whole_a, whole_b)  # whole levels have no random choice
+
+
+def test_point_count_level_scale_shifts_by_log4_of_the_points(renderer):
+    # point_count: LEVEL as for 16384 points; 4096 points get one level less.
+    for n, shift in ((16384, 0.0), (4096, -1.0)):
+        pos, _ = sphere(n)
+        c = pointnpr.PointCloud(pos)
+        relative = render(renderer, stipples(level=6.0, level_scale="point_count", **CAMERA_LIGHT), [c])
+        absolute = render(renderer, stipples(level=6.0 + shift, **CAMERA_LIGHT), [c])
+        assert np.array_equal(np.sort(relative.marks["point_id"]), np.sort(absolute.marks["point_id"])), n
+        assert np.array_equal(np.asarray(relative.color), np.asarray(absolute.color))
