@@ -151,9 +151,10 @@ PRESETS = {
     },
     # Ink stippling: smaller sepia dots of varying size on cream paper, a
     # finer quadtree level (more thinning in the light) and a highlight.
+    # (Colours are binary fractions: float32 Blender properties hold them exactly.)
     "Ink stippling": {
-        "mark": ("stipples", {"dot_size": 1.6, "size_jitter": 0.5, "dot_color": (0.18, 0.10, 0.05, 1.0),
-                              "paper_color": (0.97, 0.93, 0.84, 1.0), "level": 8.0, "level_scale": "point_count",
+        "mark": ("stipples", {"dot_size": 1.6, "size_jitter": 0.5, "dot_color": (0.1875, 0.09375, 0.046875, 1.0),
+                              "paper_color": (0.96875, 0.9296875, 0.84375, 1.0), "level": 8.0, "level_scale": "point_count",
                               "light_azimuth": 120.0,
                               "light_elevation": 45.0, "specular": True, "tau": 0.15}),
         "filters": [],
