@@ -42,9 +42,11 @@ def main():
              "hatching": pointnpr.Style(mark="hatching"),
              "feature_strokes": pointnpr.Style(mark="feature_strokes"),
              "feature_strokes (queue)": pointnpr.Style(mark=("feature_strokes", {"density_mode": "constant_on_screen",
-                                                                                  "queue_level": 0.25}))}
+                                                                                  "queue_level": 0.25})),
+             "stipples": pointnpr.Style(mark=("stipples", {"specular": True, "level_scale": "point_count",
+                                                           "level": 8.0}))}
     print(f"{W}x{H}, {FRAMES} frames each, alternating; {pointnpr.gl_info()['renderer']}")
-    print("| cloud | mark | frame ms (median) | frame ms (best) | mark ms (median) | strokes | vs. points (frame) |")
+    print("| cloud | mark | frame ms (median) | frame ms (best) | mark ms (median) | strokes / dots | vs. points (frame) |")
     print("|---|---|---|---|---|---|---|")
     for cloud_name, cloud in clouds().items():
         scenes = {}
@@ -62,7 +64,7 @@ def main():
                 r = renderer.render(scene, camera, W, H)
                 times[name].append(1000 * (time.perf_counter() - t0))
                 mark_ms[name].append(r.stats["mark_ms"])
-                strokes[name] = int(r.stats.get("strokes_drawn", 0))
+                strokes[name] = int(r.stats.get("strokes_drawn", r.stats.get("stipples_drawn", 0)))
         base = np.median(times["points"])
         for name in marks:
             t = np.median(times[name])

@@ -2,7 +2,8 @@
 params), "filters": [(id, params), ...]}, the arguments of `pointnpr.Style`.
 The first six draw the points mark then image filters; the hatching presets
 replace the points by strokes (seed 002, docs/marks.md); the feature
-strokes presets draw seed 001's feature and dithering points. Plain data,
+strokes presets draw seed 001's feature and dithering points; the stipple
+presets draw dots by density (seed 003). Plain data,
 validated against the C++ schemas by tests/python/test_presets.py;
 `style(name)` builds one.
 
@@ -157,6 +158,31 @@ PRESETS = {
                                      "other_length": 5.0, "line_width": 1.0, "screen_angle": 45.0,
                                      "feature_threshold": 0.45, "line_error": 0.25, "dither": 0.1, "dither_tone": 0.4,
                                      "density_mode": "constant_on_screen", "queue_level": 0.25}),
+        "filters": [],
+    },
+    # Stippling (seed 003): black dots on white paper, no normals needed;
+    # hidden points removed in image space, lit surfaces thinned by the
+    # light-view quadtree (diffuse only).
+    "Stipple diffuse": {
+        "mark": ("stipples", {"level": 8.0, "level_scale": "point_count", "light_azimuth": 135.0,
+                              "light_elevation": 50.0}),
+        "filters": [],
+    },
+    # The same with highlights opened where the surface faces between eye
+    # and light (diffuse + specular).
+    "Stipple specular": {
+        "mark": ("stipples", {"level": 8.0, "level_scale": "point_count", "light_azimuth": 135.0,
+                              "light_elevation": 50.0, "specular": True, "tau": 0.25}),
+        "filters": [],
+    },
+    # Ink stippling: smaller sepia dots of varying size on cream paper, a
+    # finer quadtree level (more thinning in the light) and a highlight.
+    # (Colours are binary fractions: float32 Blender properties hold them exactly.)
+    "Ink stippling": {
+        "mark": ("stipples", {"dot_size": 1.6, "size_jitter": 0.5, "dot_color": (0.1875, 0.09375, 0.046875, 1.0),
+                              "paper_color": (0.96875, 0.9296875, 0.84375, 1.0), "level": 8.0, "level_scale": "point_count",
+                              "light_azimuth": 120.0,
+                              "light_elevation": 45.0, "specular": True, "tau": 0.15}),
         "filters": [],
     },
 }

@@ -359,6 +359,8 @@ MARK_STYLES = {
     "feature_strokes": [{}, {"density_mode": "constant_on_screen", "directional": "line_segment",
                              "dithering": "textured_stroke", "stroke_texture": "brush"},
                         {"coloring": "point", "stroke_texture": "dry", "paper_color": [1, 1, 1, 0], "dither_tone": 0.0}],
+    "stipples": [{}, {"specular": True, "size_jitter": 0.5, "level": 5.5},
+                 {"paper_color": (1.0, 1.0, 1.0, 0.0), "shadow_casters": "visible", "level": 5.0}],
 }
 
 

@@ -11,18 +11,22 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 POINTS_PRESETS = ["Toon", "Ink outlines", "Watercolor", "Oil paint", "Posterize", "Urban map"]
 HATCHING_PRESETS = ["Pencil", "Coloured crayons", "Wax crayons", "Blueprint", "Chalk", "Pointillism"]
 FEATURE_PRESETS = ["Feature strokes + stipples", "Feature strokes + hatching"]
+STIPPLES_PRESETS = ["Stipple diffuse", "Stipple specular", "Ink stippling"]
 
 
 def test_the_presets_are_all_there():
     from pointnpr import presets
 
-    assert set(presets.PRESETS) == set(POINTS_PRESETS) | set(HATCHING_PRESETS) | set(FEATURE_PRESETS)
+    assert set(presets.PRESETS) == (set(POINTS_PRESETS) | set(HATCHING_PRESETS) | set(FEATURE_PRESETS) |
+                                    set(STIPPLES_PRESETS))
     for name in POINTS_PRESETS:
         assert presets.PRESETS[name]["mark"][0] == "points", name
     for name in HATCHING_PRESETS:
         assert presets.PRESETS[name]["mark"][0] == "hatching", name
     for name in FEATURE_PRESETS:
         assert presets.PRESETS[name]["mark"][0] == "feature_strokes", name
+    for name in STIPPLES_PRESETS:
+        assert presets.PRESETS[name]["mark"][0] == "stipples", name
 
 
 def _plane_render(renderer, style):
@@ -35,7 +39,7 @@ def _plane_render(renderer, style):
     return renderer.render(scene, cam, 96, 64)
 
 
-@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS + FEATURE_PRESETS)
+@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS + FEATURE_PRESETS + STIPPLES_PRESETS)
 def test_preset_validates_and_renders(renderer, name):
     import pointnpr
     from pointnpr import presets
@@ -59,6 +63,8 @@ def test_preset_validates_and_renders(renderer, name):
     assert (result.color[..., 3] > 0).sum() > 500
     if mark_id in ("hatching", "feature_strokes"):
         assert result.stats["strokes_drawn"] > 0, name
+    if mark_id == "stipples":
+        assert 0 < result.stats["stipples_drawn"] < result.stats["stipples_visible"], name  # dots, thinned
 
 
 def test_unknown_preset_names_the_known_ones():
@@ -164,7 +170,7 @@ def _check_intensity_tones(renderer, name, cloud, camera):
         assert corr > MIN_CORRELATION, f"{name}: the intensity does not show (correlation {corr:.3f})"
 
 
-@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS + FEATURE_PRESETS)
+@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS + FEATURE_PRESETS + STIPPLES_PRESETS)
 def test_preset_shows_the_tones_of_an_intensity_only_scan(renderer, intensity_tile, name):
     # The tile's intensity has glints far above the rest (peak 21014, 99th
     # percentile 4172): the core maps its 99th percentile to white.

@@ -1,0 +1,418 @@
+// Stippling of point clouds without normals (seed 003, Kawata et al.: a
+// hybrid image/object-space stipple method). Every pass is in
+// shaders/stipples.comp; positions and point ids are all it reads.
+//
+//  1. Hidden points: all points into a min-depth texture `resolution_factor`
+//     times the screen; each of `iterations` passes gives every texel the
+//     depth of its 8 neighbours plus a step (`depth_offset` x the segment's
+//     view depth range: the paper's 0.05 on a shape of norm 1, made scale
+//     free); a point is visible when it lies within a step of its texel.
+//  2. Diffuse: points into a light-view min-depth texture (orthographic
+//     along the light, over the segment's bounds), reduced to the full
+//     quadtree (levels 0..n side by side in one 2^(n+1) x 2^n texture, each
+//     texel the min of its four children); at LEVEL l the point closest to
+//     the light in each cell is hidden, so lit surfaces (few points per
+//     cell seen from the light) thin out and surfaces turned away keep
+//     their density. A fractional LEVEL picks the finer level per point
+//     with that probability (seeded by the point id), so it keyframes
+//     smoothly. The casters are all points (shadows) or the visible ones.
+//  3. Specular: points per area seen from the eye (cells of the hidden-
+//     point texture, area = the covered texels) and from the light (cells
+//     of the same size in scene units): a surface shows a (n.v) and a (n.l)
+//     of area per point, so their sum peaks where it faces the half-way
+//     vector. Its difference to the segment's peak, normalised by the peak,
+//     below tau opens the highlight: hidden with probability 1 - diff / tau.
+//  4. Dots: antialiased discs of the dot colour over the paper colour
+//     (painted where the hidden-point texture has a surface), coverage by
+//     atomicMax and depth by atomicMin: order-independent, so the bytes
+//     never vary.
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "core/error.h"
+#include "gl/device.h"
+#include "render/mark.h"
+#include "scene/camera.h"
+
+namespace pointnpr {
+namespace {
+
+constexpr double kMaxFineTexels = double(1 << 23);  // hidden-point texture cap (32 MiB per copy, 5 copies)
+constexpr int kMaxLevel = 11;                        // quadtree texture 4096 x 2048 (32 MiB)
+constexpr int kMaxLightCells = 1024;                 // per side (4 MiB)
+constexpr int kHistogramBins = 1024;                 // log2 of the specular measure, 8 bins per octave
+constexpr double kSpecularPercentile = 0.95;  // the reference of the specular measure
+
+glm::dvec3 world_direction(double azimuth_deg, double elevation_deg) {
+  const double a = glm::radians(azimuth_deg), e = glm::radians(elevation_deg);
+  return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+}
+
+void clear_uint(const gl::Buffer& b, uint32_t value) {
+  glClearNamedBufferData(b.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
+}
+
+class Stipples final : public Mark {
+ public:
+  AttributeSet attributes(const ParamValues&) const override { return {{AttributeKind::PointId}}; }
+
+  MarkExtent extent(const ParamValues& p) const override {
+    const double dot = 0.5 * p.get_float("dot_size") * (1.0 + p.get_float("size_jitter")) + 1.0;
+    const double spread = double(p.get_int("iterations") + 1) / p.get_float("resolution_factor") + 1.0;
+    return {0.0, float(std::max(dot, spread))};
+  }
+
+  void draw(const MarkContext& ctx, const ParamValues& p) const override;
+};
+
+void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
+  const Camera& cam = *ctx.camera;
+  const Rect& clip = ctx.clip;
+  if (clip.empty() || ctx.chunks.empty()) return;
+  const glm::ivec2 clip_size = clip.size();
+  const double pixels = double(clip_size.x) * double(clip_size.y);
+  double factor = p.get_float("resolution_factor");
+  if (pixels * factor * factor > kMaxFineTexels) {
+    factor = std::sqrt(kMaxFineTexels / pixels);
+    if (ctx.warnings)
+      ctx.warnings->push_back("stipples: resolution_factor lowered to " + std::to_string(factor) +
+                              " (hidden-point texture capped at 8M texels)");
+  }
+  const glm::ivec2 fine(int(std::ceil(clip_size.x * factor)), int(std::ceil(clip_size.y * factor)));
+  const size_t fine_n = size_t(fine.x) * size_t(fine.y);
+  const float px_per_unit = float(cam.pixels_per_unit(1.0, ctx.targets.size.y));
+  const float range = float(std::max(ctx.depth_max - ctx.depth_min, 1e-6));
+  const float offset = float(p.get_float("depth_offset")) * range;
+
+  // Light frame, view space.
+  const glm::dmat3 view_from_world(cam.view_from_world);
+  glm::vec3 L;
+  if (p.get_enum_name("light_space") == "world") {
+    L = glm::normalize(glm::vec3(view_from_world * world_direction(p.get_float("light_azimuth"), p.get_float("light_elevation"))));
+  } else {
+    const double a = glm::radians(p.get_float("light_azimuth")), e = glm::radians(p.get_float("light_elevation"));
+    L = glm::vec3(float(std::sin(e) * std::cos(a)), float(std::sin(e) * std::sin(a)), float(std::cos(e)));
+  }
+  const glm::vec3 up0 = std::abs(L.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+  const glm::vec3 right = glm::normalize(glm::cross(up0, L));
+  const glm::vec3 up = glm::cross(L, right);
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const VisibleChunk& v : ctx.chunks)
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 corner((c & 1) ? v.chunk->local_max.x : v.chunk->local_min.x,
+                             (c & 2) ? v.chunk->local_max.y : v.chunk->local_min.y,
+                             (c & 4) ? v.chunk->local_max.z : v.chunk->local_min.z);
+      const glm::vec3 view = glm::vec3(v.view_from_chunk * glm::vec4(corner, 1.0f));
+      const glm::vec2 uv(glm::dot(view, right), glm::dot(view, up));
+      lo = glm::min(lo, uv), hi = glm::max(hi, uv);
+    }
+  const float extent = std::max(std::max(hi.x - lo.x, hi.y - lo.y), 1e-6f) * 1.001f;
+  const glm::vec2 origin = 0.5f * (lo + hi) - 0.5f * extent;
+
+  const bool diffuse = p.get_bool("diffuse");
+  double level = p.get_float("level");
+  if (diffuse && p.get_enum_name("level_scale") == "point_count") {
+    // LEVEL as for 4^7 points: a cloud of N points gets log4(N / 4^7)
+    // levels more, so 2^level cells hold as many points whatever the scan.
+    double points = 0.0;
+    for (const VisibleChunk& v : ctx.chunks) points += double(v.chunk->count);
+    level = std::clamp(level + 0.5 * std::log2(std::max(points, 1.0) / 16384.0), 0.0, double(kMaxLevel));
+  }
+  const int levels = std::clamp(int(std::ceil(level)), 1, kMaxLevel);
+  const int level_lo = std::min(int(std::floor(level)), levels);
+  const float level_frac = float(level - std::floor(level));
+  const bool specular = p.get_bool("specular");
+  const float eye_cell = float(p.get_float("specular_cell"));
+  const glm::ivec2 eye_cells = glm::max(glm::ivec2(glm::ceil(glm::vec2(clip_size) / eye_cell)), glm::ivec2(1));
+  const double mid_depth = cam.orthographic ? 1.0 : 0.5 * (ctx.depth_min + ctx.depth_max);
+  const double cell_world = eye_cell * mid_depth / px_per_unit;
+  const int light_cells = std::clamp(int(std::ceil(extent / cell_world)), 1, kMaxLightCells);
+
+  const gl::Buffer hp_a = gl::make_buffer(fine_n * 4, nullptr, 0);
+  const gl::Buffer hp_b = gl::make_buffer(fine_n * 4, nullptr, 0);
+  const size_t quad_n = diffuse ? (size_t(2) << levels) * (size_t(1) << levels) : 1;
+  const gl::Buffer quad = gl::make_buffer(quad_n * 4, nullptr, 0);
+  const size_t eye_n = specular ? size_t(eye_cells.x) * size_t(eye_cells.y) : 1;
+  const gl::Buffer eye_count = gl::make_buffer(eye_n * 4, nullptr, 0);
+  const gl::Buffer eye_cover = gl::make_buffer(eye_n * 4, nullptr, 0);
+  const size_t light_n = specular ? size_t(light_cells) * size_t(light_cells) : 1;
+  const gl::Buffer light_count = gl::make_buffer(light_n * 4, nullptr, 0);
+  const gl::Buffer dot_cov = gl::make_buffer(size_t(pixels) * 4, nullptr, 0);
+  const gl::Buffer dot_depth = gl::make_buffer(size_t(pixels) * 4, nullptr, 0);
+  const gl::Buffer histogram = gl::make_buffer(specular ? kHistogramBins * 4 : 4, nullptr, 0);
+  const gl::Buffer globals = gl::make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  uint32_t largest = 1;
+  for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, v.chunk->count);
+  const gl::Buffer capture = gl::make_buffer(ctx.capture ? size_t(largest) * 16 : 16, nullptr, 0);
+  const uint32_t inf_bits = 0x7f800000u;
+  clear_uint(hp_a, inf_bits);
+  clear_uint(hp_b, inf_bits);
+  clear_uint(quad, 0xffffffffu);
+  clear_uint(eye_count, 0);
+  clear_uint(eye_cover, 0);
+  clear_uint(light_count, 0);
+  clear_uint(dot_cov, 0);
+  clear_uint(dot_depth, inf_bits);
+  clear_uint(globals, 0);
+  clear_uint(histogram, 0);
+  float spec_ref = 1.0f;
+
+  auto set_uniforms = [&](const gl::Program& prog) {
+    prog.use();
+    glUniformMatrix4fv(prog.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
+    glUniform2i(prog.location("u_size"), ctx.targets.size.x, ctx.targets.size.y);
+    glUniform1f(prog.location("u_near"), float(cam.clip_start));
+    glUniform1f(prog.location("u_far"), float(cam.clip_end));
+    glUniform1i(prog.location("u_ortho"), cam.orthographic ? 1 : 0);
+    glUniform1f(prog.location("u_px_per_unit"), px_per_unit);
+    glUniform2i(prog.location("u_clip_min"), clip.min.x, clip.min.y);
+    glUniform2i(prog.location("u_clip_max"), clip.max.x, clip.max.y);
+    glUniform1f(prog.location("u_factor"), float(factor));
+    glUniform2i(prog.location("u_fine_size"), fine.x, fine.y);
+    glUniform1f(prog.location("u_offset"), offset);
+    glUniform1i(prog.location("u_casters_all"), p.get_enum_name("shadow_casters") == "all" ? 1 : 0);
+    glUniform3fv(prog.location("u_light_dir"), 1, glm::value_ptr(L));
+    glUniform3fv(prog.location("u_light_right"), 1, glm::value_ptr(right));
+    glUniform3fv(prog.location("u_light_up"), 1, glm::value_ptr(up));
+    glUniform2fv(prog.location("u_light_origin"), 1, glm::value_ptr(origin));
+    glUniform1f(prog.location("u_light_extent"), extent);
+    glUniform1i(prog.location("u_levels"), levels);
+    glUniform1i(prog.location("u_diffuse"), diffuse ? 1 : 0);
+    glUniform1i(prog.location("u_level_lo"), level_lo);
+    glUniform1f(prog.location("u_level_frac"), level_frac);
+    glUniform1i(prog.location("u_specular"), specular ? 1 : 0);
+    glUniform1f(prog.location("u_tau"), float(p.get_float("tau")));
+    glUniform1f(prog.location("u_spec_ref"), spec_ref);
+    glUniform1f(prog.location("u_eye_cell"), eye_cell);
+    glUniform2i(prog.location("u_eye_cells"), eye_cells.x, eye_cells.y);
+    glUniform1i(prog.location("u_light_cells"), light_cells);
+    glUniform1f(prog.location("u_dot_size"), float(p.get_float("dot_size")));
+    glUniform1f(prog.location("u_size_jitter"), float(p.get_float("size_jitter")));
+    glUniform1ui(prog.location("u_seed"), uint32_t(p.get_int("seed")));
+    glUniform1i(prog.location("u_capture"), ctx.capture ? 1 : 0);
+    glUniform4fv(prog.location("u_dot_color"), 1, glm::value_ptr(p.get_color("dot_color")));
+    glUniform4fv(prog.location("u_paper"), 1, glm::value_ptr(p.get_color("paper_color")));
+  };
+  const gl::Buffer* hp = &hp_a;
+  const gl::Buffer* hp_other = &hp_b;
+  auto bind_all = [&]() {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, hp->id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, hp_other->id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, quad.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, eye_count.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, eye_cover.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, light_count.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, dot_cov.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, dot_depth.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, globals.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, capture.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, histogram.id());
+  };
+  auto barrier = [] { glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); };
+  auto point_pass = [&](const char* pass) {
+    const gl::Program& prog = ctx.shaders->compute("stipples.comp", {pass});
+    set_uniforms(prog);
+    bind_all();
+    for (const VisibleChunk& v : ctx.chunks) {
+      bind_chunk(prog, v, ColorSource::Constant, {{6, v.gpu->find({AttributeKind::PointId})}});
+      glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
+      barrier();
+    }
+  };
+  auto image_pass = [&](const char* pass, glm::ivec2 size) {
+    const gl::Program& prog = ctx.shaders->compute("stipples.comp", {pass});
+    set_uniforms(prog);
+    bind_all();
+    glDispatchCompute(GLuint((size.x + 15) / 16), GLuint((size.y + 15) / 16), 1);
+    barrier();
+  };
+
+  // 1. Hidden points.
+  point_pass("PASS_PROJECT");
+  for (int it = 0; it < p.get_int("iterations"); ++it) {
+    image_pass("PASS_DILATE", fine);
+    std::swap(hp, hp_other);
+  }
+  // 2, 3. Light textures, eye counts.
+  // (PASS_VISIBLE also projects the visible points into surf_a.)
+  const gl::Buffer surf_a = gl::make_buffer(fine_n * 4, nullptr, 0);
+  const gl::Buffer surf_b = gl::make_buffer(fine_n * 4, nullptr, 0);
+  clear_uint(surf_a, inf_bits);
+  const gl::Buffer* spare = hp_other;
+  hp_other = &surf_a;
+  point_pass("PASS_VISIBLE");
+  hp_other = spare;
+  // The surface's depth for the paper: the visible points spread one texel
+  // further (they are fewer than all points), without the step (the
+  // nearest visible depth).
+  const gl::Buffer* surface_depth = nullptr;
+  {
+    const gl::Buffer* keep_hp = hp;
+    hp = &surf_a;
+    hp_other = &surf_b;
+    const gl::Program& dilate = ctx.shaders->compute("stipples.comp", {"PASS_DILATE"});
+    for (int it = 0; it < p.get_int("iterations") + 1; ++it) {
+      set_uniforms(dilate);
+      glUniform1f(dilate.location("u_offset"), 0.0f);
+      bind_all();
+      glDispatchCompute(GLuint((fine.x + 15) / 16), GLuint((fine.y + 15) / 16), 1);
+      barrier();
+      std::swap(hp, hp_other);
+    }
+    surface_depth = hp;
+    hp = keep_hp;
+    hp_other = spare;
+  }
+  uint32_t visible = 0;
+  glGetNamedBufferSubData(globals.id(), 4, 4, &visible);
+  if (diffuse) {
+    const gl::Program& reduce = ctx.shaders->compute("stipples.comp", {"PASS_REDUCE"});
+    for (int l = levels - 1; l >= 0; --l) {
+      set_uniforms(reduce);
+      bind_all();
+      glUniform1i(reduce.location("u_reduce_level"), l);
+      const GLuint groups = GLuint(((1 << l) + 15) / 16);
+      glDispatchCompute(groups, groups, 1);
+      barrier();
+    }
+  }
+  if (specular) {
+    // The covered area per eye cell: the hidden-point texture closed (its
+    // spreading undone at the silhouette by as many erosions).
+    const gl::Buffer mask = gl::make_buffer(fine_n * 4, nullptr, 0);
+    const gl::Buffer* dilated = hp;
+    const gl::Buffer* masks[2] = {&mask, hp_other};  // hp_other: free once the spreading is done
+    for (int it = 0; it < p.get_int("iterations"); ++it) {
+      hp_other = masks[it % 2];
+      image_pass("PASS_ERODE", fine);
+      hp = hp_other;
+    }
+    image_pass("PASS_COVER", fine);
+    hp = dilated;
+    hp_other = spare;
+
+    point_pass("PASS_SPECULAR");
+    // The reference: the upper edge of the bin holding the percentile.
+    std::vector<uint32_t> hist(kHistogramBins);
+    glGetNamedBufferSubData(histogram.id(), 0, GLsizeiptr(kHistogramBins * 4), hist.data());
+    uint64_t total = 0;
+    for (uint32_t h : hist) total += h;
+    const double want = kSpecularPercentile * double(total);
+    uint64_t sum = 0;
+    int bin = kHistogramBins - 1;
+    for (int b = 0; b < kHistogramBins; ++b)
+      if (double(sum += hist[size_t(b)]) >= want) {
+        bin = b;
+        break;
+      }
+    spec_ref = float(std::exp2(double(bin + 1) / 8.0 - 64.0));
+  }
+  // 4. Dots.
+  uint32_t kept = 0;
+  {
+    // Captured dots are read back per chunk, so the capture buffer stays
+    // the size of the largest chunk.
+    const gl::Program& prog = ctx.shaders->compute("stipples.comp", {"PASS_DRAW"});
+    set_uniforms(prog);
+    bind_all();
+    for (const VisibleChunk& v : ctx.chunks) {
+      bind_chunk(prog, v, ColorSource::Constant, {{6, v.gpu->find({AttributeKind::PointId})}});
+      glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
+      barrier();
+      if (ctx.capture) {
+        uint32_t g[4] = {0, 0, 0, 0};
+        glGetNamedBufferSubData(globals.id(), 0, 16, g);
+        std::vector<glm::vec4> rec(g[3]);
+        if (g[3]) glGetNamedBufferSubData(capture.id(), 0, GLsizeiptr(size_t(g[3]) * 16), rec.data());
+        for (const glm::vec4& r : rec) {
+          CapturedMark m;
+          m.point_id = glm::floatBitsToUint(r.w);
+          m.center = glm::vec3(r);
+          m.direction = glm::vec3(1, 0, 0);
+          const float len = glm::length(m.center);
+          m.normal = len > 0.0f ? -m.center / len : glm::vec3(0, 0, 1);
+          m.length = float(p.get_float("dot_size"));
+          m.color = p.get_color("dot_color");
+          ctx.capture->push_back(m);
+        }
+        const uint32_t zero = 0;
+        glNamedBufferSubData(globals.id(), 12, 4, &zero);
+      }
+    }
+  }
+  glGetNamedBufferSubData(globals.id(), 8, 4, &kept);
+
+  // Resolve: dots over paper into the segment's colour and depth.
+  const gl::Program& resolve = ctx.shaders->compute("stipples.comp", {"PASS_RESOLVE"});
+  set_uniforms(resolve);
+  hp_other = surface_depth;
+  bind_all();
+  glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  dispatch_rect(resolve, clip);
+  gl::check_gl("stipples");
+  if (ctx.stats) {
+    (*ctx.stats)["stipples_visible"] += double(visible);
+    (*ctx.stats)["stipples_drawn"] += double(kept);
+  }
+}
+
+const MarkRegistration registration{{
+    Schema{"stipples",
+           "Stipples",
+           "Stippling without normals (seed 003): hidden points removed in image space, shading by the density "
+           "of dots (a light-view min-depth quadtree thins lit surfaces; point counts seen from eye and light "
+           "open highlights).",
+           {
+               float_param("dot_size", 2.0, 0.5, 16.0, "px", "Dot diameter"),
+               float_param("size_jitter", 0.0, 0.0, 1.0, "", "Random size variation per dot (seeded by the point id)"),
+               color_param("dot_color", {0.0, 0.0, 0.0, 1.0}, "Dot colour (display sRGB; alpha: its opacity)"),
+               color_param("paper_color", {1.0, 1.0, 1.0, 1.0},
+                           "Colour under the dots where the surface is (alpha: its opacity; 0 leaves dots only)"),
+               int_param("iterations", 4, 0, 32, "",
+                         "Hidden points: how many times each texel takes its neighbours' depths (closes holes "
+                         "between front points of this many texels)"),
+               float_param("depth_offset", 0.026, 0.0, 0.5, "",
+                           "Hidden points: depth added per spreading step and kept in front of the surface, as a "
+                           "fraction of the segment's view depth range (the paper's 'slightly larger depth')"),
+               float_param("resolution_factor", 2.0, 1.0, 4.0, "",
+                           "Hidden-point texture size over the screen's (larger: fewer front points lost where "
+                           "they crowd, more iterations needed)"),
+               enum_param("light_space", {"world", "camera"}, 0,
+                          "world: the light stays with the scene; camera: it moves with the view"),
+               float_param("light_azimuth", 135.0, -180.0, 180.0, "deg",
+                           "Light direction: around world Z (world), or around the view axis (camera; 0 from the right)"),
+               float_param("light_elevation", 50.0, -90.0, 90.0, "deg",
+                           "Light direction: above the XY plane (world), or away from the view axis (camera; 0: "
+                           "from the camera)"),
+               bool_param("diffuse", true, "Thin lit surfaces by the light-view quadtree"),
+               only_when(float_param("level", 7.0, 0.0, 11.0, "",
+                                     "Quadtree LEVEL: 2^LEVEL cells across the segment seen from the light; the point "
+                                     "closest to the light in each is hidden (higher: more cells, lit areas thinner; "
+                                     "fractions blend adjacent levels point by point)"),
+                         "diffuse", {"true"}),
+               only_when(enum_param("level_scale", {"absolute", "point_count"}, 0,
+                                    "absolute: LEVEL as given (the paper's); point_count: LEVEL for 16384 points, "
+                                    "plus log4 of the segment's point count over that, so sparse and dense scans "
+                                    "thin alike"),
+                         "diffuse", {"true"}),
+               only_when(enum_param("shadow_casters", {"all", "visible"}, 0,
+                                    "Points the light sees: all (hidden ones too, so surfaces behind others from the "
+                                    "light stay dense: shadows) or only the visible ones (as the paper's text)"),
+                         "diffuse", {"true"}),
+               bool_param("specular", false, "Open highlights where the surface faces between eye and light"),
+               only_when(float_param("tau", 0.2, 0.0, 1.0, "",
+                                     "Highlight threshold: points whose normalised difference from the brightest "
+                                     "area per point is below tau may be hidden (more below: more often)"),
+                         "specular", {"true"}),
+               only_when(float_param("specular_cell", 8.0, 2.0, 64.0, "px",
+                                     "Size of the cells points are counted in, on screen (the light's cells are as "
+                                     "large in scene units at the segment's middle depth)"),
+                         "specular", {"true"}),
+               int_param("seed", 0, 0, 65535, "", "Varies every random choice (still fixed per point)"),
+           }},
+    [] { return std::make_unique<Stipples>(); }}};
+
+}  // namespace
+}  // namespace pointnpr

@@ -1,0 +1,48 @@
+"""The stipples mark in Blender: its node comes from the schema (Marks
+category), it renders dots, and a stipple style reads no point attribute
+from the scene but the point ids."""
+import bpy
+import numpy as np
+import pointnpr
+from pointnpr.blender import nodes
+
+import helpers
+
+
+def _stipple_scene():
+    scene = helpers.reset_scene()
+    helpers.add_camera(location=(0.0, -6.0, 6.0))
+    scene.camera.rotation_euler = (0.785398, 0.0, 0.0)
+    scene.world.color = (1.0, 1.0, 1.0)
+    coll = helpers.new_collection("Stippled")
+    pts = helpers.grid_points(2.0, 0.04, 0.0)
+    pts[:, 2] = 0.4 * np.sin(2.0 * pts[:, 0]) * np.cos(2.0 * pts[:, 1])
+    helpers.add_points("Surface", coll, pts)
+    tree = nodes.new_style("Stipple", mark="stipples")
+    coll.pointnpr_style = tree
+    return scene, tree
+
+
+def test_stipples_mark_node_has_its_schema_parameters(scene):
+    tree = nodes.new_style("Stipple", mark="stipples")
+    node = nodes.mark_node(tree)
+    assert node.bl_idname == "PointNPRMarkStipplesNode" and node.name == "Stipples"
+    schema = pointnpr.schema("stipples", kind="mark")
+    assert [p["name"] for p, _pid in node.pointnpr_params] == [p["name"] for p in schema["params"]]
+    desc = nodes.read_style(tree, 1.0)
+    assert desc["mark"][0] == "stipples" and desc["warnings"] == []
+    style = nodes.make_core_style(desc)
+    assert style.mark[0] == "stipples"
+    assert style.source_attributes == ["point_index"]  # no normals, no colours
+
+
+def test_stipples_mark_renders_and_level_changes_it(tmp_path):
+    scene, tree = _stipple_scene()
+    node = nodes.mark_node(tree)
+    node.level = 6.0
+    coarse, _ = helpers.render_pixels(tmp_path, "coarse.png")
+    dark = (coarse[..., :3].mean(axis=2) < 0.5).mean()
+    assert 0.01 < dark < 0.9, dark  # dots on white, not empty, not filled
+    node.level = 9.0
+    fine, _ = helpers.render_pixels(tmp_path, "fine.png")
+    assert (fine[..., :3].mean(axis=2) < 0.5).mean() < dark  # a higher LEVEL thins more
