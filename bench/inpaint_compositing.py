@@ -48,25 +48,25 @@ def scans():
     """(name, [cloud A, cloud B], world_from_camera, clip)"""
     tile = pointnpr.read("data/lidarhd_myria3d_870000_6618000_subset.las")
     cls = np.asarray(tile.attributes["classification"])
-    yield ("LiDAR HD tile (aerial; buildings | rest)",
+    yield ("LiDAR HD tile (aerial; buildings vs rest)",
            _split(tile.positions, cls == 6, tile.attributes["colors"]),
            pointnpr.look_at((0.0, -70.0, 60.0), (0.0, 0.0, 0.0)), (0.5, 1000.0))
     lion = pointnpr.read("data/lion_takanawa.ply")
     z = np.asarray(lion.positions)[:, 2]
-    yield ("lion (photogrammetry; statue | plinth)",
+    yield ("lion (photogrammetry; statue vs plinth)",
            _split(lion.positions, z > np.percentile(z, 45), lion.attributes["colors"]),
            pointnpr.look_at((4.6, -4.6, 2.6), (0.0, 0.0, 0.0)), (0.1, 100.0))
     warsaw = pointnpr.read("tests/data/io/warsaw_small.las")
     cls = np.asarray(warsaw.attributes["classification"])
     pos = np.asarray(warsaw.positions)
     extent = np.ptp(pos, axis=0)
-    yield ("Warsaw (aerial; vegetation | rest)",
+    yield ("Warsaw (aerial; vegetation vs rest)",
            _split(warsaw.positions, np.isin(cls, (3, 4, 5)), warsaw.attributes["colors"]),
            pointnpr.look_at((0.0, -0.9 * extent[1], 0.8 * extent[1]), (0.0, 0.0, 0.0)), (0.5, 5000.0))
     mug = pointnpr.read("tests/data/io/mug_crop.pcd")
     pos = np.asarray(mug.positions)
     depth = pos[:, 2]
-    yield ("Kinect mug (depth camera; near | far)",
+    yield ("Kinect mug (depth camera; near vs far)",
            _split(mug.positions, depth < np.percentile(depth, 40), mug.attributes["colors"]),
            # The camera of the frame (PCL: +z forward, +y down), recentred like the points.
            pointnpr.look_at((0.0, 0.0, -0.5), (0.0, 0.0, 0.0), up=(0.0, -1.0, 0.0)), (0.01, 100.0))
