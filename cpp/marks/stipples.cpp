@@ -214,11 +214,13 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     const gl::Program& prog = ctx.shaders->compute("stipples.comp", {pass});
     set_uniforms(prog);
     bind_all();
+    // Chunks of one pass touch the buffers only through atomics or reads of
+    // earlier passes: one barrier after the pass.
     for (const VisibleChunk& v : ctx.chunks) {
       bind_chunk(prog, v, ColorSource::Constant, {{6, v.gpu->find({AttributeKind::PointId})}});
       glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
-      barrier();
     }
+    barrier();
   };
   auto image_pass = [&](const char* pass, glm::ivec2 size) {
     const gl::Program& prog = ctx.shaders->compute("stipples.comp", {pass});
