@@ -227,7 +227,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
 
   // Directions in view space, composed in double.
   const glm::dmat3 view_from_world(cam.view_from_world);
-  const bool light_in_world = p.get_enum_name("light_space") == "world";
+  const bool light_in_world = p.get_enum_name("light_space") != "camera";
   glm::vec3 light_view;
   if (light_in_world) {
     light_view = glm::normalize(glm::vec3(view_from_world * direction_of(p.get_float("light_azimuth"),
@@ -477,9 +477,10 @@ const MarkRegistration registration{{
                float_param("direction_azimuth", 30.0, -180.0, 180.0, "deg",
                            "Line direction u, projected onto each point's tangent plane: angle around the world Z axis"),
                float_param("direction_elevation", 35.0, -90.0, 90.0, "deg", "Line direction u: angle above the XY plane"),
-               enum_param("light_space", {"world", "camera"}, 0,
-                          "world: the light stays with the scene (strokes do not change as the camera moves); "
-                          "camera: it moves with the view"),
+               enum_param("light_space", {"world", "camera", "scene_sun"}, 0,
+                          "world: the light stays with the scene (marks do not change as the camera moves); "
+                          "camera: it moves with the view; scene_sun: as world, from the direction of the host "
+                          "scene's sun lamp (Blender), so scans and meshes share one light"),
                float_param("light_azimuth", 135.0, -180.0, 180.0, "deg",
                            "Light direction: around world Z (world), or around the view axis (camera; 0 from the right)"),
                float_param("light_elevation", 50.0, -90.0, 90.0, "deg",

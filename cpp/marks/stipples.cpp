@@ -88,7 +88,7 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   // Light frame, view space.
   const glm::dmat3 view_from_world(cam.view_from_world);
   glm::vec3 L;
-  if (p.get_enum_name("light_space") == "world") {
+  if (p.get_enum_name("light_space") != "camera") {
     L = glm::normalize(glm::vec3(view_from_world * world_direction(p.get_float("light_azimuth"), p.get_float("light_elevation"))));
   } else {
     const double a = glm::radians(p.get_float("light_azimuth")), e = glm::radians(p.get_float("light_elevation"));
@@ -381,8 +381,10 @@ const MarkRegistration registration{{
                float_param("resolution_factor", 2.0, 1.0, 4.0, "",
                            "Hidden-point texture size over the screen's (larger: fewer front points lost where "
                            "they crowd, more iterations needed)"),
-               enum_param("light_space", {"world", "camera"}, 0,
-                          "world: the light stays with the scene; camera: it moves with the view"),
+               enum_param("light_space", {"world", "camera", "scene_sun"}, 0,
+                          "world: the light stays with the scene (marks do not change as the camera moves); "
+                          "camera: it moves with the view; scene_sun: as world, from the direction of the host "
+                          "scene's sun lamp (Blender), so scans and meshes share one light"),
                float_param("light_azimuth", 135.0, -180.0, 180.0, "deg",
                            "Light direction: around world Z (world), or around the view axis (camera; 0 from the right)"),
                float_param("light_elevation", 50.0, -90.0, 90.0, "deg",

@@ -229,3 +229,44 @@ def test_non_finite_points_are_skipped_with_one_warning_per_object():
     warnings = _frame_warnings()
     assert warnings == ["object 'Obj': 2 of %s points have non-finite coordinates and were skipped" % f"{n:,}"], \
         warnings
+
+
+def _add_sun(rotation):
+    data = bpy.data.lights.new("Sun", 'SUN')
+    sun = bpy.data.objects.new("Sun", data)
+    bpy.context.scene.collection.objects.link(sun)
+    sun.rotation_euler = rotation
+    return sun
+
+
+def test_scene_sun_drives_the_light_of_a_scene_sun_style():
+    _scene, tree, _obj = _attribute_scene(lambda n: None)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    desc = {"mark": ("hatching", {"light_space": "scene_sun", "light_azimuth": 10.0, "light_elevation": 20.0})}
+    warnings = []
+    sync._apply_scene_sun(desc, depsgraph, warnings, tree)
+    assert desc["mark"][1]["light_azimuth"] == 10.0 and len(warnings) == 1 and "has none" in warnings[0]
+    # A sun tilted 30 degrees from straight down, toward +Y: it shines from
+    # azimuth 90 (its +Z axis), elevation 60.
+    _add_sun((-0.5235988, 0.0, 0.0))
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    warnings = []
+    sync._apply_scene_sun(desc, depsgraph, warnings, tree)
+    assert warnings == []
+    assert desc["mark"][1]["light_azimuth"] == pytest.approx(90.0, abs=1e-4)
+    assert desc["mark"][1]["light_elevation"] == pytest.approx(60.0, abs=1e-4)
+    # A world light is left as it is.
+    world = {"mark": ("hatching", {"light_space": "world", "light_azimuth": 10.0})}
+    sync._apply_scene_sun(world, depsgraph, warnings, tree)
+    assert world["mark"][1]["light_azimuth"] == 10.0
+
+
+def test_turning_the_sun_relights_a_hatched_render(tmp_path):
+    _hatching_scene()
+    node = nodes.mark_node(bpy.data.collections["Hatched"].pointnpr_style)
+    node.light_space = "scene_sun"
+    sun = _add_sun((0.3, 0.0, 0.0))
+    first, _ = helpers.render_pixels(tmp_path, "sun_a.png")
+    sun.rotation_euler = (1.2, 0.0, 2.5)
+    second, _ = helpers.render_pixels(tmp_path, "sun_b.png")
+    assert np.abs(first[..., :3] - second[..., :3]).mean() > 0.005

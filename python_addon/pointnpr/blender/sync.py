@@ -337,6 +337,38 @@ def visible_instances(depsgraph):
     return out
 
 
+def scene_sun_direction(depsgraph):
+    """World-space unit direction toward the scene's sun lamp (the first
+    visible one by name), or None. A sun shines along its local -Z."""
+    suns = []
+    for inst in depsgraph.object_instances:
+        obj = inst.object
+        if obj is not None and obj.type == 'LIGHT' and getattr(obj.data, "type", None) == 'SUN':
+            suns.append((obj.name, np.array(inst.matrix_world, dtype=np.float64)[:3, 2]))
+    if not suns:
+        return None
+    _name, z = min(suns, key=lambda s: s[0])
+    length = np.linalg.norm(z)
+    return z / length if length > 0 else None
+
+
+def _apply_scene_sun(desc, depsgraph, warnings, tree):
+    """A mark whose light_space is scene_sun takes its light direction
+    (world azimuth and elevation) from the scene's sun lamp."""
+    values = desc["mark"][1]
+    if values.get("light_space") != "scene_sun":
+        return
+    sun = scene_sun_direction(depsgraph)
+    if sun is None:
+        warnings.append("style '%s' takes its light from the scene's sun lamp, but the scene has none: its own "
+                        "light direction is used" % getattr(tree, "name", "default"))
+        return
+    values = dict(values)
+    values["light_azimuth"] = float(np.degrees(np.arctan2(sun[1], sun[0])))
+    values["light_elevation"] = float(np.degrees(np.arcsin(np.clip(sun[2], -1.0, 1.0))))
+    desc["mark"] = (desc["mark"][0], values)
+
+
 def build_scene(depsgraph, frame, trust_cache=False):
     """SyncResult with a pointnpr.Scene of the depsgraph's visible point objects
     and styles evaluated at ``frame``."""
@@ -361,6 +393,7 @@ def build_scene(depsgraph, frame, trust_cache=False):
         if key not in style_cache:
             desc = nodes.read_style(tree, frame)
             result.warnings.extend(desc["warnings"])
+            _apply_scene_sun(desc, depsgraph, result.warnings, tree)
             core_style = nodes.make_core_style(desc)
             style_cache[key] = (core_style, source_attributes(core_style))
         style, attributes = style_cache[key]
