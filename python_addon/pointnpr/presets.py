@@ -135,6 +135,15 @@ PRESETS = {
                               "light_azimuth": -60.0, "light_elevation": 40.0, "paper_color": (1.0, 1.0, 1.0, 1.0)}),
         "filters": [("color_grade", {"saturation": 1.8})],
     },
+    # Seed 001 Fig. 7(a): stippling, every class of point a Gaussian point
+    # sprite: feature points dense along edges, dithering points for tone.
+    "Feature stippling": {
+        "mark": ("feature_strokes", {"directional": "point_sprite", "non_directional": "point_sprite",
+                                     "dithering": "point_sprite", "sprite_size": 2.0, "feature_threshold": 0.3,
+                                     "dither": 0.25, "dither_tone": 0.6,
+                                     "density_mode": "constant_on_screen", "queue_level": 0.25}),
+        "filters": [],
+    },
     # Seed 001 Fig. 1 / 7(b): directional feature points as long tapered
     # textured strokes along their fitted 3D lines, the other feature points
     # and the dithering points as Gaussian point sprites (stipples) for the
