@@ -372,13 +372,13 @@ const MarkRegistration registration{{
                color_param("dot_color", {0.0, 0.0, 0.0, 1.0}, "Dot colour (display sRGB; alpha: its opacity)"),
                color_param("paper_color", {1.0, 1.0, 1.0, 1.0},
                            "Colour under the dots where the surface is (alpha: its opacity; 0 leaves dots only)"),
-               int_param("iterations", 4, 0, 32, "",
+               int_param("iterations", 3, 0, 32, "",
                          "Hidden points: how many times each texel takes its neighbours' depths (closes holes "
                          "between front points of this many texels)"),
-               float_param("depth_offset", 0.026, 0.0, 0.5, "",
+               float_param("depth_offset", 0.038, 0.0, 0.5, "",
                            "Hidden points: depth added per spreading step and kept in front of the surface, as a "
                            "fraction of the segment's view depth range (the paper's 'slightly larger depth')"),
-               float_param("resolution_factor", 2.0, 1.0, 4.0, "",
+               float_param("resolution_factor", 1.25, 1.0, 4.0, "",
                            "Hidden-point texture size over the screen's (larger: fewer front points lost where "
                            "they crowd, more iterations needed)"),
                enum_param("light_space", {"world", "camera", "scene_sun"}, 0,
