@@ -15,6 +15,7 @@ const char* attribute_name(AttributeKind attribute) {
     case AttributeKind::Curvature: return "curvature";
     case AttributeKind::LocalResolution: return "local_resolution";
     case AttributeKind::FeatureDegree: return "feature_degree";
+    case AttributeKind::ResolutionDeviation: return "resolution_deviation";
   }
   return "?";
 }

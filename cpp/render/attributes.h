@@ -21,6 +21,7 @@ enum class AttributeKind : uint8_t {
   Curvature,        // surface variation from k neighbours (lambda0 / sum), float
   LocalResolution,  // mean distance to the k nearest neighbours, float
   FeatureDegree,    // seed 001 feature degree from k neighbours, float in [0, 1]
+  ResolutionDeviation,  // deviation eps of the distance to the k nearest neighbours (seed 004's r + eps), float
 };
 
 // An attribute and, for computed ones, the neighbourhood size it uses.

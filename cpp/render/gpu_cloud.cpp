@@ -107,6 +107,7 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
       case AttributeKind::Curvature: buffer = upload(*analysis->curvature(key.k)); break;
       case AttributeKind::LocalResolution: buffer = upload(analysis->local_resolution(key.k)->r); break;
       case AttributeKind::FeatureDegree: buffer = upload(*analysis->feature_degree(key.k, {})); break;
+      case AttributeKind::ResolutionDeviation: buffer = upload(analysis->local_resolution(key.k)->eps); break;
     }
   }
   gl::check_gl("point upload");

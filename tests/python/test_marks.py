@@ -356,6 +356,9 @@ MARK_STYLES = {
     "points": [{}, {"shading": "diffuse"}, {"rasterizer": "gl_points", "color_source": "constant"}],
     "hatching": [{}, {"coloring": "point", "curvature_length": 0.0, "stroke_coverage": 0.0},
                  {"units": "world", "placement": "irregular", "pencil_quantize": True, "coloring": "point"}],
+    "brush_splats": [{}, {"tangent_frame": "eberly", "layers": "two", "blending": "none", "epsilon_mode": "user",
+                          "epsilon": 0.01},
+                     {"size_mode": "world", "world_radius": 0.03, "color_source": "constant"}],
 }
 
 

@@ -1,0 +1,76 @@
+// brush_splats: the brush texture, a mixture of Gaussians (seed 004 eq. 1)
+// on a 3 x 3 grid, evaluated per fragment (no texture images).
+// PASS_DEPTH: the nearest brush surface (linear depth, GL depth written).
+// PASS_BLEND: colour weighted by alpha (sum), transmittance (product),
+// depth (min): order-independent.
+// variants: PASS_DEPTH | PASS_BLEND
+in vec2 v_uv;
+in float v_depth;
+flat in vec4 v_color;
+flat in vec3 v_angles;
+flat in uint v_id;
+
+uniform int u_gaussians;     // 1..9
+uniform float u_amplitude;   // A
+uniform float u_dev;         // spacing of the centres
+uniform float u_lambda;      // shape exponent
+uniform float u_sigma_x;
+uniform float u_sigma_y;
+uniform int u_layers;        // 1 or 2
+uniform float u_layer_scale; // second layer: the grid shrunk about the centre
+uniform float u_layer_angle; // ... and turned (radians)
+uniform float u_layer_tint;  // ... and its colour toward white (> 0) or black (< 0)
+uniform float u_cut;         // alpha below this is no coverage
+
+#ifdef PASS_DEPTH
+layout(location = 0) out vec4 o_depth;
+#else
+layout(location = 0) out vec4 o_accum;
+layout(location = 1) out vec4 o_reveal;
+layout(location = 2) out vec4 o_depth;
+#endif
+
+// One Gaussian of eq. 1: A exp(-1/2 |(x_theta - x0) / sx|^lambda) exp(-1/2 |(y_theta - y0) / sy|^lambda).
+float brush_gaussian(vec2 uv, vec2 c, float theta) {
+  vec2 d = uv - c;
+  float cs = cos(theta), sn = sin(theta);
+  vec2 r = vec2(cs * d.x - sn * d.y, sn * d.x + cs * d.y);
+  vec2 q = abs(r) / vec2(u_sigma_x, u_sigma_y);
+  return exp(-0.5 * (pow(q.x, u_lambda) + pow(q.y, u_lambda)));
+}
+
+// The mixture: rows = ceil(N / 3) rows of up to three columns, dev apart,
+// centred on the texture; column c turned by angles[c]. Clamped to 1.
+float brush_alpha(vec2 uv, vec3 angles) {
+  int rows = (u_gaussians + 2) / 3;
+  float sum = 0.0;
+  for (int i = 0; i < u_gaussians; ++i) {
+    int row = i / 3, col = i % 3;
+    int cols = min(3, u_gaussians - row * 3);
+    vec2 c = vec2(0.5 + (float(col) - 0.5 * float(cols - 1)) * u_dev, 0.5 + (float(row) - 0.5 * float(rows - 1)) * u_dev);
+    sum += brush_gaussian(uv, c, angles[col]);
+  }
+  return clamp(u_amplitude * sum, 0.0, 1.0);
+}
+
+void main() {
+  float a = brush_alpha(v_uv, v_angles);
+  vec3 rgb = v_color.rgb;
+  if (u_layers > 1) {
+    // A second, smaller layer over the first, slightly altered colour.
+    vec2 uv2 = (v_uv - 0.5) / u_layer_scale + 0.5;
+    float a2 = brush_alpha(uv2, v_angles + u_layer_angle);
+    vec3 rgb2 = u_layer_tint >= 0.0 ? mix(rgb, vec3(1.0), u_layer_tint) : rgb * (1.0 + u_layer_tint);
+    float a_total = a2 + a * (1.0 - a2);
+    rgb = a_total > 0.0 ? (rgb2 * a2 + rgb * a * (1.0 - a2)) / a_total : rgb;
+    a = a_total;
+  }
+  if (!(a >= u_cut)) discard;
+#ifdef PASS_DEPTH
+  o_depth = vec4(v_depth);
+#else
+  o_accum = vec4(rgb * a, a);
+  o_reveal = vec4(a);
+  o_depth = vec4(v_depth);
+#endif
+}
