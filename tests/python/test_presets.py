@@ -10,16 +10,19 @@ from conftest import plane
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 POINTS_PRESETS = ["Toon", "Ink outlines", "Watercolor", "Oil paint", "Posterize", "Urban map"]
 HATCHING_PRESETS = ["Pencil", "Coloured crayons", "Wax crayons", "Blueprint", "Chalk", "Pointillism"]
+BRUSH_PRESETS = ["Impressionist", "Pointillist", "Painterly"]
 
 
 def test_the_presets_are_all_there():
     from pointnpr import presets
 
-    assert set(presets.PRESETS) == set(POINTS_PRESETS) | set(HATCHING_PRESETS)
+    assert set(presets.PRESETS) == set(POINTS_PRESETS) | set(HATCHING_PRESETS) | set(BRUSH_PRESETS)
     for name in POINTS_PRESETS:
         assert presets.PRESETS[name]["mark"][0] == "points", name
     for name in HATCHING_PRESETS:
         assert presets.PRESETS[name]["mark"][0] == "hatching", name
+    for name in BRUSH_PRESETS:
+        assert presets.PRESETS[name]["mark"][0] == "brush_splats", name
 
 
 def _plane_render(renderer, style):
@@ -32,7 +35,7 @@ def _plane_render(renderer, style):
     return renderer.render(scene, cam, 96, 64)
 
 
-@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS)
+@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS + BRUSH_PRESETS)
 def test_preset_validates_and_renders(renderer, name):
     import pointnpr
     from pointnpr import presets
@@ -161,7 +164,7 @@ def _check_intensity_tones(renderer, name, cloud, camera):
         assert corr > MIN_CORRELATION, f"{name}: the intensity does not show (correlation {corr:.3f})"
 
 
-@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS)
+@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS + BRUSH_PRESETS)
 def test_preset_shows_the_tones_of_an_intensity_only_scan(renderer, intensity_tile, name):
     # The tile's intensity has glints far above the rest (peak 21014, 99th
     # percentile 4172): the core maps its 99th percentile to white.
