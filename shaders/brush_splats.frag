@@ -3,7 +3,13 @@
 // PASS_DEPTH: the nearest brush surface (linear depth, GL depth written).
 // PASS_BLEND: colour weighted by alpha (sum), transmittance (product),
 // depth (min): order-independent.
-// variants: PASS_DEPTH | PASS_BLEND
+// PASS_COUNT / PASS_STORE: the A-buffer (brush_abuffer.glsl): fragments
+// counted per pixel, then stored in the pixel's list.
+// variants: PASS_DEPTH | PASS_BLEND | PASS_COUNT | PASS_STORE
+#if defined(PASS_COUNT) || defined(PASS_STORE)
+layout(early_fragment_tests) in;  // only fragments near the surface enter the lists
+#include "brush_abuffer.glsl"
+#endif
 in vec2 v_uv;
 in float v_depth;
 flat in vec4 v_color;
@@ -24,6 +30,7 @@ uniform float u_cut;         // alpha below this is no coverage
 
 #ifdef PASS_DEPTH
 layout(location = 0) out vec4 o_depth;
+#elif defined(PASS_COUNT) || defined(PASS_STORE)
 #else
 layout(location = 0) out vec4 o_accum;
 layout(location = 1) out vec4 o_reveal;
@@ -68,6 +75,16 @@ void main() {
   if (!(a >= u_cut)) discard;
 #ifdef PASS_DEPTH
   o_depth = vec4(v_depth);
+#elif defined(PASS_COUNT)
+  atomicAdd(counts[pixel_of(ivec2(gl_FragCoord.xy))], 1u);
+#elif defined(PASS_STORE)
+  ivec2 q = ivec2(gl_FragCoord.xy);
+  uint pixel = pixel_of(q);
+  uint slot = atomicAdd(cursors[pixel], 1u);
+  if (slot < counts[pixel]) {
+    uint at = list_start(q) + slot;
+    fragments[at] = Fragment(v_depth, v_id, packHalf2x16(rgb.rg), packHalf2x16(vec2(rgb.b, a)));
+  }
 #else
   o_accum = vec4(rgb * a, a);
   o_reveal = vec4(a);

@@ -1,6 +1,5 @@
 // brush_splats: six vertices per point, a surface-aligned square of side
 // 2 radius in the point's tangent frame, textured by brush_splats.frag.
-// variants: PASS_DEPTH | PASS_BLEND
 #include "brush_common.glsl"
 
 uniform float u_offset_radii;  // PASS_BLEND: moved toward the camera by this many radii

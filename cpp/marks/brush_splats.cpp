@@ -18,8 +18,17 @@
 //    same bytes in every process).
 //  - Blending (a): two-pass Gaussian blur of the colour with depth
 //    occlusion (neighbours at other depths do not mix), coverage unchanged.
+//  - Blending (b): an A-buffer of the splats near the surface: fragments
+//    counted per pixel, lists packed by a sequential prefix sum, stored,
+//    then each list sorted completely by (depth, point id, colour) and
+//    alpha-blended front to back (the same bytes whatever the point order).
+//    Its fragments have a memory budget: a frame that would need more warns
+//    and is blended by (a); nothing is allocated beyond it. The seed's
+//    incremental bubble sort across viewport frames is not done: every
+//    frame sorts completely.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -140,63 +149,156 @@ void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p
   glBindVertexArray(0);
 }
 
-void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
+// Raster state of the splat passes: the clip rect, reversed Z.
+class RasterState {
+ public:
+  RasterState(const MarkContext& ctx) {
+    glViewport(0, 0, ctx.targets.size.x, ctx.targets.size.y);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(ctx.clip.min.x, ctx.clip.min.y, ctx.clip.size().x, ctx.clip.size().y);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  }
+  ~RasterState() {
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
+  RasterState(const RasterState&) = delete;
+  RasterState& operator=(const RasterState&) = delete;
+};
+
+constexpr size_t kFragmentBytes = 16;  // brush_abuffer.glsl's Fragment
+
+// Splats near the surface: depth test against the depth pass, moved toward
+// the camera by depth_tolerance radii, no depth writes.
+void near_surface_tests(const gl::Program& g, const ParamValues& p) {
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GEQUAL);
+  glDepthMask(GL_FALSE);
+  glUniform1f(g.location("u_offset_radii"), float(p.get_float("depth_tolerance")));
+}
+
+// Blending (b): returns false (with a warning) where the frame's fragments
+// would not fit the budget; nothing is then allocated for them.
+bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
   const glm::ivec2 size = ctx.targets.size;
+  const Rect& clip = ctx.clip;
+  const size_t pixels = size_t(size.x) * size_t(size.y);
+  const uint32_t zero = 0;
+  const gl::Buffer counts = gl::make_buffer(pixels * 4, nullptr, 0);
+  const gl::Buffer cursors = gl::make_buffer(pixels * 4, nullptr, 0);
+  const gl::Buffer offsets = gl::make_buffer(pixels * 4, nullptr, 0);
+  const gl::Buffer row_base = gl::make_buffer((size_t(size.y) + 1) * 4, nullptr, 0);
+  glClearNamedBufferData(counts.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glClearNamedBufferData(cursors.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glClearNamedBufferData(row_base.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  auto bind_lists = [&](const gl::Program& g) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, counts.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, cursors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, row_base.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, offsets.id());
+    glUniform1i(g.location("u_frame_width"), size.x);
+    glUniform1i(g.location("u_frame_height"), size.y);
+  };
+  const gl::Framebuffer fbo = make_fbo({}, *ctx.targets.gl_depth);
+
+  // 1. Count the fragments of every pixel.
+  {
+    const RasterState state(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    const gl::Program& count = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_COUNT"});
+    count.use();
+    set_splat_uniforms(count, ctx, p);
+    near_surface_tests(count, p);
+    bind_lists(count);
+    draw_all(ctx, count, p);
+  }
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  // 2. Where each list starts, and the total.
+  for (const char* pass : {"PASS_ROWS", "PASS_TOTAL"}) {
+    const gl::Program& scan = ctx.shaders->compute("brush_abuffer_scan.comp", {pass});
+    scan.use();
+    bind_lists(scan);
+    glUniform2i(scan.location("u_rect_min"), clip.min.x, clip.min.y);
+    glUniform2i(scan.location("u_rect_max"), clip.max.x, clip.max.y);
+    glDispatchCompute(std::string(pass) == "PASS_ROWS" ? GLuint((clip.size().y + 63) / 64) : 1u, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  }
+  uint32_t total = 0;
+  glGetNamedBufferSubData(row_base.id(), GLintptr(size_t(size.y) * 4), 4, &total);
+  const double budget_mib = p.get_float("a_buffer_budget");
+  const double needed_mib = double(total) * double(kFragmentBytes) / (1024.0 * 1024.0);
+  if (ctx.stats) (*ctx.stats)["a_buffer_fragments"] += double(total);
+  if (total == 0xFFFFFFFFu || needed_mib > budget_mib) {
+    if (ctx.warnings) {
+      char text[200];
+      std::snprintf(text, sizeof(text),
+                    "brush_splats: the A-buffer needs %s%.1f MiB for this frame, over its budget of %.1f MiB; "
+                    "blended by blur instead",
+                    total == 0xFFFFFFFFu ? "more than " : "", needed_mib, budget_mib);
+      ctx.warnings->push_back(text);
+    }
+    return false;
+  }
+  // 3. Store them, 4. sort and blend each list.
+  const gl::Buffer fragments = gl::make_buffer(std::max<size_t>(total, 1) * kFragmentBytes, nullptr, 0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, fragments.id());
+  {
+    const RasterState state(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    const gl::Program& store = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_STORE"});
+    store.use();
+    set_splat_uniforms(store, ctx, p);
+    near_surface_tests(store, p);
+    bind_lists(store);
+    draw_all(ctx, store, p);
+  }
+  gl::check_gl("brush splats A-buffer");
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  const gl::Program& resolve = ctx.shaders->compute("brush_abuffer_resolve.comp");
+  resolve.use();
+  bind_lists(resolve);
+  glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
+  dispatch_rect(resolve, clip);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  return true;
+}
+
+// Blending by weighted average and the blur (a).
+void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
   const Rect& clip = ctx.clip;
   const gl::Texture& accum = ctx.targets.scratch(GL_RGBA32F, 0);
   const gl::Texture& reveal = ctx.targets.scratch(GL_R32F, 0);
   const gl::Texture& splat_depth = ctx.targets.scratch(GL_R32F, 1);
-  const float zero4[4] = {0, 0, 0, 0}, one = 1.0f, inf = std::numeric_limits<float>::infinity(), zero = 0.0f;
+  const float zero4[4] = {0, 0, 0, 0}, one = 1.0f, inf = std::numeric_limits<float>::infinity();
   glClearTexSubImage(accum.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RGBA, GL_FLOAT, zero4);
   glClearTexSubImage(reveal.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &one);
   glClearTexSubImage(splat_depth.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &inf);
-
-  const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth}, *ctx.targets.gl_depth);
   const gl::Framebuffer blend_fbo = make_fbo({&accum, &reveal, &splat_depth}, *ctx.targets.gl_depth);
-
-  glViewport(0, 0, size.x, size.y);
-  glEnable(GL_SCISSOR_TEST);
-  glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
-  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-
-  // 1. Depth pass: the nearest brush surface per pixel.
-  glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo.id());
-  glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z: 0 is the far end
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_GREATER);
-  glDepthMask(GL_TRUE);
-  const gl::Program& depth_pass = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_DEPTH"});
-  depth_pass.use();
-  set_splat_uniforms(depth_pass, ctx, p);
-  glUniform1f(depth_pass.location("u_offset_radii"), 0.0f);
-  draw_all(ctx, depth_pass, p);
-
-  // 2. Splats within depth_tolerance radii of that surface, blended.
-  glBindFramebuffer(GL_FRAMEBUFFER, blend_fbo.id());
-  glDepthFunc(GL_GEQUAL);
-  glDepthMask(GL_FALSE);
-  glEnable(GL_BLEND);
-  glBlendEquationi(0, GL_FUNC_ADD);
-  glBlendFunci(0, GL_ONE, GL_ONE);
-  glBlendEquationi(1, GL_FUNC_ADD);
-  glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR);
-  glBlendEquationi(2, GL_MIN);
-  glBlendFunci(2, GL_ONE, GL_ONE);
-  const gl::Program& blend = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_BLEND"});
-  blend.use();
-  set_splat_uniforms(blend, ctx, p);
-  glUniform1f(blend.location("u_offset_radii"), float(p.get_float("depth_tolerance")));
-  draw_all(ctx, blend, p);
-  glDisable(GL_BLEND);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_SCISSOR_TEST);
-  glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  {
+    const RasterState state(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, blend_fbo.id());
+    glEnable(GL_BLEND);
+    glBlendEquationi(0, GL_FUNC_ADD);
+    glBlendFunci(0, GL_ONE, GL_ONE);
+    glBlendEquationi(1, GL_FUNC_ADD);
+    glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR);
+    glBlendEquationi(2, GL_MIN);
+    glBlendFunci(2, GL_ONE, GL_ONE);
+    const gl::Program& blend = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_BLEND"});
+    blend.use();
+    set_splat_uniforms(blend, ctx, p);
+    near_surface_tests(blend, p);
+    draw_all(ctx, blend, p);
+  }
   gl::check_gl("brush splats");
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
 
-  // 3. Resolve into the segment's colour and depth.
+  // Resolve into the segment's colour and depth.
   const gl::Program& resolve = ctx.shaders->compute("brush_resolve.comp");
   resolve.use();
   glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
@@ -207,27 +309,49 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
   dispatch_rect(resolve, clip);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 
-  // 4. Blending (a): blur with depth occlusion.
+  // Blur with depth occlusion.
   const int radius = p.get_int("blur_radius");
-  if (p.get_enum_name("blending") == "blur" && radius > 0) {
-    const gl::Texture& sums = ctx.targets.scratch(GL_RGBA32F, 1);
-    const float sigma = std::max(0.5f, 0.5f * float(radius));
-    for (const char* pass : {"PASS_X", "PASS_Y"}) {
-      const gl::Program& blur = ctx.shaders->compute("brush_blur.comp", {pass});
-      blur.use();
-      glUniform1f(blur.location("u_sigma"), sigma);
-      glUniform1i(blur.location("u_radius"), radius);
-      glUniform1f(blur.location("u_depth_tolerance"), float(p.get_float("blur_depth_tolerance")));
-      glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-      glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-      glBindImageTexture(2, sums.id(), 0, GL_FALSE, 0, std::string(pass) == "PASS_X" ? GL_WRITE_ONLY : GL_READ_ONLY,
-                         GL_RGBA32F);
-      if (std::string(pass) == "PASS_Y")
-        glBindImageTexture(3, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-      dispatch_rect(blur, clip);
-      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    }
+  if (!blur || radius <= 0) return;
+  const gl::Texture& sums = ctx.targets.scratch(GL_RGBA32F, 1);
+  const float sigma = std::max(0.5f, 0.5f * float(radius));
+  for (const char* pass : {"PASS_X", "PASS_Y"}) {
+    const bool x = std::string(pass) == "PASS_X";
+    const gl::Program& g = ctx.shaders->compute("brush_blur.comp", {pass});
+    g.use();
+    glUniform1f(g.location("u_sigma"), sigma);
+    glUniform1i(g.location("u_radius"), radius);
+    glUniform1f(g.location("u_depth_tolerance"), float(p.get_float("blur_depth_tolerance")));
+    glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(2, sums.id(), 0, GL_FALSE, 0, x ? GL_WRITE_ONLY : GL_READ_ONLY, GL_RGBA32F);
+    if (!x) glBindImageTexture(3, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    dispatch_rect(g, clip);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
   }
+}
+
+void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
+  // 1. Depth pass: the nearest brush surface per pixel.
+  const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth}, *ctx.targets.gl_depth);
+  {
+    const RasterState state(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo.id());
+    const float zero = 0.0f;
+    glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z: 0 is the far end
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_TRUE);
+    const gl::Program& depth_pass = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_DEPTH"});
+    depth_pass.use();
+    set_splat_uniforms(depth_pass, ctx, p);
+    glUniform1f(depth_pass.location("u_offset_radii"), 0.0f);
+    draw_all(ctx, depth_pass, p);
+  }
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+
+  // 2. The splats near that surface, blended.
+  const std::string blending = p.get_enum_name("blending");
+  if (blending != "a_buffer" || !draw_a_buffer(ctx, p)) draw_blended(ctx, p, blending != "none");
 
   uint64_t drawn = 0;
   for (const VisibleChunk& v : ctx.chunks) drawn += v.chunk->count;
@@ -310,13 +434,19 @@ const MarkRegistration registration{{
                color_param("color", {0.8, 0.8, 0.8, 1.0}, "Constant color (display sRGB)"),
                float_param("depth_tolerance", 1.0, 0.0, 10.0, "",
                            "Splats blend with the nearest surface within this many radii behind it"),
-               enum_param("blending", {"blur", "none"}, 0,
-                          "blur: two-pass Gaussian blur of the colour with depth occlusion; none: the blended "
-                          "splats alone"),
-               only_when(int_param("blur_radius", 2, 0, 16, "px", "Blur radius (sigma = half of it)"), "blending", {"blur"}),
+               enum_param("blending", {"blur", "a_buffer", "none"}, 0,
+                          "blur: splats averaged, then a two-pass Gaussian blur with depth occlusion; a_buffer: per "
+                          "pixel lists sorted by depth and alpha-blended front to back; none: splats averaged"),
+               only_when(float_param("a_buffer_budget", 256.0, 1.0, 4096.0, "MiB",
+                                     "Most memory the A-buffer's fragments may take; a frame that needs more is "
+                                     "blended by blur (with a warning)"),
+                         "blending", {"a_buffer"}),
+               only_when(int_param("blur_radius", 2, 0, 16, "px",
+                                   "Blur radius (sigma = half of it); also the A-buffer's fallback"),
+                         "blending", {"blur", "a_buffer"}),
                only_when(float_param("blur_depth_tolerance", 0.02, 0.0, 1.0, "",
                                      "Neighbours mix only within this fraction of the depth"),
-                         "blending", {"blur"}),
+                         "blending", {"blur", "a_buffer"}),
                int_param("seed", 0, 0, 65535, "", "Varies the brushes' noise (still fixed per point)"),
            }},
     [] { return std::make_unique<BrushSplats>(); }}};

@@ -233,3 +233,76 @@ def test_the_lion_at_ten_percent_still_renders_a_closed_surface(renderer, lion_s
     assert (brush & full).sum() >= 0.95 * full.sum(), ((brush & full).sum(), full.sum())
     # The points of the same 10 % leave holes (measured: 77 % of the pixels).
     assert (points_tenth & full).sum() < 0.85 * full.sum()
+
+
+# ---------------------------------------------------------------------------
+# A-buffer
+
+def _sphere(n=6000, seed=2):
+    i = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * i / n
+    r = np.sqrt(1.0 - z * z)
+    a = 2.399963229728653 * np.arange(n)
+    normals = np.column_stack([r * np.cos(a), r * np.sin(a), z])
+    colors = (np.random.default_rng(seed).random((n, 3)) * 255).astype(np.uint8)
+    return normals + np.array([0.0, 0.0, -5.0]), normals.astype(np.float32), colors
+
+
+def _perspective(width=160, height=120):
+    return pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=width, height=height)
+
+
+def _render_instances(renderer, params, clouds, cam, width, height):
+    scene = pointnpr.Scene()
+    scene.add_segment("s", pointnpr.Style(mark=("brush_splats", params)), [(c, np.eye(4)) for c in clouds])
+    return renderer.render(scene, cam, width, height, background=(0, 0, 0, 0))
+
+
+def test_the_a_buffer_does_not_depend_on_the_point_order(renderer):
+    # The sphere's points split at random into two clouds that overlap
+    # everywhere, shuffled, drawn in either order: the splats reach each
+    # pixel in another order (a cloud keeps its points in spatial order, so
+    # the instance order is what changes the draws).
+    pos, normals, colors = _sphere()
+    rng = np.random.default_rng(7)
+    half = rng.random(len(pos)) < 0.5
+
+    def part(mask, shuffle):
+        idx = np.nonzero(mask)[0]
+        if shuffle:
+            idx = rng.permutation(idx)
+        return pointnpr.PointCloud(pos[idx], normals=normals[idx], colors=colors[idx], point_index=idx.astype(np.uint32))
+
+    params = {"blending": "a_buffer", "size_scale": 3.0, "depth_tolerance": 2.0}
+    first = [part(half, False), part(~half, False)]
+    second = [part(~half, True), part(half, True)]
+    a = _render_instances(renderer, params, first, _perspective(), 160, 120)
+    b = _render_instances(renderer, params, second, _perspective(), 160, 120)
+    assert a.stats["a_buffer_fragments"] > 3 * (np.asarray(a.color)[..., 3] > 0).sum()  # lists of several fragments
+    assert np.asarray(a.color).tobytes() == np.asarray(b.color).tobytes()
+    assert np.asarray(a.depth).tobytes() == np.asarray(b.depth).tobytes()
+    assert not a.warnings
+    # The weighted average sums in draw order: there the order shows (so
+    # this test can tell).
+    blur = dict(params, blending="none")
+    assert (np.asarray(_render_instances(renderer, blur, first, _perspective(), 160, 120).color).tobytes()
+            != np.asarray(_render_instances(renderer, blur, second, _perspective(), 160, 120).color).tobytes())
+
+
+def test_the_a_buffer_over_its_budget_warns_and_falls_back_to_blur(renderer):
+    pos, normals, colors = _sphere()
+    c = pointnpr.PointCloud(pos, normals=normals, colors=colors)
+    params = {"size_scale": 3.0, "blur_radius": 2}
+    cam = _perspective(320, 240)
+    fits = render(renderer, dict(params, blending="a_buffer"), c, cam, 320, 240)
+    needed = fits.stats["a_buffer_fragments"] * 16 / 2 ** 20  # MiB, 16 bytes a fragment
+    assert not fits.warnings and needed > 2.0, needed
+    over = render(renderer, dict(params, blending="a_buffer", a_buffer_budget=needed / 2), c, cam, 320, 240)
+    assert len(over.warnings) == 1, over.warnings
+    assert "A-buffer" in over.warnings[0] and "blur" in over.warnings[0] and f"{needed:.1f} MiB" in over.warnings[0]
+    # The fallback is exactly the blur blending of the same frame, which
+    # the A-buffer's is not.
+    blur = render(renderer, dict(params, blending="blur"), c, cam, 320, 240)
+    assert np.asarray(over.color).tobytes() == np.asarray(blur.color).tobytes()
+    assert np.asarray(over.depth).tobytes() == np.asarray(blur.depth).tobytes()
+    assert np.asarray(fits.color).tobytes() != np.asarray(blur.color).tobytes()
