@@ -5,6 +5,7 @@
 
 layout(std430, binding = 3) readonly buffer Resolution { float resolution[]; };  // mean kNN distance r
 layout(std430, binding = 4) readonly buffer Deviation { float deviation[]; };    // its deviation eps
+layout(std430, binding = 5) readonly buffer Clusters { uint clusters_u[]; };    // 4 per point: axis, elongation, size, label
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 
 uniform mat4 u_projection;
@@ -22,6 +23,10 @@ uniform int u_frame;            // 0 householder, 1 eberly, 2 square_plate
 uniform float u_angle;          // brush angle theta (radians)
 uniform float u_angle_jitter;   // bound of theta's noise per column (radians)
 uniform uint u_seed;
+uniform int u_clusters;          // 1: the point's cluster shapes its brush
+uniform float u_small_cluster;   // clusters with fewer points: two layers
+uniform float u_elongation_gain; // stretch = elongation ^ gain ...
+uniform float u_max_stretch;     // ... at most this
 
 // Integer hash (lowbias32): randomness from point ids only.
 uint brush_hash(uint x) {
@@ -69,7 +74,9 @@ struct BrushSplat {
   vec3 t;         // view space, unit: the brush's x axis
   vec3 b;         // view space, unit: its y axis
   vec3 n;         // view space, unit
-  float radius;   // scene units: the texture square is 2 radius wide
+  float radius;   // scene units: the texture is 2 radius wide across t ...
+  float stretch;  // ... and 2 radius x stretch along it
+  bool two_layers;
   bool visible;
 };
 
@@ -94,6 +101,8 @@ BrushSplat brush_splat(uint index) {
   vec3 n = unpackSnorm4x8(normals_u[index]).xyz;
   float len = length(n);
   mat3 to_view = mat3(u_view_from_chunk);
+  s.stretch = 1.0;
+  s.two_layers = false;
   if (len > 1e-3) {
     n /= len;
     vec3 t, b;
@@ -103,6 +112,21 @@ BrushSplat brush_splat(uint index) {
     s.t = normalize(to_view * t);
     s.b = normalize(to_view * b);
     s.n = normalize(u_normal_matrix * n);
+    if (u_clusters != 0 && clusters_u[4u * index + 2u] > 0u) {
+      // Seed 004 section 3.2.1: small clusters get a two-layered brush,
+      // elongated ones longer brushes along their main axis.
+      uint base = 4u * index;
+      s.two_layers = float(clusters_u[base + 2u]) < u_small_cluster;
+      float stretch = min(pow(max(uintBitsToFloat(clusters_u[base + 1u]), 1.0), u_elongation_gain), u_max_stretch);
+      vec3 axis = unpackSnorm4x8(clusters_u[base]).xyz;
+      vec3 along = axis - dot(axis, n) * n;
+      if (stretch > 1.05 && dot(along, along) > 0.01) {
+        t = normalize(along);
+        s.t = normalize(to_view * t);
+        s.b = normalize(to_view * cross(n, t));
+        s.stretch = stretch;
+      }
+    }
   } else {
     // No usable normal: a view-facing splat.
     s.t = vec3(1.0, 0.0, 0.0);

@@ -15,6 +15,7 @@ in float v_depth;
 flat in vec4 v_color;
 flat in vec3 v_angles;
 flat in uint v_id;
+flat in int v_two_layers;  // the point's cluster asks for two layers
 
 uniform int u_gaussians;     // 1..9
 uniform float u_amplitude;   // A
@@ -63,7 +64,7 @@ float brush_alpha(vec2 uv, vec3 angles) {
 void main() {
   float a = brush_alpha(v_uv, v_angles);
   vec3 rgb = v_color.rgb;
-  if (u_layers > 1) {
+  if (u_layers > 1 || v_two_layers != 0) {
     // A second, smaller layer over the first, slightly altered colour.
     vec2 uv2 = (v_uv - 0.5) / u_layer_scale + 0.5;
     float a2 = brush_alpha(uv2, v_angles + u_layer_angle);

@@ -9,6 +9,7 @@ out float v_depth;             // linear view depth on the splat's plane
 flat out vec4 v_color;         // display sRGB
 flat out vec3 v_angles;        // theta per column
 flat out uint v_id;
+flat out int v_two_layers;
 
 const vec2 CORNERS[6] = vec2[](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), vec2(1, 1), vec2(0, 1));
 
@@ -20,7 +21,7 @@ void main() {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume: no triangle
     return;
   }
-  vec3 p = s.center + (s.t * (corner.x - 0.5) + s.b * (corner.y - 0.5)) * (2.0 * s.radius);
+  vec3 p = s.center + (s.t * ((corner.x - 0.5) * s.stretch) + s.b * (corner.y - 0.5)) * (2.0 * s.radius);
   v_depth = -p.z;
   // Toward the camera along the view ray (the screen position is kept).
   float offset = u_offset_radii * s.radius;
@@ -36,4 +37,5 @@ void main() {
   uint id = point_ids[index];
   v_angles = brush_column_angles(id);
   v_id = id;
+  v_two_layers = s.two_layers ? 1 : 0;
 }

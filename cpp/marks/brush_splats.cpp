@@ -65,12 +65,14 @@ class BrushSplats final : public Mark {
       set.insert({AttributeKind::LocalResolution, k});
       if (p.get_enum_name("epsilon_mode") == "deviation") set.insert({AttributeKind::ResolutionDeviation, k});
     }
+    if (p.get_bool("clusters")) set.insert({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")});
     return set;
   }
 
   MarkExtent extent(const ParamValues& p) const override {
-    // Half the square's diagonal at the largest radius.
-    return {0.0, float(p.get_float("max_radius")) * 1.4143f + 2.0f};
+    // Half the splat's diagonal at the largest radius and stretch.
+    const double stretch = p.get_bool("clusters") ? p.get_float("max_stretch") : 1.0;
+    return {0.0, float(p.get_float("max_radius") * std::sqrt(stretch * stretch + 1.0)) + 2.0f};
   }
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override;
@@ -102,11 +104,15 @@ void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const Para
   glUniform1f(g.location("u_lambda"), float(p.get_float("lambda")));
   glUniform1f(g.location("u_sigma_x"), float(p.get_float("sigma_x")));
   glUniform1f(g.location("u_sigma_y"), float(p.get_float("sigma_y")));
-  const int layers = p.get_enum("layers") + 1;
-  glUniform1i(g.location("u_layers"), layers);
-  glUniform1f(g.location("u_layer_scale"), layers > 1 ? float(p.get_float("layer_scale")) : 1.0f);
-  glUniform1f(g.location("u_layer_angle"), layers > 1 ? float(glm::radians(p.get_float("layer_angle"))) : 0.0f);
-  glUniform1f(g.location("u_layer_tint"), layers > 1 ? float(p.get_float("layer_tint")) : 0.0f);
+  glUniform1i(g.location("u_layers"), p.get_enum("layers") + 1);
+  glUniform1f(g.location("u_layer_scale"), float(p.get_float("layer_scale")));
+  glUniform1f(g.location("u_layer_angle"), float(glm::radians(p.get_float("layer_angle"))));
+  glUniform1f(g.location("u_layer_tint"), float(p.get_float("layer_tint")));
+  const bool clusters = p.get_bool("clusters");
+  glUniform1i(g.location("u_clusters"), clusters ? 1 : 0);
+  glUniform1f(g.location("u_small_cluster"), clusters ? float(p.get_int("small_cluster")) : 0.0f);
+  glUniform1f(g.location("u_elongation_gain"), float(p.get_float("elongation_stretch")));
+  glUniform1f(g.location("u_max_stretch"), float(p.get_float("max_stretch")));
   glUniform1f(g.location("u_cut"), kCut);
 }
 
@@ -117,6 +123,7 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
              {{2, c.find({AttributeKind::Normal, p.get_int("normal_neighbors")})},
               {3, c.find({AttributeKind::LocalResolution, k})},
               {4, c.find({AttributeKind::ResolutionDeviation, k})},
+              {5, c.find({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")})},
               {6, c.find({AttributeKind::PointId})}});
 }
 
@@ -378,6 +385,7 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
         m.point_id = id;
         m.center = glm::vec3(r.center_size);
         m.direction = glm::vec3(r.tangent);
+        m.crossed = r.tangent.w > 0.5f;  // a second layer
         m.normal = glm::vec3(r.normal_id);
         m.length = r.center_size.w;
         m.color = r.color;
@@ -425,11 +433,24 @@ const MarkRegistration registration{{
                float_param("angle_jitter", 10.0, 0.0, 90.0, "deg",
                            "Seeded noise of theta: each column of Gaussians within this of the previous one"),
                enum_param("layers", {"one", "two"}, 0, "Brush layers: two paints a second, smaller layer over the first"),
-               only_when(float_param("layer_scale", 0.6, 0.1, 1.0, "", "Size of the second layer"), "layers", {"two"}),
-               only_when(float_param("layer_angle", 35.0, -180.0, 180.0, "deg", "Turn of the second layer"), "layers", {"two"}),
-               only_when(float_param("layer_tint", 0.25, -1.0, 1.0, "",
-                                     "Second layer's colour toward white (> 0) or black (< 0)"),
-                         "layers", {"two"}),
+               float_param("layer_scale", 0.6, 0.1, 1.0, "", "Size of the second layer (layers two, or small clusters)"),
+               float_param("layer_angle", 35.0, -180.0, 180.0, "deg", "Turn of the second layer"),
+               float_param("layer_tint", 0.25, -1.0, 1.0, "", "Second layer's colour toward white (> 0) or black (< 0)"),
+               bool_param("clusters", false,
+                          "Shape brushes by colour region-growing clusters (seed 004 section 3.2.1; computed once "
+                          "per cloud): small clusters get two layers, elongated ones longer brushes along their "
+                          "main axis"),
+               only_when(int_param("cluster_neighbors", 30, 3, 64, "", "Neighbours the region growing follows"),
+                         "clusters", {"true"}),
+               only_when(int_param("small_cluster", 200, 0, 1000000, "",
+                                   "Clusters of fewer points get a two-layered brush"),
+                         "clusters", {"true"}),
+               only_when(float_param("elongation_stretch", 0.5, 0.0, 2.0, "",
+                                     "Brushes longer along an elongated cluster's main axis by elongation^this "
+                                     "(elongation: sqrt of the ratio of its two largest principal variances)"),
+                         "clusters", {"true"}),
+               only_when(float_param("max_stretch", 3.0, 1.0, 4.0, "", "Longest brush, in brush widths"),
+                         "clusters", {"true"}),
                color_source_param(),
                color_param("color", {0.8, 0.8, 0.8, 1.0}, "Constant color (display sRGB)"),
                float_param("depth_tolerance", 1.0, 0.0, 10.0, "",

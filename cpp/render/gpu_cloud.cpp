@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "geometry/analysis.h"
 #include "geometry/features.h"
@@ -108,6 +109,21 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
       case AttributeKind::LocalResolution: buffer = upload(analysis->local_resolution(key.k)->r); break;
       case AttributeKind::FeatureDegree: buffer = upload(*analysis->feature_degree(key.k, {})); break;
       case AttributeKind::ResolutionDeviation: buffer = upload(analysis->local_resolution(key.k)->eps); break;
+      case AttributeKind::ClusterShape: {
+        const auto shapes = analysis->cluster_shapes(key.k);
+        const std::vector<uint32_t> axes = pack_normals(shapes->axis);
+        std::vector<uint32_t> packed(4 * axes.size());
+        for (size_t i = 0; i < axes.size(); ++i) {
+          uint32_t elongation = 0;
+          std::memcpy(&elongation, &shapes->elongation[i], 4);
+          packed[4 * i] = axes[i];
+          packed[4 * i + 1] = elongation;
+          packed[4 * i + 2] = shapes->size[i];
+          packed[4 * i + 3] = uint32_t(shapes->label[i]);
+        }
+        buffer = upload(packed);
+        break;
+      }
     }
   }
   gl::check_gl("point upload");

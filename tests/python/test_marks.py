@@ -357,7 +357,7 @@ MARK_STYLES = {
     "hatching": [{}, {"coloring": "point", "curvature_length": 0.0, "stroke_coverage": 0.0},
                  {"units": "world", "placement": "irregular", "pencil_quantize": True, "coloring": "point"}],
     "brush_splats": [{}, {"tangent_frame": "eberly", "layers": "two", "blending": "none", "epsilon_mode": "user",
-                          "epsilon": 0.01},
+                          "epsilon": 0.01, "clusters": True},
                      {"size_mode": "world", "world_radius": 0.03, "color_source": "constant"},
                      {"blending": "a_buffer", "tangent_frame": "square_plate"}],
 }

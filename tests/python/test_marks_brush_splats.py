@@ -306,3 +306,51 @@ def test_the_a_buffer_over_its_budget_warns_and_falls_back_to_blur(renderer):
     assert np.asarray(over.color).tobytes() == np.asarray(blur.color).tobytes()
     assert np.asarray(over.depth).tobytes() == np.asarray(blur.depth).tobytes()
     assert np.asarray(fits.color).tobytes() != np.asarray(blur.color).tobytes()
+
+
+# ---------------------------------------------------------------------------
+# Clusters (seed 004 section 3.2.1)
+
+def _coloured_regions():
+    """On the plane z = -5, spacing 0.02: a red strip 2.0 x 0.2 (elongation
+    10), a blue square 1 x 1 (elongation 1) and a green patch of 30 points."""
+    strip = _grid(-1.0, 1.0, 0.3, 0.5, -5.0, 0.02)
+    square = _grid(-0.5, 0.5, -0.9, 0.1, -5.0, 0.02)
+    patch = _grid(0.7, 0.78, -0.5, -0.4, -5.0, 0.02)
+    pos = np.vstack([strip, square, patch])
+    colors = np.vstack([np.tile([220, 30, 30], (len(strip), 1)), np.tile([30, 30, 220], (len(square), 1)),
+                        np.tile([30, 200, 30], (len(patch), 1))]).astype(np.uint8)
+    region = np.repeat([0, 1, 2], [len(strip), len(square), len(patch)])
+    return pos, colors, region
+
+
+def test_clusters_shape_the_brushes(renderer):
+    pos, colors, region = _coloured_regions()
+    assert (region == 2).sum() == 30
+    c = pointnpr.PointCloud(pos, colors=colors)
+    base = {"size_scale": 1.0, "max_radius": 64.0}
+    plain = render(renderer, base, c, ortho_camera(), SIZE, SIZE, capture=True).marks
+    assert not any("cluster" in a for a in pointnpr.computed_attributes(c))  # only when the mark asks
+    gain = 0.4
+    shaped = render(renderer, dict(base, clusters=True, elongation_stretch=gain, small_cluster=100), c, ortho_camera(),
+                    SIZE, SIZE, capture=True).marks
+    assert "cluster_shapes:30" in pointnpr.computed_attributes(c)
+    order_p, order_s = np.argsort(plain["point_id"]), np.argsort(shaped["point_id"])
+    stretch = shaped["length"][order_s] / plain["length"][order_p]
+    direction = shaped["direction"][order_s]
+    inner = (np.abs(pos[:, 0]) < 0.9) & (np.abs(pos[:, 1] - 0.4) < 0.09)
+    strip = (region == 0) & inner
+    # The strip: elongation sqrt(var x / var y) of its 101 x 11 grid points
+    # (9.22), brushes 9.22^0.4 = 2.43 times longer, along its axis x.
+    elongation = np.sqrt(pos[region == 0, 0].var() / pos[region == 0, 1].var())
+    assert abs(elongation - 9.22) < 0.01
+    assert np.allclose(stretch[strip], elongation ** gain, rtol=1e-3), np.percentile(stretch[strip], [0, 50, 100])
+    assert (np.abs(direction[strip, 0]) > 0.999).all()
+    # The square keeps round brushes in their Householder frames.
+    square = region == 1
+    assert np.allclose(stretch[square], 1.0, rtol=1e-5)
+    assert np.allclose(direction[square], plain["direction"][order_p][square], atol=1e-6)
+    # Only the small green cluster (30 < 100 points) gets two layers.
+    two = shaped["crossed"][order_s]
+    assert two[region == 2].all() and not two[region != 2].any()
+    assert not plain["crossed"].any()
