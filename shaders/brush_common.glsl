@@ -7,6 +7,7 @@ layout(std430, binding = 3) readonly buffer Resolution { float resolution[]; }; 
 layout(std430, binding = 4) readonly buffer Deviation { float deviation[]; };    // its deviation eps
 layout(std430, binding = 5) readonly buffer Clusters { uint clusters_u[]; };    // 4 per point: axis, elongation, size, label
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
+layout(std430, binding = 13) readonly buffer Axes { uint axes_u[]; };  // covariance frame: major axis, snorm8
 
 uniform mat4 u_projection;
 uniform int u_ortho;
@@ -19,7 +20,7 @@ uniform float u_epsilon;        // user eps (scene units)
 uniform float u_size_scale;
 uniform float u_world_radius;   // size_mode world
 uniform float u_max_radius_px;
-uniform int u_frame;            // 0 householder, 1 eberly, 2 square_plate
+uniform int u_frame;            // 0 householder, 1 eberly, 2 square_plate, 3 covariance
 uniform float u_angle;          // brush angle theta (radians)
 uniform float u_angle_jitter;   // bound of theta's noise per column (radians)
 uniform uint u_seed;
@@ -69,6 +70,18 @@ void frame_square_plate(vec3 n, out vec3 t, out vec3 b) {
   b = cross(n, t);
 }
 
+// Covariance matrix (the surface-aligned splatting standard): the
+// neighbourhood's major principal axis, in the tangent plane.
+void frame_covariance(vec3 n, vec3 major, out vec3 t, out vec3 b) {
+  vec3 along = major - dot(major, n) * n;
+  if (dot(along, along) < 1e-6) {
+    frame_householder(n, t, b);  // no axis (degenerate neighbourhood)
+    return;
+  }
+  t = normalize(along);
+  b = cross(n, t);
+}
+
 struct BrushSplat {
   vec3 center;    // view space
   vec3 t;         // view space, unit: the brush's x axis
@@ -108,6 +121,7 @@ BrushSplat brush_splat(uint index) {
     vec3 t, b;
     if (u_frame == 1) frame_eberly(n, t, b);
     else if (u_frame == 2) frame_square_plate(n, t, b);
+    else if (u_frame == 3) frame_covariance(n, unpackSnorm4x8(axes_u[index]).xyz, t, b);
     else frame_householder(n, t, b);
     s.t = normalize(to_view * t);
     s.b = normalize(to_view * b);

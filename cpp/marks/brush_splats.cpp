@@ -6,7 +6,8 @@
 //
 //  - Tangent frame per point in the vertex shader from the normal alone:
 //    the Householder formula (section 3.3.1), or, for the comparison of the
-//    seed's Fig. 3, Eberly's cross products or a square-plate stand-in.
+//    seed's Fig. 3, Eberly's cross products, a square-plate stand-in, or
+//    the covariance matrix (the neighbourhood's major axis, per point).
 //  - Brush: N Gaussians (1..9) on a 3 x 3 grid, dev apart, amplitude A,
 //    shape exponent lambda, sigma x / y, theta per column: the brush angle
 //    plus seeded noise (point id), each column within a bound of the
@@ -65,6 +66,8 @@ class BrushSplats final : public Mark {
       set.insert({AttributeKind::LocalResolution, k});
       if (p.get_enum_name("epsilon_mode") == "deviation") set.insert({AttributeKind::ResolutionDeviation, k});
     }
+    if (p.get_enum_name("tangent_frame") == "covariance")
+      set.insert({AttributeKind::PrincipalAxis, p.get_int("normal_neighbors")});
     if (p.get_bool("clusters")) set.insert({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")});
     return set;
   }
@@ -124,7 +127,8 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
               {3, c.find({AttributeKind::LocalResolution, k})},
               {4, c.find({AttributeKind::ResolutionDeviation, k})},
               {5, c.find({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")})},
-              {6, c.find({AttributeKind::PointId})}});
+              {6, c.find({AttributeKind::PointId})},
+              {13, c.find({AttributeKind::PrincipalAxis, p.get_int("normal_neighbors")})}});
 }
 
 gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const gl::Texture& depth) {
@@ -418,11 +422,13 @@ const MarkRegistration registration{{
                            "Splat radius times this (1: r + eps; the brush's Gaussians fade before the square's edge)"),
                float_param("max_radius", 16.0, 0.5, kMaxRadiusPixels, "px",
                            "Largest splat radius on screen (isolated points far from their neighbours stay small)"),
-               enum_param("tangent_frame", {"householder", "eberly", "square_plate"}, 0,
+               enum_param("tangent_frame", {"householder", "eberly", "square_plate", "covariance"}, 0,
                           "How the brush's axes follow from the normal: Householder formula (continuous, the seed's "
-                          "choice), Eberly's cross products, or a square-plate stand-in (the seed's Fig. 3)"),
+                          "choice), Eberly's cross products, a square-plate stand-in, or the neighbourhood's "
+                          "covariance matrix (its major axis; the seed's Fig. 3)"),
                int_param("normal_neighbors", 16, 3, 64, "",
-                         "Neighbours the normals are estimated from where a cloud has none (PCA)"),
+                         "Neighbours the normals (where a cloud has none) and the covariance frame are estimated "
+                         "from (PCA)"),
                int_param("gaussians", 9, 1, 9, "", "Gaussians of the brush, on a 3 x 3 grid (the seed uses 6 to 9)"),
                float_param("amplitude", 1.0, 0.0, 16.0, "", "Amplitude A of every Gaussian: the brush's opacity"),
                float_param("dev", 0.38, 0.0, 0.5, "", "Spacing of the Gaussians' centres, in brush widths"),

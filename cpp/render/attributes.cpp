@@ -16,6 +16,7 @@ const char* attribute_name(AttributeKind attribute) {
     case AttributeKind::LocalResolution: return "local_resolution";
     case AttributeKind::FeatureDegree: return "feature_degree";
     case AttributeKind::ResolutionDeviation: return "resolution_deviation";
+    case AttributeKind::PrincipalAxis: return "principal_axis";
     case AttributeKind::ClusterShape: return "cluster_shape";
   }
   return "?";

@@ -109,6 +109,9 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
       case AttributeKind::LocalResolution: buffer = upload(analysis->local_resolution(key.k)->r); break;
       case AttributeKind::FeatureDegree: buffer = upload(*analysis->feature_degree(key.k, {})); break;
       case AttributeKind::ResolutionDeviation: buffer = upload(analysis->local_resolution(key.k)->eps); break;
+      case AttributeKind::PrincipalAxis:
+        buffer = upload(pack_normals(analysis->points().to_original(analysis->pca(key.k)->major)));
+        break;
       case AttributeKind::ClusterShape: {
         const auto shapes = analysis->cluster_shapes(key.k);
         const std::vector<uint32_t> axes = pack_normals(shapes->axis);

@@ -358,7 +358,8 @@ MARK_STYLES = {
                  {"units": "world", "placement": "irregular", "pencil_quantize": True, "coloring": "point"}],
     "brush_splats": [{}, {"tangent_frame": "eberly", "layers": "two", "blending": "none", "epsilon_mode": "user",
                           "epsilon": 0.01, "clusters": True},
-                     {"size_mode": "world", "world_radius": 0.03, "color_source": "constant"},
+                     {"size_mode": "world", "world_radius": 0.03, "color_source": "constant",
+                      "tangent_frame": "covariance"},
                      {"blending": "a_buffer", "tangent_frame": "square_plate"}],
 }
 

@@ -136,7 +136,7 @@ def _frames(renderer, frame, pos, normals):
     return m["direction"][order].astype(np.float64), m["normal"][order].astype(np.float64)
 
 
-@pytest.mark.parametrize("frame", ["householder", "eberly", "square_plate"])
+@pytest.mark.parametrize("frame", ["householder", "eberly", "square_plate", "covariance"])
 def test_frames_are_orthonormal_and_tangent(renderer, frame):
     rng = np.random.default_rng(4)
     normals = rng.normal(size=(3000, 3))
@@ -148,6 +148,21 @@ def test_frames_are_orthonormal_and_tangent(renderer, frame):
     assert np.abs((t * n).sum(axis=1)).max() < 1e-5
     # The normal the frame is built on is the cloud's (snorm8-packed: within 1 degree).
     assert (np.abs((n * normals).sum(axis=1)) > math.cos(math.radians(1.0))).all()
+
+
+def test_the_covariance_frame_follows_the_neighbourhood(renderer):
+    # Rows 0.1 apart of points 0.01 apart: away from the row ends a
+    # point's 16 nearest neighbours are in its row, so the major axis (and
+    # the brush's x) is x; the Householder frame ignores the points (its
+    # tangent follows the normal alone).
+    pos = _grid(-0.6, 0.6, -0.6, 0.6, -5.0, 0.01)
+    pos = pos[np.isclose(np.round(pos[:, 1] / 0.1) * 0.1, pos[:, 1], atol=1e-6)]
+    normals = np.tile(np.float32([0.0, 0.0, 1.0]), (len(pos), 1))
+    inner = (np.abs(pos[:, 0]) < 0.5) & (np.abs(pos[:, 1]) < 0.5)
+    t, _ = _frames(renderer, "covariance", pos, normals)
+    assert (np.abs(t[inner, 0]) > 0.999).all()
+    t, _ = _frames(renderer, "householder", pos, normals)
+    assert np.abs(t[inner, 0]).max() < 0.01  # n = z: the Householder tangent is y
 
 
 def _largest_turn(t, n):
