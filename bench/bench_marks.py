@@ -8,7 +8,9 @@ estimates normals and compiles shaders).
 Clouds: the lion scan (342k points) and a 3.4M-point lion (ten copies,
 each moved by a seeded sub-millimetre jitter: the paper's smallest case is
 3.5M points). Reports the whole render call and the mark stage alone
-(`mark_ms`), and the ratio hatching / points (goal: at most 3x).
+(`mark_ms`), and the ratio hatching / points (goal: at most 3x). The
+brush_splats rows (issue 12) blend by blur and by the A-buffer (its
+strokes column: the A-buffer's fragments; goal for blur: at most 3x).
 """
 import sys
 import time
@@ -39,7 +41,9 @@ def main():
     camera = pointnpr.Camera.perspective(pointnpr.look_at(EYE, TARGET), lens=35.0, clip_start=0.1, clip_end=100.0,
                                          width=W, height=H)
     marks = {"points": pointnpr.Style(mark=("points", {"point_size": 2.0})),
-             "hatching": pointnpr.Style(mark="hatching")}
+             "hatching": pointnpr.Style(mark="hatching"),
+             "brush_splats (blur)": pointnpr.Style(mark=("brush_splats", {"blending": "blur"})),
+             "brush_splats (a_buffer)": pointnpr.Style(mark=("brush_splats", {"blending": "a_buffer"}))}
     print(f"{W}x{H}, {FRAMES} frames each, alternating; {pointnpr.gl_info()['renderer']}")
     print("| cloud | mark | frame ms (median) | frame ms (best) | mark ms (median) | strokes | vs. points (frame) |")
     print("|---|---|---|---|---|---|---|")
@@ -59,7 +63,9 @@ def main():
                 r = renderer.render(scene, camera, W, H)
                 times[name].append(1000 * (time.perf_counter() - t0))
                 mark_ms[name].append(r.stats["mark_ms"])
-                strokes[name] = int(r.stats.get("strokes_drawn", 0))
+                strokes[name] = int(r.stats.get("strokes_drawn", r.stats.get("a_buffer_fragments", 0)))
+                if r.warnings:
+                    print(f"  {cloud_name} {name}: {'; '.join(r.warnings)}", flush=True)
         base = np.median(times["points"])
         for name in marks:
             t = np.median(times[name])

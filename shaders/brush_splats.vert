@@ -1,5 +1,6 @@
-// brush_splats: six vertices per point, a surface-aligned square of side
-// 2 radius in the point's tangent frame, textured by brush_splats.frag.
+// brush_splats: one instance per point, a triangle strip of four vertices:
+// a surface-aligned rectangle in the point's tangent frame (2 radius
+// across, 2 radius x stretch along), textured by brush_splats.frag.
 #include "brush_common.glsl"
 
 uniform float u_offset_radii;  // PASS_BLEND: moved toward the camera by this many radii
@@ -7,15 +8,16 @@ uniform float u_offset_radii;  // PASS_BLEND: moved toward the camera by this ma
 out vec2 v_uv;                 // texture coordinates in [0, 1]
 out float v_depth;             // linear view depth on the splat's plane
 flat out vec4 v_color;         // display sRGB
-flat out vec3 v_angles;        // theta per column
+flat out vec3 v_cos;           // cos and sin of theta per column
+flat out vec3 v_sin;
 flat out uint v_id;
 flat out int v_two_layers;
 
-const vec2 CORNERS[6] = vec2[](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), vec2(1, 1), vec2(0, 1));
+const vec2 CORNERS[4] = vec2[](vec2(0, 0), vec2(1, 0), vec2(0, 1), vec2(1, 1));
 
 void main() {
-  uint index = u_first + uint(gl_VertexID) / 6u;
-  vec2 corner = CORNERS[uint(gl_VertexID) % 6u];
+  uint index = u_first + uint(gl_InstanceID);
+  vec2 corner = CORNERS[gl_VertexID];
   BrushSplat s = brush_splat(index);
   if (!s.visible) {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume: no triangle
@@ -35,7 +37,9 @@ void main() {
   v_uv = corner;
   v_color = source_color(index);
   uint id = point_ids[index];
-  v_angles = brush_column_angles(id);
+  vec3 angles = brush_column_angles(id);
+  v_cos = cos(angles);
+  v_sin = sin(angles);
   v_id = id;
   v_two_layers = s.two_layers ? 1 : 0;
 }

@@ -117,6 +117,11 @@ void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const Para
   glUniform1f(g.location("u_elongation_gain"), float(p.get_float("elongation_stretch")));
   glUniform1f(g.location("u_max_stretch"), float(p.get_float("max_stretch")));
   glUniform1f(g.location("u_cut"), kCut);
+  // A N exp(-q^lambda / 2) < cut / 16 beyond q = (2 ln(16 A N / cut))^(1 / lambda): skipped Gaussians
+  // change the alpha by less than a 16th of the cut.
+  const double an = std::max(p.get_float("amplitude") * p.get_int("gaussians"), 1e-6);
+  const double reach = std::pow(2.0 * std::log(std::max(16.0 * an / double(kCut), 1.0 + 1e-6)), 1.0 / p.get_float("lambda"));
+  glUniform1f(g.location("u_reach"), float(reach));
 }
 
 void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamValues& p) {
@@ -155,7 +160,7 @@ void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p
   glBindVertexArray(vao);
   for (const VisibleChunk& v : ctx.chunks) {
     bind_splat_chunk(g, v, p);
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(v.chunk->count * 6u));
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(v.chunk->count));
   }
   glBindVertexArray(0);
 }
