@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include <tbb/parallel_for.h>
 #include "scene/point_cloud.h"
 
 namespace pointnpr::geometry {
@@ -159,9 +160,45 @@ std::shared_ptr<const std::vector<glm::vec3>> Analysis::normals(const NormalOpti
     std::snprintf(buf, sizeof buf, ":%.17g,%.17g,%.17g", o.target.x, o.target.y, o.target.z);
     key += buf;
   }
+  if (o.radius_factor > 0.0) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, ":radius%.9g", o.radius_factor);
+    key += buf;
+  }
   if (auto hit = cached<std::vector<glm::vec3>>(key)) return hit;
-  call.plan(pca_work(k) + (o.orientation == Orientation::Consistent ? size() : 0));
+  call.plan(pca_work(k) + (o.orientation == Orientation::Consistent ? size() : 0) +
+            (o.radius_factor > 0.0 ? knn_work(9) + 2 * size() : 0));
   std::vector<glm::vec3> n = pca(k)->normal;
+  if (o.radius_factor > 0.0) {
+    // Least squares within radius_factor x r, per point (sorted order).
+    const std::vector<float>& r = local_resolution(8)->r;  // input order
+    const LocalPoints& pts = points();
+    const KdTree& kd = tree();
+    constexpr size_t kMaxNeighbors = 64;
+    tbb::parallel_for(size_t(0), pts.size(), [&](size_t s) {
+      const float radius = float(o.radius_factor) * r[pts.original[s]];
+      if (!(radius > 0.0f)) return;
+      const auto found = kd.radius(pts.points[s], radius);
+      const size_t m = std::min(found.size(), kMaxNeighbors);
+      if (m < 3) return;
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (size_t j = 0; j < m; ++j) {
+        const glm::vec3& q = pts.points[found[j].first];
+        mean += Eigen::Vector3d(q.x, q.y, q.z);
+      }
+      mean /= double(m);
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (size_t j = 0; j < m; ++j) {
+        const glm::vec3& q = pts.points[found[j].first];
+        const Eigen::Vector3d d = Eigen::Vector3d(q.x, q.y, q.z) - mean;
+        cov += d * d.transpose();
+      }
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+      const Eigen::Vector3d v = es.eigenvectors().col(0);
+      if (v.allFinite() && es.eigenvalues()(1) > 0.0) n[s] = glm::normalize(glm::vec3(float(v.x()), float(v.y()), float(v.z())));
+    });
+    advance(current_progress(), size());
+  }
   orient(points(), *knn(k), n, o.orientation, o.target);
   auto r = std::make_shared<const std::vector<glm::vec3>>(points().to_original(n));
   cache_[key] = r;

@@ -40,6 +40,11 @@ struct NormalOptions {
   int k = 16;
   Orientation orientation = Orientation::Consistent;
   glm::dvec3 target{0.0};  // the point (TowardPoint) or direction (Direction)
+  // > 0: the least-squares plane of the points within radius_factor x r
+  // (r: the point's mean distance to its 8 nearest neighbours; seed 004
+  // uses 3r), at most the 64 nearest of them; fewer than 3 there: the k
+  // neighbours' plane. Orientation still follows the k-neighbour graph.
+  double radius_factor = 0.0;
 };
 
 class Analysis {

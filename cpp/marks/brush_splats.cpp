@@ -55,12 +55,18 @@ static_assert(sizeof(SplatRecord) == 64);
 constexpr float kMaxRadiusPixels = 64.0f;
 constexpr float kCut = 1.0f / 255.0f;  // alpha below this is no coverage
 
+// Normals: the cloud's own, else k-neighbour PCA or least squares within 3r.
+AttributeKey normal_key(const ParamValues& p) {
+  return {p.get_enum_name("normals") == "radius_3r" ? AttributeKind::RadiusNormal : AttributeKind::Normal,
+          p.get_int("normal_neighbors")};
+}
+
 class BrushSplats final : public Mark {
  public:
   AttributeSet attributes(const ParamValues& p) const override {
     AttributeSet set = color_attributes(ColorSource(p.get_enum("color_source")));
     set.insert({AttributeKind::PointId});
-    set.insert({AttributeKind::Normal, p.get_int("normal_neighbors")});
+    set.insert(normal_key(p));
     if (p.get_enum_name("size_mode") == "resolution") {
       const int k = p.get_int("resolution_neighbors");
       set.insert({AttributeKind::LocalResolution, k});
@@ -128,7 +134,7 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
   const GpuCloud& c = *v.gpu;
   const int k = p.get_int("resolution_neighbors");
   bind_chunk(g, v, ColorSource(p.get_enum("color_source")),
-             {{2, c.find({AttributeKind::Normal, p.get_int("normal_neighbors")})},
+             {{2, c.find(normal_key(p))},
               {3, c.find({AttributeKind::LocalResolution, k})},
               {4, c.find({AttributeKind::ResolutionDeviation, k})},
               {5, c.find({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")})},
@@ -431,6 +437,9 @@ const MarkRegistration registration{{
                           "How the brush's axes follow from the normal: Householder formula (continuous, the seed's "
                           "choice), Eberly's cross products, a square-plate stand-in, or the neighbourhood's "
                           "covariance matrix (its major axis; the seed's Fig. 3)"),
+               enum_param("normals", {"neighbors", "radius_3r"}, 0,
+                          "Where a cloud has no normals: the plane of the k nearest neighbours, or the seed's "
+                          "least squares within 3r (r: the mean distance to 8 neighbours)"),
                int_param("normal_neighbors", 16, 3, 64, "",
                          "Neighbours the normals (where a cloud has none) and the covariance frame are estimated "
                          "from (PCA)"),

@@ -23,6 +23,7 @@ enum class AttributeKind : uint8_t {
   FeatureDegree,    // seed 001 feature degree from k neighbours, float in [0, 1]
   ResolutionDeviation,  // deviation eps of the distance to the k nearest neighbours (seed 004's r + eps), float
   PrincipalAxis,    // unit eigenvector of the largest eigenvalue of the k-neighbour covariance (seed 004's CM frame); snorm8 x3
+  RadiusNormal,     // the cloud's own normals, else least squares within 3r (seed 004; r: 8-neighbour resolution), oriented over k neighbours; snorm8 x3
   ClusterShape,     // seed 004 colour region-growing cluster over k neighbours: uint x4 (snorm8 main axis, elongation float bits, size, label)
 };
 

@@ -112,6 +112,15 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
       case AttributeKind::PrincipalAxis:
         buffer = upload(pack_normals(analysis->points().to_original(analysis->pca(key.k)->major)));
         break;
+      case AttributeKind::RadiusNormal:
+        if (g.own_normals) {
+          buffer = upload(pack_normals(cloud->normals()));
+        } else {
+          geometry::NormalOptions o{key.k, geometry::Orientation::Consistent, {}};
+          o.radius_factor = 3.0;
+          buffer = upload(pack_normals(*analysis->normals(o)));
+        }
+        break;
       case AttributeKind::ClusterShape: {
         const auto shapes = analysis->cluster_shapes(key.k);
         const std::vector<uint32_t> axes = pack_normals(shapes->axis);

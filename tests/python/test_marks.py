@@ -360,7 +360,7 @@ MARK_STYLES = {
                           "epsilon": 0.01, "clusters": True},
                      {"size_mode": "world", "world_radius": 0.03, "color_source": "constant",
                       "tangent_frame": "covariance"},
-                     {"blending": "a_buffer", "tangent_frame": "square_plate"}],
+                     {"blending": "a_buffer", "tangent_frame": "square_plate", "normals": "radius_3r"}],
 }
 
 
