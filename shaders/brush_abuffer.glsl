@@ -11,7 +11,7 @@ struct Fragment {
 };
 layout(std430, binding = 8) buffer Counts { uint counts[]; };
 layout(std430, binding = 9) buffer Cursors { uint cursors[]; };      // cleared to 0 before PASS_STORE
-layout(std430, binding = 10) buffer RowBase { uint row_base[]; };    // per row of the frame, then the total
+layout(std430, binding = 10) buffer RowBase { uint row_base[]; };    // per row of the frame, the total, the longest list
 layout(std430, binding = 11) buffer Fragments { Fragment fragments[]; };
 layout(std430, binding = 12) buffer Offsets { uint offsets[]; };     // within the row
 uniform int u_frame_width;

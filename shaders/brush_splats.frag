@@ -87,7 +87,8 @@ void main() {
 #ifdef PASS_DEPTH
   o_depth = vec4(v_depth);
 #elif defined(PASS_COUNT)
-  atomicAdd(counts[pixel_of(ivec2(gl_FragCoord.xy))], 1u);
+  uint before = atomicAdd(counts[pixel_of(ivec2(gl_FragCoord.xy))], 1u);
+  atomicMax(row_base[u_frame_height + 1], before + 1u);  // the longest list
 #elif defined(PASS_STORE)
   ivec2 q = ivec2(gl_FragCoord.xy);
   uint pixel = pixel_of(q);

@@ -23,8 +23,9 @@
 //    counted per pixel, lists packed by a sequential prefix sum, stored,
 //    then each list sorted completely by (depth, point id, colour) and
 //    alpha-blended front to back (the same bytes whatever the point order).
-//    Its fragments have a memory budget: a frame that would need more warns
-//    and is blended by (a); nothing is allocated beyond it. The seed's
+//    Its fragments have a memory budget, and a pixel's list a length limit
+//    (512): a frame that would exceed either warns and is blended by (a);
+//    nothing is allocated beyond them. The seed's
 //    incremental bubble sort across viewport frames is not done: every
 //    frame sorts completely.
 #include <algorithm>
@@ -193,6 +194,10 @@ class RasterState {
 };
 
 constexpr size_t kFragmentBytes = 16;  // brush_abuffer.glsl's Fragment
+// Longest list a pixel may have: each list is insertion-sorted by one
+// invocation, so its length bounds the work of a pixel (a cloud seen from
+// far away would otherwise pile every splat into a few pixels).
+constexpr uint32_t kMaxListLength = 512;
 
 // Splats near the surface: depth test against the depth pass, moved toward
 // the camera by depth_tolerance radii, no depth writes.
@@ -213,7 +218,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
   const gl::Buffer counts = gl::make_buffer(pixels * 4, nullptr, 0);
   const gl::Buffer cursors = gl::make_buffer(pixels * 4, nullptr, 0);
   const gl::Buffer offsets = gl::make_buffer(pixels * 4, nullptr, 0);
-  const gl::Buffer row_base = gl::make_buffer((size_t(size.y) + 1) * 4, nullptr, 0);
+  const gl::Buffer row_base = gl::make_buffer((size_t(size.y) + 2) * 4, nullptr, 0);
   glClearNamedBufferData(counts.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   glClearNamedBufferData(cursors.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   glClearNamedBufferData(row_base.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -249,18 +254,28 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
     glDispatchCompute(std::string(pass) == "PASS_ROWS" ? GLuint((clip.size().y + 63) / 64) : 1u, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   }
-  uint32_t total = 0;
-  glGetNamedBufferSubData(row_base.id(), GLintptr(size_t(size.y) * 4), 4, &total);
+  uint32_t total_longest[2] = {0, 0};
+  glGetNamedBufferSubData(row_base.id(), GLintptr(size_t(size.y) * 4), 8, total_longest);
+  const uint32_t total = total_longest[0], longest = total_longest[1];
   const double budget_mib = p.get_float("a_buffer_budget");
   const double needed_mib = double(total) * double(kFragmentBytes) / (1024.0 * 1024.0);
-  if (ctx.stats) (*ctx.stats)["a_buffer_fragments"] += double(total);
-  if (total == 0xFFFFFFFFu || needed_mib > budget_mib) {
+  if (ctx.stats) {
+    (*ctx.stats)["a_buffer_fragments"] += double(total);
+    (*ctx.stats)["a_buffer_longest_list"] = std::max((*ctx.stats)["a_buffer_longest_list"], double(longest));
+  }
+  if (total == 0xFFFFFFFFu || needed_mib > budget_mib || longest > kMaxListLength) {
     if (ctx.warnings) {
-      char text[200];
-      std::snprintf(text, sizeof(text),
-                    "brush_splats: the A-buffer needs %s%.1f MiB for this frame, over its budget of %.1f MiB; "
-                    "blended by blur instead",
-                    total == 0xFFFFFFFFu ? "more than " : "", needed_mib, budget_mib);
+      char text[240];
+      if (longest > kMaxListLength)
+        std::snprintf(text, sizeof(text),
+                      "brush_splats: a pixel of the A-buffer has %u fragments, more than the %u it sorts; "
+                      "blended by blur instead",
+                      longest, kMaxListLength);
+      else
+        std::snprintf(text, sizeof(text),
+                      "brush_splats: the A-buffer needs %s%.1f MiB for this frame, over its budget of %.1f MiB; "
+                      "blended by blur instead",
+                      total == 0xFFFFFFFFu ? "more than " : "", needed_mib, budget_mib);
       ctx.warnings->push_back(text);
     }
     return false;

@@ -393,3 +393,19 @@ def test_normals_within_three_r_fit_the_surface(renderer):
     deg = lambda d: np.degrees(np.arccos(np.clip(d, -1, 1)))
     assert np.median(deg(radius)) < 3.0, np.median(deg(radius))
     assert np.median(deg(radius)) < 0.6 * np.median(deg(knn)), (np.median(deg(radius)), np.median(deg(knn)))
+
+
+def test_a_pixel_with_too_long_a_list_falls_back_to_blur(renderer):
+    # 2000 splats on top of each other (a small disc facing the camera,
+    # every splat as large as the disc): each pixel of it would sort about
+    # 2000 fragments, more than the 512 a list may hold.
+    rng = np.random.default_rng(5)
+    a, rad = rng.uniform(0, 2 * np.pi, 2000), 0.01 * np.sqrt(rng.uniform(0, 1, 2000))
+    pos = np.column_stack([rad * np.cos(a), rad * np.sin(a), np.full(2000, -5.0)])
+    c = pointnpr.PointCloud(pos, normals=np.tile(np.float32([0, 0, 1]), (2000, 1)))
+    params = {"size_mode": "world", "world_radius": 0.02, "size_scale": 1.0, "color_source": "constant"}
+    over = render(renderer, dict(params, blending="a_buffer"), c, _perspective(), 160, 120)
+    assert over.stats["a_buffer_longest_list"] > 512
+    assert len(over.warnings) == 1 and "more than the 512" in over.warnings[0], over.warnings
+    blur = render(renderer, dict(params, blending="blur"), c, _perspective(), 160, 120)
+    assert np.asarray(over.color).tobytes() == np.asarray(blur.color).tobytes()
