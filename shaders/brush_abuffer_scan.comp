@@ -1,7 +1,7 @@
 // brush_splats A-buffer: where each pixel's list starts. PASS_ROWS: one
 // invocation per row, the exclusive prefix of the counts along it and the
 // row's total; PASS_TOTAL: one invocation, the prefix over rows and the
-// frame's total (row_base[u_frame_height]). Sequential sums: deterministic.
+// rect's total (row_base[rows]). Sequential sums: deterministic.
 #include "brush_abuffer.glsl"
 #ifdef PASS_ROWS
 layout(local_size_x = 64) in;
@@ -21,14 +21,14 @@ void main() {
     offsets[p] = sum;
     sum = add_saturating(sum, counts[p]);
   }
-  row_base[y] = sum;
+  row_base[y - u_list_origin.y] = sum;
 #else
   uint running = 0u;
   for (int y = u_rect_min.y; y < u_rect_max.y; ++y) {
-    uint total = row_base[y];
-    row_base[y] = running;
+    uint total = row_base[y - u_list_origin.y];
+    row_base[y - u_list_origin.y] = running;
     running = add_saturating(running, total);
   }
-  row_base[u_frame_height] = running;
+  row_base[u_list_size.y] = running;
 #endif
 }

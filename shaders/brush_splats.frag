@@ -88,7 +88,7 @@ void main() {
   o_depth = vec4(v_depth);
 #elif defined(PASS_COUNT)
   uint before = atomicAdd(counts[pixel_of(ivec2(gl_FragCoord.xy))], 1u);
-  atomicMax(row_base[u_frame_height + 1], before + 1u);  // the longest list
+  atomicMax(row_base[u_list_size.y + 1], before + 1u);  // the longest list
 #elif defined(PASS_STORE)
   ivec2 q = ivec2(gl_FragCoord.xy);
   uint pixel = pixel_of(q);

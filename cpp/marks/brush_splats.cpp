@@ -211,14 +211,15 @@ void near_surface_tests(const gl::Program& g, const ParamValues& p) {
 // Blending (b): returns false (with a warning) where the frame's fragments
 // would not fit the budget; nothing is then allocated for them.
 bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
-  const glm::ivec2 size = ctx.targets.size;
   const Rect& clip = ctx.clip;
-  const size_t pixels = size_t(size.x) * size_t(size.y);
+  // Lists over the clip rect only: 12 bytes of counters a pixel of it.
+  const glm::ivec2 rect = clip.size();
+  const size_t pixels = size_t(rect.x) * size_t(rect.y);
   const uint32_t zero = 0;
   const gl::Buffer counts = gl::make_buffer(pixels * 4, nullptr, 0);
   const gl::Buffer cursors = gl::make_buffer(pixels * 4, nullptr, 0);
   const gl::Buffer offsets = gl::make_buffer(pixels * 4, nullptr, 0);
-  const gl::Buffer row_base = gl::make_buffer((size_t(size.y) + 2) * 4, nullptr, 0);
+  const gl::Buffer row_base = gl::make_buffer((size_t(rect.y) + 2) * 4, nullptr, 0);
   glClearNamedBufferData(counts.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   glClearNamedBufferData(cursors.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   glClearNamedBufferData(row_base.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -227,8 +228,8 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, cursors.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, row_base.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, offsets.id());
-    glUniform1i(g.location("u_frame_width"), size.x);
-    glUniform1i(g.location("u_frame_height"), size.y);
+    glUniform2i(g.location("u_list_origin"), clip.min.x, clip.min.y);
+    glUniform2i(g.location("u_list_size"), rect.x, rect.y);
   };
   const gl::Framebuffer fbo = make_fbo({}, *ctx.targets.gl_depth);
 
@@ -255,7 +256,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   }
   uint32_t total_longest[2] = {0, 0};
-  glGetNamedBufferSubData(row_base.id(), GLintptr(size_t(size.y) * 4), 8, total_longest);
+  glGetNamedBufferSubData(row_base.id(), GLintptr(size_t(rect.y) * 4), 8, total_longest);
   const uint32_t total = total_longest[0], longest = total_longest[1];
   const double budget_mib = p.get_float("a_buffer_budget");
   const double needed_mib = double(total) * double(kFragmentBytes) / (1024.0 * 1024.0);
