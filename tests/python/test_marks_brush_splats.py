@@ -409,3 +409,23 @@ def test_a_pixel_with_too_long_a_list_falls_back_to_blur(renderer):
     assert len(over.warnings) == 1 and "more than the 512" in over.warnings[0], over.warnings
     blur = render(renderer, dict(params, blending="blur"), c, _perspective(), 160, 120)
     assert np.asarray(over.color).tobytes() == np.asarray(blur.color).tobytes()
+
+
+def test_brush_splats_feed_the_filters_and_the_compositing(renderer):
+    # Per segment, before filters and inpainting: a filter works on the
+    # brush colours (sRGB posterized to 2 hard levels: 8 colours, a few more
+    # where the coverage is just below 1; measured 23 against 6605).
+    pos, normals, colors = _sphere(4000)
+    c = pointnpr.PointCloud(pos, normals=normals, colors=colors)
+
+    def colours(filters):
+        scene = pointnpr.Scene()
+        scene.add_segment("s", pointnpr.Style(mark=("brush_splats", {}), filters=filters), [(c, np.eye(4))])
+        color = np.asarray(renderer.render(scene, _perspective(), 160, 120, background=(0, 0, 0, 0)).color)
+        assert np.isfinite(color).all()
+        covered = color[..., 3] > 0.99
+        assert covered.sum() > 2000
+        return len(np.unique(np.round(color[covered][:, :3], 3), axis=0))
+
+    plain, posterized = colours([]), colours([("posterize", {"levels": 2, "space": "rgb", "smoothness": 0.0})])
+    assert posterized <= 32 and plain > 3000, (posterized, plain)
