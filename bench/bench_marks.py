@@ -9,7 +9,9 @@ Clouds: the lion scan (342k points) and a 3.4M-point lion (ten copies,
 each moved by a seeded sub-millimetre jitter: the paper's smallest case is
 3.5M points); with --aerial also a 3M-point aerial scene (the LiDAR HD
 tile on a 6 x 7 grid). Reports the whole render call and the mark stage alone
-(`mark_ms`), and the ratio hatching / points (goal: at most 3x).
+(`mark_ms`), and the ratio hatching / points (goal: at most 3x). The
+brush_splats rows (issue 12) blend by blur and by the A-buffer (its
+strokes column: the A-buffer's fragments; goal for blur: at most 3x).
 """
 import sys
 import time
@@ -73,7 +75,9 @@ def main():
              "feature_strokes (queue)": pointnpr.Style(mark=("feature_strokes", {"density_mode": "constant_on_screen",
                                                                                   "queue_level": 0.25})),
              "stipples": pointnpr.Style(mark=("stipples", {"specular": True, "level_scale": "point_count",
-                                                           "level": 8.0}))}
+                                                           "level": 8.0})),
+             "brush_splats (blur)": pointnpr.Style(mark=("brush_splats", {"blending": "blur"})),
+             "brush_splats (a_buffer)": pointnpr.Style(mark=("brush_splats", {"blending": "a_buffer"}))}
     print(f"{W}x{H}, {FRAMES} frames each, alternating; {pointnpr.gl_info()['renderer']}")
     print("| cloud | mark | frame ms (median) | frame ms (best) | mark ms (median) | strokes / dots | vs. points (frame) |")
     print("|---|---|---|---|---|---|---|")
@@ -93,7 +97,10 @@ def main():
                 r = renderer.render(scene, camera, W, H)
                 times[name].append(1000 * (time.perf_counter() - t0))
                 mark_ms[name].append(r.stats["mark_ms"])
-                strokes[name] = int(r.stats.get("strokes_drawn", r.stats.get("stipples_drawn", 0)))
+                strokes[name] = int(r.stats.get("strokes_drawn", r.stats.get("stipples_drawn",
+                                                                             r.stats.get("a_buffer_fragments", 0))))
+                if r.warnings:
+                    print(f"  {cloud_name} {name}: {'; '.join(r.warnings)}", flush=True)
         base = np.median(times["points"])
         for name in marks:
             t = np.median(times[name])

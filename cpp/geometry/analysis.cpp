@@ -1,10 +1,13 @@
 #include "geometry/analysis.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "core/error.h"
 #include "core/progress.h"
+#include <tbb/parallel_for.h>
 #include "scene/point_cloud.h"
 
 namespace pointnpr::geometry {
@@ -157,9 +160,45 @@ std::shared_ptr<const std::vector<glm::vec3>> Analysis::normals(const NormalOpti
     std::snprintf(buf, sizeof buf, ":%.17g,%.17g,%.17g", o.target.x, o.target.y, o.target.z);
     key += buf;
   }
+  if (o.radius_factor > 0.0) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, ":radius%.9g", o.radius_factor);
+    key += buf;
+  }
   if (auto hit = cached<std::vector<glm::vec3>>(key)) return hit;
-  call.plan(pca_work(k) + (o.orientation == Orientation::Consistent ? size() : 0));
+  call.plan(pca_work(k) + (o.orientation == Orientation::Consistent ? size() : 0) +
+            (o.radius_factor > 0.0 ? knn_work(9) + 2 * size() : 0));
   std::vector<glm::vec3> n = pca(k)->normal;
+  if (o.radius_factor > 0.0) {
+    // Least squares within radius_factor x r, per point (sorted order).
+    const std::vector<float>& r = local_resolution(8)->r;  // input order
+    const LocalPoints& pts = points();
+    const KdTree& kd = tree();
+    constexpr size_t kMaxNeighbors = 64;
+    tbb::parallel_for(size_t(0), pts.size(), [&](size_t s) {
+      const float radius = float(o.radius_factor) * r[pts.original[s]];
+      if (!(radius > 0.0f)) return;
+      const auto found = kd.radius(pts.points[s], radius);
+      const size_t m = std::min(found.size(), kMaxNeighbors);
+      if (m < 3) return;
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (size_t j = 0; j < m; ++j) {
+        const glm::vec3& q = pts.points[found[j].first];
+        mean += Eigen::Vector3d(q.x, q.y, q.z);
+      }
+      mean /= double(m);
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (size_t j = 0; j < m; ++j) {
+        const glm::vec3& q = pts.points[found[j].first];
+        const Eigen::Vector3d d = Eigen::Vector3d(q.x, q.y, q.z) - mean;
+        cov += d * d.transpose();
+      }
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+      const Eigen::Vector3d v = es.eigenvectors().col(0);
+      if (v.allFinite() && es.eigenvalues()(1) > 0.0) n[s] = glm::normalize(glm::vec3(float(v.x()), float(v.y()), float(v.z())));
+    });
+    advance(current_progress(), size());
+  }
   orient(points(), *knn(k), n, o.orientation, o.target);
   auto r = std::make_shared<const std::vector<glm::vec3>>(points().to_original(n));
   cache_[key] = r;
@@ -233,6 +272,64 @@ Components Analysis::region_growing_rgb(const RegionGrowingParams& params) {
   const int k = std::max(params.k, params.region_neighbours);
   call.plan(knn_work(k) + 2 * size());
   return geometry::region_growing_rgb(points(), *knn(k), colors_sorted(), params);
+}
+
+std::shared_ptr<const ClusterShapes> Analysis::cluster_shapes(int k) {
+  check_k(k);
+  const Call call(*this);
+  const std::string key = "cluster_shapes:" + std::to_string(k);
+  if (auto hit = cached<ClusterShapes>(key)) return hit;
+  const size_t n = size();
+  ClusterShapes out;
+  out.label.assign(n, -1);
+  out.size.assign(n, 0);
+  out.axis.assign(n, glm::vec3(0.0f));
+  out.elongation.assign(n, 1.0f);
+  if (has_colors() && n > 1) {
+    call.plan(knn_work(std::max(k, 9)) + 3 * size());
+    std::vector<float> r = local_resolution(8)->r;
+    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+    RegionGrowingParams params;
+    params.k = clamp_k(k);
+    params.distance_threshold = r[r.size() / 2] > 0.0f ? 3.0 * double(r[r.size() / 2]) : 0.05;
+    const Components c = region_growing_rgb(params);
+    // Moments per cluster in local (offset) coordinates, in sorted order.
+    const LocalPoints& pts = points();
+    std::vector<uint32_t> count(size_t(c.count), 0);
+    std::vector<Eigen::Vector3d> sum(size_t(c.count), Eigen::Vector3d::Zero());
+    std::vector<Eigen::Matrix3d> sq(size_t(c.count), Eigen::Matrix3d::Zero());
+    for (size_t s = 0; s < n; ++s) {
+      const int32_t l = c.labels[pts.original[s]];
+      if (l < 0) continue;
+      const Eigen::Vector3d q(pts.points[s].x, pts.points[s].y, pts.points[s].z);
+      ++count[size_t(l)];
+      sum[size_t(l)] += q;
+      sq[size_t(l)] += q * q.transpose();
+    }
+    std::vector<glm::vec3> axis(size_t(c.count), glm::vec3(0.0f));
+    std::vector<float> elongation(size_t(c.count), 1.0f);
+    for (size_t l = 0; l < size_t(c.count); ++l) {
+      if (count[l] < 3) continue;
+      const Eigen::Vector3d mean = sum[l] / double(count[l]);
+      const Eigen::Matrix3d cov = sq[l] / double(count[l]) - mean * mean.transpose();
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+      const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(0.0);  // ascending
+      const Eigen::Vector3d major = es.eigenvectors().col(2);
+      axis[l] = glm::normalize(glm::vec3(float(major.x()), float(major.y()), float(major.z())));
+      elongation[l] = ev(1) > 0.0 ? float(std::min(std::sqrt(ev(2) / ev(1)), 1000.0)) : 1000.0f;
+    }
+    for (size_t i = 0; i < n; ++i) {
+      const int32_t l = c.labels[i];
+      if (l < 0) continue;
+      out.label[i] = l;
+      out.size[i] = count[size_t(l)];
+      out.axis[i] = axis[size_t(l)];
+      out.elongation[i] = elongation[size_t(l)];
+    }
+  }
+  auto result = std::make_shared<const ClusterShapes>(std::move(out));
+  cache_[key] = result;
+  return result;
 }
 
 Components Analysis::connected_components(int level, uint32_t min_points, double cell_size, bool float32) {

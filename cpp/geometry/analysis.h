@@ -24,10 +24,27 @@ class PointCloud;
 
 namespace pointnpr::geometry {
 
+// Seed 004 section 3.2.1: colour region-growing clusters and their shape,
+// per point (input order). Region growing (PCL RegionGrowingRGB, colour
+// thresholds 6 and 5, clusters of at least 10 points) over k neighbours,
+// distance threshold 3 x the median local resolution (8 neighbours), so it
+// holds at any scene scale. A cloud without colours has no clusters.
+struct ClusterShapes {
+  std::vector<int32_t> label;     // -1: in no cluster
+  std::vector<uint32_t> size;     // points of the point's cluster (0: none)
+  std::vector<glm::vec3> axis;    // unit main axis of the cluster (largest principal component; 0: none)
+  std::vector<float> elongation;  // sqrt(l1 / l2) of the cluster's covariance (1: round or none)
+};
+
 struct NormalOptions {
   int k = 16;
   Orientation orientation = Orientation::Consistent;
   glm::dvec3 target{0.0};  // the point (TowardPoint) or direction (Direction)
+  // > 0: the least-squares plane of the points within radius_factor x r
+  // (r: the point's mean distance to its 8 nearest neighbours; seed 004
+  // uses 3r), at most the 64 nearest of them; fewer than 3 there: the k
+  // neighbours' plane. Orientation still follows the k-neighbour graph.
+  double radius_factor = 0.0;
 };
 
 class Analysis {
@@ -55,6 +72,7 @@ class Analysis {
   std::vector<uint8_t> inliers(int k, float std_ratio);
   LineFit line_fit(const std::vector<uint8_t>& mask, int k);
   Components region_growing_rgb(const RegionGrowingParams& params);
+  std::shared_ptr<const ClusterShapes> cluster_shapes(int k);
   Components connected_components(int level, uint32_t min_points, double cell_size = 0.0, bool float32 = false);
 
   // What has been computed so far ("knn:16", "pca:16", "normals:16:consistent", ...).

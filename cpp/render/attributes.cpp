@@ -18,6 +18,10 @@ const char* attribute_name(AttributeKind attribute) {
     case AttributeKind::FeatureDegree: return "feature_degree";
     case AttributeKind::QueueOrder: return "queue_order";
     case AttributeKind::FeatureLine: return "feature_line";
+    case AttributeKind::ResolutionDeviation: return "resolution_deviation";
+    case AttributeKind::PrincipalAxis: return "principal_axis";
+    case AttributeKind::RadiusNormal: return "normals_3r";
+    case AttributeKind::ClusterShape: return "cluster_shape";
   }
   return "?";
 }
@@ -37,11 +41,14 @@ bool is_source_attribute(AttributeKind attribute) {
 std::vector<std::string> source_attribute_names(const AttributeSet& set) {
   std::vector<std::string> out;
   for (const AttributeKey& key : set) {
-    if (!is_source_attribute(key.attribute)) continue;
+    // Normals within 3r are the cloud's own where it has them.
+    const bool radius_normals = key.attribute == AttributeKind::RadiusNormal;
+    if (!is_source_attribute(key.attribute) && !radius_normals) continue;
     // The host cannot know which colour a cloud it has not read yet has:
     // it passes every one of them the object has.
     const std::vector<std::string> names =
         key.attribute == AttributeKind::AutoColor ? std::vector<std::string>{"colors", "intensity", "classification"}
+        : radius_normals                          ? std::vector<std::string>{"normals"}
                                                   : std::vector<std::string>{attribute_name(key.attribute)};
     for (const std::string& name : names)
       if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);

@@ -25,6 +25,10 @@ enum class AttributeKind : uint8_t {
                     // indices in a stable seeded random order (by a hash of the point id), uint; k = 0
   FeatureLine,      // seed 001 eq. 2 line fit among feature points: snorm8 x3 direction + unorm8 error;
                     // k packs both neighbourhoods and the feature threshold, see feature_line_key()
+  ResolutionDeviation,  // deviation eps of the distance to the k nearest neighbours (seed 004's r + eps), float
+  PrincipalAxis,    // unit eigenvector of the largest eigenvalue of the k-neighbour covariance (seed 004's CM frame); snorm8 x3
+  RadiusNormal,     // the cloud's own normals, else least squares within 3r (seed 004; r: 8-neighbour resolution), oriented over k neighbours; snorm8 x3
+  ClusterShape,     // seed 004 colour region-growing cluster over k neighbours: uint x4 (snorm8 main axis, elongation float bits, size, label)
 };
 
 // An attribute and, for computed ones, the neighbourhood size it uses.

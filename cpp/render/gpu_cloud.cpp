@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "geometry/analysis.h"
 #include "geometry/features.h"
@@ -141,6 +142,34 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
         for (size_t i = 0; i < packed.size(); ++i) {
           const float e = std::isfinite(fit.error[i]) ? std::clamp(fit.error[i], 0.0f, 1.0f) : 1.0f;
           packed[i] = (packed[i] & 0x00ffffffu) | (uint32_t(std::lround(e * 255.0f)) << 24);
+        }
+        buffer = upload(packed);
+        break;
+      }
+      case AttributeKind::ResolutionDeviation: buffer = upload(analysis->local_resolution(key.k)->eps); break;
+      case AttributeKind::PrincipalAxis:
+        buffer = upload(pack_normals(analysis->points().to_original(analysis->pca(key.k)->major)));
+        break;
+      case AttributeKind::RadiusNormal:
+        if (g.own_normals) {
+          buffer = upload(pack_normals(cloud->normals()));
+        } else {
+          geometry::NormalOptions o{key.k, geometry::Orientation::Consistent, {}};
+          o.radius_factor = 3.0;
+          buffer = upload(pack_normals(*analysis->normals(o)));
+        }
+        break;
+      case AttributeKind::ClusterShape: {
+        const auto shapes = analysis->cluster_shapes(key.k);
+        const std::vector<uint32_t> axes = pack_normals(shapes->axis);
+        std::vector<uint32_t> packed(4 * axes.size());
+        for (size_t i = 0; i < axes.size(); ++i) {
+          uint32_t elongation = 0;
+          std::memcpy(&elongation, &shapes->elongation[i], 4);
+          packed[4 * i] = axes[i];
+          packed[4 * i + 1] = elongation;
+          packed[4 * i + 2] = shapes->size[i];
+          packed[4 * i + 3] = uint32_t(shapes->label[i]);
         }
         buffer = upload(packed);
         break;

@@ -194,6 +194,33 @@ PRESETS = {
                               "light_elevation": 45.0, "specular": True, "tau": 0.15}),
         "filters": [],
     },
+    # Brush splats (seed 004, stroke-based splatting): every point a brush
+    # of Gaussians on a splat sized by its neighbours' spacing.
+    # Impressionist: the seed's Fig. 4c brush (nine Gaussians, A = 1,
+    # dev = 0.38, lambda = 2.7, sigma 0.142 x 0.071), columns turned by up
+    # to 12 degrees each, a light blur between patches.
+    "Impressionist": {
+        "mark": ("brush_splats", {"gaussians": 9, "amplitude": 1.0, "dev": 0.38, "lambda": 2.7, "sigma_x": 0.142,
+                                  "sigma_y": 0.071, "size_scale": 2.0, "angle_jitter": 12.0, "blending": "blur",
+                                  "blur_radius": 1, "max_radius": 10.0}),
+        "filters": [],
+    },
+    # Pointillist: one round Gaussian per point, opaque centres, no blur,
+    # saturated afterwards toward pure pigments.
+    "Pointillist": {
+        "mark": ("brush_splats", {"gaussians": 1, "amplitude": 3.0, "lambda": 2.0, "sigma_x": 0.16, "sigma_y": 0.16,
+                                  "size_scale": 2.0, "angle_jitter": 0.0, "blending": "none", "depth_tolerance": 0.5,
+                                  "max_radius": 8.0}),
+        "filters": [("color_grade", {"saturation": 1.6})],
+    },
+    # Painterly: the seed's Fig. 4d brush (six Gaussians, A = 2.27,
+    # dev = 0.3, lambda = 2.4) in two layers, the smaller one lighter.
+    "Painterly": {
+        "mark": ("brush_splats", {"gaussians": 6, "amplitude": 2.27, "dev": 0.3, "lambda": 2.4, "sigma_x": 0.099,
+                                  "sigma_y": 0.1259, "layers": "two", "layer_tint": 0.2, "size_scale": 2.0,
+                                  "angle_jitter": 15.0, "blending": "blur", "blur_radius": 1, "max_radius": 10.0}),
+        "filters": [],
+    },
 }
 
 

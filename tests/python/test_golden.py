@@ -3,7 +3,9 @@ photogrammetry scan; "Urban map" on the LiDAR HD tile, as it colours by
 class; each hatching preset on both, preset_<name>_lion.png and
 preset_<name>_tile.png; each feature strokes and each stipple preset on the
 tile and the Stanford bunny, preset_<name>_tile.png and
-preset_<name>_bunny.png), compared with OpenImageIO's idiff.
+preset_<name>_bunny.png; each brush_splats preset on the lion and on a
+Kinect-like PCD, preset_<name>_lion.png and preset_<name>_mug.png),
+compared with OpenImageIO's idiff.
 
 Tolerance: a pixel fails when a channel differs by more than 2/255 (8-bit
 PNG quantisation plus float rounding of a different build); up to 0.5 % of
@@ -34,6 +36,17 @@ FAIL_ABOVE, FAIL_PERCENT = 2.0 / 255.0, 0.5
 
 
 def _scene(name, scan=None):
+    if scan == "mug":
+        # A Kinect-like organized PCD (PCL's textured mug scene, cropped), seen from its sensor.
+        mug = pointnpr.read(os.path.join(ROOT, "tests", "data", "io", "mug_crop.pcd"))
+        pos = np.asarray(mug.positions)
+        cloud = mug.to_cloud()
+        camera = pointnpr.Camera.perspective(pointnpr.look_at((0.0, 0.0, 0.0), (pos.min(0) + pos.max(0)) / 2,
+                                                              up=(0.0, -1.0, 0.0)),
+                                             lens=280.0, clip_start=0.05, clip_end=100.0, width=W, height=H)
+        scene = pointnpr.Scene()
+        scene.add_segment("scan", presets.style(name), [(cloud, np.eye(4))])
+        return scene, camera
     # The bunny: turned Z up for the stipple presets (their light is given
     # in a Z-up world); in its own Y-up frame for the feature strokes presets.
     stipples = presets.PRESETS[name]["mark"][0] == "stipples"
@@ -83,6 +96,8 @@ def _cases():
             cases += [(name, "tile"), (name, "bunny")]
         elif presets.PRESETS[name]["mark"][0] == "stipples":
             cases += [(name, "bunny"), (name, "tile")]
+        elif presets.PRESETS[name]["mark"][0] == "brush_splats":
+            cases += [(name, "lion"), (name, "mug")]
         else:
             cases.append((name, None))
     return cases

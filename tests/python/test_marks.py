@@ -361,6 +361,11 @@ MARK_STYLES = {
                         {"coloring": "point", "stroke_texture": "dry", "paper_color": [1, 1, 1, 0], "dither_tone": 0.0}],
     "stipples": [{}, {"specular": True, "size_jitter": 0.5, "level": 5.5},
                  {"paper_color": (1.0, 1.0, 1.0, 0.0), "shadow_casters": "visible", "level": 5.0}],
+    "brush_splats": [{}, {"tangent_frame": "eberly", "layers": "two", "blending": "none", "epsilon_mode": "user",
+                          "epsilon": 0.01, "clusters": True},
+                     {"size_mode": "world", "world_radius": 0.03, "color_source": "constant",
+                      "tangent_frame": "covariance"},
+                     {"blending": "a_buffer", "tangent_frame": "square_plate", "normals": "radius_3r"}],
 }
 
 

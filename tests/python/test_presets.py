@@ -12,13 +12,14 @@ POINTS_PRESETS = ["Toon", "Ink outlines", "Watercolor", "Oil paint", "Posterize"
 HATCHING_PRESETS = ["Pencil", "Coloured crayons", "Wax crayons", "Blueprint", "Chalk", "Pointillism"]
 FEATURE_PRESETS = ["Feature stippling", "Feature strokes + stipples", "Feature strokes + hatching"]
 STIPPLES_PRESETS = ["Stipple diffuse", "Stipple specular", "Ink stippling"]
+BRUSH_PRESETS = ["Impressionist", "Pointillist", "Painterly"]
 
 
 def test_the_presets_are_all_there():
     from pointnpr import presets
 
     assert set(presets.PRESETS) == (set(POINTS_PRESETS) | set(HATCHING_PRESETS) | set(FEATURE_PRESETS) |
-                                    set(STIPPLES_PRESETS))
+                                    set(STIPPLES_PRESETS) | set(BRUSH_PRESETS))
     for name in POINTS_PRESETS:
         assert presets.PRESETS[name]["mark"][0] == "points", name
     for name in HATCHING_PRESETS:
@@ -27,6 +28,8 @@ def test_the_presets_are_all_there():
         assert presets.PRESETS[name]["mark"][0] == "feature_strokes", name
     for name in STIPPLES_PRESETS:
         assert presets.PRESETS[name]["mark"][0] == "stipples", name
+    for name in BRUSH_PRESETS:
+        assert presets.PRESETS[name]["mark"][0] == "brush_splats", name
 
 
 def _plane_render(renderer, style):
@@ -39,7 +42,8 @@ def _plane_render(renderer, style):
     return renderer.render(scene, cam, 96, 64)
 
 
-@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS + FEATURE_PRESETS + STIPPLES_PRESETS)
+@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS + FEATURE_PRESETS + STIPPLES_PRESETS +
+                         BRUSH_PRESETS)
 def test_preset_validates_and_renders(renderer, name):
     import pointnpr
     from pointnpr import presets
@@ -170,7 +174,8 @@ def _check_intensity_tones(renderer, name, cloud, camera):
         assert corr > MIN_CORRELATION, f"{name}: the intensity does not show (correlation {corr:.3f})"
 
 
-@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS + FEATURE_PRESETS + STIPPLES_PRESETS)
+@pytest.mark.parametrize("name", POINTS_PRESETS + HATCHING_PRESETS + FEATURE_PRESETS + STIPPLES_PRESETS +
+                         BRUSH_PRESETS)
 def test_preset_shows_the_tones_of_an_intensity_only_scan(renderer, intensity_tile, name):
     # The tile's intensity has glints far above the rest (peak 21014, 99th
     # percentile 4172): the core maps its 99th percentile to white.

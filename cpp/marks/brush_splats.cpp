@@ -1,0 +1,512 @@
+// Stroke-based splatting (seed 004, impressionist brush strokes on
+// surface-aligned splats): every point becomes a square splat of radius
+// r + eps (the mean distance to its k nearest neighbours and its deviation,
+// or a user eps: denser regions get smaller brushes), lying in its tangent
+// plane, textured by a brush that is a mixture of Gaussians (eq. 1).
+//
+//  - Tangent frame per point in the vertex shader from the normal alone:
+//    the Householder formula (section 3.3.1), or, for the comparison of the
+//    seed's Fig. 3, Eberly's cross products, a square-plate stand-in, or
+//    the covariance matrix (the neighbourhood's major axis, per point).
+//  - Brush: N Gaussians (1..9) on a 3 x 3 grid, dev apart, amplitude A,
+//    shape exponent lambda, sigma x / y, theta per column: the brush angle
+//    plus seeded noise (point id), each column within a bound of the
+//    previous. Up to two layers (the second smaller, turned, tinted).
+//  - Depth pass: every brush (alpha above the cut) into depth, nearest wins.
+//    Splats then blend order-independently within `depth_tolerance` radii
+//    of that surface: weighted average colour, coverage = 1 - product of
+//    transmittances (sums and products in a fixed primitive order: the
+//    same bytes in every process).
+//  - Blending (a): two-pass Gaussian blur of the colour with depth
+//    occlusion (neighbours at other depths do not mix), coverage unchanged.
+//  - Blending (b): an A-buffer of the splats near the surface: fragments
+//    counted per pixel, lists packed by a sequential prefix sum, stored,
+//    then each list sorted completely by (depth, point id, colour) and
+//    alpha-blended front to back (the same bytes whatever the point order).
+//    Its fragments have a memory budget, and a pixel's list a length limit
+//    (512): a frame that would exceed either warns and is blended by (a);
+//    nothing is allocated beyond them. The seed's
+//    incremental bubble sort across viewport frames is not done: every
+//    frame sorts completely.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "core/error.h"
+#include "gl/device.h"
+#include "marks/points.h"
+#include "scene/camera.h"
+
+namespace pointnpr {
+namespace {
+
+// GPU record of one captured splat (std430, 64 bytes; brush_capture.comp).
+struct SplatRecord {
+  glm::vec4 center_size;
+  glm::vec4 tangent;
+  glm::vec4 normal_id;
+  glm::vec4 color;
+};
+static_assert(sizeof(SplatRecord) == 64);
+
+// Largest splat radius on screen the parameter allows (bounds the mark's
+// extent and fill rate).
+constexpr float kMaxRadiusPixels = 64.0f;
+constexpr float kCut = 1.0f / 255.0f;  // alpha below this is no coverage
+
+// Normals: the cloud's own, else k-neighbour PCA or least squares within 3r.
+AttributeKey normal_key(const ParamValues& p) {
+  return {p.get_enum_name("normals") == "radius_3r" ? AttributeKind::RadiusNormal : AttributeKind::Normal,
+          p.get_int("normal_neighbors")};
+}
+
+class BrushSplats final : public Mark {
+ public:
+  AttributeSet attributes(const ParamValues& p) const override {
+    AttributeSet set = color_attributes(ColorSource(p.get_enum("color_source")));
+    set.insert({AttributeKind::PointId});
+    set.insert(normal_key(p));
+    if (p.get_enum_name("size_mode") == "resolution") {
+      const int k = p.get_int("resolution_neighbors");
+      set.insert({AttributeKind::LocalResolution, k});
+      if (p.get_enum_name("epsilon_mode") == "deviation") set.insert({AttributeKind::ResolutionDeviation, k});
+    }
+    if (p.get_enum_name("tangent_frame") == "covariance")
+      set.insert({AttributeKind::PrincipalAxis, p.get_int("normal_neighbors")});
+    if (p.get_bool("clusters")) set.insert({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")});
+    return set;
+  }
+
+  MarkExtent extent(const ParamValues& p) const override {
+    // Half the splat's diagonal at the largest radius and stretch.
+    const double stretch = p.get_bool("clusters") ? p.get_float("max_stretch") : 1.0;
+    return {0.0, float(p.get_float("max_radius") * std::sqrt(stretch * stretch + 1.0)) + 2.0f};
+  }
+
+  void draw(const MarkContext& ctx, const ParamValues& p) const override;
+};
+
+void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const ParamValues& p) {
+  const Camera& cam = *ctx.camera;
+  glUniformMatrix4fv(g.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
+  glUniform1i(g.location("u_ortho"), cam.orthographic ? 1 : 0);
+  glUniform1f(g.location("u_near"), float(cam.clip_start));
+  glUniform1f(g.location("u_far"), float(cam.clip_end));
+  glUniform1f(g.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, ctx.targets.size.y)));
+  const bool resolution = p.get_enum_name("size_mode") == "resolution";
+  glUniform1i(g.location("u_size_mode"), resolution ? 0 : 1);
+  glUniform1i(g.location("u_eps_mode"), resolution && p.get_enum_name("epsilon_mode") == "user" ? 1 : 0);
+  glUniform1f(g.location("u_epsilon"), resolution ? float(p.get_float("epsilon")) : 0.0f);
+  glUniform1f(g.location("u_size_scale"), float(p.get_float("size_scale")));
+  glUniform1f(g.location("u_world_radius"), resolution ? 0.0f : float(p.get_float("world_radius")));
+  glUniform1f(g.location("u_max_radius_px"), float(p.get_float("max_radius")));
+  glUniform1i(g.location("u_frame"), p.get_enum("tangent_frame"));
+  glUniform1f(g.location("u_angle"), float(glm::radians(p.get_float("brush_angle"))));
+  glUniform1f(g.location("u_angle_jitter"), float(glm::radians(p.get_float("angle_jitter"))));
+  glUniform1ui(g.location("u_seed"), uint32_t(p.get_int("seed")));
+  glUniform4fv(g.location("u_constant_color"), 1, glm::value_ptr(p.get_color("color")));
+  // Brush (fragment stage).
+  glUniform1i(g.location("u_gaussians"), p.get_int("gaussians"));
+  glUniform1f(g.location("u_amplitude"), float(p.get_float("amplitude")));
+  glUniform1f(g.location("u_dev"), float(p.get_float("dev")));
+  glUniform1f(g.location("u_lambda"), float(p.get_float("lambda")));
+  glUniform1f(g.location("u_sigma_x"), float(p.get_float("sigma_x")));
+  glUniform1f(g.location("u_sigma_y"), float(p.get_float("sigma_y")));
+  glUniform1i(g.location("u_layers"), p.get_enum("layers") + 1);
+  glUniform1f(g.location("u_layer_scale"), float(p.get_float("layer_scale")));
+  glUniform1f(g.location("u_layer_angle"), float(glm::radians(p.get_float("layer_angle"))));
+  glUniform1f(g.location("u_layer_tint"), float(p.get_float("layer_tint")));
+  const bool clusters = p.get_bool("clusters");
+  glUniform1i(g.location("u_clusters"), clusters ? 1 : 0);
+  glUniform1f(g.location("u_small_cluster"), clusters ? float(p.get_int("small_cluster")) : 0.0f);
+  glUniform1f(g.location("u_elongation_gain"), float(p.get_float("elongation_stretch")));
+  glUniform1f(g.location("u_max_stretch"), float(p.get_float("max_stretch")));
+  glUniform1f(g.location("u_cut"), kCut);
+  // A N exp(-q^lambda / 2) < cut / 16 beyond q = (2 ln(16 A N / cut))^(1 / lambda): skipped Gaussians
+  // change the alpha by less than a 16th of the cut.
+  const double an = std::max(p.get_float("amplitude") * p.get_int("gaussians"), 1e-6);
+  const double reach = std::pow(2.0 * std::log(std::max(16.0 * an / double(kCut), 1.0 + 1e-6)), 1.0 / p.get_float("lambda"));
+  glUniform1f(g.location("u_reach"), float(reach));
+}
+
+void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamValues& p) {
+  const GpuCloud& c = *v.gpu;
+  const int k = p.get_int("resolution_neighbors");
+  bind_chunk(g, v, ColorSource(p.get_enum("color_source")),
+             {{2, c.find(normal_key(p))},
+              {3, c.find({AttributeKind::LocalResolution, k})},
+              {4, c.find({AttributeKind::ResolutionDeviation, k})},
+              {5, c.find({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")})},
+              {6, c.find({AttributeKind::PointId})},
+              {13, c.find({AttributeKind::PrincipalAxis, p.get_int("normal_neighbors")})}});
+}
+
+gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const gl::Texture& depth) {
+  GLuint id = 0;
+  glCreateFramebuffers(1, &id);
+  gl::Framebuffer fbo(id);
+  std::vector<GLenum> bufs;
+  for (const gl::Texture* t : colors) {
+    const GLenum attachment = GLenum(GL_COLOR_ATTACHMENT0 + bufs.size());
+    glNamedFramebufferTexture(id, attachment, t->id(), 0);
+    bufs.push_back(attachment);
+  }
+  glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, depth.id(), 0);
+  glNamedFramebufferDrawBuffers(id, GLsizei(bufs.size()), bufs.data());
+  if (glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw GLError("the brush_splats framebuffer is incomplete");
+  return fbo;
+}
+
+void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p) {
+  GLuint vao = 0;
+  glCreateVertexArrays(1, &vao);
+  const gl::VertexArray empty_vao(vao);
+  glBindVertexArray(vao);
+  for (const VisibleChunk& v : ctx.chunks) {
+    bind_splat_chunk(g, v, p);
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(v.chunk->count));
+  }
+  glBindVertexArray(0);
+}
+
+// Raster state of the splat passes: the clip rect, reversed Z.
+class RasterState {
+ public:
+  RasterState(const MarkContext& ctx) {
+    glViewport(0, 0, ctx.targets.size.x, ctx.targets.size.y);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(ctx.clip.min.x, ctx.clip.min.y, ctx.clip.size().x, ctx.clip.size().y);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  }
+  ~RasterState() {
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
+  RasterState(const RasterState&) = delete;
+  RasterState& operator=(const RasterState&) = delete;
+};
+
+constexpr size_t kFragmentBytes = 16;  // brush_abuffer.glsl's Fragment
+// Longest list a pixel may have: each list is insertion-sorted by one
+// invocation, so its length bounds the work of a pixel (a cloud seen from
+// far away would otherwise pile every splat into a few pixels).
+constexpr uint32_t kMaxListLength = 512;
+
+// Splats near the surface: depth test against the depth pass, moved toward
+// the camera by depth_tolerance radii, no depth writes.
+void near_surface_tests(const gl::Program& g, const ParamValues& p) {
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GEQUAL);
+  glDepthMask(GL_FALSE);
+  glUniform1f(g.location("u_offset_radii"), float(p.get_float("depth_tolerance")));
+}
+
+// Blending (b): returns false (with a warning) where the frame's fragments
+// would not fit the budget; nothing is then allocated for them.
+bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
+  const Rect& clip = ctx.clip;
+  // Lists over the clip rect only: 12 bytes of counters a pixel of it.
+  const glm::ivec2 rect = clip.size();
+  const size_t pixels = size_t(rect.x) * size_t(rect.y);
+  const uint32_t zero = 0;
+  const gl::Buffer counts = gl::make_buffer(pixels * 4, nullptr, 0);
+  const gl::Buffer cursors = gl::make_buffer(pixels * 4, nullptr, 0);
+  const gl::Buffer offsets = gl::make_buffer(pixels * 4, nullptr, 0);
+  const gl::Buffer row_base = gl::make_buffer((size_t(rect.y) + 2) * 4, nullptr, 0);
+  glClearNamedBufferData(counts.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glClearNamedBufferData(cursors.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glClearNamedBufferData(row_base.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  auto bind_lists = [&](const gl::Program& g) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, counts.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, cursors.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, row_base.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, offsets.id());
+    glUniform2i(g.location("u_list_origin"), clip.min.x, clip.min.y);
+    glUniform2i(g.location("u_list_size"), rect.x, rect.y);
+  };
+  const gl::Framebuffer fbo = make_fbo({}, *ctx.targets.gl_depth);
+
+  // 1. Count the fragments of every pixel.
+  {
+    const RasterState state(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    const gl::Program& count = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_COUNT"});
+    count.use();
+    set_splat_uniforms(count, ctx, p);
+    near_surface_tests(count, p);
+    bind_lists(count);
+    draw_all(ctx, count, p);
+  }
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  // 2. Where each list starts, and the total.
+  for (const char* pass : {"PASS_ROWS", "PASS_TOTAL"}) {
+    const gl::Program& scan = ctx.shaders->compute("brush_abuffer_scan.comp", {pass});
+    scan.use();
+    bind_lists(scan);
+    glUniform2i(scan.location("u_rect_min"), clip.min.x, clip.min.y);
+    glUniform2i(scan.location("u_rect_max"), clip.max.x, clip.max.y);
+    glDispatchCompute(std::string(pass) == "PASS_ROWS" ? GLuint((clip.size().y + 63) / 64) : 1u, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  }
+  uint32_t total_longest[2] = {0, 0};
+  glGetNamedBufferSubData(row_base.id(), GLintptr(size_t(rect.y) * 4), 8, total_longest);
+  const uint32_t total = total_longest[0], longest = total_longest[1];
+  const double budget_mib = p.get_float("a_buffer_budget");
+  const double needed_mib = double(total) * double(kFragmentBytes) / (1024.0 * 1024.0);
+  if (ctx.stats) {
+    (*ctx.stats)["a_buffer_fragments"] += double(total);
+    (*ctx.stats)["a_buffer_longest_list"] = std::max((*ctx.stats)["a_buffer_longest_list"], double(longest));
+  }
+  if (total == 0xFFFFFFFFu || needed_mib > budget_mib || longest > kMaxListLength) {
+    if (ctx.warnings) {
+      char text[240];
+      if (longest > kMaxListLength)
+        std::snprintf(text, sizeof(text),
+                      "brush_splats: a pixel of the A-buffer has %u fragments, more than the %u it sorts; "
+                      "blended by blur instead",
+                      longest, kMaxListLength);
+      else
+        std::snprintf(text, sizeof(text),
+                      "brush_splats: the A-buffer needs %s%.1f MiB for this frame, over its budget of %.1f MiB; "
+                      "blended by blur instead",
+                      total == 0xFFFFFFFFu ? "more than " : "", needed_mib, budget_mib);
+      ctx.warnings->push_back(text);
+    }
+    return false;
+  }
+  // 3. Store them, 4. sort and blend each list.
+  const gl::Buffer fragments = gl::make_buffer(std::max<size_t>(total, 1) * kFragmentBytes, nullptr, 0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, fragments.id());
+  {
+    const RasterState state(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    const gl::Program& store = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_STORE"});
+    store.use();
+    set_splat_uniforms(store, ctx, p);
+    near_surface_tests(store, p);
+    bind_lists(store);
+    draw_all(ctx, store, p);
+  }
+  gl::check_gl("brush splats A-buffer");
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  const gl::Program& resolve = ctx.shaders->compute("brush_abuffer_resolve.comp");
+  resolve.use();
+  bind_lists(resolve);
+  glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
+  dispatch_rect(resolve, clip);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  return true;
+}
+
+// Blending by weighted average and the blur (a).
+void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
+  const Rect& clip = ctx.clip;
+  const gl::Texture& accum = ctx.targets.scratch(GL_RGBA32F, 0);
+  const gl::Texture& reveal = ctx.targets.scratch(GL_R32F, 0);
+  const gl::Texture& splat_depth = ctx.targets.scratch(GL_R32F, 1);
+  const float zero4[4] = {0, 0, 0, 0}, one = 1.0f, inf = std::numeric_limits<float>::infinity();
+  glClearTexSubImage(accum.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RGBA, GL_FLOAT, zero4);
+  glClearTexSubImage(reveal.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &one);
+  glClearTexSubImage(splat_depth.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &inf);
+  const gl::Framebuffer blend_fbo = make_fbo({&accum, &reveal, &splat_depth}, *ctx.targets.gl_depth);
+  {
+    const RasterState state(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, blend_fbo.id());
+    glEnable(GL_BLEND);
+    glBlendEquationi(0, GL_FUNC_ADD);
+    glBlendFunci(0, GL_ONE, GL_ONE);
+    glBlendEquationi(1, GL_FUNC_ADD);
+    glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR);
+    glBlendEquationi(2, GL_MIN);
+    glBlendFunci(2, GL_ONE, GL_ONE);
+    const gl::Program& blend = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_BLEND"});
+    blend.use();
+    set_splat_uniforms(blend, ctx, p);
+    near_surface_tests(blend, p);
+    draw_all(ctx, blend, p);
+  }
+  gl::check_gl("brush splats");
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+
+  // Resolve into the segment's colour and depth.
+  const gl::Program& resolve = ctx.shaders->compute("brush_resolve.comp");
+  resolve.use();
+  glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
+  glBindImageTexture(2, accum.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+  glBindImageTexture(3, reveal.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  glBindImageTexture(4, splat_depth.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  dispatch_rect(resolve, clip);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+
+  // Blur with depth occlusion.
+  const int radius = p.get_int("blur_radius");
+  if (!blur || radius <= 0) return;
+  const gl::Texture& sums = ctx.targets.scratch(GL_RGBA32F, 1);
+  const float sigma = std::max(0.5f, 0.5f * float(radius));
+  for (const char* pass : {"PASS_X", "PASS_Y"}) {
+    const bool x = std::string(pass) == "PASS_X";
+    const gl::Program& g = ctx.shaders->compute("brush_blur.comp", {pass});
+    g.use();
+    glUniform1f(g.location("u_sigma"), sigma);
+    glUniform1i(g.location("u_radius"), radius);
+    glUniform1f(g.location("u_depth_tolerance"), float(p.get_float("blur_depth_tolerance")));
+    glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(2, sums.id(), 0, GL_FALSE, 0, x ? GL_WRITE_ONLY : GL_READ_ONLY, GL_RGBA32F);
+    if (!x) glBindImageTexture(3, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    dispatch_rect(g, clip);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  }
+}
+
+void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
+  // 1. Depth pass: the nearest brush surface per pixel.
+  const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth}, *ctx.targets.gl_depth);
+  {
+    const RasterState state(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo.id());
+    const float zero = 0.0f;
+    glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z: 0 is the far end
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_TRUE);
+    const gl::Program& depth_pass = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_DEPTH"});
+    depth_pass.use();
+    set_splat_uniforms(depth_pass, ctx, p);
+    glUniform1f(depth_pass.location("u_offset_radii"), 0.0f);
+    draw_all(ctx, depth_pass, p);
+  }
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+
+  // 2. The splats near that surface, blended.
+  const std::string blending = p.get_enum_name("blending");
+  if (blending != "a_buffer" || !draw_a_buffer(ctx, p)) draw_blended(ctx, p, blending != "none");
+
+  uint64_t drawn = 0;
+  for (const VisibleChunk& v : ctx.chunks) drawn += v.chunk->count;
+  if (ctx.stats) (*ctx.stats)["splats_drawn"] += double(drawn);
+
+  // Captured splats, per chunk (chunks are bounded in size).
+  if (ctx.capture) {
+    const gl::Program& capture = ctx.shaders->compute("brush_capture.comp");
+    capture.use();
+    set_splat_uniforms(capture, ctx, p);
+    for (const VisibleChunk& v : ctx.chunks) {
+      const gl::Buffer records = gl::make_buffer(size_t(v.chunk->count) * sizeof(SplatRecord), nullptr, 0);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, records.id());
+      bind_splat_chunk(capture, v, p);
+      glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
+      glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+      std::vector<SplatRecord> out(v.chunk->count);
+      glGetNamedBufferSubData(records.id(), 0, GLsizeiptr(out.size() * sizeof(SplatRecord)), out.data());
+      for (const SplatRecord& r : out) {
+        if (!(r.center_size.w > 0.0f)) continue;
+        CapturedMark m;
+        uint32_t id = 0;
+        std::memcpy(&id, &r.normal_id.w, sizeof(id));
+        m.point_id = id;
+        m.center = glm::vec3(r.center_size);
+        m.direction = glm::vec3(r.tangent);
+        m.crossed = r.tangent.w > 0.5f;  // a second layer
+        m.normal = glm::vec3(r.normal_id);
+        m.length = r.center_size.w;
+        m.color = r.color;
+        ctx.capture->push_back(m);
+      }
+    }
+  }
+}
+
+const MarkRegistration registration{{
+    Schema{"brush_splats",
+           "Brush splats",
+           "Impressionist brush strokes on surface-aligned splats sized by the local point spacing (stroke-based "
+           "splatting, seed 004): a brush of Gaussians per point, blended.",
+           {
+               enum_param("size_mode", {"resolution", "world"}, 0,
+                          "resolution: splat radius r + eps from each point's neighbours (denser regions get "
+                          "smaller brushes); world: one radius in scene units"),
+               only_when(int_param("resolution_neighbors", 8, 2, 64, "",
+                                   "Neighbours the local resolution r (mean distance) and eps (its deviation) come from"),
+                         "size_mode", {"resolution"}),
+               only_when(enum_param("epsilon_mode", {"deviation", "user"}, 0,
+                                    "eps: the deviation of the neighbour distances, or your own"),
+                         "size_mode", {"resolution"}),
+               only_when(float_param("epsilon", 0.0, 0.0, 100.0, "m", "Your eps, added to r (epsilon_mode = user)"),
+                         "epsilon_mode", {"user"}),
+               only_when(float_param("world_radius", 0.02, 0.00001, 100.0, "m", "Splat radius (size_mode = world)"),
+                         "size_mode", {"world"}),
+               float_param("size_scale", 1.5, 0.1, 8.0, "",
+                           "Splat radius times this (1: r + eps; the brush's Gaussians fade before the square's edge)"),
+               float_param("max_radius", 16.0, 0.5, kMaxRadiusPixels, "px",
+                           "Largest splat radius on screen (isolated points far from their neighbours stay small)"),
+               enum_param("tangent_frame", {"householder", "eberly", "square_plate", "covariance"}, 0,
+                          "How the brush's axes follow from the normal: Householder formula (continuous, the seed's "
+                          "choice), Eberly's cross products, a square-plate stand-in, or the neighbourhood's "
+                          "covariance matrix (its major axis; the seed's Fig. 3)"),
+               enum_param("normals", {"neighbors", "radius_3r"}, 0,
+                          "Where a cloud has no normals: the plane of the k nearest neighbours, or the seed's "
+                          "least squares within 3r (r: the mean distance to 8 neighbours)"),
+               int_param("normal_neighbors", 16, 3, 64, "",
+                         "Neighbours the normals (where a cloud has none) and the covariance frame are estimated "
+                         "from (PCA)"),
+               int_param("gaussians", 9, 1, 9, "", "Gaussians of the brush, on a 3 x 3 grid (the seed uses 6 to 9)"),
+               float_param("amplitude", 1.0, 0.0, 16.0, "", "Amplitude A of every Gaussian: the brush's opacity"),
+               float_param("dev", 0.38, 0.0, 0.5, "", "Spacing of the Gaussians' centres, in brush widths"),
+               float_param("lambda", 2.7, 0.5, 16.0, "", "Shape exponent: 2 round Gaussians, higher squarer"),
+               float_param("sigma_x", 0.142, 0.005, 1.0, "", "Decay along the brush's x axis, in brush widths"),
+               float_param("sigma_y", 0.071, 0.005, 1.0, "", "Decay along its y axis, in brush widths"),
+               float_param("brush_angle", 0.0, -180.0, 180.0, "deg", "Orientation theta of the Gaussians"),
+               float_param("angle_jitter", 10.0, 0.0, 90.0, "deg",
+                           "Seeded noise of theta: each column of Gaussians within this of the previous one"),
+               enum_param("layers", {"one", "two"}, 0, "Brush layers: two paints a second, smaller layer over the first"),
+               float_param("layer_scale", 0.6, 0.1, 1.0, "", "Size of the second layer (layers two, or small clusters)"),
+               float_param("layer_angle", 35.0, -180.0, 180.0, "deg", "Turn of the second layer"),
+               float_param("layer_tint", 0.25, -1.0, 1.0, "", "Second layer's colour toward white (> 0) or black (< 0)"),
+               bool_param("clusters", false,
+                          "Shape brushes by colour region-growing clusters (seed 004 section 3.2.1; computed once "
+                          "per cloud): small clusters get two layers, elongated ones longer brushes along their "
+                          "main axis"),
+               only_when(int_param("cluster_neighbors", 30, 3, 64, "", "Neighbours the region growing follows"),
+                         "clusters", {"true"}),
+               only_when(int_param("small_cluster", 200, 0, 1000000, "",
+                                   "Clusters of fewer points get a two-layered brush"),
+                         "clusters", {"true"}),
+               only_when(float_param("elongation_stretch", 0.5, 0.0, 2.0, "",
+                                     "Brushes longer along an elongated cluster's main axis by elongation^this "
+                                     "(elongation: sqrt of the ratio of its two largest principal variances)"),
+                         "clusters", {"true"}),
+               only_when(float_param("max_stretch", 3.0, 1.0, 4.0, "", "Longest brush, in brush widths"),
+                         "clusters", {"true"}),
+               color_source_param(),
+               color_param("color", {0.8, 0.8, 0.8, 1.0}, "Constant color (display sRGB)"),
+               float_param("depth_tolerance", 1.0, 0.0, 10.0, "",
+                           "Splats blend with the nearest surface within this many radii behind it"),
+               enum_param("blending", {"blur", "a_buffer", "none"}, 0,
+                          "blur: splats averaged, then a two-pass Gaussian blur with depth occlusion; a_buffer: per "
+                          "pixel lists sorted by depth and alpha-blended front to back; none: splats averaged"),
+               only_when(float_param("a_buffer_budget", 256.0, 1.0, 4096.0, "MiB",
+                                     "Most memory the A-buffer's fragments may take; a frame that needs more is "
+                                     "blended by blur (with a warning)"),
+                         "blending", {"a_buffer"}),
+               only_when(int_param("blur_radius", 2, 0, 16, "px",
+                                   "Blur radius (sigma = half of it); also the A-buffer's fallback"),
+                         "blending", {"blur", "a_buffer"}),
+               only_when(float_param("blur_depth_tolerance", 0.02, 0.0, 1.0, "",
+                                     "Neighbours mix only within this fraction of the depth"),
+                         "blending", {"blur", "a_buffer"}),
+               int_param("seed", 0, 0, 65535, "", "Varies the brushes' noise (still fixed per point)"),
+           }},
+    [] { return std::make_unique<BrushSplats>(); }}};
+
+}  // namespace
+}  // namespace pointnpr

@@ -1,0 +1,160 @@
+// The brush_splats mark (cpp/marks/brush_splats.cpp, seed 004): per-point
+// splat setup shared by its passes: size r + eps, the tangent frame from
+// the normal, the brush's per-column angles.
+#include "point_attributes.glsl"
+
+layout(std430, binding = 3) readonly buffer Resolution { float resolution[]; };  // mean kNN distance r
+layout(std430, binding = 4) readonly buffer Deviation { float deviation[]; };    // its deviation eps
+layout(std430, binding = 5) readonly buffer Clusters { uint clusters_u[]; };    // 4 per point: axis, elongation, size, label
+layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
+layout(std430, binding = 13) readonly buffer Axes { uint axes_u[]; };  // covariance frame: major axis, snorm8
+
+uniform mat4 u_projection;
+uniform int u_ortho;
+uniform float u_near;
+uniform float u_far;
+uniform float u_px_per_unit;    // pixels per scene unit at view depth 1
+uniform int u_size_mode;        // 0 resolution (r + eps), 1 world
+uniform int u_eps_mode;         // 0 deviation of the kNN distance, 1 user
+uniform float u_epsilon;        // user eps (scene units)
+uniform float u_size_scale;
+uniform float u_world_radius;   // size_mode world
+uniform float u_max_radius_px;
+uniform int u_frame;            // 0 householder, 1 eberly, 2 square_plate, 3 covariance
+uniform float u_angle;          // brush angle theta (radians)
+uniform float u_angle_jitter;   // bound of theta's noise per column (radians)
+uniform uint u_seed;
+uniform int u_clusters;          // 1: the point's cluster shapes its brush
+uniform float u_small_cluster;   // clusters with fewer points: two layers
+uniform float u_elongation_gain; // stretch = elongation ^ gain ...
+uniform float u_max_stretch;     // ... at most this
+
+// Integer hash (lowbias32): randomness from point ids only.
+uint brush_hash(uint x) {
+  x ^= x >> 16; x *= 0x7feb352du;
+  x ^= x >> 15; x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+float brush_rand(uint id, uint salt) {
+  return float(brush_hash(id ^ brush_hash(salt * 0x9e3779b9u + u_seed * 0x85ebca6bu)) >> 8) * (1.0 / 16777216.0);
+}
+
+// Householder formula (seed 004 section 3.3.1, after Lopes et al.): the
+// columns 2 and 3 of H = I - 2 v v^T / v.v with v = n + sign(n.x) e1 are
+// orthonormal and orthogonal to n; continuous except across n.x = 0.
+// 1 comparison, 1 division, a few products.
+void frame_householder(vec3 n, out vec3 t, out vec3 b) {
+  float s = n.x >= 0.0 ? 1.0 : -1.0;
+  float ih = 1.0 / (1.0 + abs(n.x));
+  t = vec3(-s * n.y, 1.0 - n.y * n.y * ih, -n.y * n.z * ih);
+  b = vec3(-s * n.z, -n.y * n.z * ih, 1.0 - n.z * n.z * ih);
+}
+
+// Eberly (Geometric Tools, orthonormal sets): n crossed with the identity
+// column chosen by the larger of |n.x|, |n.y|; jumps across |n.x| = |n.y|.
+void frame_eberly(vec3 n, out vec3 t, out vec3 b) {
+  if (abs(n.x) > abs(n.y)) t = vec3(-n.z, 0.0, n.x) / sqrt(n.x * n.x + n.z * n.z);
+  else t = vec3(0.0, n.z, -n.y) / sqrt(n.y * n.y + n.z * n.z);
+  b = cross(n, t);
+}
+
+// Square plate (our stand-in for the seed's reference [24], which we could
+// not read): the plate's diagonal (1,1,1)/sqrt(3) projected onto the
+// tangent plane, its other diagonal where n is nearly along it: globally
+// similar diagonal directions, as the seed describes.
+void frame_square_plate(vec3 n, out vec3 t, out vec3 b) {
+  vec3 d = vec3(0.57735027);
+  if (abs(dot(n, d)) > 0.9) d = vec3(0.70710678, -0.70710678, 0.0);
+  t = normalize(d - dot(d, n) * n);
+  b = cross(n, t);
+}
+
+// Covariance matrix (the surface-aligned splatting standard): the
+// neighbourhood's major principal axis, in the tangent plane.
+void frame_covariance(vec3 n, vec3 major, out vec3 t, out vec3 b) {
+  vec3 along = major - dot(major, n) * n;
+  if (dot(along, along) < 1e-6) {
+    frame_householder(n, t, b);  // no axis (degenerate neighbourhood)
+    return;
+  }
+  t = normalize(along);
+  b = cross(n, t);
+}
+
+struct BrushSplat {
+  vec3 center;    // view space
+  vec3 t;         // view space, unit: the brush's x axis
+  vec3 b;         // view space, unit: its y axis
+  vec3 n;         // view space, unit
+  float radius;   // scene units: the texture is 2 radius wide across t ...
+  float stretch;  // ... and 2 radius x stretch along it
+  bool two_layers;
+  bool visible;
+};
+
+BrushSplat brush_splat(uint index) {
+  BrushSplat s;
+  vec4 v = u_view_from_chunk * vec4(point_position(index), 1.0);
+  s.center = v.xyz;
+  float depth = -v.z;
+  s.visible = depth >= u_near && depth <= u_far;
+  // Size r + eps: denser regions get smaller brushes.
+  float r = u_world_radius;
+  if (u_size_mode == 0) {
+    float eps = u_eps_mode == 0 ? deviation[index] : u_epsilon;
+    r = resolution[index] + eps;
+  }
+  r *= u_size_scale;
+  float px_per_unit = u_px_per_unit / (u_ortho != 0 ? 1.0 : max(depth, 1e-20));
+  s.radius = min(r, u_max_radius_px / px_per_unit);
+  if (!(s.radius > 0.0)) s.visible = false;
+  // Frame from the chunk-space normal (strokes stay with the object as the
+  // camera moves), then to view space.
+  vec3 n = unpackSnorm4x8(normals_u[index]).xyz;
+  float len = length(n);
+  mat3 to_view = mat3(u_view_from_chunk);
+  s.stretch = 1.0;
+  s.two_layers = false;
+  if (len > 1e-3) {
+    n /= len;
+    vec3 t, b;
+    if (u_frame == 1) frame_eberly(n, t, b);
+    else if (u_frame == 2) frame_square_plate(n, t, b);
+    else if (u_frame == 3) frame_covariance(n, unpackSnorm4x8(axes_u[index]).xyz, t, b);
+    else frame_householder(n, t, b);
+    s.t = normalize(to_view * t);
+    s.b = normalize(to_view * b);
+    s.n = normalize(u_normal_matrix * n);
+    if (u_clusters != 0 && clusters_u[4u * index + 2u] > 0u) {
+      // Seed 004 section 3.2.1: small clusters get a two-layered brush,
+      // elongated ones longer brushes along their main axis.
+      uint base = 4u * index;
+      s.two_layers = float(clusters_u[base + 2u]) < u_small_cluster;
+      float stretch = min(pow(max(uintBitsToFloat(clusters_u[base + 1u]), 1.0), u_elongation_gain), u_max_stretch);
+      vec3 axis = unpackSnorm4x8(clusters_u[base]).xyz;
+      vec3 along = axis - dot(axis, n) * n;
+      if (stretch > 1.05 && dot(along, along) > 0.01) {
+        t = normalize(along);
+        s.t = normalize(to_view * t);
+        s.b = normalize(to_view * cross(n, t));
+        s.stretch = stretch;
+      }
+    }
+  } else {
+    // No usable normal: a view-facing splat.
+    s.t = vec3(1.0, 0.0, 0.0);
+    s.b = vec3(0.0, 1.0, 0.0);
+    s.n = vec3(0.0, 0.0, 1.0);
+  }
+  return s;
+}
+
+// Theta per column of the brush grid: each column within +-jitter of the
+// previous one (seed 004 Fig. 4), seeded by the point id.
+vec3 brush_column_angles(uint id) {
+  float a0 = u_angle + u_angle_jitter * (2.0 * brush_rand(id, 1u) - 1.0);
+  float a1 = a0 + u_angle_jitter * (2.0 * brush_rand(id, 2u) - 1.0);
+  float a2 = a1 + u_angle_jitter * (2.0 * brush_rand(id, 3u) - 1.0);
+  return vec3(a0, a1, a2);
+}

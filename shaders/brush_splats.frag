@@ -1,0 +1,105 @@
+// brush_splats: the brush texture, a mixture of Gaussians (seed 004 eq. 1)
+// on a 3 x 3 grid, evaluated per fragment (no texture images).
+// PASS_DEPTH: the nearest brush surface (linear depth, GL depth written).
+// PASS_BLEND: colour weighted by alpha (sum), transmittance (product),
+// depth (min): order-independent.
+// PASS_COUNT / PASS_STORE: the A-buffer (brush_abuffer.glsl): fragments
+// counted per pixel, then stored in the pixel's list.
+// variants: PASS_DEPTH | PASS_BLEND | PASS_COUNT | PASS_STORE
+#if defined(PASS_BLEND) || defined(PASS_COUNT) || defined(PASS_STORE)
+// Depth test first (no depth writes in these passes): only fragments near
+// the surface are shaded and enter the blend or the lists.
+layout(early_fragment_tests) in;
+#endif
+#if defined(PASS_COUNT) || defined(PASS_STORE)
+#include "brush_abuffer.glsl"
+#endif
+in vec2 v_uv;
+in float v_depth;
+flat in vec4 v_color;
+flat in vec3 v_cos;         // cos and sin of theta per column
+flat in vec3 v_sin;
+flat in uint v_id;
+flat in int v_two_layers;  // the point's cluster asks for two layers
+
+uniform int u_gaussians;     // 1..9
+uniform float u_amplitude;   // A
+uniform float u_dev;         // spacing of the centres
+uniform float u_lambda;      // shape exponent
+uniform float u_sigma_x;
+uniform float u_sigma_y;
+uniform int u_layers;        // 1 or 2
+uniform float u_layer_scale; // second layer: the grid shrunk about the centre
+uniform float u_layer_angle; // ... and turned (radians)
+uniform float u_layer_tint;  // ... and its colour toward white (> 0) or black (< 0)
+uniform float u_cut;         // alpha below this is no coverage
+uniform float u_reach;       // |q| beyond which a Gaussian adds less than u_cut / (A N) (skipped)
+
+#ifdef PASS_DEPTH
+layout(location = 0) out vec4 o_depth;
+#elif defined(PASS_COUNT) || defined(PASS_STORE)
+#else
+layout(location = 0) out vec4 o_accum;
+layout(location = 1) out vec4 o_reveal;
+layout(location = 2) out vec4 o_depth;
+#endif
+
+// One Gaussian of eq. 1 (without A): exp(-1/2 |(x_theta - x0) / sx|^lambda)
+// exp(-1/2 |(y_theta - y0) / sy|^lambda), turned by theta (cos cs, sin sn).
+// Where it adds less than the coverage cut allows to matter it is skipped.
+float brush_gaussian(vec2 uv, vec2 c, float cs, float sn) {
+  vec2 d = uv - c;
+  vec2 r = vec2(cs * d.x - sn * d.y, sn * d.x + cs * d.y);
+  vec2 q = abs(r) / vec2(u_sigma_x, u_sigma_y);
+  if (q.x > u_reach || q.y > u_reach) return 0.0;
+  return exp(-0.5 * (pow(q.x, u_lambda) + pow(q.y, u_lambda)));
+}
+
+// The mixture: rows = ceil(N / 3) rows of up to three columns, dev apart,
+// centred on the texture; column c turned by angles[c]. Clamped to 1.
+float brush_alpha(vec2 uv, vec3 cs, vec3 sn) {
+  int rows = (u_gaussians + 2) / 3;
+  float sum = 0.0;
+  for (int i = 0; i < u_gaussians; ++i) {
+    int row = i / 3, col = i % 3;
+    int cols = min(3, u_gaussians - row * 3);
+    vec2 c = vec2(0.5 + (float(col) - 0.5 * float(cols - 1)) * u_dev, 0.5 + (float(row) - 0.5 * float(rows - 1)) * u_dev);
+    sum += brush_gaussian(uv, c, cs[col], sn[col]);
+  }
+  return clamp(u_amplitude * sum, 0.0, 1.0);
+}
+
+void main() {
+  float a = brush_alpha(v_uv, v_cos, v_sin);
+  vec3 rgb = v_color.rgb;
+  if (u_layers > 1 || v_two_layers != 0) {
+    // A second, smaller layer over the first, slightly altered colour.
+    vec2 uv2 = (v_uv - 0.5) / u_layer_scale + 0.5;
+    // Turned by the layer angle: cos(t + l), sin(t + l).
+    float cl = cos(u_layer_angle), sl = sin(u_layer_angle);
+    float a2 = brush_alpha(uv2, v_cos * cl - v_sin * sl, v_sin * cl + v_cos * sl);
+    vec3 rgb2 = u_layer_tint >= 0.0 ? mix(rgb, vec3(1.0), u_layer_tint) : rgb * (1.0 + u_layer_tint);
+    float a_total = a2 + a * (1.0 - a2);
+    rgb = a_total > 0.0 ? (rgb2 * a2 + rgb * a * (1.0 - a2)) / a_total : rgb;
+    a = a_total;
+  }
+  if (!(a >= u_cut)) discard;
+#ifdef PASS_DEPTH
+  o_depth = vec4(v_depth);
+#elif defined(PASS_COUNT)
+  uint before = atomicAdd(counts[pixel_of(ivec2(gl_FragCoord.xy))], 1u);
+  atomicMax(row_base[u_list_size.y + 1], before + 1u);  // the longest list
+#elif defined(PASS_STORE)
+  ivec2 q = ivec2(gl_FragCoord.xy);
+  uint pixel = pixel_of(q);
+  uint slot = atomicAdd(cursors[pixel], 1u);
+  if (slot < counts[pixel]) {
+    uint at = list_start(q) + slot;
+    fragments[at] = Fragment(v_depth, v_id, packHalf2x16(rgb.rg), packHalf2x16(vec2(rgb.b, a)));
+  }
+#else
+  o_accum = vec4(rgb * a, a);
+  o_reveal = vec4(a);
+  o_depth = vec4(v_depth);
+#endif
+}
