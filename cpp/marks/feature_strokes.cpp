@@ -42,6 +42,7 @@
 #include "gl/device.h"
 #include "render/image_textures.h"
 #include "render/mark.h"
+#include "render/ink_layer.h"
 #include "scene/point_cloud.h"
 #include "scene/camera.h"
 
@@ -172,25 +173,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
 
   // 2. Primitives: per batch, a compute pass classifies the queue's first
   // points and compacts the drawn ones; 6 vertices per record expand them.
-  const gl::Texture& accum = ctx.targets.scratch(GL_RGBA32F, 0);
-  const gl::Texture& reveal = ctx.targets.scratch(GL_R32F, 0);
-  const gl::Texture& stroke_depth = ctx.targets.scratch(GL_R32F, 1);
-  const float zero4[4] = {0, 0, 0, 0}, one = 1.0f, inf = std::numeric_limits<float>::infinity();
-  glClearTexSubImage(accum.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RGBA, GL_FLOAT, zero4);
-  glClearTexSubImage(reveal.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &one);
-  glClearTexSubImage(stroke_depth.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &inf);
-
-  GLuint fbo_id = 0;
-  glCreateFramebuffers(1, &fbo_id);
-  const gl::Framebuffer fbo(fbo_id);
-  glNamedFramebufferTexture(fbo_id, GL_COLOR_ATTACHMENT0, accum.id(), 0);
-  glNamedFramebufferTexture(fbo_id, GL_COLOR_ATTACHMENT1, reveal.id(), 0);
-  glNamedFramebufferTexture(fbo_id, GL_COLOR_ATTACHMENT2, stroke_depth.id(), 0);
-  glNamedFramebufferTexture(fbo_id, GL_DEPTH_ATTACHMENT, ctx.targets.gl_depth->id(), 0);
-  const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-  glNamedFramebufferDrawBuffers(fbo_id, 3, bufs);
-  if (glCheckNamedFramebufferStatus(fbo_id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw GLError("the feature strokes framebuffer is incomplete");
+  const InkLayer ink(ctx, "feature strokes");
 
   std::vector<uint32_t> drawn(ctx.chunks.size());
   for (size_t c = 0; c < ctx.chunks.size(); ++c) drawn[c] = queue_count(ctx.chunks[c], p);
@@ -247,7 +230,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   glUniform2f(expand.location("u_screen_dir"), float(std::cos(angle)), float(std::sin(angle)));
   glUniform1i(expand.location("u_texture"), p.get_enum("stroke_texture"));
   glUniform1i(expand.location("u_texture_image"), 0);
-  glBindTextureUnit(0, texture_image ? texture_image->id() : accum.id());
+  glBindTextureUnit(0, texture_image ? texture_image->id() : ink.accum.id());
 
   size_t batch_start = 0;
   while (batch_start < ctx.chunks.size()) {
@@ -284,21 +267,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
 
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_id);
-    glViewport(0, 0, size.x, size.y);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GEQUAL);  // reversed Z
-    glDepthMask(GL_FALSE);
-    glEnable(GL_BLEND);
-    glBlendEquationi(0, GL_FUNC_ADD);
-    glBlendFunci(0, GL_ONE, GL_ONE);
-    glBlendEquationi(1, GL_FUNC_ADD);
-    glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR);
-    glBlendEquationi(2, GL_MIN);
-    glBlendFunci(2, GL_ONE, GL_ONE);
+    ink.begin(true);
     expand.use();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, records.id());
     GLuint vao = 0;
@@ -311,12 +280,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
       glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     }
     glBindVertexArray(0);
-    glDisable(GL_BLEND);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_SCISSOR_TEST);
-    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    ink.end();
     gl::check_gl("feature strokes");
 
     if (ctx.capture && draws > 0) {
@@ -344,16 +308,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 
   // 3. Resolve (the hatching mark's): ink over paper, the surface's depth.
-  const gl::Program& resolve = ctx.shaders->compute("hatching_resolve.comp");
-  resolve.use();
-  glUniform4fv(resolve.location("u_paper"), 1, glm::value_ptr(p.get_color("paper_color")));
-  glUniform1i(resolve.location("u_surface"), 1);
-  glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
-  glBindImageTexture(2, accum.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-  glBindImageTexture(3, reveal.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-  glBindImageTexture(4, stroke_depth.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-  dispatch_rect(resolve, clip);
+  ink.resolve(p.get_color("paper_color"), true);
 
   uint32_t counts[3] = {0, 0, 0};
   glGetNamedBufferSubData(counters.id(), 0, sizeof(counts), counts);

@@ -41,6 +41,7 @@
 #include "core/image_io.h"
 #include "gl/device.h"
 #include "marks/points.h"
+#include "render/ink_layer.h"
 #include "render/image_textures.h"
 #include "scene/camera.h"
 
@@ -188,26 +189,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
 
   // 2. Strokes: per batch of points, a compute pass decides each point's
   // strokes, then 12 vertices per kept point expand them.
-  const gl::Texture& accum = ctx.targets.scratch(GL_RGBA32F, 0);
-  const gl::Texture& reveal = ctx.targets.scratch(GL_R32F, 0);
-  const gl::Texture& stroke_depth = ctx.targets.scratch(GL_R32F, 1);
-  const Rect& clip = ctx.clip;
-  const float zero4[4] = {0, 0, 0, 0}, one = 1.0f, inf = std::numeric_limits<float>::infinity();
-  glClearTexSubImage(accum.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RGBA, GL_FLOAT, zero4);
-  glClearTexSubImage(reveal.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &one);
-  glClearTexSubImage(stroke_depth.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &inf);
-
-  GLuint fbo_id = 0;
-  glCreateFramebuffers(1, &fbo_id);
-  const gl::Framebuffer fbo(fbo_id);
-  glNamedFramebufferTexture(fbo_id, GL_COLOR_ATTACHMENT0, accum.id(), 0);
-  glNamedFramebufferTexture(fbo_id, GL_COLOR_ATTACHMENT1, reveal.id(), 0);
-  glNamedFramebufferTexture(fbo_id, GL_COLOR_ATTACHMENT2, stroke_depth.id(), 0);
-  glNamedFramebufferTexture(fbo_id, GL_DEPTH_ATTACHMENT, ctx.targets.gl_depth->id(), 0);
-  const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-  glNamedFramebufferDrawBuffers(fbo_id, 3, bufs);
-  if (glCheckNamedFramebufferStatus(fbo_id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw GLError("the hatching framebuffer is incomplete");
+  const InkLayer ink(ctx, "hatching");
 
   // Record slots: 128 per workgroup (each compacts its survivors to the
   // front of its slots and issues one indirect draw of them).
@@ -300,7 +282,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   glUniform1f(select.location("u_alpha_jitter"), float(p.get_float("alpha_jitter")));
   glUniform1ui(select.location("u_seed"), uint32_t(p.get_int("seed")));
   glUniform1i(select.location("u_xtoon_image"), 0);
-  glBindTextureUnit(0, xtoon_image ? xtoon_image->id() : accum.id());
+  glBindTextureUnit(0, xtoon_image ? xtoon_image->id() : ink.accum.id());
 
   const gl::Program& expand = ctx.shaders->graphics("hatching_strokes.vert", "hatching_strokes.frag");
   expand.use();
@@ -359,23 +341,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
 
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_id);
-    glViewport(0, 0, size.x, size.y);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    if (depth_pass) {
-      glEnable(GL_DEPTH_TEST);
-      glDepthFunc(GL_GEQUAL);  // reversed Z
-    }
-    glDepthMask(GL_FALSE);
-    glEnable(GL_BLEND);
-    glBlendEquationi(0, GL_FUNC_ADD);
-    glBlendFunci(0, GL_ONE, GL_ONE);
-    glBlendEquationi(1, GL_FUNC_ADD);
-    glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR);
-    glBlendEquationi(2, GL_MIN);
-    glBlendFunci(2, GL_ONE, GL_ONE);
+    ink.begin(depth_pass);
     expand.use();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, strokes.id());
     GLuint vao = 0;
@@ -386,12 +352,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
     glMultiDrawArraysIndirect(GL_TRIANGLES, nullptr, draws, 0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glBindVertexArray(0);
-    glDisable(GL_BLEND);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_SCISSOR_TEST);
-    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    ink.end();
     gl::check_gl("hatching strokes");
 
     if (ctx.capture) {
@@ -419,16 +380,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 
   // 3. Resolve: ink over paper, the surface's depth (else the strokes').
-  const gl::Program& resolve = ctx.shaders->compute("hatching_resolve.comp");
-  resolve.use();
-  glUniform4fv(resolve.location("u_paper"), 1, glm::value_ptr(p.get_color("paper_color")));
-  glUniform1i(resolve.location("u_surface"), depth_pass ? 1 : 0);
-  glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
-  glBindImageTexture(2, accum.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-  glBindImageTexture(3, reveal.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-  glBindImageTexture(4, stroke_depth.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-  dispatch_rect(resolve, clip);
+  ink.resolve(p.get_color("paper_color"), depth_pass);
 
   uint32_t counts[2] = {0, 0};
   glGetNamedBufferSubData(counters.id(), 0, sizeof(counts), counts);

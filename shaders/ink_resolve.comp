@@ -1,6 +1,7 @@
-// Hatching, pass 3: ink over paper into the segment's colour (straight
-// alpha) and depth: the depth pass's surface where there is one, else the
-// strokes' (strokes may reach past the silhouette); +inf where nothing is.
+// Ink over paper (cpp/render/ink_layer.cpp) into the segment's colour
+// (straight alpha) and depth: the depth pass's surface where there is one,
+// else the ink's (strokes may reach past the silhouette); +inf where
+// nothing is.
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(rgba32f, binding = 0) uniform writeonly image2D u_color;
 layout(r32f, binding = 1) uniform image2D u_depth;   // in: the depth pass; out: the segment's depth
