@@ -25,6 +25,8 @@ layout(std430, binding = 10) buffer DotCoverage { uint dot_cov[]; }; // per clip
 layout(std430, binding = 11) buffer DotDepth { uint dot_depth[]; };  // per clip pixel, float bits (min)
 layout(std430, binding = 12) buffer Globals { uint spec_total; uint visible_count; uint kept_count; uint captured; };
 layout(std430, binding = 14) buffer SpecularHistogram { uint spec_hist[]; };  // log2 bins, 8 per octave
+layout(std430, binding = 15) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices (u_queue)
+uniform int u_queue;  // 1: invocation i takes the chunk's i-th point of the resolution queue
 struct Captured { vec4 center_id; };  // view-space centre, point id (bits)
 layout(std430, binding = 13) writeonly buffer Capture { Captured capture[]; };
 #ifdef PASS_RESOLVE
@@ -220,7 +222,7 @@ void main() {
 #else
   uint i = gl_GlobalInvocationID.x;
   if (i >= u_count) return;
-  uint index = u_first + i;
+  uint index = u_first + (u_queue != 0 ? queue_order[u_first + i] : i);
   Pt p = project(index);
 #if defined(PASS_PROJECT)
   if (p.inside) atomicMin(hp[fine_index(p.fine)], floatBitsToUint(p.depth));

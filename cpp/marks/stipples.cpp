@@ -53,9 +53,29 @@ void clear_uint(const gl::Buffer& b, uint32_t value) {
   glClearNamedBufferData(b.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
 }
 
+// Binds a chunk for a point pass; with the resolution queue on, the pass
+// takes the first queue_count() points of the chunk's queue order. Returns
+// how many points to dispatch.
+uint32_t bind_queued_chunk(const gl::Program& prog, const VisibleChunk& v, const ParamValues& p) {
+  bind_chunk(prog, v, ColorSource::Constant, {{6, v.gpu->find({AttributeKind::PointId})}});
+  const bool queued = queue_enabled(p);
+  glUniform1i(prog.location("u_queue"), queued ? 1 : 0);
+  if (!queued) return v.chunk->count;
+  const gl::Buffer* order = v.gpu->find({AttributeKind::QueueOrder});
+  if (!order) throw GLError("stipples: the queue order was not uploaded");
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, order->id());
+  const uint32_t count = queue_count(v, p);
+  glUniform1ui(prog.location("u_count"), count);
+  return count;
+}
+
 class Stipples final : public Mark {
  public:
-  AttributeSet attributes(const ParamValues&) const override { return {{AttributeKind::PointId}}; }
+  AttributeSet attributes(const ParamValues& p) const override {
+    AttributeSet set{{AttributeKind::PointId}};
+    if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
+    return set;
+  }
 
   MarkExtent extent(const ParamValues& p) const override {
     const double dot = 0.5 * p.get_float("dot_size") * (1.0 + p.get_float("size_jitter")) + 1.0;
@@ -217,8 +237,8 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     // Chunks of one pass touch the buffers only through atomics or reads of
     // earlier passes: one barrier after the pass.
     for (const VisibleChunk& v : ctx.chunks) {
-      bind_chunk(prog, v, ColorSource::Constant, {{6, v.gpu->find({AttributeKind::PointId})}});
-      glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
+      const uint32_t count = bind_queued_chunk(prog, v, p);
+      if (count > 0) glDispatchCompute((count + 127) / 128, 1, 1);
     }
     barrier();
   };
@@ -319,8 +339,8 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     set_uniforms(prog);
     bind_all();
     for (const VisibleChunk& v : ctx.chunks) {
-      bind_chunk(prog, v, ColorSource::Constant, {{6, v.gpu->find({AttributeKind::PointId})}});
-      glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
+      const uint32_t count = bind_queued_chunk(prog, v, p);
+      if (count > 0) glDispatchCompute((count + 127) / 128, 1, 1);
       barrier();
       if (ctx.capture) {
         uint32_t g[4] = {0, 0, 0, 0};
@@ -414,6 +434,8 @@ const MarkRegistration registration{{
                                      "Size of the cells points are counted in, on screen (the light's cells are as "
                                      "large in scene units at the segment's middle depth)"),
                          "specular", {"true"}),
+               density_mode_param(),
+               queue_level_param(0.1),
                int_param("seed", 0, 0, 65535, "", "Varies every random choice (still fixed per point)"),
            }},
     [] { return std::make_unique<Stipples>(); }}};

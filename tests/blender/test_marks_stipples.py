@@ -46,3 +46,31 @@ def test_stipples_mark_renders_and_level_changes_it(tmp_path):
     node.level = 9.0
     fine, _ = helpers.render_pixels(tmp_path, "fine.png")
     assert (fine[..., :3].mean(axis=2) < 0.5).mean() < dark  # a higher LEVEL thins more
+
+
+def test_level_and_tau_keyframes_animate_smoothly(tmp_path):
+    # LEVEL and tau keyframed at frames 1 and 11: frame 6 reads values in
+    # between, and its picture lies between the two ends (dots thin as
+    # LEVEL rises, fractional levels blended by seeded probability).
+    import pytest
+
+    _scene, tree = _stipple_scene()
+    node = nodes.mark_node(tree)
+    level_id, tau_id = nodes.property_identifier("level"), nodes.property_identifier("tau")
+    node.specular = True
+    for frame, level, tau in ((1, 6.0, 0.1), (11, 9.0, 0.4)):
+        setattr(node, level_id, level)
+        setattr(node, tau_id, tau)
+        node.keyframe_insert(level_id, frame=frame)
+        node.keyframe_insert(tau_id, frame=frame)
+    dark = []
+    for frame in (1, 6, 11):
+        bpy.context.scene.frame_set(frame)
+        params = nodes.read_style(tree, float(frame))["mark"][1]
+        if frame == 1:
+            assert params["level"] == pytest.approx(6.0) and params["tau"] == pytest.approx(0.1)
+        elif frame == 6:
+            assert 6.0 < params["level"] < 9.0 and 0.1 < params["tau"] < 0.4
+        px, _ = helpers.render_pixels(tmp_path, "frame_%d.png" % frame)
+        dark.append((px[..., :3].mean(axis=2) < 0.5).mean())
+    assert dark[0] > dark[1] > dark[2], dark

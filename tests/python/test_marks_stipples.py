@@ -206,3 +206,24 @@ def test_point_count_level_scale_shifts_by_log4_of_the_points(renderer):
         absolute = render(renderer, stipples(level=6.0 + shift, **CAMERA_LIGHT), [c])
         assert np.array_equal(np.sort(relative.marks["point_id"]), np.sort(absolute.marks["point_id"])), n
         assert np.array_equal(np.asarray(relative.color), np.asarray(absolute.color))
+
+
+def test_the_resolution_queue_keeps_the_dot_density_on_screen():
+    # A sphere at 5 and at 10 units covers 4x fewer pixels from twice as far:
+    # with the queue, the dots per covered pixel stay within 25 %; without
+    # it, all points are drawn into a quarter of the area (about 4x denser).
+    renderer = pointnpr.Renderer()
+    pos, _ = sphere(40000)
+    per_pixel = {}
+    for queued in (True, False):
+        params = {"diffuse": False, "density_mode": "constant_on_screen" if queued else "all_points",
+                  "queue_level": 0.05}
+        for distance in (5.0, 10.0):
+            c = pointnpr.PointCloud(pos + [0.0, 0.0, 5.0 - distance])
+            r = render(renderer, stipples(**params), [c], capture=False, background=(0, 0, 0, 0))
+            # The sphere's disc on screen (50 mm lens, 36 mm sensor over W pixels).
+            f = 50.0 / 36.0 * W
+            area = np.pi * (f * np.tan(np.arcsin(1.0 / distance))) ** 2
+            per_pixel[(queued, distance)] = r.stats["stipples_drawn"] / area
+    assert 0.75 < per_pixel[(True, 10.0)] / per_pixel[(True, 5.0)] < 1.25, per_pixel
+    assert 3.0 < per_pixel[(False, 10.0)] / per_pixel[(False, 5.0)] < 5.0, per_pixel
