@@ -2,6 +2,7 @@
 // splat setup shared by its passes: size r + eps, the tangent frame from
 // the normal, the brush's per-column angles.
 #include "point_attributes.glsl"
+#include "id_hash.glsl"
 
 layout(std430, binding = 3) readonly buffer Resolution { float resolution[]; };  // mean kNN distance r
 layout(std430, binding = 4) readonly buffer Deviation { float deviation[]; };    // its deviation eps
@@ -29,16 +30,8 @@ uniform float u_small_cluster;   // clusters with fewer points: two layers
 uniform float u_elongation_gain; // stretch = elongation ^ gain ...
 uniform float u_max_stretch;     // ... at most this
 
-// Integer hash (lowbias32): randomness from point ids only.
-uint brush_hash(uint x) {
-  x ^= x >> 16; x *= 0x7feb352du;
-  x ^= x >> 15; x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
-float brush_rand(uint id, uint salt) {
-  return float(brush_hash(id ^ brush_hash(salt * 0x9e3779b9u + u_seed * 0x85ebca6bu)) >> 8) * (1.0 / 16777216.0);
-}
+// Randomness from point ids only (id_hash.glsl).
+float brush_rand(uint id, uint salt) { return id_rand(id, salt, u_seed); }
 
 // Householder formula (seed 004 section 3.3.1, after Lopes et al.): the
 // columns 2 and 3 of H = I - 2 v v^T / v.v with v = n + sign(n.x) e1 are

@@ -17,16 +17,6 @@ layout(location = 0) out vec4 o_accum;
 layout(location = 1) out vec4 o_reveal;
 layout(location = 2) out vec4 o_depth;
 
-float value_noise(vec2 q, uint seed) {
-  vec2 i = floor(q), f = fract(q);
-  vec2 w = f * f * (3.0 - 2.0 * f);
-  uint base = hash_u32(seed);
-  float a = float(hash_u32(base ^ hash_u32(uint(i.x) * 73856093u ^ uint(i.y) * 19349663u)) >> 8) / 16777216.0;
-  float b = float(hash_u32(base ^ hash_u32(uint(i.x + 1.0) * 73856093u ^ uint(i.y) * 19349663u)) >> 8) / 16777216.0;
-  float c = float(hash_u32(base ^ hash_u32(uint(i.x) * 73856093u ^ uint(i.y + 1.0) * 19349663u)) >> 8) / 16777216.0;
-  float d = float(hash_u32(base ^ hash_u32(uint(i.x + 1.0) * 73856093u ^ uint(i.y + 1.0) * 19349663u)) >> 8) / 16777216.0;
-  return mix(mix(a, b, w.x), mix(c, d, w.x), w.y);
-}
 
 float stroke_alpha(vec2 uv) {
   float across = abs(2.0 * uv.y - 1.0);
@@ -36,15 +26,15 @@ float stroke_alpha(vec2 uv) {
   }
   if (u_texture == 1) {  // bristle brush: streaks across, each fading out at its own length
     float bristle = floor(uv.y * 7.0);
-    uint h = hash_u32(v_id * 7u + uint(bristle));
+    uint h = id_hash(v_id * 7u + uint(bristle));
     float reach = 0.65 + 0.35 * float(h >> 8) / 16777216.0;
-    float ink = 0.55 + 0.45 * float(hash_u32(h) >> 8) / 16777216.0;
+    float ink = 0.55 + 0.45 * float(id_hash(h) >> 8) / 16777216.0;
     return ink * smoothstep(0.0, 0.08, uv.x) * (1.0 - smoothstep(reach - 0.15, reach, uv.x)) *
            (1.0 - pow(across, 8.0));
   }
   float taper = smoothstep(0.0, 0.2, uv.x) * (1.0 - smoothstep(0.7, 1.0, uv.x));
   if (u_texture == 2) {  // dry brush: broken by grain along the stroke
-    float g = value_noise(vec2(uv.x * v_aspect * 2.0, uv.y * 5.0), v_id);
+    float g = id_value_noise(vec2(uv.x * v_aspect * 2.0, uv.y * 5.0), v_id);
     return taper * smoothstep(0.3, 0.55, g) * (1.0 - pow(across, 4.0));
   }
   return taper * (1.0 - across * across);  // taper: pointed ends, round profile

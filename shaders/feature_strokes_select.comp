@@ -79,7 +79,7 @@ bool place(uint j, out Record rec) {
     float rel = r == r ? r * u_inv_median_r : 1.0;
     float lum = u_has_color != 0 ? dot(color.rgb, vec3(0.2126, 0.7152, 0.0722)) : 0.5;
     float odds = u_dither * rel * rel * mix(1.0, 2.0 * (1.0 - lum), u_dither_tone);
-    if (hash01(id, 1u, u_seed) >= odds) return false;
+    if (id_rand(id, 1u, u_seed) >= odds) return false;
     kind = 2u;
   }
   int prim = kind == 0u ? u_prim_directional : kind == 1u ? u_prim_other : u_prim_dither;

@@ -98,7 +98,7 @@ vec3 quantize(vec3 c, uint id) {
   float h1 = u_pencil_hues[i1], h2 = u_pencil_hues[i2];
   float span = fract(h2 - h1 + 1.0), into = fract(hsv.x - h1 + 1.0);
   float a = span > 0.0 ? clamp(1.0 - into / span, 0.0, 1.0) : 1.0;  // weight of pencil 1
-  vec3 pencil = hash01(id, 5u, u_seed) < a ? u_pencils[i1] : u_pencils[i2];
+  vec3 pencil = id_rand(id, 5u, u_seed) < a ? u_pencils[i1] : u_pencils[i2];
   vec3 p = rgb_to_hsv(pencil);
   float chroma = p.y * p.z;
   float kc = chroma > 1e-4 ? clamp(hsv.y * hsv.z / chroma, 0.0, 1.0) : 0.0;
@@ -150,10 +150,10 @@ bool place_stroke(uint i, out Stroke s) {
     float area = 0.88 * r * r;
     keep *= min(1.0, u_coverage * area / max(base_len * width * (1.0 + alpha_tex * u_cross), 1e-30));
   }
-  if (hash01(id, 0u, u_seed) >= keep) {
+  if (id_rand(id, 0u, u_seed) >= keep) {
     return false;
   }
-  bool crossing = hash01(id, 1u, u_seed) < alpha_tex * u_cross;
+  bool crossing = id_rand(id, 1u, u_seed) < alpha_tex * u_cross;
 
   // d1 = u - (u.n) n; where u is (nearly) the normal, the axis least aligned with it.
   vec3 d1 = u_direction - dot(u_direction, n) * n;
@@ -163,7 +163,7 @@ bool place_stroke(uint i, out Stroke s) {
   }
   d1 = normalize(d1);
   if (u_angle_jitter > 0.0) {
-    float t = u_angle_jitter * (2.0 * hash01(id, 2u, u_seed) - 1.0);
+    float t = u_angle_jitter * (2.0 * id_rand(id, 2u, u_seed) - 1.0);
     d1 = normalize(cos(t) * d1 + sin(t) * cross(n, d1));
   }
   vec3 d2 = cross(n, d1);
@@ -176,11 +176,11 @@ bool place_stroke(uint i, out Stroke s) {
     float c = curvature[index];
     len *= 1.0 - 0.85 * u_curvature_length * clamp((c == c ? c : 0.0) / 0.05, 0.0, 1.0);
   }
-  len *= max(1.0 + u_length_jitter * (2.0 * hash01(id, 3u, u_seed) - 1.0), 0.05);
+  len *= max(1.0 + u_length_jitter * (2.0 * id_rand(id, 3u, u_seed) - 1.0), 0.05);
 
   vec3 center = v.xyz;
   if (u_position_jitter > 0.0)
-    center += (d1 * (hash01(id, 6u, u_seed) - 0.5) + d2 * (hash01(id, 7u, u_seed) - 0.5)) * u_position_jitter * len;
+    center += (d1 * (id_rand(id, 6u, u_seed) - 0.5) + d2 * (id_rand(id, 7u, u_seed) - 0.5)) * u_position_jitter * len;
 
   // Colour: constant, X-Toon, or the point's blended with X-Toon.
   vec3 color = u_constant_color.rgb;
@@ -198,7 +198,7 @@ bool place_stroke(uint i, out Stroke s) {
 
   // Opacity: pressure follows the X-Toon alpha, with a seeded variation.
   float alpha = u_opacity * mix(1.0, alpha_tex, u_alpha_modification) *
-                (1.0 - u_alpha_jitter * hash01(id, 4u, u_seed));
+                (1.0 - u_alpha_jitter * id_rand(id, 4u, u_seed));
   if (alpha <= 0.0) {
     return false;
   }

@@ -16,18 +16,6 @@ layout(location = 0) out vec4 o_accum;
 layout(location = 1) out vec4 o_reveal;
 layout(location = 2) out vec4 o_depth;
 
-// Value noise in stroke coordinates, seeded by the stroke: grain that moves
-// with the stroke.
-float grain(vec2 q, uint seed) {
-  vec2 i = floor(q), f = fract(q);
-  vec2 w = f * f * (3.0 - 2.0 * f);
-  uint base = hash_u32(seed);
-  float a = float(hash_u32(base ^ hash_u32(uint(i.x) * 73856093u ^ uint(i.y) * 19349663u)) >> 8) / 16777216.0;
-  float b = float(hash_u32(base ^ hash_u32(uint(i.x + 1.0) * 73856093u ^ uint(i.y) * 19349663u)) >> 8) / 16777216.0;
-  float c = float(hash_u32(base ^ hash_u32(uint(i.x) * 73856093u ^ uint(i.y + 1.0) * 19349663u)) >> 8) / 16777216.0;
-  float d = float(hash_u32(base ^ hash_u32(uint(i.x + 1.0) * 73856093u ^ uint(i.y + 1.0) * 19349663u)) >> 8) / 16777216.0;
-  return mix(mix(a, b, w.x), mix(c, d, w.x), w.y);
-}
 
 float stroke_alpha(vec2 uv) {
   float across = abs(2.0 * uv.y - 1.0);
@@ -41,10 +29,10 @@ float stroke_alpha(vec2 uv) {
   float taper = smoothstep(0.0, 0.18, uv.x) * smoothstep(1.0, 0.75, uv.x);
   vec2 q = vec2(uv.x * v_aspect * 1.5, uv.y * 2.0);
   if (u_texture == 1) {  // crayon: flat across, waxy gaps
-    float g = grain(q * vec2(1.0, 1.5), v_id);
+    float g = id_value_noise(q * vec2(1.0, 1.5), v_id);
     return (1.0 - pow(across, 6.0)) * smoothstep(0.25, 0.6, g) * (0.6 + 0.4 * taper);
   }
-  float g = grain(q, v_id);  // pencil: graphite profile with grain
+  float g = id_value_noise(q, v_id);  // pencil: graphite profile with grain
   return (1.0 - across * across) * taper * (0.55 + 0.45 * g);
 }
 

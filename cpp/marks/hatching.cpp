@@ -165,11 +165,6 @@ const std::vector<glm::vec3>& Hatching::pencils(const ParamValues& p) const {
   return palette.colors;
 }
 
-glm::dvec3 direction_of(double azimuth_deg, double elevation_deg) {
-  const double a = glm::radians(azimuth_deg), e = glm::radians(elevation_deg);
-  return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
-}
-
 void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   const Camera& cam = *ctx.camera;
   const glm::ivec2 size = ctx.targets.size;
@@ -209,17 +204,8 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
 
   // Directions in view space, composed in double.
   const glm::dmat3 view_from_world(cam.view_from_world);
-  const bool light_in_world = p.get_enum_name("light_space") != "camera";
-  glm::vec3 light_view;
-  if (light_in_world) {
-    light_view = glm::normalize(glm::vec3(view_from_world * direction_of(p.get_float("light_azimuth"),
-                                                                       p.get_float("light_elevation"))));
-  } else {
-    // As the points mark: elevation away from the view axis, azimuth around it.
-    const double a = glm::radians(p.get_float("light_azimuth")), e = glm::radians(p.get_float("light_elevation"));
-    light_view = glm::vec3(float(std::sin(e) * std::cos(a)), float(std::sin(e) * std::sin(a)), float(std::cos(e)));
-  }
-  const glm::vec3 dir_view(glm::normalize(view_from_world * direction_of(p.get_float("direction_azimuth"),
+  const glm::vec3 light_view = view_light_direction(p, cam);
+  const glm::vec3 dir_view(glm::normalize(view_from_world * world_direction(p.get_float("direction_azimuth"),
                                                                          p.get_float("direction_elevation"))));
 
   const std::vector<glm::vec3>* pencil_colors = nullptr;
@@ -429,15 +415,9 @@ const MarkRegistration registration{{
                float_param("direction_azimuth", 30.0, -180.0, 180.0, "deg",
                            "Line direction u, projected onto each point's tangent plane: angle around the world Z axis"),
                float_param("direction_elevation", 35.0, -90.0, 90.0, "deg", "Line direction u: angle above the XY plane"),
-               enum_param("light_space", {"world", "camera", "scene_sun"}, 0,
-                          "world: the light stays with the scene (marks do not change as the camera moves); "
-                          "camera: it moves with the view; scene_sun: as world, from the direction of the host "
-                          "scene's sun lamp (Blender), so scans and meshes share one light"),
-               float_param("light_azimuth", 135.0, -180.0, 180.0, "deg",
-                           "Light direction: around world Z (world), or around the view axis (camera; 0 from the right)"),
-               float_param("light_elevation", 50.0, -90.0, 90.0, "deg",
-                           "Light direction: above the XY plane (world), or away from the view axis (camera; 0: "
-                           "from the camera)"),
+               light_space_param(),
+               light_azimuth_param(135.0),
+               light_elevation_param(50.0),
                bool_param("two_sided", false,
                           "Light normals turned toward the camera (for scans whose normals are not consistently "
                           "oriented; strokes at silhouettes may change as the camera moves)"),

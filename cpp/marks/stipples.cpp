@@ -44,11 +44,6 @@ constexpr int kMaxLightCells = 1024;                 // per side (4 MiB)
 constexpr int kHistogramBins = 1024;                 // log2 of the specular measure, 8 bins per octave
 constexpr double kSpecularPercentile = 0.95;  // the reference of the specular measure
 
-glm::dvec3 world_direction(double azimuth_deg, double elevation_deg) {
-  const double a = glm::radians(azimuth_deg), e = glm::radians(elevation_deg);
-  return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
-}
-
 void clear_uint(const gl::Buffer& b, uint32_t value) {
   glClearNamedBufferData(b.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
 }
@@ -107,13 +102,7 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
 
   // Light frame, view space.
   const glm::dmat3 view_from_world(cam.view_from_world);
-  glm::vec3 L;
-  if (p.get_enum_name("light_space") != "camera") {
-    L = glm::normalize(glm::vec3(view_from_world * world_direction(p.get_float("light_azimuth"), p.get_float("light_elevation"))));
-  } else {
-    const double a = glm::radians(p.get_float("light_azimuth")), e = glm::radians(p.get_float("light_elevation"));
-    L = glm::vec3(float(std::sin(e) * std::cos(a)), float(std::sin(e) * std::sin(a)), float(std::cos(e)));
-  }
+  const glm::vec3 L = view_light_direction(p, cam);
   const glm::vec3 up0 = std::abs(L.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
   const glm::vec3 right = glm::normalize(glm::cross(up0, L));
   const glm::vec3 up = glm::cross(L, right);
@@ -401,15 +390,9 @@ const MarkRegistration registration{{
                float_param("resolution_factor", 1.25, 1.0, 4.0, "",
                            "Hidden-point texture size over the screen's (larger: fewer front points lost where "
                            "they crowd, more iterations needed)"),
-               enum_param("light_space", {"world", "camera", "scene_sun"}, 0,
-                          "world: the light stays with the scene (marks do not change as the camera moves); "
-                          "camera: it moves with the view; scene_sun: as world, from the direction of the host "
-                          "scene's sun lamp (Blender), so scans and meshes share one light"),
-               float_param("light_azimuth", 135.0, -180.0, 180.0, "deg",
-                           "Light direction: around world Z (world), or around the view axis (camera; 0 from the right)"),
-               float_param("light_elevation", 50.0, -90.0, 90.0, "deg",
-                           "Light direction: above the XY plane (world), or away from the view axis (camera; 0: "
-                           "from the camera)"),
+               light_space_param(),
+               light_azimuth_param(135.0),
+               light_elevation_param(50.0),
                bool_param("diffuse", true, "Thin lit surfaces by the light-view quadtree"),
                only_when(float_param("level", 7.0, 0.0, 11.0, "",
                                      "Quadtree LEVEL: 2^LEVEL cells across the segment seen from the light; the point "

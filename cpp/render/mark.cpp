@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cmath>
 #include <glm/gtc/type_ptr.hpp>
+
+#include "scene/camera.h"
 
 namespace pointnpr {
 
@@ -64,6 +67,37 @@ uint32_t queue_count(const VisibleChunk& v, const ParamValues& p) {
   if (!queue_enabled(p) || !(v.screen_area >= 0.0)) return n;
   const double wanted = std::floor(p.get_float("queue_level") * v.screen_area + 0.5);
   return wanted >= double(n) ? n : uint32_t(std::max(wanted, 0.0));
+}
+
+ParamSpec light_space_param() {
+  return enum_param("light_space", {"world", "camera", "scene_sun"}, 0,
+                    "world: the light stays with the scene (marks do not change as the camera moves); "
+                    "camera: it moves with the view; scene_sun: as world, from the direction of the host "
+                    "scene's sun lamp (Blender), so scans and meshes share one light");
+}
+
+ParamSpec light_azimuth_param(double default_deg) {
+  return float_param("light_azimuth", default_deg, -180.0, 180.0, "deg",
+                     "Light direction: around world Z (world), or around the view axis (camera; 0 from the right)");
+}
+
+ParamSpec light_elevation_param(double default_deg) {
+  return float_param("light_elevation", default_deg, -90.0, 90.0, "deg",
+                     "Light direction: above the XY plane (world), or away from the view axis (camera; 0: "
+                     "from the camera)");
+}
+
+glm::dvec3 world_direction(double azimuth_deg, double elevation_deg) {
+  const double a = glm::radians(azimuth_deg), e = glm::radians(elevation_deg);
+  return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+}
+
+glm::vec3 view_light_direction(const ParamValues& p, const Camera& cam) {
+  if (p.get_enum_name("light_space") != "camera")
+    return glm::normalize(glm::vec3(glm::dmat3(cam.view_from_world) *
+                                    world_direction(p.get_float("light_azimuth"), p.get_float("light_elevation"))));
+  const double a = glm::radians(p.get_float("light_azimuth")), e = glm::radians(p.get_float("light_elevation"));
+  return {float(std::sin(e) * std::cos(a)), float(std::sin(e) * std::sin(a)), float(std::cos(e))};
 }
 
 void bind_chunk(const gl::Program& p, const VisibleChunk& v, ColorSource source,

@@ -137,6 +137,19 @@ bool queue_enabled(const ParamValues& params);  // density_mode == constant_on_s
 // How many of the chunk's points to draw: all of them when the queue is off.
 uint32_t queue_count(const VisibleChunk& chunk, const ParamValues& params);
 
+// The light of marks that shade (hatching, stipples): `light_space`
+// (world, camera, scene_sun: as world, the host putting its sun lamp's
+// direction into azimuth and elevation), `light_azimuth`, `light_elevation`.
+ParamSpec light_space_param();
+ParamSpec light_azimuth_param(double default_deg);
+ParamSpec light_elevation_param(double default_deg);
+// A world direction from azimuth (around Z) and elevation (above XY), degrees.
+glm::dvec3 world_direction(double azimuth_deg, double elevation_deg);
+// Toward the light, in view space: world (and scene_sun) directions turned
+// by the camera (composed in double); camera lights as the points mark's
+// (elevation away from the view axis, azimuth around it).
+glm::vec3 view_light_direction(const ParamValues& params, const Camera& camera);
+
 // Binds a chunk's positions (binding 0), colour attribute (1) and, when
 // given, a further attribute buffer per binding, and sets the uniforms of
 // shaders/point_attributes.glsl (u_color_source, u_intensity_scale,
