@@ -37,6 +37,7 @@
 #include "core/error.h"
 #include "gl/device.h"
 #include "marks/points.h"
+#include "render/ink_layer.h"
 #include "scene/camera.h"
 
 namespace pointnpr {
@@ -320,13 +321,7 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
   {
     const RasterState state(ctx);
     glBindFramebuffer(GL_FRAMEBUFFER, blend_fbo.id());
-    glEnable(GL_BLEND);
-    glBlendEquationi(0, GL_FUNC_ADD);
-    glBlendFunci(0, GL_ONE, GL_ONE);
-    glBlendEquationi(1, GL_FUNC_ADD);
-    glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR);
-    glBlendEquationi(2, GL_MIN);
-    glBlendFunci(2, GL_ONE, GL_ONE);
+    InkLayer::blend_modes();
     const gl::Program& blend = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_BLEND"});
     blend.use();
     set_splat_uniforms(blend, ctx, p);

@@ -181,11 +181,11 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   uint32_t largest = 0;
   for (size_t c = 0; c < ctx.chunks.size(); ++c) largest = std::max(largest, slots_of(c));
   const uint32_t capacity = std::max(kBatchPoints, largest);
-  const gl::Buffer records = gl::make_buffer(size_t(capacity) * sizeof(Record), nullptr, 0);
+  const gl::Buffer& records = ctx.targets.scratch_buffer(size_t(capacity) * sizeof(Record), 0);
   struct DrawCommand {
     uint32_t count, instance_count, first, base_instance;
   };
-  const gl::Buffer commands = gl::make_buffer(size_t(capacity / 128u) * sizeof(DrawCommand), nullptr, 0);
+  const gl::Buffer& commands = ctx.targets.scratch_buffer(size_t(capacity / 128u) * sizeof(DrawCommand), 1);
   const uint32_t zero3[3] = {0, 0, 0};
   const gl::Buffer counters = gl::make_buffer(sizeof(zero3), zero3, GL_DYNAMIC_STORAGE_BIT);
 
@@ -305,9 +305,8 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     }
     batch_start = batch_end;
   }
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 
-  // 3. Resolve (the hatching mark's): ink over paper, the surface's depth.
+  // 3. Resolve (the ink layer's): ink over paper, the surface's depth.
   ink.resolve(p.get_color("paper_color"), true);
 
   uint32_t counts[3] = {0, 0, 0};

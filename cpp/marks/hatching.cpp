@@ -194,11 +194,11 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   uint32_t largest = 0;
   for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, slots_of(v));
   const uint32_t capacity = std::max(kBatchPoints, largest);
-  const gl::Buffer strokes = gl::make_buffer(size_t(capacity) * sizeof(StrokeRecord), nullptr, 0);
+  const gl::Buffer& strokes = ctx.targets.scratch_buffer(size_t(capacity) * sizeof(StrokeRecord), 0);
   struct DrawCommand {
     uint32_t count, instance_count, first, base_instance;
   };
-  const gl::Buffer commands = gl::make_buffer(size_t(capacity / 128u) * sizeof(DrawCommand), nullptr, 0);
+  const gl::Buffer& commands = ctx.targets.scratch_buffer(size_t(capacity / 128u) * sizeof(DrawCommand), 1);
   const uint32_t zero2[2] = {0, 0};
   const gl::Buffer counters = gl::make_buffer(sizeof(zero2), zero2, GL_DYNAMIC_STORAGE_BIT);
 
@@ -363,7 +363,6 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
     }
     batch_start = batch_end;
   }
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 
   // 3. Resolve: ink over paper, the surface's depth (else the strokes').
   ink.resolve(p.get_color("paper_color"), depth_pass);

@@ -44,8 +44,9 @@ constexpr int kMaxLightCells = 1024;                 // per side (4 MiB)
 constexpr int kHistogramBins = 1024;                 // log2 of the specular measure, 8 bins per octave
 constexpr double kSpecularPercentile = 0.95;  // the reference of the specular measure
 
-void clear_uint(const gl::Buffer& b, uint32_t value) {
-  glClearNamedBufferData(b.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
+// Sets the first `count` uints of `b` (scratch buffers may be larger).
+void clear_uint(const gl::Buffer& b, size_t count, uint32_t value) {
+  glClearNamedBufferSubData(b.id(), GL_R32UI, 0, GLsizeiptr(count * 4), GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
 }
 
 // Binds a chunk for a point pass; with the resolution queue on, the pass
@@ -138,8 +139,8 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   const double cell_world = eye_cell * mid_depth / px_per_unit;
   const int light_cells = std::clamp(int(std::ceil(extent / cell_world)), 1, kMaxLightCells);
 
-  const gl::Buffer hp_a = gl::make_buffer(fine_n * 4, nullptr, 0);
-  const gl::Buffer hp_b = gl::make_buffer(fine_n * 4, nullptr, 0);
+  const gl::Buffer& hp_a = ctx.targets.scratch_buffer(fine_n * 4, 0);
+  const gl::Buffer& hp_b = ctx.targets.scratch_buffer(fine_n * 4, 1);
   const size_t quad_n = diffuse ? (size_t(2) << levels) * (size_t(1) << levels) : 1;
   const gl::Buffer quad = gl::make_buffer(quad_n * 4, nullptr, 0);
   const size_t eye_n = specular ? size_t(eye_cells.x) * size_t(eye_cells.y) : 1;
@@ -147,24 +148,24 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   const gl::Buffer eye_cover = gl::make_buffer(eye_n * 4, nullptr, 0);
   const size_t light_n = specular ? size_t(light_cells) * size_t(light_cells) : 1;
   const gl::Buffer light_count = gl::make_buffer(light_n * 4, nullptr, 0);
-  const gl::Buffer dot_cov = gl::make_buffer(size_t(pixels) * 4, nullptr, 0);
-  const gl::Buffer dot_depth = gl::make_buffer(size_t(pixels) * 4, nullptr, 0);
+  const gl::Buffer& dot_cov = ctx.targets.scratch_buffer(size_t(pixels) * 4, 2);
+  const gl::Buffer& dot_depth = ctx.targets.scratch_buffer(size_t(pixels) * 4, 3);
   const gl::Buffer histogram = gl::make_buffer(specular ? kHistogramBins * 4 : 4, nullptr, 0);
   const gl::Buffer globals = gl::make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT);
   uint32_t largest = 1;
   for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, v.chunk->count);
   const gl::Buffer capture = gl::make_buffer(ctx.capture ? size_t(largest) * 16 : 16, nullptr, 0);
   const uint32_t inf_bits = 0x7f800000u;
-  clear_uint(hp_a, inf_bits);
-  clear_uint(hp_b, inf_bits);
-  clear_uint(quad, 0xffffffffu);
-  clear_uint(eye_count, 0);
-  clear_uint(eye_cover, 0);
-  clear_uint(light_count, 0);
-  clear_uint(dot_cov, 0);
-  clear_uint(dot_depth, inf_bits);
-  clear_uint(globals, 0);
-  clear_uint(histogram, 0);
+  clear_uint(hp_a, fine_n, inf_bits);
+  clear_uint(hp_b, fine_n, inf_bits);
+  clear_uint(quad, quad_n, 0xffffffffu);
+  clear_uint(eye_count, eye_n, 0);
+  clear_uint(eye_cover, eye_n, 0);
+  clear_uint(light_count, light_n, 0);
+  clear_uint(dot_cov, size_t(pixels), 0);
+  clear_uint(dot_depth, size_t(pixels), inf_bits);
+  clear_uint(globals, 4, 0);
+  clear_uint(histogram, (specular ? kHistogramBins : 1), 0);
   float spec_ref = 1.0f;
 
   auto set_uniforms = [&](const gl::Program& prog) {
@@ -247,9 +248,9 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   }
   // 2, 3. Light textures, eye counts.
   // (PASS_VISIBLE also projects the visible points into surf_a.)
-  const gl::Buffer surf_a = gl::make_buffer(fine_n * 4, nullptr, 0);
-  const gl::Buffer surf_b = gl::make_buffer(fine_n * 4, nullptr, 0);
-  clear_uint(surf_a, inf_bits);
+  const gl::Buffer& surf_a = ctx.targets.scratch_buffer(fine_n * 4, 4);
+  const gl::Buffer& surf_b = ctx.targets.scratch_buffer(fine_n * 4, 5);
+  clear_uint(surf_a, fine_n, inf_bits);
   const gl::Buffer* spare = hp_other;
   hp_other = &surf_a;
   point_pass("PASS_VISIBLE");
@@ -291,7 +292,7 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   if (specular) {
     // The covered area per eye cell: the hidden-point texture closed (its
     // spreading undone at the silhouette by as many erosions).
-    const gl::Buffer mask = gl::make_buffer(fine_n * 4, nullptr, 0);
+    const gl::Buffer& mask = ctx.targets.scratch_buffer(fine_n * 4, 6);
     const gl::Buffer* dilated = hp;
     const gl::Buffer* masks[2] = {&mask, hp_other};  // hp_other: free once the spreading is done
     for (int it = 0; it < p.get_int("iterations"); ++it) {

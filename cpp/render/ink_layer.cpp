@@ -44,12 +44,16 @@ void InkLayer::begin(bool depth_test) const {
     glDepthFunc(GL_GEQUAL);  // reversed Z
   }
   glDepthMask(GL_FALSE);
+  blend_modes();
+}
+
+void InkLayer::blend_modes() {
   glEnable(GL_BLEND);
-  glBlendEquationi(0, GL_FUNC_ADD);
+  glBlendEquationi(0, GL_FUNC_ADD);   // colour weighted by alpha: a sum
   glBlendFunci(0, GL_ONE, GL_ONE);
-  glBlendEquationi(1, GL_FUNC_ADD);
+  glBlendEquationi(1, GL_FUNC_ADD);   // transmittance: a product
   glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR);
-  glBlendEquationi(2, GL_MIN);
+  glBlendEquationi(2, GL_MIN);        // nearest depth
   glBlendFunci(2, GL_ONE, GL_ONE);
 }
 

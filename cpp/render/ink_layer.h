@@ -23,6 +23,8 @@ class InkLayer {
   // GEQUAL depth test when asked, no depth writes, the three blend modes.
   void begin(bool depth_test) const;
   void end() const;  // back to GL defaults
+  // The three blend modes alone (for marks with their own raster state).
+  static void blend_modes();
 
   // Ink over `paper` (display sRGB, alpha = its opacity over the surface)
   // into ctx.targets.color and .depth. With `surface`, ctx.targets.depth

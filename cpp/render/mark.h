@@ -57,6 +57,10 @@ struct MarkTargets {
   const gl::Buffer* keys = nullptr;       // per pixel uint (32-bit path), cleared to ~0
   // Frame-sized scratch textures of a format, by index; contents undefined.
   std::function<const gl::Texture&(GLenum format, int index)> scratch;
+  // Scratch buffers (dynamic storage) of at least `bytes`, by index, kept
+  // between frames and segments so marks do not allocate per frame;
+  // contents undefined.
+  std::function<const gl::Buffer&(size_t bytes, int index)> scratch_buffer;
 };
 
 // One stroke / splat a mark placed, when the caller asked to see them

@@ -39,6 +39,13 @@ struct FrameTargets {
   std::map<std::pair<GLenum, int>, gl::Texture> mark_scratch;
 };
 
+// Marks' scratch buffers: by index, grown to a power of two when asked for
+// more, kept across frames (they do not depend on the frame size).
+struct ScratchBuffer {
+  size_t bytes = 0;
+  gl::Buffer buffer;
+};
+
 // The colour attribute a mark asked for by name, when the cloud lacks it
 // ("" otherwise; colour source auto takes what there is, constant included).
 std::string missing_color(const AttributeSet& needed, const GpuCloud& g) {
@@ -124,6 +131,7 @@ struct Renderer::Impl {
   std::shared_ptr<BufferPool> pool = std::make_shared<BufferPool>();
   GpuCloudCache clouds;
   FrameTargets targets;
+  std::map<int, ScratchBuffer> mark_buffers;
 
   void ensure_targets(glm::ivec2 size, bool int64) {
     if (targets.size == size && targets.int64 == int64) return;
@@ -164,6 +172,17 @@ struct Renderer::Impl {
   const gl::Texture& scratch(int index) {
     while (int(targets.scratch.size()) <= index) targets.scratch.emplace_back(GL_RGBA32F, targets.size);
     return targets.scratch[size_t(index)];
+  }
+
+  const gl::Buffer& mark_buffer(size_t bytes, int index) {
+    ScratchBuffer& b = mark_buffers[index];
+    if (b.bytes < bytes || !b.buffer) {
+      size_t grown = 256;
+      while (grown < bytes) grown *= 2;
+      b.buffer = gl::make_buffer(grown, nullptr, GL_DYNAMIC_STORAGE_BIT);
+      b.bytes = grown;
+    }
+    return b.buffer;
   }
 
   const gl::Texture& mark_scratch(GLenum format, int index) {
@@ -293,6 +312,7 @@ struct Renderer::Impl {
     t.depth_keys = &targets.depth_keys;
     t.keys = &targets.keys;
     t.scratch = [this](GLenum format, int index) -> const gl::Texture& { return mark_scratch(format, index); };
+    t.scratch_buffer = [this](size_t bytes, int index) -> const gl::Buffer& { return mark_buffer(bytes, index); };
     return t;
   }
 
