@@ -5,7 +5,7 @@
 // depth (min): order-independent.
 // PASS_COUNT / PASS_STORE: the A-buffer (brush_abuffer.glsl): fragments
 // counted per pixel, then stored in the pixel's list.
-// variants: PASS_DEPTH | PASS_BLEND | PASS_COUNT | PASS_STORE
+// variants: PASS_DEPTH | PASS_BLEND | PASS_COUNT | PASS_STORE, TWO_LAYERS
 #if defined(PASS_BLEND) || defined(PASS_COUNT) || defined(PASS_STORE)
 // Depth test first (no depth writes in these passes): only fragments near
 // the surface are shaded and enter the blend or the lists.
@@ -44,27 +44,33 @@ layout(location = 1) out vec4 o_reveal;
 layout(location = 2) out vec4 o_depth;
 #endif
 
-// One Gaussian of eq. 1 (without A): exp(-1/2 |(x_theta - x0) / sx|^lambda)
-// exp(-1/2 |(y_theta - y0) / sy|^lambda), turned by theta (cos cs, sin sn).
-// Where it adds less than the coverage cut allows to matter it is skipped.
-float brush_gaussian(vec2 uv, vec2 c, float cs, float sn) {
+// |(x_theta - x0) / sx|, |(y_theta - y0) / sy| of eq. 1: uv relative to
+// the centre c, turned by theta (cos cs, sin sn).
+vec2 brush_q(vec2 uv, vec2 c, float cs, float sn) {
   vec2 d = uv - c;
   vec2 r = vec2(cs * d.x - sn * d.y, sn * d.x + cs * d.y);
-  vec2 q = abs(r) / vec2(u_sigma_x, u_sigma_y);
-  if (q.x > u_reach || q.y > u_reach) return 0.0;
-  return exp(-0.5 * (pow(q.x, u_lambda) + pow(q.y, u_lambda)));
+  return abs(r) / vec2(u_sigma_x, u_sigma_y);
 }
 
-// The mixture: rows = ceil(N / 3) rows of up to three columns, dev apart,
-// centred on the texture; column c turned by angles[c]. Clamped to 1.
+// The mixture of eq. 1: rows = ceil(N / 3) rows of up to three columns,
+// dev apart, centred on the texture; column c turned by angles[c].
+// Gaussians beyond u_reach add less than the cut allows to matter: they
+// count as 0. Clamped to 1.
+// The loops have constant bounds so that they unroll and each column's
+// angle is read at a constant index: a software rasterizer runs fragments
+// in lock-step lanes, and an index that varies per lane goes through
+// memory (and a branch costs both of its sides anyway).
 float brush_alpha(vec2 uv, vec3 cs, vec3 sn) {
   int rows = (u_gaussians + 2) / 3;
   float sum = 0.0;
-  for (int i = 0; i < u_gaussians; ++i) {
-    int row = i / 3, col = i % 3;
-    int cols = min(3, u_gaussians - row * 3);
-    vec2 c = vec2(0.5 + (float(col) - 0.5 * float(cols - 1)) * u_dev, 0.5 + (float(row) - 0.5 * float(rows - 1)) * u_dev);
-    sum += brush_gaussian(uv, c, cs[col], sn[col]);
+  for (int row = 0; row < 3; ++row) {
+    int cols = clamp(u_gaussians - row * 3, 0, 3);
+    for (int col = 0; col < 3; ++col) {
+      vec2 c = vec2(0.5 + (float(col) - 0.5 * float(cols - 1)) * u_dev, 0.5 + (float(row) - 0.5 * float(rows - 1)) * u_dev);
+      vec2 q = brush_q(uv, c, cs[col], sn[col]);
+      float g = exp(-0.5 * (pow(q.x, u_lambda) + pow(q.y, u_lambda)));
+      if (col < cols && q.x <= u_reach && q.y <= u_reach) sum += g;
+    }
   }
   return clamp(u_amplitude * sum, 0.0, 1.0);
 }
@@ -72,6 +78,7 @@ float brush_alpha(vec2 uv, vec3 cs, vec3 sn) {
 void main() {
   float a = brush_alpha(v_uv, v_cos, v_sin);
   vec3 rgb = v_color.rgb;
+#ifdef TWO_LAYERS  // only where a style can ask for them: both sides of a branch cost
   if (u_layers > 1 || v_two_layers != 0) {
     // A second, smaller layer over the first, slightly altered colour.
     vec2 uv2 = (v_uv - 0.5) / u_layer_scale + 0.5;
@@ -83,6 +90,7 @@ void main() {
     rgb = a_total > 0.0 ? (rgb2 * a2 + rgb * a * (1.0 - a2)) / a_total : rgb;
     a = a_total;
   }
+#endif
   if (!(a >= u_cut)) discard;
 #ifdef PASS_DEPTH
   o_depth = vec4(v_depth);

@@ -161,6 +161,14 @@ gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const
   return fbo;
 }
 
+// The splat shaders of one pass; the second layer's code only where the
+// style can ask for it (layers two, or clusters that make small ones two).
+const gl::Program& splat_program(const MarkContext& ctx, const ParamValues& p, const char* pass) {
+  const bool two_layers = p.get_enum_name("layers") == "two" || p.get_bool("clusters");
+  if (two_layers) return ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {pass, "TWO_LAYERS"});
+  return ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {pass});
+}
+
 void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p) {
   GLuint vao = 0;
   glCreateVertexArrays(1, &vao);
@@ -238,7 +246,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
   {
     const RasterState state(ctx);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
-    const gl::Program& count = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_COUNT"});
+    const gl::Program& count = splat_program(ctx, p, "PASS_COUNT");
     count.use();
     set_splat_uniforms(count, ctx, p);
     near_surface_tests(count, p);
@@ -288,7 +296,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
   {
     const RasterState state(ctx);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
-    const gl::Program& store = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_STORE"});
+    const gl::Program& store = splat_program(ctx, p, "PASS_STORE");
     store.use();
     set_splat_uniforms(store, ctx, p);
     near_surface_tests(store, p);
@@ -322,7 +330,7 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
     const RasterState state(ctx);
     glBindFramebuffer(GL_FRAMEBUFFER, blend_fbo.id());
     InkLayer::blend_modes();
-    const gl::Program& blend = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_BLEND"});
+    const gl::Program& blend = splat_program(ctx, p, "PASS_BLEND");
     blend.use();
     set_splat_uniforms(blend, ctx, p);
     near_surface_tests(blend, p);
@@ -374,7 +382,7 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_GREATER);
     glDepthMask(GL_TRUE);
-    const gl::Program& depth_pass = ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {"PASS_DEPTH"});
+    const gl::Program& depth_pass = splat_program(ctx, p, "PASS_DEPTH");
     depth_pass.use();
     set_splat_uniforms(depth_pass, ctx, p);
     glUniform1f(depth_pass.location("u_offset_radii"), 0.0f);
