@@ -187,7 +187,7 @@ Instance instance_of(const py::object& item, const std::string& segment, size_t 
   else if (py::isinstance<PointCloud>(t[0]))
     inst.cloud = t[0].cast<std::shared_ptr<PointCloud>>();
   else
-    throw ParameterError(where + expected + ", got " + type_name(t[0]) + " where the PointCloud goes");
+    throw ParameterError(where + expected + ", got " + type_name(t[0]) + " where the cloud or mesh goes");
   try {
     inst.world_from_object = to_dmat4(t[1], "world_from_object");
   } catch (const py::error_already_set&) {
@@ -375,7 +375,7 @@ void bind_render(py::module_& m) {
         seg.name = name;
         seg.style = style;
         if (py::isinstance<py::str>(instances) || !py::isinstance<py::sequence>(instances))
-          throw ParameterError("segment '" + name + "': instances must be a list of PointCloud, TriangleMesh or "
+          throw ParameterError("segment '" + name + "': instances must be a list of PointCloud or TriangleMesh, or "
                                "(PointCloud, 4x4 matrix[, name]), got " + type_name(instances));
         size_t k = 0;
         for (auto item : instances.cast<py::sequence>()) {
