@@ -50,9 +50,9 @@ struct Style {
 // One object of a segment: a cloud, or a triangle mesh (exactly one).
 struct Instance {
   std::shared_ptr<const PointCloud> cloud;
-  std::shared_ptr<const TriangleMesh> mesh;
   glm::dmat4 world_from_object{1.0};
   std::string name;  // the host's object name, for messages ("" = unnamed)
+  std::shared_ptr<const TriangleMesh> mesh;  // last: {cloud, matrix} initialisers stay valid
 };
 
 struct Segment {

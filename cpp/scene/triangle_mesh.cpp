@@ -140,7 +140,7 @@ uint32_t TriangleMesh::texel(glm::vec2 uv) const {
   return texture_[size_t(y) * size_t(texture_size_.x) + size_t(x)];
 }
 
-SurfaceSamples sample_surface(const TriangleMesh& mesh, double density) {
+SurfaceSamples sample_surface(const TriangleMesh& mesh, double density, size_t max_points) {
   if (!std::isfinite(density) || density < 0.0) throw ParameterError("sample density must be finite and >= 0");
   SurfaceSamples out;
   const size_t t_count = mesh.num_triangles();
@@ -154,8 +154,8 @@ SurfaceSamples sample_surface(const TriangleMesh& mesh, double density) {
     total += area[t];
   }
   // The expected count within the cap (one more per triangle at most).
-  if (total * density + double(t_count) > double(kMaxSampledPoints)) {
-    density = std::max(0.0, (double(kMaxSampledPoints) - double(t_count)) / std::max(total, 1e-30));
+  if (total * density + double(t_count) > double(max_points)) {
+    density = std::max(0.0, (double(max_points) - double(t_count)) / std::max(total, 1e-30));
     out.capped = true;
   }
   std::vector<uint32_t> counts(t_count);

@@ -120,6 +120,6 @@ struct SurfaceSamples {
   std::vector<uint32_t> ids;      // N, in triangle order
   bool capped = false;
 };
-SurfaceSamples sample_surface(const TriangleMesh& mesh, double density);
+SurfaceSamples sample_surface(const TriangleMesh& mesh, double density, size_t max_points = kMaxSampledPoints);
 
 }  // namespace pointnpr
