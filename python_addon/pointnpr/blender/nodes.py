@@ -478,9 +478,16 @@ def repoint_curves(tree, old_name, new_name, properties=None):
 def mark_node(tree):
     """The mark node of ``tree``'s chain (the first step), or None."""
     chain = style_chain(tree)
-    if chain and chain[0].pointnpr_role in (ROLE_MARK, ROLE_RASTERIZE):
+    if chain and chain[0].pointnpr_role in (ROLE_MARK, ROLE_RASTERIZE) and \
+            chain[0].pointnpr_schema_id != SURFACE_MARK:
         return chain[0]
     return None
+
+
+def surface_node(tree):
+    """The Mesh Surface node of ``tree``'s chain, or None."""
+    return next((n for n in style_chain(tree) if n.pointnpr_role == ROLE_MARK and
+                 n.pointnpr_schema_id == SURFACE_MARK), None)
 
 
 def set_node_values(node, values):
