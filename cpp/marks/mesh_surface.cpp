@@ -60,6 +60,7 @@ class MeshSurface final : public Mark {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_GREATER);
     glDisable(GL_CULL_FACE);  // open meshes show their insides
+    glDisable(GL_BLEND);      // opaque faces (the ink layer may have left blending on)
     prog.use();
     glUniformMatrix4fv(prog.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
     glUniform1f(prog.location("u_near"), float(cam.clip_start));
