@@ -238,9 +238,12 @@ def test_only_the_attributes_the_style_reads_are_read():
 
 def test_meshes_as_points_and_sampled_points():
     scene, coll, obj, surface = _scene_with(lambda coll: _add(coll, "Roof", _quad_mesh("Roof")))
+    sync.build_scene(bpy.context.evaluated_depsgraph_get(), 1.0)
+    assert mesh_sync.cache_stats()["objects"] == 1
     surface.meshes = "points"
     synced = sync.build_scene(bpy.context.evaluated_depsgraph_get(), 1.0)
     assert synced.num_points == 4  # its vertices, as before meshes had surfaces
+    assert mesh_sync.cache_stats()["objects"] == 0  # its mesh is no longer kept
     surface.meshes = "sampled"
     surface.sample_density = 100.0
     synced = sync.build_scene(bpy.context.evaluated_depsgraph_get(), 1.0)

@@ -227,11 +227,15 @@ def invalidate(name):
         del _mesh_cache[key]
 
 
-def prune_cache(used, names):
+def prune_cache(used, names, synced=()):
     """Drop the meshes of objects that are gone (``names``: those that
-    exist) and those of objects read for another set of attributes."""
+    exist), of objects read for another set of attributes, and of objects
+    the last build drew otherwise (``synced``: every object name it used,
+    e.g. now as a cloud of vertices)."""
     used_objects = {k[:2] for k in used}
-    for key in [k for k in _mesh_cache if k[0] not in names or (k[:2] in used_objects and k not in used)]:
+    synced = set(synced)
+    for key in [k for k in _mesh_cache if k[0] not in names or (k[:2] in used_objects and k not in used) or
+                (k[0] in synced and k[:2] not in used_objects)]:
         del _mesh_cache[key]
 
 

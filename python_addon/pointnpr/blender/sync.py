@@ -245,7 +245,7 @@ def prune_cache(used=None):
     changed)."""
     names = set(bpy.data.objects.keys())
     used = set(used or ())
-    mesh_sync.prune_cache({k[1:] for k in used if k[0] == "TRIANGLES"}, names)
+    mesh_sync.prune_cache({k[1:] for k in used if k[0] == "TRIANGLES"}, names, {k[1] for k in used})
     used_objects = {k[:2] for k in used}
     for key in [k for k in _cloud_cache if k[1] not in names or (k[:2] in used_objects and k not in used)]:
         del _cloud_cache[key]
