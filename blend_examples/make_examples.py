@@ -1,7 +1,7 @@
 """Builds the example .blend files from real scans in data/ and tests/data/io.
 
     blender -b --factory-startup --python-exit-code 1 \
-        --python blend_examples/make_examples.py -- <builddir> [outdir]
+        --python blend_examples/make_examples.py -- <builddir> [outdir [name ...]]
 
 <builddir> holds the assembled add-on package (<builddir>/pointnpr). Writes,
 into <outdir> (default: this folder), each scene's .blend and a preview
@@ -10,7 +10,11 @@ render next to it:
   vegetation as three differently styled segments that overlap in depth;
 * warsaw_styles.blend: style inheritance and a keyframed warp;
 * lion_benchmark.blend: 342k points, three styled segments, 1920x1080
-  (the benchmark scene of docs/performance.md; no preview).
+  (the benchmark scene of docs/performance.md; no preview);
+* site_proposal.blend: a proposed building (a Blender mesh) on the LiDAR HD
+  tile, the scan and the mesh styled differently, lit by one sun.
+With names (urban_lidarhd, warsaw_styles, lion_benchmark, site_proposal)
+only those are made.
 Opening or rendering a .blend needs the add-on enabled, e.g.
 
     POINTNPR_BUILD_DIR=<builddir> blender -b blend_examples/urban_lidarhd.blend \
@@ -219,5 +223,69 @@ def make_warsaw():
     save(scene, "warsaw_styles", preview_frame=24)
 
 
-for make in (make_urban, make_warsaw, make_lion_benchmark):
-    make()
+def make_site_proposal():
+    """Seed 001's architects: a proposed building (an ordinary Blender mesh
+    with two materials) designed against a scanned site (the LiDAR HD
+    tile). The scan keeps a soft cartoon look; the building is drawn as
+    flat-shaded faces with ink outlines; both take their light from the
+    scene's sun lamp, and composite mode inpaint lets trees of the scan
+    stand in front of the building and the building in front of the ground."""
+    scene = new_scene(1280, 720, (0.93, 0.91, 0.86))
+    bpy.ops.import_scene.pointnpr_cloud(filepath=URBAN_SCAN, split_by_classification=True)
+    root = bpy.data.collections["lidarhd_myria3d_870000_6618000_subset"]
+    site = nodes.new_style("Site Soft")
+    set_params(nodes.mark_node(site), size_mode="world", world_size=0.55, color_source="rgb")
+    cartoon = nodes.append_node(site, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
+    set_params(cartoon, levels=6, outline_width=0, edge_strength=0.4)
+    nodes.append_node(site, nodes.ROLE_INPAINT, "inpaint", name="Inpaint Depth")
+    root.pointnpr_style = site
+
+    lo, hi = scene_bounds()
+    # An open patch of the tile (mostly ground class), 40-60 m east and
+    # 20-40 m north of its corner; the ground there is 0.7 m above the lowest point.
+    base = lo + Vector((50.0, 30.0, 0.7))
+    w, d, h, ridge = 14.0, 9.0, 8.0, 4.0
+    x0, x1, y0, y1 = -w / 2, w / 2, -d / 2, d / 2
+    verts = [(x0, y0, 0), (x1, y0, 0), (x1, y1, 0), (x0, y1, 0), (x0, y0, h), (x1, y0, h), (x1, y1, h),
+             (x0, y1, h), (x0, 0, h + ridge), (x1, 0, h + ridge)]
+    faces = [(0, 3, 2, 1), (0, 1, 5, 4), (2, 3, 7, 6), (1, 2, 6, 9, 5), (3, 0, 4, 8, 7), (4, 5, 9, 8), (6, 7, 8, 9)]
+    mesh = bpy.data.meshes.new("Proposal")
+    mesh.from_pydata(verts, [], faces)
+    walls = bpy.data.materials.new("Walls")
+    walls.use_nodes = True
+    walls.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.85, 0.83, 0.78, 1.0)
+    roof = bpy.data.materials.new("Roof")
+    roof.use_nodes = True
+    roof.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.45, 0.12, 0.07, 1.0)
+    mesh.materials.append(walls)
+    mesh.materials.append(roof)
+    for poly in mesh.polygons[5:]:
+        poly.material_index = 1
+    mesh.update()
+    building = bpy.data.collections.new("Proposed building")
+    scene.collection.children.link(building)
+    obj = bpy.data.objects.new("Proposal", mesh)
+    obj.location = base
+    obj.rotation_euler = (0.0, 0.0, 0.35)
+    building.objects.link(obj)
+    ink = nodes.new_style("Proposal Ink")
+    surface = nodes.append_node(ink, nodes.ROLE_MARK, nodes.SURFACE_MARK, name="Mesh Surface")
+    set_params(surface, shading="flat", shading_strength=0.55, light_space="scene_sun")
+    outline = nodes.append_node(ink, nodes.ROLE_FILTER, "cartoon", name="Cartoon")
+    set_params(outline, levels=4, outline_width=4, edge_color=(0.08, 0.08, 0.1, 1.0))
+    nodes.append_node(ink, nodes.ROLE_INPAINT, "inpaint", name="Inpaint Depth")
+    building.pointnpr_style = ink
+
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", 'SUN'))
+    # Toward the light: from the south-west, 40 degrees up (a sun shines along its -Z).
+    sun.rotation_euler = Vector((-0.55, -0.55, 0.63)).to_track_quat('Z', 'Y').to_euler()
+    scene.collection.objects.link(sun)
+    centre = base + Vector((0.0, 0.0, 5.0))
+    add_camera(scene, centre, (-26.0, -34.0, 20.0), lens=35.0, clip_end=1000.0)
+    save(scene, "site_proposal", preview_frame=1)
+
+
+MAKERS = {"urban_lidarhd": make_urban, "warsaw_styles": make_warsaw, "lion_benchmark": make_lion_benchmark,
+          "site_proposal": make_site_proposal}
+for name in argv[2:] or MAKERS:
+    MAKERS[name]()

@@ -7,6 +7,7 @@
 
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "marks/mesh_surface.h"
 #include "render/renderer.h"
 
 namespace py = pybind11;
@@ -75,6 +76,82 @@ std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::ob
   return std::make_shared<PointCloud>(in, chunk_size);
 }
 
+// "vertex" or "corner" for an attribute of `rows` rows ("auto": by its count).
+MeshDomain mesh_domain(const std::string& given, size_t rows, size_t vertices, size_t corners, const char* what) {
+  if (given == "vertex") return MeshDomain::Vertex;
+  if (given == "corner") return MeshDomain::Corner;
+  if (given != "auto") throw ParameterError(std::string(what) + "_domain must be 'auto', 'vertex' or 'corner'");
+  if (rows == vertices) return MeshDomain::Vertex;
+  if (rows == corners) return MeshDomain::Corner;
+  throw ParameterError(std::string("mesh ") + what + " must have one row per vertex (" + std::to_string(vertices) +
+                       ") or per triangle corner (" + std::to_string(corners) + "), got " + std::to_string(rows));
+}
+
+// Float arrays in [0, 1] (display sRGB) become bytes.
+CArray<uint8_t> color_bytes(const py::object& obj, const char* what) {
+  py::array any = py::array::ensure(obj);
+  if (!any) throw ParameterError(std::string(what) + " must be an array");
+  if (any.dtype().kind() == 'f') {
+    auto np = py::module_::import("numpy");
+    any = py::array::ensure(np.attr("rint")(np.attr("clip")(np.attr("nan_to_num")(any), 0.0, 1.0) * py::float_(255.0)));
+  }
+  return any.cast<CArray<uint8_t>>();
+}
+
+std::shared_ptr<TriangleMesh> make_mesh(const py::object& positions, const py::object& triangles,
+                                        const py::object& colors, const std::string& color_domain,
+                                        const py::object& uvs, const std::string& uv_domain, const py::object& texture,
+                                        const py::object& base_color) {
+  CArray<double> pos = positions.cast<CArray<double>>();
+  if (pos.ndim() != 2 || pos.shape(1) != 3) throw ParameterError("mesh positions must be a (V,3) array");
+  py::array tri_any = py::array::ensure(triangles);
+  if (!tri_any || tri_any.ndim() != 2 || tri_any.shape(1) != 3)
+    throw ParameterError("mesh triangles must be a (T,3) array of vertex indices");
+  if (tri_any.size() > 0) {
+    auto np = py::module_::import("numpy");
+    if (tri_any.dtype().kind() != 'i' && tri_any.dtype().kind() != 'u')
+      throw ParameterError("mesh triangles must be integer vertex indices");
+    if (np.attr("any")(tri_any.attr("__lt__")(0)).cast<bool>())
+      throw ParameterError("mesh triangles must not hold negative indices");
+  }
+  CArray<uint32_t> tri = tri_any.cast<CArray<uint32_t>>();
+  const size_t v = size_t(pos.shape(0)), corners = size_t(tri.size());
+  TriangleMeshInput in;
+  in.positions = {pos.data(), v * 3};
+  in.indices = {tri.data(), corners};
+  CArray<uint8_t> col;
+  if (!colors.is_none()) {
+    col = color_bytes(colors, "mesh colors");
+    if (col.ndim() != 2 || (col.shape(1) != 3 && col.shape(1) != 4))
+      throw ParameterError("mesh colors must be an (N,3) or (N,4) array");
+    in.colors = {col.data(), size_t(col.size())};
+    in.color_channels = int(col.shape(1));
+    in.color_domain = mesh_domain(color_domain, size_t(col.shape(0)), v, corners, "colors");
+  }
+  CArray<float> uv;
+  if (!uvs.is_none()) {
+    uv = uvs.cast<CArray<float>>();
+    if (uv.ndim() != 2 || uv.shape(1) != 2) throw ParameterError("mesh uvs must be an (N,2) array");
+    in.uvs = {uv.data(), size_t(uv.size())};
+    in.uv_domain = mesh_domain(uv_domain, size_t(uv.shape(0)), v, corners, "uvs");
+  }
+  CArray<uint8_t> tex;
+  if (!texture.is_none()) {
+    tex = color_bytes(texture, "mesh texture");
+    if (tex.ndim() != 3 || tex.shape(2) != 4) throw ParameterError("mesh texture must be an (H,W,4) RGBA array");
+    in.texture = {tex.data(), size_t(tex.size())};
+    in.texture_size = {int(std::min<py::ssize_t>(tex.shape(1), 1 << 30)), int(std::min<py::ssize_t>(tex.shape(0), 1 << 30))};
+  }
+  if (!base_color.is_none()) {
+    auto c = base_color.cast<std::vector<double>>();
+    if (c.size() != 3 && c.size() != 4) throw ParameterError("mesh base_color must be RGB or RGBA");
+    in.has_base_color = true;
+    in.base_color = glm::vec4(float(c[0]), float(c[1]), float(c[2]), c.size() == 4 ? float(c[3]) : 1.0f);
+  }
+  py::gil_scoped_release release;
+  return std::make_shared<TriangleMesh>(in);
+}
+
 ParamValues validated(const Schema& schema, const py::object& values) {
   if (values.is_none()) return validate(schema, {});
   const RawParams raw = to_raw_params(schema, values.cast<py::dict>());
@@ -89,10 +166,15 @@ std::string type_name(const py::handle& obj) {
 // that says what was expected and what was given.
 Instance instance_of(const py::object& item, const std::string& segment, size_t k) {
   const std::string where = "segment '" + segment + "', instance " + std::to_string(k) + ": ";
-  const std::string expected = "expected a PointCloud or (PointCloud, 4x4 matrix[, object name])";
+  const std::string expected =
+      "expected a PointCloud or TriangleMesh, or (PointCloud or TriangleMesh, 4x4 matrix[, object name])";
   Instance inst;
   if (py::isinstance<PointCloud>(item)) {
     inst.cloud = item.cast<std::shared_ptr<PointCloud>>();
+    return inst;
+  }
+  if (py::isinstance<TriangleMesh>(item)) {
+    inst.mesh = item.cast<std::shared_ptr<TriangleMesh>>();
     return inst;
   }
   if (!py::isinstance<py::tuple>(item) && !py::isinstance<py::list>(item))
@@ -100,9 +182,12 @@ Instance instance_of(const py::object& item, const std::string& segment, size_t 
   auto t = item.cast<py::sequence>();
   if (t.size() != 2 && t.size() != 3)
     throw ParameterError(where + expected + ", got a sequence of " + std::to_string(t.size()) + " items");
-  if (!py::isinstance<PointCloud>(t[0]))
-    throw ParameterError(where + expected + ", got " + type_name(t[0]) + " where the PointCloud goes");
-  inst.cloud = t[0].cast<std::shared_ptr<PointCloud>>();
+  if (py::isinstance<TriangleMesh>(t[0]))
+    inst.mesh = t[0].cast<std::shared_ptr<TriangleMesh>>();
+  else if (py::isinstance<PointCloud>(t[0]))
+    inst.cloud = t[0].cast<std::shared_ptr<PointCloud>>();
+  else
+    throw ParameterError(where + expected + ", got " + type_name(t[0]) + " where the cloud or mesh goes");
   try {
     inst.world_from_object = to_dmat4(t[1], "world_from_object");
   } catch (const py::error_already_set&) {
@@ -131,7 +216,7 @@ std::pair<std::string, py::dict> step_of(const py::handle& item, const char* wha
 }
 
 Style make_style(const py::object& mark, const py::object& filters, const py::object& inpaint,
-                 const py::object& rasterize) {
+                 const py::object& rasterize, const py::object& surface) {
   Style style;
   if (!mark.is_none() && !rasterize.is_none())
     throw ParameterError("give a style either mark= or rasterize= (the points mark's parameters), not both");
@@ -144,6 +229,10 @@ Style make_style(const py::object& mark, const py::object& filters, const py::ob
     style.set_mark("points", raw.numbers, raw.paths);
   }
   style.inpaint = validated(inpaint_schema(), inpaint);
+  if (!surface.is_none()) {
+    const RawParams raw = to_raw_params(find_mark("mesh_surface").schema, surface.cast<py::dict>());
+    style.set_surface(raw.numbers);
+  }
   if (!filters.is_none()) {
     for (auto item : filters.cast<py::sequence>()) {
       const auto [id, params] = step_of(item, "filter step");
@@ -210,11 +299,56 @@ void bind_render(py::module_& m) {
         return image_array(c.point_index(), 1, int(c.size()), 1).reshape({py::ssize_t(c.size())});
       }, "Stable point ids in the cloud's internal (Morton) order.");
 
+  py::class_<TriangleMesh, std::shared_ptr<TriangleMesh>>(m, "TriangleMesh",
+      "Immutable triangle mesh: a double origin with float vertex offsets, triangles, and optional colours "
+      "(per vertex or corner), UVs with a base-colour image, and a base colour.")
+      .def(py::init(&make_mesh), py::arg("positions"), py::arg("triangles"), py::arg("colors") = py::none(),
+           py::arg("color_domain") = "auto", py::arg("uvs") = py::none(), py::arg("uv_domain") = "auto",
+           py::arg("texture") = py::none(), py::arg("base_color") = py::none(),
+           "positions (V,3) float64; triangles (T,3) vertex indices; colors (V or 3T, 3 or 4) display sRGB "
+           "(uint8 or float in [0,1]); uvs (V or 3T, 2); texture (H,W,4) display sRGB, bottom row first; "
+           "base_color (r, g, b[, a]) display sRGB. *_domain: 'auto' (by the row count), 'vertex' or 'corner'.")
+      .def_property_readonly("num_vertices", &TriangleMesh::num_vertices)
+      .def_property_readonly("num_triangles", &TriangleMesh::num_triangles)
+      .def_property_readonly("id", &TriangleMesh::id)
+      .def("sample_surface", [](const TriangleMesh& mesh, double density) {
+        std::shared_ptr<const PointCloud> c;
+        {
+          py::gil_scoped_release release;
+          c = mesh.sampled_cloud(density);
+        }
+        return std::const_pointer_cast<PointCloud>(c);
+      }, py::arg("density"),
+         "The points the 'sampled' mesh mode draws: density per square scene unit, seeded by triangle index.");
+
   py::class_<Style>(m, "Style", "A segment's pipeline: one mark -> filters -> depth inpainting.")
       .def(py::init(&make_style), py::arg("mark") = py::none(), py::arg("filters") = py::none(),
-           py::arg("inpaint") = py::none(), py::arg("rasterize") = py::none(),
+           py::arg("inpaint") = py::none(), py::arg("rasterize") = py::none(), py::arg("surface") = py::none(),
            "mark: 'id' or ('id', {params}) of a mark (default 'points'); filters: ['id' or ('id', {params})]; "
-           "rasterize: the points mark's parameters (the older spelling of mark=('points', {...})).")
+           "rasterize: the points mark's parameters (the older spelling of mark=('points', {...})); "
+           "surface: the mesh_surface mark's parameters (how objects with faces are drawn).")
+      .def_property_readonly("surface", [](const Style& s) { return values_to_dict(s.surface.params); },
+                             "The mesh_surface mark's parameters.")
+      .def_property_readonly("mesh_source_attributes", [](const Style& s) {
+        // What a host reads from a mesh for this style: only the colour
+        // sources the surface (or, for meshes drawn as points, the point
+        // mark) uses.
+        std::vector<std::string> out;
+        const MeshMode mode = mesh_mode(s.surface.params);
+        const auto point_sources = s.source_attributes();
+        const bool point_colors = std::find(point_sources.begin(), point_sources.end(), "colors") != point_sources.end();
+        if (mode == MeshMode::Surface) {
+          const std::set<MeshAttribute> a = mesh_attributes(s.surface.params);
+          if (s.surface.params.get_enum_name("color_source") != "constant") out.push_back("base_color");
+          if (a.count(MeshAttribute::Color)) out.push_back("colors");
+          if (a.count(MeshAttribute::Texture)) out.insert(out.end(), {"texture", "uvs"});
+        } else if (mode == MeshMode::Sampled && point_colors) {
+          out = {"base_color", "colors", "texture", "uvs"};
+        } else if (point_colors) {
+          out = {"colors"};
+        }
+        return out;
+      }, "Mesh attributes a host passes to TriangleMesh for this style (base_color, colors, texture, uvs).")
       .def_property_readonly("mark", [](const Style& s) {
         return py::make_tuple(s.mark.info->schema.id, values_to_dict(s.mark.params));
       })
@@ -241,7 +375,7 @@ void bind_render(py::module_& m) {
         seg.name = name;
         seg.style = style;
         if (py::isinstance<py::str>(instances) || !py::isinstance<py::sequence>(instances))
-          throw ParameterError("segment '" + name + "': instances must be a list of PointCloud or "
+          throw ParameterError("segment '" + name + "': instances must be a list of PointCloud or TriangleMesh, or "
                                "(PointCloud, 4x4 matrix[, name]), got " + type_name(instances));
         size_t k = 0;
         for (auto item : instances.cast<py::sequence>()) {
@@ -371,7 +505,10 @@ void bind_render(py::module_& m) {
       .def("uploaded_attributes", [](const Renderer& r, const PointCloud& c) {
         return attribute_names(r.uploaded_attributes(c.id()));
       }, "Attributes of the cloud on the GPU besides positions ('colors', 'normals:16', ...).")
-      .def("upload_count", &Renderer::upload_count, py::call_guard<py::gil_scoped_release>());
+      .def("upload_count", &Renderer::upload_count, py::call_guard<py::gil_scoped_release>())
+      .def("cached_meshes", &Renderer::cached_meshes, py::call_guard<py::gil_scoped_release>())
+      .def("mesh_upload_count", &Renderer::mesh_upload_count, py::call_guard<py::gil_scoped_release>(),
+           "Mesh buffers and textures uploaded since the renderer was made.");
 }
 
 }  // namespace pointnpr::python

@@ -23,6 +23,7 @@
 #include "render/attributes.h"
 #include "render/filter.h"  // Rect
 #include "render/gpu_cloud.h"
+#include "render/gpu_mesh.h"
 #include "render/registry.h"
 
 namespace pointnpr {
@@ -41,6 +42,14 @@ struct VisibleChunk {
   // hull of its 8 projected corners, not clipped to the image); negative
   // where the box crosses the camera plane (then every point is drawn).
   double screen_area = -1.0;
+};
+
+// A mesh that survived culling (the mesh_surface mark's input), with its
+// float view transform composed in double like a chunk's.
+struct VisibleMesh {
+  const GpuMesh* gpu = nullptr;
+  const TriangleMesh* mesh = nullptr;
+  glm::mat4 view_from_mesh{1.0f};
 };
 
 // The frame's images a mark draws with. `color` and `depth` are the outputs
@@ -82,6 +91,7 @@ struct MarkContext {
   const Camera* camera = nullptr;
   MarkTargets targets;
   std::span<const VisibleChunk> chunks;
+  std::span<const VisibleMesh> meshes;  // for mesh_surface; empty for the point marks
   Rect clip;                    // screen bounds of the chunks (+ the mark's extent)
   double depth_min = 0.0;       // view depth range of the visible chunks' bounds
   double depth_max = 1.0;

@@ -14,6 +14,7 @@
 #include "render/filter_chain.h"
 #include "render/gpu_cloud.h"
 #include "render/image_textures.h"
+#include "render/mesh_pass.h"
 
 namespace pointnpr {
 
@@ -130,6 +131,7 @@ struct Renderer::Impl {
   ImageTextures images;
   std::shared_ptr<BufferPool> pool = std::make_shared<BufferPool>();
   GpuCloudCache clouds;
+  GpuMeshCache meshes;
   FrameTargets targets;
   std::map<int, ScratchBuffer> mark_buffers;
 
@@ -209,6 +211,7 @@ struct Renderer::Impl {
 
   void begin_frame(const RenderSettings& s) {
     clouds.collect_garbage();
+    meshes.collect_garbage();
     frame_warnings = FrameWarnings();
     ensure_targets({s.width, s.height}, gl::Device::instance().info().int64_atomics);
     const Rect all{{0, 0}, targets.size};
@@ -230,7 +233,7 @@ struct Renderer::Impl {
 
   // Culls chunks (their bounds grown by the mark's extent) against the view
   // volume, in double; uploads what the mark needs for the survivors' clouds.
-  Culled cull(const Segment& seg, const Camera& cam, RenderResult& result) {
+  Culled cull(const Segment& seg, const std::vector<Instance>& instances, const Camera& cam, RenderResult& result) {
     Culled out;
     const AttributeSet needed = seg.style.attributes();
     const MarkExtent extent = seg.style.mark.mark->extent(seg.style.mark.params);
@@ -238,7 +241,7 @@ struct Renderer::Impl {
     int total = 0, culled = 0;
     const glm::ivec2 size = targets.size;
     const double margin = double(extent.pixels);
-    for (const Instance& inst : seg.instances) {
+    for (const Instance& inst : instances) {
       if (inst.cloud && inst.cloud->skipped_nonfinite() > 0) frame_warnings.add_nonfinite(inst, seg);
       if (!inst.cloud || inst.cloud->size() == 0) continue;
       GpuCloud* gpu = nullptr;
@@ -334,19 +337,25 @@ struct Renderer::Impl {
   // instance's object space, centred on its cloud (fixed for the cloud's
   // life, so the pattern is the same in every frame).
   static glm::dmat4 surface_anchor(const Segment& seg) {
-    for (const Instance& inst : seg.instances)
+    for (const Instance& inst : seg.instances) {
       if (inst.cloud && inst.cloud->size() > 0)
         return inst.world_from_object *
                glm::translate(glm::dmat4(1.0), 0.5 * (inst.cloud->bounds_min() + inst.cloud->bounds_max()));
+      if (inst.mesh && inst.mesh->num_vertices() > 0)
+        return inst.world_from_object * glm::translate(glm::dmat4(1.0), inst.mesh->origin());
+    }
     return glm::dmat4(1.0);
   }
 
   void render_segment(const Segment& seg, int index, const Camera& cam, const RenderSettings& s,
                       RenderResult& result) {
     auto t0 = Clock::now();
-    const Culled visible = cull(seg, cam, result);
-    if (visible.chunks.empty()) return;
-    const Rect& screen = visible.screen;
+    MeshPass mesh_pass = prepare_meshes(seg, cam, targets.size, meshes);
+    result.warnings.insert(result.warnings.end(), mesh_pass.warnings.begin(), mesh_pass.warnings.end());
+    const Culled visible = cull(seg, mesh_pass.point_instances, cam, result);
+    if (visible.chunks.empty() && mesh_pass.visible.empty()) return;
+    const Rect screen = visible.screen.united(mesh_pass.screen);
+    result.stats["triangles_drawn"] += double(mesh_pass.triangles);
     size_t points = 0;
     for (const auto& v : visible.chunks) points += v.chunk->count;
     result.stats["points_drawn"] += double(points);
@@ -376,8 +385,22 @@ struct Renderer::Impl {
     mark.stats = &result.stats;
     mark.warnings = &result.warnings;
     mark.capture = s.capture_marks ? &result.marks : nullptr;
-    seg.style.mark.mark->draw(mark, seg.style.mark.params);
-    gl::check_gl(("mark " + seg.style.mark.info->schema.id).c_str());
+    if (!visible.chunks.empty()) {
+      mark.clip = visible.screen;
+      seg.style.mark.mark->draw(mark, seg.style.mark.params);
+      gl::check_gl(("mark " + seg.style.mark.info->schema.id).c_str());
+    }
+    if (!mesh_pass.visible.empty()) {
+      // After the point mark: the surfaces test their depth against its points.
+      MarkContext surface = mark;
+      surface.chunks = {};
+      surface.meshes = mesh_pass.visible;
+      surface.clip = mesh_pass.screen;
+      surface.depth_min = mesh_pass.depth_min;
+      surface.depth_max = std::max(mesh_pass.depth_max, mesh_pass.depth_min);
+      seg.style.surface.mark->draw(surface, seg.style.surface.params);
+      gl::check_gl("mark mesh_surface");
+    }
     const Rect covered = coverage_bounds(screen);
     glFinish();
     result.stats["mark_ms"] += ms_since(t0);
@@ -532,6 +555,14 @@ AttributeSet Renderer::uploaded_attributes(uint64_t cloud_id) const {
 
 uint64_t Renderer::upload_count() const {
   return gl::Device::instance().run([this] { return impl_->clouds.uploads(); });
+}
+
+size_t Renderer::cached_meshes() const {
+  return gl::Device::instance().run([this] { return impl_->meshes.size(); });
+}
+
+uint64_t Renderer::mesh_upload_count() const {
+  return gl::Device::instance().run([this] { return impl_->meshes.uploads(); });
 }
 
 }  // namespace pointnpr

@@ -84,6 +84,9 @@ class Renderer {
   size_t cached_clouds() const;
   AttributeSet uploaded_attributes(uint64_t cloud_id) const;
   uint64_t upload_count() const;  // buffers uploaded since construction
+  // The same for triangle meshes (buffers and textures; render/gpu_mesh.h).
+  size_t cached_meshes() const;
+  uint64_t mesh_upload_count() const;
 
   struct Impl;
 

@@ -1,5 +1,7 @@
 #include "render/style.h"
 
+#include "core/error.h"
+
 namespace pointnpr {
 
 const Schema& inpaint_schema() {
@@ -50,7 +52,14 @@ MarkStep make_mark(const std::string& id, const std::map<std::string, std::vecto
 
 void Style::set_mark(const std::string& id, const std::map<std::string, std::vector<double>>& params,
                      const std::map<std::string, std::string>& paths) {
+  if (id == "mesh_surface")
+    throw ParameterError("mesh_surface draws a segment's meshes beside its point mark: give its parameters as the "
+                         "style's surface, not as its mark");
   mark = make_mark(id, params, paths);
+}
+
+void Style::set_surface(const std::map<std::string, std::vector<double>>& params) {
+  surface = make_mark("mesh_surface", params);
 }
 
 void Style::add_filter(const std::string& id, const std::map<std::string, std::vector<double>>& params,

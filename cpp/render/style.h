@@ -11,6 +11,7 @@
 #include "render/filter_chain.h"
 #include "render/mark.h"
 #include "scene/point_cloud.h"
+#include "scene/triangle_mesh.h"
 
 namespace pointnpr {
 
@@ -29,11 +30,15 @@ MarkStep make_mark(const std::string& id, const std::map<std::string, std::vecto
 
 struct Style {
   MarkStep mark = make_mark("points");
+  // How the segment's objects with faces are drawn (marks/mesh_surface.h):
+  // as surfaces by default, or handed to `mark` as points.
+  MarkStep surface = make_mark("mesh_surface");
   std::vector<FilterStep> filters;
   ParamValues inpaint = validate(inpaint_schema(), {});
 
   void set_mark(const std::string& id, const std::map<std::string, std::vector<double>>& params = {},
                 const std::map<std::string, std::string>& paths = {});
+  void set_surface(const std::map<std::string, std::vector<double>>& params = {});
   void add_filter(const std::string& id, const std::map<std::string, std::vector<double>>& params,
                   const std::map<std::string, std::string>& paths = {});
   // The per-point attributes the mark reads (only those are computed and
@@ -42,10 +47,12 @@ struct Style {
   std::vector<std::string> source_attributes() const { return source_attribute_names(attributes()); }
 };
 
+// One object of a segment: a cloud, or a triangle mesh (exactly one).
 struct Instance {
   std::shared_ptr<const PointCloud> cloud;
   glm::dmat4 world_from_object{1.0};
   std::string name;  // the host's object name, for messages ("" = unnamed)
+  std::shared_ptr<const TriangleMesh> mesh;  // last: {cloud, matrix} initialisers stay valid
 };
 
 struct Segment {

@@ -20,6 +20,7 @@ from ._pointnpr import (  # noqa: F401  (the public API)
     RenderResult,
     Scene,
     Style,
+    TriangleMesh,
     gl_info,
     load_image,
     save_image,

@@ -28,7 +28,7 @@ bpy.context.preferences.view.show_splash = False
 
 import numpy as np  # noqa: E402
 import pointnpr  # noqa: E402
-from pointnpr.blender import engine, nodes  # noqa: E402
+from pointnpr.blender import engine, mesh_sync, nodes  # noqa: E402
 
 TIMEOUT_S = 90.0
 START = time.time()
@@ -200,6 +200,64 @@ def check_moved(view):
     return None
 
 
+def add_yellow_mesh():
+    """A quad with faces (a material's yellow) between the two segments,
+    in front: drawn as a surface (issue 15)."""
+    coll = bpy.data.collections.new("Yellow")
+    bpy.context.scene.collection.children.link(coll)
+    tree = nodes.new_style("Yellow Style")
+    surface = nodes.append_node(tree, nodes.ROLE_MARK, nodes.SURFACE_MARK)
+    surface.shading = "none"
+    coll.pointnpr_style = tree
+    mesh = bpy.data.meshes.new("YellowQuad")
+    mesh.from_pydata([(-0.25, -0.5, 0.5), (0.25, -0.5, 0.5), (0.25, 0.5, 0.5), (-0.25, 0.5, 0.5)], [], [(0, 1, 2, 3)])
+    mat = bpy.data.materials.new("Yellow")
+    mat.use_nodes = True
+    mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (1.0, 1.0, 0.0, 1.0)
+    mesh.materials.append(mat)
+    mesh.update()
+    coll.objects.link(bpy.data.objects.new("YellowQuad", mesh))
+    state["mesh_uploads"] = mesh_sync.cache_stats()["uploads"]
+    state["gpu_uploads"] = engine.renderer().mesh_upload_count()
+
+
+def check_mesh(view):
+    yellow = mask(view, (1, 1, 0))
+    log("yellow mesh: %.4f of the view, mesh uploads %s" % (yellow.mean(), mesh_sync.cache_stats()))
+    if yellow.mean() < 0.002:
+        return "the mesh with faces is not drawn as a surface"
+    _x, state["yellow_y"] = centroid(yellow)
+    if mesh_sync.cache_stats()["uploads"] != state["mesh_uploads"] + 1:
+        return "the new mesh was not read exactly once"
+    state["gpu_first"] = engine.renderer().mesh_upload_count() - state["gpu_uploads"]
+    state["mesh_uploads"] = mesh_sync.cache_stats()["uploads"]
+    state["gpu_uploads"] = engine.renderer().mesh_upload_count()
+    return None
+
+
+def move_yellow_mesh():
+    mesh = bpy.data.objects["YellowQuad"].data
+    for v in mesh.vertices:
+        v.co.y += 1.0
+    mesh.update()
+
+
+def check_mesh_moved(view):
+    yellow = mask(view, (1, 1, 0))
+    if yellow.mean() < 0.002:
+        return "the mesh vanished after its edit"
+    _x, y = centroid(yellow)
+    log("yellow centroid y: %.1f -> %.1f; %s" % (state["yellow_y"], y, mesh_sync.cache_stats()))
+    if not y > state["yellow_y"] + 10:
+        return "mesh edit did not reach the viewport (stale cached mesh?)"
+    # Redrawn several times since, yet read and uploaded once for the edit.
+    if mesh_sync.cache_stats()["uploads"] != state["mesh_uploads"] + 1:
+        return "the edited mesh was read %d times" % (mesh_sync.cache_stats()["uploads"] - state["mesh_uploads"])
+    if engine.renderer().mesh_upload_count() - state["gpu_uploads"] != state["gpu_first"]:
+        return "the edited mesh was not uploaded exactly once"
+    return None
+
+
 def restyle():
     tree = bpy.data.collections["Red"].pointnpr_style
     setattr(nodes.mark_node(tree), nodes.property_identifier("color"), (0.0, 1.0, 0.0, 1.0))
@@ -259,6 +317,8 @@ STEPS = [
     ("initial", None, check_first),
     ("restyle", restyle, check_restyled),
     ("move", move_blue_points, check_moved),
+    ("mesh", add_yellow_mesh, check_mesh),
+    ("move mesh", move_yellow_mesh, check_mesh_moved),
 ]
 
 state = {"phase": "setup", "ticks": 0, "window": None, "area": None, "region": None,

@@ -277,6 +277,8 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
                 elif isinstance(id_, (bpy.types.Mesh,)) or \
                         (hasattr(bpy.types, "PointCloud") and isinstance(id_, bpy.types.PointCloud)):
                     sync.invalidate(id_.name)
+                elif isinstance(id_, (bpy.types.Material, bpy.types.Image)):
+                    sync.invalidate(id_.name)   # meshes coloured by it (blender/mesh_sync.py)
             if first:
                 # Geometry may have changed while another engine was active.
                 for obj in depsgraph.objects:

@@ -38,6 +38,7 @@ LEGACY_INPAINT_KEY = "pointnpr_inpaint_method"
 ROLE_OUTPUT = "output"
 
 POINTS_MARK = "points"        # the default mark: splats, what Rasterize was
+SURFACE_MARK = "mesh_surface"  # how a style draws meshes with faces (beside its point mark)
 LEGACY_RASTERIZE_IDNAME = "PointNPRRasterizeNode"
 # Parameters of the points mark that the legacy Rasterize node did not have,
 # and the legacy defaults that differ from the points mark's.
@@ -212,7 +213,8 @@ class _StyleNodeMixin:
         return ntree.bl_idname == TREE_IDNAME
 
     def init(self, context):
-        if self.pointnpr_role not in (ROLE_MARK, ROLE_RASTERIZE):
+        # Mesh Surface goes after the point mark (it draws beside it).
+        if self.pointnpr_role not in (ROLE_MARK, ROLE_RASTERIZE) or self.pointnpr_schema_id == SURFACE_MARK:
             self.inputs.new(SOCKET_IDNAME, "Image")
         if self.pointnpr_role != ROLE_OUTPUT:
             self.outputs.new(SOCKET_IDNAME, "Image")
@@ -476,9 +478,16 @@ def repoint_curves(tree, old_name, new_name, properties=None):
 def mark_node(tree):
     """The mark node of ``tree``'s chain (the first step), or None."""
     chain = style_chain(tree)
-    if chain and chain[0].pointnpr_role in (ROLE_MARK, ROLE_RASTERIZE):
+    if chain and chain[0].pointnpr_role in (ROLE_MARK, ROLE_RASTERIZE) and \
+            chain[0].pointnpr_schema_id != SURFACE_MARK:
         return chain[0]
     return None
+
+
+def surface_node(tree):
+    """The Mesh Surface node of ``tree``'s chain, or None."""
+    return next((n for n in style_chain(tree) if n.pointnpr_role == ROLE_MARK and
+                 n.pointnpr_schema_id == SURFACE_MARK), None)
 
 
 def set_node_values(node, values):
@@ -693,7 +702,10 @@ def read_style(tree, frame):
     for node in chain:
         role = node.pointnpr_role
         values = node_values(node, frame, curves)
-        if role == ROLE_MARK:
+        if role == ROLE_MARK and node.pointnpr_schema_id == SURFACE_MARK:
+            # How the segment's meshes are drawn, beside the point mark.
+            desc["surface"] = values
+        elif role == ROLE_MARK:
             desc["mark"] = (node.pointnpr_schema_id, values)
         elif role == ROLE_RASTERIZE:
             # Only left where a tree could not be migrated (linked from a
@@ -713,6 +725,8 @@ def make_core_style(desc):
     kwargs = {"mark": tuple(desc["mark"]), "filters": desc["filters"]}
     if desc.get("inpaint") is not None:
         kwargs["inpaint"] = desc["inpaint"]
+    if desc.get("surface") is not None:
+        kwargs["surface"] = desc["surface"]
     return _core().Style(**kwargs)
 
 

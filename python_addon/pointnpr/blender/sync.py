@@ -15,7 +15,7 @@ import zlib
 import bpy
 import numpy as np
 
-from . import nodes
+from . import mesh_sync, nodes
 
 
 _COLOR_TYPES = {'BYTE_COLOR', 'FLOAT_COLOR'}
@@ -224,6 +224,7 @@ def cache_stats():
 
 
 def clear_cache():
+    mesh_sync.clear_cache()
     _cloud_cache.clear()
     _stats["uploads"] = _stats["hits"] = 0
     del read_log[:]
@@ -232,6 +233,7 @@ def clear_cache():
 def invalidate(name):
     """Forget the clouds of object ``name`` (its mesh and any point cloud its
     modifiers make) or of objects using data ``name``."""
+    mesh_sync.invalidate(name)
     for key in [k for k, e in _cloud_cache.items() if k[1] == name or e.data_name == name]:
         del _cloud_cache[key]
 
@@ -243,6 +245,7 @@ def prune_cache(used=None):
     changed)."""
     names = set(bpy.data.objects.keys())
     used = set(used or ())
+    mesh_sync.prune_cache({k[1:] for k in used if k[0] == "TRIANGLES"}, names, {k[1] for k in used})
     used_objects = {k[:2] for k in used}
     for key in [k for k in _cloud_cache if k[1] not in names or (k[:2] in used_objects and k not in used)]:
         del _cloud_cache[key]
@@ -353,20 +356,24 @@ def scene_sun_direction(depsgraph):
 
 
 def _apply_scene_sun(desc, depsgraph, warnings, tree):
-    """A mark whose light_space is scene_sun takes its light direction
-    (world azimuth and elevation) from the scene's sun lamp."""
-    values = desc["mark"][1]
-    if values.get("light_space") != "scene_sun":
+    """A style where the mark or the Mesh Surface has light_space
+    scene_sun takes its light direction (world azimuth and elevation) from
+    the scene's sun lamp, for both (one switch per style: scans and meshes
+    lit alike)."""
+    surface = desc.get("surface") or {}
+    if "scene_sun" not in (desc["mark"][1].get("light_space"), surface.get("light_space")):
         return
     sun = scene_sun_direction(depsgraph)
     if sun is None:
         warnings.append("style '%s' takes its light from the scene's sun lamp, but the scene has none: its own "
                         "light direction is used" % getattr(tree, "name", "default"))
         return
-    values = dict(values)
-    values["light_azimuth"] = float(np.degrees(np.arctan2(sun[1], sun[0])))
-    values["light_elevation"] = float(np.degrees(np.arcsin(np.clip(sun[2], -1.0, 1.0))))
-    desc["mark"] = (desc["mark"][0], values)
+    light = {"light_space": "scene_sun",
+             "light_azimuth": float(np.degrees(np.arctan2(sun[1], sun[0]))),
+             "light_elevation": float(np.degrees(np.arcsin(np.clip(sun[2], -1.0, 1.0))))}
+    if "light_space" in desc["mark"][1]:
+        desc["mark"] = (desc["mark"][0], dict(desc["mark"][1], **light))
+    desc["surface"] = dict(surface, **light)
 
 
 def build_scene(depsgraph, frame, trust_cache=False):
@@ -397,8 +404,18 @@ def build_scene(depsgraph, frame, trust_cache=False):
             core_style = nodes.make_core_style(desc)
             style_cache[key] = (core_style, source_attributes(core_style))
         style, attributes = style_cache[key]
+        # Objects with faces go as meshes unless the style draws their
+        # vertices (meshes = points: read as clouds, as before meshes were).
+        as_meshes = style.surface["meshes"] != "points"
+        mesh_attributes = tuple(sorted(style.mesh_source_attributes))
         instances = []
         for obj, matrix in sorted(members[idx], key=lambda m: m[0].name):
+            if as_meshes and mesh_sync.has_faces(obj):
+                mesh = mesh_sync.mesh_for(obj, mesh_attributes, trust_cache=trust_cache)
+                used_keys.add(("TRIANGLES", obj.name, getattr(obj.data, "name", ""), mesh_attributes))
+                instances.append((mesh, matrix, obj.name))
+                result.num_objects += 1
+                continue
             cloud = cloud_for(obj, attributes, trust_cache=trust_cache)
             used_keys.add((obj.type, obj.name, attributes))
             # Named for the core's warnings: it reports each cause once per

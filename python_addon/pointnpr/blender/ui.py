@@ -100,7 +100,8 @@ class POINTNPR_OT_add_step(bpy.types.Operator):
 
 def _mark_items(_self, _context):
     items = [(cls.pointnpr_schema_id, cls.bl_label, cls.bl_description)
-             for cls in nodes.node_classes() if cls.pointnpr_role == nodes.ROLE_MARK]
+             for cls in nodes.node_classes()
+             if cls.pointnpr_role == nodes.ROLE_MARK and cls.pointnpr_schema_id != nodes.SURFACE_MARK]
     return items or [("", "None", "")]
 
 
