@@ -4,16 +4,20 @@
 // the file size before anything is allocated, so a corrupt header can only
 // produce a ReadError, never a huge allocation or an out-of-bounds read.
 // Point records are decoded column by column with the per-format offsets
-// fixed before each loop (no per-point dispatch).
+// fixed before each loop (no per-point dispatch). LAZ (LASzip) point data is
+// first decompressed into the same records (io/laz_reader.h), so both read
+// into the columns by the same code.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "io/laz_reader.h"
 #include "io/mapped_file.h"
 #include "io/readers.h"
 
@@ -27,9 +31,6 @@ constexpr size_t kEvlrHeaderSize = 60;
 constexpr size_t kExtraBytesDescriptorSize = 192;
 constexpr uint16_t kMinRecordLength[11] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
 
-const char* const kLazMessage =
-    "compressed LAZ is not supported; decompress it to LAS first "
-    "(e.g. with `pdal translate` or `las2las`)";
 
 // Byte offsets of the optional fields of each point format (-1 = absent).
 struct Layout {
@@ -99,6 +100,7 @@ class LasReader : private io::ReaderBase {
 
   std::string wkt_;
   int64_t epsg_ = 0;
+  std::optional<laz::LaszipVlr> laszip_;
   std::vector<ExtraField> extra_;
   size_t extra_descriptor_bytes_ = 0;
   bool have_extra_vlr_ = false;
@@ -106,7 +108,13 @@ class LasReader : private io::ReaderBase {
 
 void LasReader::parse_vlr(const std::string& user, uint16_t id, const uint8_t* payload,
                           uint64_t len, size_t at) {
-  if (user == "laszip encoded" && id == 22204) fail(kLazMessage, static_cast<int64_t>(at));
+  if (user == "laszip encoded" && id == 22204) {
+    try {
+      laszip_ = laz::parse_laszip_vlr(payload, len, static_cast<int64_t>(at + kVlrHeaderSize));
+    } catch (const laz::FormatError& e) {
+      fail(e.what(), e.offset);
+    }
+  }
   if (user == "LASF_Projection") {
     if (id == 2112) {
       std::string w = fixed_string(payload, static_cast<size_t>(len));
@@ -355,10 +363,8 @@ void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
 }
 
 PointData LasReader::read() {
-  const std::string ext = io::file_extension(path_);
   if (size_ == 0) fail("file is empty (0 bytes)");
   if (size_ < 4 || std::memcmp(d_, "LASF", 4) != 0) {
-    if (ext == ".laz") fail(kLazMessage);
     fail("not a LAS file: it does not start with the 'LASF' signature", 0);
   }
   if (size_ < 227)
@@ -387,8 +393,10 @@ PointData LasReader::read() {
   const uint16_t record_length = load_le<uint16_t>(d_ + 105);
   const uint32_t legacy_count = load_le<uint32_t>(d_ + 107);
 
-  if ((pf_byte & 0xC0) != 0 || ext == ".laz") fail(kLazMessage, 104);
-  const int pf = pf_byte;
+  // LASzip marks compressed files with bit 7 of the point format (bit 6 by
+  // some early writers); the LASzip VLR found below says how.
+  const bool compressed = (pf_byte & 0xC0) != 0;
+  const int pf = pf_byte & 0x3F;
   if (pf > 10)
     fail("unsupported point data record format " + std::to_string(pf) +
              " (LAS defines formats 0 to 10)",
@@ -455,9 +463,22 @@ PointData LasReader::read() {
     pos += kVlrHeaderSize + len;
   }
 
+  if (compressed && !laszip_)
+    fail("the point format byte (" + std::to_string(pf_byte) +
+             ") marks the points as compressed, but the file has no LASzip VLR",
+         104);
+  if (!compressed && laszip_) laszip_.reset();  // a stale VLR on plain LAS data
+  if (laszip_) {
+    try {
+      laz::check_items(*laszip_, pf, record_length);
+    } catch (const laz::FormatError& e) {
+      fail(e.what(), e.offset);
+    }
+  }
+
   // Point data.
   const uint64_t avail = size_ - point_offset;
-  if (count > avail / record_length) {
+  if (!laszip_ && count > avail / record_length) {
     // Overflow-safe: count * record_length would exceed what the file holds.
     const std::string need = count <= std::numeric_limits<uint64_t>::max() / record_length
                                  ? std::to_string(count * record_length)
@@ -475,7 +496,7 @@ PointData LasReader::read() {
     const uint64_t evlr_start = load_le<uint64_t>(d_ + 235);
     const uint32_t num_evlrs = load_le<uint32_t>(d_ + 243);
     if (num_evlrs > 0) {
-      const uint64_t points_end = point_offset + count * record_length;
+      const uint64_t points_end = laszip_ ? point_offset : point_offset + count * record_length;
       if (evlr_start < points_end || evlr_start > size_)
         fail("start of extended VLRs (byte " + std::to_string(evlr_start) +
                  ") is not between the end of the point data (byte " +
@@ -515,10 +536,33 @@ PointData LasReader::read() {
          " bytes beyond point format " + std::to_string(pf));
 
   PointData out;
-  decode_points(out, pf, record_length, count, d_ + point_offset, scale, offset);
+  if (laszip_) {
+    // The compressed bytes end at the first EVLR (LAS 1.4) or the file's end.
+    uint64_t data_end = size_;
+    if (vminor >= 4 && load_le<uint32_t>(d_ + 243) > 0) {
+      const uint64_t evlr_start = load_le<uint64_t>(d_ + 235);
+      if (evlr_start >= point_offset && evlr_start <= size_) data_end = evlr_start;
+    }
+    std::vector<uint8_t> records;
+    try {
+      records = laz::decompress(d_, size_, point_offset, data_end, count, record_length, *laszip_);
+    } catch (const laz::FormatError& e) {
+      fail(e.what(), e.offset);
+    }
+    decode_points(out, pf, record_length, count, records.data(), scale, offset);
+  } else {
+    decode_points(out, pf, record_length, count, d_ + point_offset, scale, offset);
+  }
 
   auto& md = out.metadata;
   md["format"] = std::string("las");
+  if (laszip_) {
+    md["compression"] = std::string("laszip");
+    md["laszip_compressor"] = static_cast<int64_t>(laszip_->compressor);
+    md["laszip_version"] = std::to_string(laszip_->version_major) + "." +
+                           std::to_string(laszip_->version_minor) + "r" +
+                           std::to_string(laszip_->revision);
+  }
   md["version"] = std::to_string(vmajor) + "." + std::to_string(vminor);
   md["point_format"] = static_cast<int64_t>(pf);
   md["point_record_length"] = static_cast<int64_t>(record_length);
