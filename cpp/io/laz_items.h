@@ -79,16 +79,23 @@ class GpsTime11V2 {
   IntegerDecompressor ic_gps_;
 };
 
+// Models of the version 2 colour coder (also used by the layered RGB14).
+struct RgbModels {
+  SymbolModel byte_used;
+  SymbolModel diff[6];
+  void init();
+};
+// Decodes the next colour given the last one, which it updates.
+void decode_rgb_v2(Decoder& dec, RgbModels& m, uint16_t last[3]);
+
 class Rgb12V2 {
  public:
-  Rgb12V2();
   void init(const uint8_t* first);
   void read(Decoder& dec, uint8_t* item);
 
  private:
   uint16_t last_[3];
-  SymbolModel byte_used_;
-  SymbolModel diff_[6];
+  RgbModels models_;
 };
 
 class BytesV2 {

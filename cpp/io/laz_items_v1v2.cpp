@@ -281,19 +281,27 @@ void GpsTime11V2::read(Decoder& dec, uint8_t* item) {
 
 // ------------------------------------------------------------------ RGB12 v2
 
-Rgb12V2::Rgb12V2() = default;
+void RgbModels::init() {
+  byte_used.init(128);
+  for (SymbolModel& m : diff) m.init(256);
+}
 
 void Rgb12V2::init(const uint8_t* first) {
-  byte_used_.init(128);
-  for (SymbolModel& m : diff_) m.init(256);
+  models_.init();
   for (int c = 0; c < 3; ++c) last_[c] = get<uint16_t>(first + 2 * c);
 }
 
 void Rgb12V2::read(Decoder& dec, uint8_t* item) {
+  decode_rgb_v2(dec, models_, last_);
+  for (int c = 0; c < 3; ++c) put<uint16_t>(item + 2 * c, last_[c]);
+}
+
+void decode_rgb_v2(Decoder& dec, RgbModels& models, uint16_t last_[3]) {
   // Bits of `used`: which bytes changed (0/1 red low/high, 2/3 green, 4/5
   // blue); bit 6: green and blue differ from red. Green and blue are
   // predicted from red's change.
-  const uint32_t used = dec.decode_symbol(byte_used_);
+  SymbolModel* diff_ = models.diff;
+  const uint32_t used = dec.decode_symbol(models.byte_used);
   uint16_t rgb[3];
   const int32_t l0 = last_[0] & 255, h0 = last_[0] >> 8;
   const int32_t l1 = last_[1] & 255, h1 = last_[1] >> 8;
@@ -333,10 +341,7 @@ void Rgb12V2::read(Decoder& dec, uint8_t* item) {
   } else {
     rgb[1] = rgb[2] = rgb[0];
   }
-  for (int c = 0; c < 3; ++c) {
-    last_[c] = rgb[c];
-    put<uint16_t>(item + 2 * c, rgb[c]);
-  }
+  for (int c = 0; c < 3; ++c) last_[c] = rgb[c];
 }
 
 // ---------------------------------------------------------------- POINT10 v1
