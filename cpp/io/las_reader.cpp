@@ -101,6 +101,9 @@ class LasReader : private io::ReaderBase {
   std::string wkt_;
   int64_t epsg_ = 0;
   std::optional<laz::LaszipVlr> laszip_;
+  const uint8_t* laszip_payload_ = nullptr;
+  uint64_t laszip_len_ = 0;
+  size_t laszip_at_ = 0;
   std::vector<ExtraField> extra_;
   size_t extra_descriptor_bytes_ = 0;
   bool have_extra_vlr_ = false;
@@ -109,11 +112,10 @@ class LasReader : private io::ReaderBase {
 void LasReader::parse_vlr(const std::string& user, uint16_t id, const uint8_t* payload,
                           uint64_t len, size_t at) {
   if (user == "laszip encoded" && id == 22204) {
-    try {
-      laszip_ = laz::parse_laszip_vlr(payload, len, static_cast<int64_t>(at + kVlrHeaderSize));
-    } catch (const laz::FormatError& e) {
-      fail(e.what(), e.offset);
-    }
+    // Parsed once the point format says the points are compressed.
+    laszip_payload_ = payload;
+    laszip_len_ = len;
+    laszip_at_ = at + kVlrHeaderSize;
   }
   if (user == "LASF_Projection") {
     if (id == 2112) {
@@ -463,13 +465,14 @@ PointData LasReader::read() {
     pos += kVlrHeaderSize + len;
   }
 
-  if (compressed && !laszip_)
+  if (compressed && !laszip_payload_)
     fail("the point format byte (" + std::to_string(pf_byte) +
              ") marks the points as compressed, but the file has no LASzip VLR",
          104);
-  if (!compressed && laszip_) laszip_.reset();  // a stale VLR on plain LAS data
-  if (laszip_) {
+  if (compressed) {  // a LASzip VLR on uncompressed points is a leftover: ignored
     try {
+      laszip_ = laz::parse_laszip_vlr(laszip_payload_, laszip_len_,
+                                      static_cast<int64_t>(laszip_at_));
       laz::check_items(*laszip_, pf, record_length);
     } catch (const laz::FormatError& e) {
       fail(e.what(), e.offset);

@@ -65,6 +65,7 @@ class Decoder {
   // Bytes consumed so far (the encoder writes exactly what the decoder reads).
   const uint8_t* position() const { return p_; }
   size_t overrun() const { return overrun_; }
+  size_t remaining() const { return static_cast<size_t>(end_ - p_); }
 
   uint32_t decode_bit(BitModel& m) {
     const uint32_t x = m.bit_0_prob * (length_ >> BitModel::kLengthShift);

@@ -542,7 +542,7 @@ class PointwiseDecoder final : public ChunkDecoder {
   bool self_delimiting() const override { return false; }
 
   uint64_t decode(const uint8_t* begin, const uint8_t* end, uint64_t points, uint64_t,
-                  uint8_t* out, const uint8_t** consumed) override {
+                  uint8_t* out, const uint8_t** consumed, bool check_end) override {
     if (points == 0) {
       *consumed = begin;
       return 0;
@@ -570,13 +570,20 @@ class PointwiseDecoder final : public ChunkDecoder {
                               std::to_string(points) + " points (truncated or corrupt)",
                           -1);
     }
+    // A valid stream ends exactly where the encoder stopped; a corrupt one
+    // drifts and ends elsewhere (or with a chunk table that lies about it).
+    if (dec.overrun() != 0 || (check_end && dec.remaining() != 0))
+      throw FormatError("its compressed data does not end where the chunk does (" +
+                            std::to_string(dec.remaining()) + " bytes left, " +
+                            std::to_string(dec.overrun()) + " read past)",
+                        -1);
     *consumed = dec.position();
     return points;
   }
 
  private:
-  // The decoder reads 4 bytes ahead of what it has used; a stream cut short
-  // shows up as reads past the chunk's end.
+  // Reads past the chunk's end show a stream cut short; the encoder's
+  // closing bytes make a valid stream end exactly at its chunk's end.
   static constexpr size_t kOverrunSlack = 4;
   size_t rl_;
   P10 p10_;

@@ -463,7 +463,7 @@ class LayeredDecoder final : public ChunkDecoder {
   bool self_delimiting() const override { return true; }
 
   uint64_t decode(const uint8_t* begin, const uint8_t* end, uint64_t points, uint64_t max_points,
-                  uint8_t* out, const uint8_t** consumed) override {
+                  uint8_t* out, const uint8_t** consumed, bool check_end) override {
     const uint8_t* p = begin;
     auto need = [&](size_t bytes, const char* what) {
       if (static_cast<size_t>(end - p) < bytes)
@@ -527,14 +527,19 @@ class LayeredDecoder final : public ChunkDecoder {
       if (bytes_) bytes_->read(rec + bytes_at_, channel);
     }
     for (auto& [layer, size] : sizes)
-      if (layer->present && layer->dec.overrun() > kOverrunSlack)
-        throw FormatError("a layer's data ends before its last point (truncated or corrupt)", -1);
+      if (layer->present &&
+          (layer->dec.overrun() != 0 || layer->dec.remaining() != 0))
+        throw FormatError("a layer's compressed data does not end where the layer does "
+                          "(truncated or corrupt)",
+                          -1);
+    if (check_end && p != end)
+      throw FormatError("its layers end " + std::to_string(end - p) +
+                            " bytes before the chunk does", -1);
     *consumed = p;
     return count;
   }
 
  private:
-  static constexpr size_t kOverrunSlack = 4;
   size_t rl_;
   Point14 p14_;
   std::optional<Rgb14> rgb_;

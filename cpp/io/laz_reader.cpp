@@ -217,7 +217,7 @@ std::vector<uint8_t> decompress(const uint8_t* d, size_t file_size, uint64_t poi
     auto dec = make_decoder();
     const uint8_t* end = nullptr;
     try {
-      dec->decode(d + point_offset, d + data_end, count, count, raw.data(), &end);
+      dec->decode(d + point_offset, d + data_end, count, count, raw.data(), &end, false);
     } catch (const FormatError& e) {
       throw FormatError("LAZ point data is corrupt: " + std::string(e.what()),
                         static_cast<int64_t>(point_offset));
@@ -292,7 +292,7 @@ std::vector<uint8_t> decompress(const uint8_t* d, size_t file_size, uint64_t poi
         const uint8_t* begin = d + table->start[i];
         auto& dec = decoders.local();
         const uint64_t got = dec->decode(begin, begin + table->bytes[i], pts, pts,
-                                         raw.data() + first_point[i] * rl, &end);
+                                         raw.data() + first_point[i] * rl, &end, true);
         if (got != pts)
           throw FormatError("it holds " + std::to_string(got) + " points instead of " +
                                 std::to_string(pts),
@@ -336,7 +336,7 @@ std::vector<uint8_t> decompress(const uint8_t* d, size_t file_size, uint64_t poi
     uint64_t got = 0;
     try {
       got = dec->decode(d + at, d + chunks_end, dec->self_delimiting() ? 0 : want, want,
-                        raw.data() + done * rl, &end);
+                        raw.data() + done * rl, &end, false);
     } catch (const FormatError& e) {
       throw FormatError(chunk_error(i, at, e.what()), static_cast<int64_t>(at));
     }

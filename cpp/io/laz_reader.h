@@ -52,9 +52,12 @@ class ChunkDecoder {
   // chunk table or chunk size implies (0: unknown, the chunk's own count is
   // used, up to `max_points`). Writes the records to `out` (room for
   // max_points records) and returns the number decoded; `*consumed` is set
-  // to the end of the chunk's bytes. Throws FormatError on corrupt data.
+  // to the end of the chunk's bytes. `exact_end`: `end` is the chunk's end
+  // (from the chunk table), which its data must reach exactly. Throws
+  // FormatError on corrupt data.
   virtual uint64_t decode(const uint8_t* begin, const uint8_t* end, uint64_t points,
-                          uint64_t max_points, uint8_t* out, const uint8_t** consumed) = 0;
+                          uint64_t max_points, uint8_t* out, const uint8_t** consumed,
+                          bool exact_end) = 0;
   // Whether a chunk knows its own point count and byte size (layered).
   virtual bool self_delimiting() const = 0;
 };
