@@ -18,7 +18,7 @@ root=$PWD
 secs=${FUZZ_SECONDS:-}
 runs=${FUZZ_RUNS:-100000}
 formats=("$@")
-((${#formats[@]})) || formats=(las ply pcd text roundtrip)
+((${#formats[@]})) || formats=(las laz ply pcd text roundtrip)
 
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DPOINTNPR_FUZZ=ON -DPOINTNPR_BUILD_TESTS=OFF -DPOINTNPR_BUILD_BENCH=OFF >/dev/null
@@ -29,6 +29,7 @@ seed_files() {
   local names
   case $1 in
     las) names=(-name '*.las' -o -name '*.laz') ;;
+    laz) names=(-name '*.laz') ;;
     ply | roundtrip) names=(-name '*.ply') ;;
     pcd) names=(-name '*.pcd') ;;
     text) names=(-name '*.xyz' -o -name '*.pts' -o -name '*.txt' -o -name '*.csv' -o -name '*.asc') ;;

@@ -164,3 +164,14 @@ def test_unknown_item_version_is_named(tmp_path):
     with pytest.raises(pointnpr.ReadError) as info:
         pointnpr.read(corrupt(tmp_path, "laspy_autzen_trim.laz", bump_version))
     assert "POINT10 version 7" in str(info.value)
+
+
+def test_read_reports_progress_by_chunk_and_stops_when_cancelled():
+    progress = pointnpr.Progress()
+    data = pointnpr.read(str(LAZ / "pdal_lone-star-split-1.laz"), progress=progress)  # 3 chunks
+    assert data.num_points == 122893
+    assert progress.fraction == 1.0
+    cancelled = pointnpr.Progress()
+    cancelled.cancel()
+    with pytest.raises(pointnpr.Cancelled):
+        pointnpr.read(str(LAZ / "pdal_lone-star-split-1.laz"), progress=cancelled)
