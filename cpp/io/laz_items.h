@@ -21,7 +21,56 @@ namespace pointnpr::laz {
 struct Median5 {
   int32_t v[5] = {0, 0, 0, 0, 0};
   bool high = true;
-  void add(int32_t x);
+  // Inserts x, dropping the oldest extreme (alternately the high or low end).
+  void add(int32_t x) {
+    if (high) {
+      if (x < v[2]) {
+        v[4] = v[3];
+        v[3] = v[2];
+        if (x < v[0]) {
+          v[2] = v[1];
+          v[1] = v[0];
+          v[0] = x;
+        } else if (x < v[1]) {
+          v[2] = v[1];
+          v[1] = x;
+        } else {
+          v[2] = x;
+        }
+      } else {
+        if (x < v[3]) {
+          v[4] = v[3];
+          v[3] = x;
+        } else {
+          v[4] = x;
+        }
+        high = false;
+      }
+    } else {
+      if (v[2] < x) {
+        v[0] = v[1];
+        v[1] = v[2];
+        if (v[4] < x) {
+          v[2] = v[3];
+          v[3] = v[4];
+          v[4] = x;
+        } else if (v[3] < x) {
+          v[2] = v[3];
+          v[3] = x;
+        } else {
+          v[2] = x;
+        }
+      } else {
+        if (v[1] < x) {
+          v[0] = v[1];
+          v[1] = x;
+        } else {
+          v[0] = x;
+        }
+        high = true;
+      }
+    }
+  }
   int32_t get() const { return v[2]; }
 };
 
