@@ -15,6 +15,7 @@
 #include <exception>
 #include <optional>
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -199,44 +200,54 @@ void check_items(const LaszipVlr& v, int pf, size_t rl) {
                       105);
 }
 
-std::vector<uint8_t> decompress(const uint8_t* d, size_t file_size, uint64_t point_offset,
-                                uint64_t data_end, uint64_t count, size_t rl,
-                                const LaszipVlr& vlr) {
-  std::vector<uint8_t> raw;
-  if (count == 0) return raw;
+void decompress(const uint8_t* d, size_t file_size, uint64_t point_offset, uint64_t data_end,
+                uint64_t count, size_t rl, const LaszipVlr& vlr, const std::function<void()>& ready,
+                const ChunkSink& sink) {
+  if (count == 0) return;
   Progress* progress = current_progress();
   if (progress) progress->expect(count);
 
   auto make_decoder = [&]() {
     return vlr.compressor == 3 ? make_layered_decoder(vlr, rl) : make_pointwise_decoder(vlr, rl);
   };
-
-  if (vlr.compressor == 1) {
-    // One stream for all points, no chunks.
-    raw.resize(count * rl);
-    auto dec = make_decoder();
-    const uint8_t* end = nullptr;
-    try {
-      dec->decode(d + point_offset, d + data_end, count, count, raw.data(), &end, false);
-    } catch (const FormatError& e) {
-      throw FormatError("LAZ point data is corrupt: " + std::string(e.what()),
-                        static_cast<int64_t>(point_offset));
-    }
-    if (progress) progress->advance(count);
-    return raw;
-  }
-
-  if (data_end - point_offset < 8)
+  const uint64_t first_chunk = vlr.compressor == 1 ? point_offset : point_offset + 8;
+  if (data_end < first_chunk)
     throw FormatError("LAZ point data is truncated: no room for the chunk table offset",
                       static_cast<int64_t>(point_offset));
-  const uint64_t first_chunk = point_offset + 8;
-  int64_t table_at = get<int64_t>(d + point_offset);
+  int64_t table_at = vlr.compressor == 1 ? 0 : get<int64_t>(d + point_offset);
   if (table_at == -1 && file_size >= 8) table_at = get<int64_t>(d + file_size - 8);
   std::optional<ChunkTable> table;
   if (table_at > 0)
     table = read_chunk_table(d, static_cast<uint64_t>(table_at), first_chunk, data_end, file_size,
                              vlr.chunk_size, rl);
   const uint64_t chunks_end = table ? static_cast<uint64_t>(table_at) : data_end;
+  // LAZ shrinks points some 5 to 20 times; a count needing over 1000 times
+  // the compressed bytes is a corrupt header, not a file to allocate for
+  // (the caller allocates its columns for `count` points).
+  if (count / 1000 > (chunks_end - first_chunk) / rl + 1)
+    throw FormatError("the header declares " + std::to_string(count) + " points of " +
+                          std::to_string(rl) + " bytes, implausibly many for " +
+                          std::to_string(chunks_end - first_chunk) + " bytes of LAZ data",
+                      static_cast<int64_t>(point_offset));
+
+  if (vlr.compressor == 1) {
+    // One stream for all points, no chunks: decoded in pieces of a chunk's
+    // size, handed to the sink as they come.
+    std::vector<uint8_t> buf;
+    auto dec = make_decoder();
+    const uint8_t* end = nullptr;
+    ready();
+    try {
+      io::resize_fresh(buf, count * rl);
+      dec->decode(d + first_chunk, d + chunks_end, count, count, buf.data(), &end, false);
+    } catch (const FormatError& e) {
+      throw FormatError("LAZ point data is corrupt: " + std::string(e.what()),
+                        static_cast<int64_t>(point_offset));
+    }
+    sink(0, buf.data(), count);
+    if (progress) progress->advance(count);
+    return;
+  }
 
   if (table) {
     // Points per chunk: from the table (variable), the chunk size (fixed),
@@ -271,37 +282,40 @@ std::vector<uint8_t> decompress(const uint8_t* d, size_t file_size, uint64_t poi
                           static_cast<int64_t>(table->start[i]));
       first_point[i + 1] = first_point[i] + table->points[i];
     }
-    // LAZ shrinks points some 5 to 20 times; a count needing over 1000 times
-    // the compressed bytes is a corrupt header, not a file to allocate for.
-    if (count / 1000 > (chunks_end - first_chunk) / rl + 1)
-      throw FormatError("the header declares " + std::to_string(count) + " points of " +
-                            std::to_string(rl) + " bytes, implausibly many for " +
-                            std::to_string(chunks_end - first_chunk) + " bytes of LAZ data",
-                        static_cast<int64_t>(point_offset));
-    raw.resize(count * rl);
-    tbb::enumerable_thread_specific<std::unique_ptr<ChunkDecoder>> decoders(make_decoder);
+    ready();
+    // Each thread decodes a chunk into its own buffer (a chunk's records fit
+    // in cache) and hands it to the sink at once.
+    struct Worker {
+      std::unique_ptr<ChunkDecoder> decoder;
+      std::vector<uint8_t> records;
+    };
+    tbb::enumerable_thread_specific<Worker> workers([&] { return Worker{make_decoder(), {}}; });
     // Errors are collected per chunk and the first one reported, so the
     // message does not depend on thread timing.
     std::vector<std::string> errors(n);
-    tbb::parallel_for(size_t{0}, n, [&](size_t i) {
-      try {
-        if (progress) progress->check();
-        const uint64_t pts = table->points[i];
-        if (pts == 0) return;
-        const uint8_t* end = nullptr;
-        const uint8_t* begin = d + table->start[i];
-        auto& dec = decoders.local();
-        const uint64_t got = dec->decode(begin, begin + table->bytes[i], pts, pts,
-                                         raw.data() + first_point[i] * rl, &end, true);
-        if (got != pts)
-          throw FormatError("it holds " + std::to_string(got) + " points instead of " +
-                                std::to_string(pts),
-                            -1);
-        if (progress) progress->advance(pts);
-      } catch (const FormatError& e) {
-        errors[i] = e.what();
-      } catch (const Cancelled&) {
-        errors[i] = "\x01";
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        try {
+          if (progress) progress->check();
+          const uint64_t pts = table->points[i];
+          if (pts == 0) continue;
+          Worker& w = workers.local();
+          if (w.records.size() < pts * rl) w.records.resize(pts * rl);
+          const uint8_t* end = nullptr;
+          const uint8_t* begin = d + table->start[i];
+          const uint64_t got = w.decoder->decode(begin, begin + table->bytes[i], pts, pts,
+                                                 w.records.data(), &end, true);
+          if (got != pts)
+            throw FormatError("it holds " + std::to_string(got) + " points instead of " +
+                                  std::to_string(pts),
+                              -1);
+          sink(first_point[i], w.records.data(), pts);
+          if (progress) progress->advance(pts);
+        } catch (const FormatError& e) {
+          errors[i] = e.what();
+        } catch (const Cancelled&) {
+          errors[i] = "\x01";
+        }
       }
     });
     for (size_t i = 0; i < n; ++i) {
@@ -310,7 +324,7 @@ std::vector<uint8_t> decompress(const uint8_t* d, size_t file_size, uint64_t poi
       throw FormatError(chunk_error(i, table->start[i], errors[i]),
                         static_cast<int64_t>(table->start[i]));
     }
-    return raw;
+    return;
   }
 
   // No usable chunk table: decode the chunks one after the other, each
@@ -319,9 +333,10 @@ std::vector<uint8_t> decompress(const uint8_t* d, size_t file_size, uint64_t poi
     throw FormatError("LAZ file has variable-size chunks but no readable chunk table",
                       static_cast<int64_t>(point_offset));
   auto dec = make_decoder();
+  std::vector<uint8_t> buf;
+  ready();
   uint64_t done = 0;
   uint64_t at = first_chunk;
-  const uint64_t max_chunk = vlr.chunk_size == kVariableChunks ? count : vlr.chunk_size;
   for (size_t i = 0; done < count; ++i) {
     if (progress) progress->check();
     if (at >= chunks_end)
@@ -329,24 +344,38 @@ std::vector<uint8_t> decompress(const uint8_t* d, size_t file_size, uint64_t poi
                             std::to_string(count) + " points, the data ends after " +
                             std::to_string(done) + " (no chunk table was found)",
                         static_cast<int64_t>(at));
-    const uint64_t want = std::min<uint64_t>(max_chunk, count - done);
-    // Grow with the data actually decoded, not with the declared count.
-    raw.resize((done + want) * rl);
+    uint64_t want = count - done;
+    if (vlr.chunk_size != kVariableChunks) want = std::min<uint64_t>(want, vlr.chunk_size);
+    // A layered chunk states its count after its first point: the buffer
+    // need hold no more (and the decoder checks the count against it).
+    if (dec->self_delimiting() && chunks_end - at >= rl + 4)
+      want = std::min<uint64_t>(want, std::max<uint32_t>(get<uint32_t>(d + at + rl), 1));
+    if (buf.size() < want * rl) buf.resize(want * rl);
     const uint8_t* end = nullptr;
     uint64_t got = 0;
     try {
       got = dec->decode(d + at, d + chunks_end, dec->self_delimiting() ? 0 : want, want,
-                        raw.data() + done * rl, &end, false);
+                        buf.data(), &end, false);
     } catch (const FormatError& e) {
       throw FormatError(chunk_error(i, at, e.what()), static_cast<int64_t>(at));
     }
     if (got == 0)
       throw FormatError(chunk_error(i, at, "it holds no points"), static_cast<int64_t>(at));
+    sink(done, buf.data(), got);
     done += got;
     at = static_cast<uint64_t>(end - d);
     if (progress) progress->advance(got);
   }
-  raw.resize(count * rl);
+}
+
+std::vector<uint8_t> decompress(const uint8_t* d, size_t file_size, uint64_t point_offset,
+                                uint64_t data_end, uint64_t count, size_t rl,
+                                const LaszipVlr& vlr) {
+  std::vector<uint8_t> raw;
+  decompress(d, file_size, point_offset, data_end, count, rl, vlr, [&] { raw.resize(count * rl); },
+             [&](uint64_t first, const uint8_t* records, uint64_t n) {
+               std::memcpy(raw.data() + first * rl, records, n * rl);
+             });
   return raw;
 }
 

@@ -4,6 +4,7 @@
 // turns into columns exactly as it does for a .las file.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -65,10 +66,22 @@ class ChunkDecoder {
 std::unique_ptr<ChunkDecoder> make_pointwise_decoder(const LaszipVlr& vlr, size_t record_length);
 std::unique_ptr<ChunkDecoder> make_layered_decoder(const LaszipVlr& vlr, size_t record_length);
 
-// Decompresses `count` records of `record_length` bytes. `file` is the
-// whole file; the point data starts at `point_offset` and the compressed
-// bytes end at or before `data_end` (the first EVLR or the file's end).
-// Reports progress per chunk to the calling thread's Progress (if any).
+// Receives decoded records [first, first + count) of the file; called from
+// several threads at once (for different ranges) while chunks decode.
+using ChunkSink = std::function<void(uint64_t first, const uint8_t* records, uint64_t count)>;
+
+// Decompresses `count` records of `record_length` bytes and hands them to
+// `sink` chunk by chunk. `file` is the whole file; the point data starts at
+// `point_offset` and the compressed bytes end at or before `data_end` (the
+// first EVLR or the file's end). Reports progress per chunk to the calling
+// thread's Progress (if any) and stops at its cancel (Cancelled). Every
+// count, size and offset is checked before use: FormatError otherwise.
+// `ready` is called once the counts have been checked against the chunk
+// table and the file, before the first record: the moment to allocate.
+void decompress(const uint8_t* file, size_t file_size, uint64_t point_offset, uint64_t data_end,
+                uint64_t count, size_t record_length, const LaszipVlr& vlr,
+                const std::function<void()>& ready, const ChunkSink& sink);
+// The same into one buffer of count * record_length bytes.
 std::vector<uint8_t> decompress(const uint8_t* file, size_t file_size, uint64_t point_offset,
                                 uint64_t data_end, uint64_t count, size_t record_length,
                                 const LaszipVlr& vlr);
