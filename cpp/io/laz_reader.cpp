@@ -189,6 +189,23 @@ void check_items(const LaszipVlr& v, int pf, size_t rl) {
   }
   if (v.items.empty() || (v.items[0].type != kPoint10 && v.items[0].type != kPoint14))
     throw FormatError("LAZ items do not start with POINT10 or POINT14", -1);
+  // The decoders read the items in LASzip's order: point, GPS time (in
+  // POINT14), colour (with NIR), wave packet, extra bytes; each once.
+  auto rank = [](uint16_t type) {
+    switch (type) {
+      case kPoint10: case kPoint14: return 0;
+      case kGpsTime11: return 1;
+      case kRgb12: case kRgb14: case kRgbNir14: return 2;
+      case kWavePacket13: case kWavePacket14: return 3;
+      default: return 4;
+    }
+  };
+  for (size_t i = 1; i < v.items.size(); ++i)
+    if (rank(v.items[i].type) <= rank(v.items[i - 1].type))
+      throw FormatError("LAZ item " + item_name(v.items[i].type) + " comes after " +
+                            item_name(v.items[i - 1].type) +
+                            ", out of LASzip's order (or twice)",
+                        -1);
   if ((pf >= 6) != (v.items[0].type == kPoint14))
     throw FormatError("LAZ item " + item_name(v.items[0].type) + " does not match point format " +
                           std::to_string(pf),
@@ -215,11 +232,22 @@ void decompress(const uint8_t* d, size_t file_size, uint64_t point_offset, uint6
     throw FormatError("LAZ point data is truncated: no room for the chunk table offset",
                       static_cast<int64_t>(point_offset));
   int64_t table_at = vlr.compressor == 1 ? 0 : get<int64_t>(d + point_offset);
-  if (table_at == -1 && file_size >= 8) table_at = get<int64_t>(d + file_size - 8);
   std::optional<ChunkTable> table;
-  if (table_at > 0)
+  if (table_at == -1 && file_size >= 8) {
+    // A streaming writer's table pointer, in the file's last 8 bytes; if
+    // those hold something else (an EVLR), the chunks are scanned instead.
+    table_at = get<int64_t>(d + file_size - 8);
+    try {
+      if (table_at > 0)
+        table = read_chunk_table(d, static_cast<uint64_t>(table_at), first_chunk, data_end,
+                                 file_size, vlr.chunk_size, rl);
+    } catch (const FormatError&) {
+      table.reset();
+    }
+  } else if (table_at > 0) {
     table = read_chunk_table(d, static_cast<uint64_t>(table_at), first_chunk, data_end, file_size,
                              vlr.chunk_size, rl);
+  }
   const uint64_t chunks_end = table ? static_cast<uint64_t>(table_at) : data_end;
   // LAZ shrinks points some 5 to 20 times; a count needing over 1000 times
   // the compressed bytes is a corrupt header, not a file to allocate for
