@@ -6,7 +6,7 @@
 #
 #   scripts/fuzz_smoke.sh                 # CI: a fixed, reproducible run per target
 #   FUZZ_SECONDS=600 scripts/fuzz_smoke.sh las ply   # a longer, random campaign
-#   (the laz target's smoke run does FUZZ_RUNS_LAZ inputs, default 6000, of
+#   (the laz target's smoke run does FUZZ_RUNS_LAZ inputs, default 2000, of
 #   at most 16 KB)
 #
 # The smoke run (used by scripts/test.sh) is deterministic: fixed seed, fixed
@@ -52,7 +52,7 @@ for f in "${formats[@]}"; do
     limit=(-seed=1 -runs="$runs")
     # LAZ inputs decode thousands of points each (some 20 ms under the
     # sanitizers): fewer, shorter inputs keep the smoke run near a minute.
-    [[ $f == laz ]] && limit=(-seed=1 -runs="${FUZZ_RUNS_LAZ:-6000}")
+    [[ $f == laz ]] && limit=(-seed=1 -runs="${FUZZ_RUNS_LAZ:-2000}")
   else
     limit=(-max_total_time="$secs")
   fi
