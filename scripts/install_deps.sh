@@ -13,7 +13,23 @@ packages=(
 if [[ "${1:-}" == "--tests" ]]; then
   packages+=(libgtest-dev libgmock-dev googletest libbenchmark-dev python3-pytest xvfb xauth glslang-tools)
   packages+=(clang libclang-rt-14-dev)  # scripts/fuzz_smoke.sh (libFuzzer)
+  packages+=(python3-venv)  # .venv-test: the test oracles of tests/requirements.txt
 fi
+
+# Test oracles from PyPI (laspy + lazrs for LAZ), never run-time dependencies:
+# a venv over Debian's python3 that still sees its numpy and pytest.
+test_venv() {
+  [[ "${1:-}" == "--tests" ]] || return 0
+  local root
+  root="$(cd "$(dirname "$0")/.." && pwd)"
+  if [[ ! -x "$root/.venv-test/bin/python" ]]; then
+    /usr/bin/python3 -m venv --system-site-packages "$root/.venv-test"
+  fi
+  if ! "$root/.venv-test/bin/python" -m pip install -q -r "$root/tests/requirements.txt"; then
+    echo "install_deps: pip install -r tests/requirements.txt failed" >&2
+    return 1
+  fi
+}
 
 missing=()
 for p in "${packages[@]}"; do
@@ -21,6 +37,7 @@ for p in "${packages[@]}"; do
 done
 if ((${#missing[@]} == 0)); then
   echo "install_deps: all ${#packages[@]} packages present"
+  test_venv "${1:-}"
   exit 0
 fi
 
@@ -30,3 +47,4 @@ echo "install_deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+test_venv "${1:-}"

@@ -19,7 +19,9 @@ run() {
 export POINTNPR_BUILD_DIR=$root/build
 # The module is built for Debian's python3 (Blender's); a pyenv/conda python3
 # earlier on PATH could not import it.
-python=${POINTNPR_PYTHON:-/usr/bin/python3}
+# .venv-test (scripts/install_deps.sh --tests) is that python3 plus the test
+# oracles (tests/requirements.txt), seeing Debian's numpy and pytest.
+python=${POINTNPR_PYTHON:-$root/.venv-test/bin/python}
 run "C++ tests (ctest)" ctest --test-dir build --output-on-failure -j2
 run "Python tests (pytest)" "$python" -m pytest -q tests/python
 run "C++ tests under ASan + UBSan (readers with leak checks)" bash scripts/sanitize_tests.sh

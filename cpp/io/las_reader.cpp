@@ -4,16 +4,21 @@
 // the file size before anything is allocated, so a corrupt header can only
 // produce a ReadError, never a huge allocation or an out-of-bounds read.
 // Point records are decoded column by column with the per-format offsets
-// fixed before each loop (no per-point dispatch).
+// fixed before each loop (no per-point dispatch). LAZ (LASzip) point data is
+// first decompressed into the same records (io/laz_reader.h), so both read
+// into the columns by the same code.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "io/laz_reader.h"
 #include "io/mapped_file.h"
 #include "io/readers.h"
 
@@ -27,9 +32,6 @@ constexpr size_t kEvlrHeaderSize = 60;
 constexpr size_t kExtraBytesDescriptorSize = 192;
 constexpr uint16_t kMinRecordLength[11] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
 
-const char* const kLazMessage =
-    "compressed LAZ is not supported; decompress it to LAS first "
-    "(e.g. with `pdal translate` or `las2las`)";
 
 // Byte offsets of the optional fields of each point format (-1 = absent).
 struct Layout {
@@ -77,6 +79,21 @@ struct ExtraField {
   double add[3] = {0, 0, 0};
 };
 
+// Output columns of the standard fields; null where the format lacks them.
+struct Columns {
+  double* pos;
+  float* intensity;
+  uint8_t* return_number;
+  uint8_t* number_of_returns;
+  uint8_t* classification;
+  uint8_t* user_data;
+  float* scan_angle;
+  uint16_t* point_source_id;
+  double* gps_time;
+  uint8_t* colors;
+  uint16_t* nir;
+};
+
 constexpr size_t kBaseTypeSize[11] = {0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
 
 class LasReader : private io::ReaderBase {
@@ -93,12 +110,23 @@ class LasReader : private io::ReaderBase {
   void parse_geokeys(const uint8_t* payload, uint64_t len);
   void decode_points(PointData& out, int pf, size_t record_length, uint64_t n,
                      const uint8_t* base, const double scale[3], const double offset[3]);
-  void decode_extra(PointData& out, const ExtraField& f, size_t record_length, uint64_t n,
-                    const uint8_t* base);
+  std::function<void(uint64_t, uint64_t, const uint8_t*)> prepare_extra(PointData& out,
+                                                                         const ExtraField& f,
+                                                                         size_t record_length);
+  Columns allocate_columns(PointData& out, int pf, uint64_t n);
+  std::vector<std::function<void(uint64_t, uint64_t, const uint8_t*)>> prepare_extras(
+      PointData& out, int pf, size_t record_length);
+  void decode_laz_points(PointData& out, int pf, size_t record_length, uint64_t n,
+                         const double scale[3], const double offset[3], uint64_t point_offset,
+                         uint64_t data_end);
 
 
   std::string wkt_;
   int64_t epsg_ = 0;
+  std::optional<laz::LaszipVlr> laszip_;
+  const uint8_t* laszip_payload_ = nullptr;
+  uint64_t laszip_len_ = 0;
+  size_t laszip_at_ = 0;
   std::vector<ExtraField> extra_;
   size_t extra_descriptor_bytes_ = 0;
   bool have_extra_vlr_ = false;
@@ -106,7 +134,12 @@ class LasReader : private io::ReaderBase {
 
 void LasReader::parse_vlr(const std::string& user, uint16_t id, const uint8_t* payload,
                           uint64_t len, size_t at) {
-  if (user == "laszip encoded" && id == 22204) fail(kLazMessage, static_cast<int64_t>(at));
+  if (user == "laszip encoded" && id == 22204) {
+    // Parsed once the point format says the points are compressed.
+    laszip_payload_ = payload;
+    laszip_len_ = len;
+    laszip_at_ = at + kVlrHeaderSize;
+  }
   if (user == "LASF_Projection") {
     if (id == 2112) {
       std::string w = fixed_string(payload, static_cast<size_t>(len));
@@ -185,65 +218,57 @@ void LasReader::parse_extra_bytes(const uint8_t* p, uint64_t len, size_t at) {
   extra_descriptor_bytes_ = offset;
 }
 
+// Fills records [begin, end) (the first at `first`) of an extra bytes field.
+using ExtraFill = std::function<void(uint64_t begin, uint64_t end, const uint8_t* first)>;
+
 template <class T>
-void decode_extra_typed(PointData& out, const ExtraField& f, size_t rl, uint64_t n,
-                        const uint8_t* base, const std::string& name) {
+ExtraFill prepare_extra_typed(PointData& out, const ExtraField& f, size_t rl,
+                              const std::string& name) {
   const int comps = f.components;
   if (f.scaled) {
-    auto& v = out.add<double>(name, comps);
-    for (uint64_t i = 0; i < n; ++i) {
-      const uint8_t* r = base + i * rl + f.offset;
-      for (int c = 0; c < comps; ++c)
-        v[i * comps + c] =
-            static_cast<double>(load_le<T>(r + c * sizeof(T))) * f.scale[c] + f.add[c];
-    }
-  } else {
-    auto& v = out.add<T>(name, comps);
-    for (uint64_t i = 0; i < n; ++i) {
-      const uint8_t* r = base + i * rl + f.offset;
+    double* v = out.add<double>(name, comps).data();
+    return [v, f, rl, comps](uint64_t begin, uint64_t end, const uint8_t* first) {
+      for (uint64_t i = begin; i < end; ++i) {
+        const uint8_t* r = first + (i - begin) * rl + f.offset;
+        for (int c = 0; c < comps; ++c)
+          v[i * comps + c] =
+              static_cast<double>(load_le<T>(r + c * sizeof(T))) * f.scale[c] + f.add[c];
+      }
+    };
+  }
+  T* v = out.add<T>(name, comps).data();
+  return [v, f, rl, comps](uint64_t begin, uint64_t end, const uint8_t* first) {
+    for (uint64_t i = begin; i < end; ++i) {
+      const uint8_t* r = first + (i - begin) * rl + f.offset;
       for (int c = 0; c < comps; ++c) v[i * comps + c] = load_le<T>(r + c * sizeof(T));
     }
-  }
+  };
 }
 
-void LasReader::decode_extra(PointData& out, const ExtraField& f, size_t rl, uint64_t n,
-                             const uint8_t* base) {
+ExtraFill LasReader::prepare_extra(PointData& out, const ExtraField& f, size_t rl) {
   std::string name = f.name;
   while (out.has(name)) name = "extra_" + name;
   switch (f.base_type) {
-    case 1: decode_extra_typed<uint8_t>(out, f, rl, n, base, name); break;
-    case 2: decode_extra_typed<int8_t>(out, f, rl, n, base, name); break;
-    case 3: decode_extra_typed<uint16_t>(out, f, rl, n, base, name); break;
-    case 4: decode_extra_typed<int16_t>(out, f, rl, n, base, name); break;
-    case 5: decode_extra_typed<uint32_t>(out, f, rl, n, base, name); break;
-    case 6: decode_extra_typed<int32_t>(out, f, rl, n, base, name); break;
-    case 7: decode_extra_typed<uint64_t>(out, f, rl, n, base, name); break;
-    case 8: decode_extra_typed<int64_t>(out, f, rl, n, base, name); break;
-    case 9: decode_extra_typed<float>(out, f, rl, n, base, name); break;
-    case 10: decode_extra_typed<double>(out, f, rl, n, base, name); break;
-    default: break;
+    case 1: return prepare_extra_typed<uint8_t>(out, f, rl, name);
+    case 2: return prepare_extra_typed<int8_t>(out, f, rl, name);
+    case 3: return prepare_extra_typed<uint16_t>(out, f, rl, name);
+    case 4: return prepare_extra_typed<int16_t>(out, f, rl, name);
+    case 5: return prepare_extra_typed<uint32_t>(out, f, rl, name);
+    case 6: return prepare_extra_typed<int32_t>(out, f, rl, name);
+    case 7: return prepare_extra_typed<uint64_t>(out, f, rl, name);
+    case 8: return prepare_extra_typed<int64_t>(out, f, rl, name);
+    case 9: return prepare_extra_typed<float>(out, f, rl, name);
+    case 10: return prepare_extra_typed<double>(out, f, rl, name);
+    default: return {};
   }
 }
 
-// Output columns of the standard fields; null where the format lacks them.
-struct Columns {
-  double* pos;
-  float* intensity;
-  uint8_t* return_number;
-  uint8_t* number_of_returns;
-  uint8_t* classification;
-  uint8_t* user_data;
-  float* scan_angle;
-  uint16_t* point_source_id;
-  double* gps_time;
-  uint8_t* colors;
-  uint16_t* nir;
-};
 
-// Decodes records [begin, end) of point format PF in one pass; the layout is
-// a compile-time constant, so the loop has no per-point dispatch.
+// Decodes records [begin, end) of point format PF (the first at `first`) in
+// one pass; the layout is a compile-time constant, so the loop has no
+// per-point dispatch.
 template <int PF>
-void decode_range(const uint8_t* base, size_t rl, uint64_t begin, uint64_t end,
+void decode_range(const uint8_t* first, size_t rl, uint64_t begin, uint64_t end,
                   const double scale[3], const double offset[3], bool sixteen_bit_color,
                   const Columns& c) {
   constexpr bool ext = PF >= 6;
@@ -254,7 +279,7 @@ void decode_range(const uint8_t* base, size_t rl, uint64_t begin, uint64_t end,
   const double ox = offset[0], oy = offset[1], oz = offset[2];
   const int shift = sixteen_bit_color ? 8 : 0;
   for (uint64_t i = begin; i < end; ++i) {
-    const uint8_t* r = base + i * rl;
+    const uint8_t* r = first + (i - begin) * rl;
     c.pos[3 * i + 0] = static_cast<double>(load_le<int32_t>(r + 0)) * sx + ox;
     c.pos[3 * i + 1] = static_cast<double>(load_le<int32_t>(r + 4)) * sy + oy;
     c.pos[3 * i + 2] = static_cast<double>(load_le<int32_t>(r + 8)) * sz + oz;
@@ -307,9 +332,7 @@ void for_blocks(uint64_t n, const Fn& fn) {
   });
 }
 
-void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
-                              const uint8_t* base, const double scale[3],
-                              const double offset[3]) {
+Columns LasReader::allocate_columns(PointData& out, int pf, uint64_t n) {
   const Layout lay = layout_for(pf);
   io::resize_fresh(out.positions, n * 3);
   Columns c{};
@@ -322,43 +345,104 @@ void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
   c.scan_angle = out.add<float>("scan_angle").data();
   c.point_source_id = out.add<uint16_t>("point_source_id").data();
   if (lay.gps >= 0) c.gps_time = out.add<double>("gps_time").data();
+  if (lay.nir >= 0) c.nir = out.add<uint16_t>("nir").data();
+  return c;
+}
+
+std::vector<ExtraFill> LasReader::prepare_extras(PointData& out, int pf, size_t rl) {
+  std::vector<ExtraFill> fills;
+  for (ExtraField f : extra_) {
+    f.offset += kMinRecordLength[pf];
+    if (ExtraFill fill = prepare_extra(out, f, rl)) fills.push_back(std::move(fill));
+  }
+  return fills;
+}
+
+// LAS stores 16-bit colour; many writers store 0-255 values instead.
+// Decide on the file as a whole: any value above 255 means 16-bit, which
+// is then reduced with v >> 8: exact for both common ways of widening
+// 8-bit colour (c * 256 and c * 257) and within one level otherwise.
+// Returns the shift, or -1 when every colour is zero (no colour column).
+template <class MaxFn>
+int colour_shift(PointData& out, MaxFn max_until_above_255) {
+  const uint16_t maxv = max_until_above_255();
+  if (maxv == 0) {
+    out.metadata["colors_all_zero"] = int64_t{1};
+    return -1;
+  }
+  out.metadata["color_bits"] = int64_t{maxv > 255 ? 16 : 8};
+  return maxv > 255 ? 8 : 0;
+}
+
+void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
+                              const uint8_t* base, const double scale[3],
+                              const double offset[3]) {
+  const Layout lay = layout_for(pf);
+  Columns c = allocate_columns(out, pf, n);
   bool sixteen = false;
   if (lay.rgb >= 0) {
-    // LAS stores 16-bit colour; many writers store 0-255 values instead.
-    // Decide on the file as a whole: any value above 255 means 16-bit, which
-    // is then reduced with v >> 8: exact for both common ways of widening
-    // 8-bit colour (c * 256 and c * 257) and within one level otherwise.
-    // The scan stops at the first such value (at once for most 16-bit files).
-    uint16_t maxv = 0;
-    for (uint64_t i = 0; i < n && maxv <= 255; ++i) {
-      const uint8_t* r = base + i * rl + lay.rgb;
-      maxv = std::max({maxv, load_le<uint16_t>(r), load_le<uint16_t>(r + 2),
-                       load_le<uint16_t>(r + 4)});
-    }
-    if (maxv == 0) {
-      out.metadata["colors_all_zero"] = int64_t{1};
-    } else {
-      sixteen = maxv > 255;
-      out.metadata["color_bits"] = int64_t{sixteen ? 16 : 8};
+    // The scan stops at the first value above 255 (at once for most 16-bit files).
+    const int shift = colour_shift(out, [&] {
+      uint16_t maxv = 0;
+      for (uint64_t i = 0; i < n && maxv <= 255; ++i) {
+        const uint8_t* r = base + i * rl + lay.rgb;
+        maxv = std::max({maxv, load_le<uint16_t>(r), load_le<uint16_t>(r + 2),
+                         load_le<uint16_t>(r + 4)});
+      }
+      return maxv;
+    });
+    if (shift >= 0) {
+      sixteen = shift == 8;
       c.colors = out.add<uint8_t>("colors", 3).data();
     }
   }
-  if (lay.nir >= 0) c.nir = out.add<uint16_t>("nir").data();
   const DecodeFn decode = kDecoders[pf];
-  for_blocks(n, [&](uint64_t b, uint64_t e) { decode(base, rl, b, e, scale, offset, sixteen, c); });
+  for_blocks(n, [&](uint64_t b, uint64_t e) {
+    decode(base + b * rl, rl, b, e, scale, offset, sixteen, c);
+  });
+  for (const ExtraFill& fill : prepare_extras(out, pf, rl))
+    for_blocks(n, [&](uint64_t b, uint64_t e) { fill(b, e, base + b * rl); });
+}
 
-  const size_t extra_base = kMinRecordLength[pf];
-  for (ExtraField f : extra_) {
-    f.offset += extra_base;
-    decode_extra(out, f, rl, n, base);
-  }
+void LasReader::decode_laz_points(PointData& out, int pf, size_t rl, uint64_t n,
+                                  const double scale[3], const double offset[3],
+                                  uint64_t point_offset, uint64_t data_end) {
+  // Each decoded chunk goes straight into the columns (while its records are
+  // in cache); colours wait in 16 bits until the whole file has been seen.
+  const Layout lay = layout_for(pf);
+  Columns c{};
+  std::vector<ExtraFill> extras;
+  std::vector<uint16_t> rgb16;
+  const DecodeFn decode = kDecoders[pf];
+  laz::decompress(d_, size_, point_offset, data_end, n, rl, *laszip_,
+                  [&] {  // the counts are checked: allocate
+                    c = allocate_columns(out, pf, n);
+                    extras = prepare_extras(out, pf, rl);
+                    if (lay.rgb >= 0) io::resize_fresh(rgb16, n * 3);
+                  },
+                  [&](uint64_t first, const uint8_t* records, uint64_t count) {
+                    decode(records, rl, first, first + count, scale, offset, false, c);
+                    for (const ExtraFill& fill : extras) fill(first, first + count, records);
+                    if (lay.rgb < 0) return;
+                    for (uint64_t i = 0; i < count; ++i)
+                      std::memcpy(&rgb16[3 * (first + i)], records + i * rl + lay.rgb, 6);
+                  });
+  if (lay.rgb < 0) return;
+  const int shift = colour_shift(out, [&] {
+    uint16_t maxv = 0;
+    for (size_t i = 0; i < rgb16.size() && maxv <= 255; ++i) maxv = std::max(maxv, rgb16[i]);
+    return maxv;
+  });
+  if (shift < 0) return;
+  uint8_t* colors = out.add<uint8_t>("colors", 3).data();
+  for_blocks(n, [&](uint64_t b, uint64_t e) {
+    for (uint64_t i = 3 * b; i < 3 * e; ++i) colors[i] = static_cast<uint8_t>(rgb16[i] >> shift);
+  });
 }
 
 PointData LasReader::read() {
-  const std::string ext = io::file_extension(path_);
   if (size_ == 0) fail("file is empty (0 bytes)");
   if (size_ < 4 || std::memcmp(d_, "LASF", 4) != 0) {
-    if (ext == ".laz") fail(kLazMessage);
     fail("not a LAS file: it does not start with the 'LASF' signature", 0);
   }
   if (size_ < 227)
@@ -387,8 +471,10 @@ PointData LasReader::read() {
   const uint16_t record_length = load_le<uint16_t>(d_ + 105);
   const uint32_t legacy_count = load_le<uint32_t>(d_ + 107);
 
-  if ((pf_byte & 0xC0) != 0 || ext == ".laz") fail(kLazMessage, 104);
-  const int pf = pf_byte;
+  // LASzip marks compressed files with bit 7 of the point format (bit 6 by
+  // some early writers); the LASzip VLR found below says how.
+  const bool compressed = (pf_byte & 0xC0) != 0;
+  const int pf = pf_byte & 0x3F;
   if (pf > 10)
     fail("unsupported point data record format " + std::to_string(pf) +
              " (LAS defines formats 0 to 10)",
@@ -455,9 +541,23 @@ PointData LasReader::read() {
     pos += kVlrHeaderSize + len;
   }
 
+  if (compressed && !laszip_payload_)
+    fail("the point format byte (" + std::to_string(pf_byte) +
+             ") marks the points as compressed, but the file has no LASzip VLR",
+         104);
+  if (compressed) {  // a LASzip VLR on uncompressed points is a leftover: ignored
+    try {
+      laszip_ = laz::parse_laszip_vlr(laszip_payload_, laszip_len_,
+                                      static_cast<int64_t>(laszip_at_));
+      laz::check_items(*laszip_, pf, record_length);
+    } catch (const laz::FormatError& e) {
+      fail(e.what(), e.offset);
+    }
+  }
+
   // Point data.
   const uint64_t avail = size_ - point_offset;
-  if (count > avail / record_length) {
+  if (!laszip_ && count > avail / record_length) {
     // Overflow-safe: count * record_length would exceed what the file holds.
     const std::string need = count <= std::numeric_limits<uint64_t>::max() / record_length
                                  ? std::to_string(count * record_length)
@@ -475,7 +575,7 @@ PointData LasReader::read() {
     const uint64_t evlr_start = load_le<uint64_t>(d_ + 235);
     const uint32_t num_evlrs = load_le<uint32_t>(d_ + 243);
     if (num_evlrs > 0) {
-      const uint64_t points_end = point_offset + count * record_length;
+      const uint64_t points_end = laszip_ ? point_offset : point_offset + count * record_length;
       if (evlr_start < points_end || evlr_start > size_)
         fail("start of extended VLRs (byte " + std::to_string(evlr_start) +
                  ") is not between the end of the point data (byte " +
@@ -515,10 +615,31 @@ PointData LasReader::read() {
          " bytes beyond point format " + std::to_string(pf));
 
   PointData out;
-  decode_points(out, pf, record_length, count, d_ + point_offset, scale, offset);
+  if (laszip_) {
+    // The compressed bytes end at the first EVLR (LAS 1.4) or the file's end.
+    uint64_t data_end = size_;
+    if (vminor >= 4 && load_le<uint32_t>(d_ + 243) > 0) {
+      const uint64_t evlr_start = load_le<uint64_t>(d_ + 235);
+      if (evlr_start >= point_offset && evlr_start <= size_) data_end = evlr_start;
+    }
+    try {
+      decode_laz_points(out, pf, record_length, count, scale, offset, point_offset, data_end);
+    } catch (const laz::FormatError& e) {
+      fail(e.what(), e.offset);
+    }
+  } else {
+    decode_points(out, pf, record_length, count, d_ + point_offset, scale, offset);
+  }
 
   auto& md = out.metadata;
   md["format"] = std::string("las");
+  if (laszip_) {
+    md["compression"] = std::string("laszip");
+    md["laszip_compressor"] = static_cast<int64_t>(laszip_->compressor);
+    md["laszip_version"] = std::to_string(laszip_->version_major) + "." +
+                           std::to_string(laszip_->version_minor) + "r" +
+                           std::to_string(laszip_->revision);
+  }
   md["version"] = std::to_string(vmajor) + "." + std::to_string(vminor);
   md["point_format"] = static_cast<int64_t>(pf);
   md["point_record_length"] = static_cast<int64_t>(record_length);

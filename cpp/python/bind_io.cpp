@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "io/readers.h"
 #include "python/bindings.h"
 
@@ -237,20 +238,24 @@ void bind_io(py::module_& m) {
 
   m.def(
       "read",
-      [](py::object path) {
+      [](py::object path, py::object progress) {
         // Raw bytes of the path (os.fsencode), so that any file name the OS
         // accepts can be opened.
         const std::string p = py::module_::import("os").attr("fsencode")(path).cast<std::string>();
+        Progress* watch = progress.is_none() ? nullptr : progress.cast<Progress*>();
         PointData data;
         {
           py::gil_scoped_release release;
+          const ProgressScope scope(watch);
           data = read_point_cloud(p);
         }
         return convert(std::move(data));
       },
-      py::arg("path"),
-      "Reads a point cloud file (.las, .ply, .pcd, .xyz/.pts/.txt/.csv) into a PointData. "
-      "Raises ReadError (a ValueError) with the file, the reason and the byte offset.");
+      py::arg("path"), py::arg("progress") = py::none(),
+      "Reads a point cloud file (.las, .laz, .ply, .pcd, .xyz/.pts/.txt/.csv) into a PointData. "
+      "Raises ReadError (a ValueError) with the file, the reason and the byte offset. "
+      "progress: a pointnpr.Progress that LAZ decoding reports to by chunk and stops on "
+      "(raising Cancelled) once cancelled.");
 
   m.def(
       "write",

@@ -5,8 +5,9 @@ available as ``data.to_cloud()``) turns it into the renderer's ``PointCloud``.
 ``pointnpr.write(path, data)`` writes a ``PointData`` as binary PLY or LAS 1.4
 (see "Writing" below).
 
-Formats: LAS 1.0-1.4 (point formats 0-10; LAZ is refused with a hint to
-decompress it), PLY (ascii / binary little and big endian; the vertex
+Formats: LAS 1.0-1.4 and LAZ (LASzip, decoded in the project: point formats
+0-10, COPC read as plain LAZ; ``read(path, progress=pointnpr.Progress())``
+reports by chunk and can be cancelled), PLY (ascii / binary little and big endian; the vertex
 element), PCD (ascii / binary / binary_compressed; NaN points of organized
 clouds dropped) and delimited text (.xyz .pts .txt .csv .asc).
 

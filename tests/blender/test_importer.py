@@ -326,3 +326,48 @@ def test_ply_with_more_vertex_lines_than_declared_imports_with_a_warning(scene, 
     objects = importer.import_point_cloud(bpy.context, str(path), warnings=warnings)
     assert len(objects) == 1 and len(objects[0].data.vertices) == 3
     assert warnings == ["ignored 6 bytes (1 lines) after the last element declared in the header"]
+
+
+LAZ = os.path.join(helpers.IO_DATA, "laz", "pdal_lone-star-split-1.laz")  # 3 chunks
+
+
+def test_import_laz(scene):
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=LAZ) == {'FINISHED'}
+    objs = [o for o in bpy.data.objects if o.type == 'MESH']
+    assert len(objs) == 1 and len(objs[0].data.vertices) == 122893
+    assert "laz" in importer.FILE_EXTENSIONS
+
+
+def test_laz_read_progress_and_cancel(scene, monkeypatch):
+    import time
+
+    before = _scene_snapshot()
+    job = importer.ImportJob(bpy.context, LAZ)
+    job.start_reading_in_thread()
+    deadline = time.time() + 60
+    while not job.step():
+        assert time.time() < deadline
+        assert 0 <= job.steps_done <= job.total_steps
+        time.sleep(0.001)
+    assert job._reading.fraction == 1.0  # the reader reported every chunk
+    job.cleanup()
+    # Cancelled (as Esc does) before the first chunk: the read stops with
+    # Cancelled, the scene is left as it was. The Progress is cancelled from
+    # its creation so that the read cannot finish first.
+    real_progress = pointnpr.Progress
+
+    def cancelled_progress():
+        p = real_progress()
+        p.cancel()
+        return p
+
+    monkeypatch.setattr(pointnpr, "Progress", cancelled_progress)
+    job = importer.ImportJob(bpy.context, LAZ)
+    job.start_reading_in_thread()
+    job.cancel_reading()
+    with pytest.raises(pointnpr.Cancelled):
+        while not job.step():
+            assert time.time() < deadline
+            time.sleep(0.001)
+    job.cleanup()
+    assert _scene_snapshot() == before

@@ -144,7 +144,6 @@ def test_arrays_outlive_the_point_data():
     ("las_pdal_1.2-no-points_truncated.las", "file is truncated"),
     ("las_pdal_bad_vlr_count.las", "VLR count"),
     ("las_pdal_garbage_nVariableLength.las", "variable length records"),
-    ("las_fullwave.laz", "compressed LAZ is not supported"),
     ("ply_pdal_sized_dims.ply", "no 'z' property"),
     ("ply_trimesh_emptyIO_ply_empty_header.ply", "no 'vertex' element"),
 ])

@@ -32,7 +32,7 @@ ASPRS_CLASSES = {
 }
 
 # What pointnpr.read accepts (its ReadError lists them for unknown extensions).
-FILE_EXTENSIONS = ("las", "ply", "pcd", "xyz", "pts", "txt", "csv", "asc")
+FILE_EXTENSIONS = ("las", "laz", "ply", "pcd", "xyz", "pts", "txt", "csv", "asc")
 
 
 def class_name(code):
@@ -181,8 +181,8 @@ class ImportJob(PointObjectJob):
 
     @property
     def steps_done(self):
-        if self._groups is None:
-            return 0
+        if self._groups is None:  # the reader's own progress (LAZ: by chunk)
+            return self._reading.fraction if self._reading is not None else 0
         return 1 + self._next_group + (1 if self.done else 0)
 
     @property
@@ -196,7 +196,13 @@ class ImportJob(PointObjectJob):
     def start_reading_in_thread(self):
         from .background import BackgroundCall
 
-        self._reading = BackgroundCall(_core().read, self.filepath, name="pointnpr-read", watch=False)
+        self._reading = BackgroundCall(_core().read, self.filepath, name="pointnpr-read")
+
+    def cancel_reading(self):
+        """Asks a read still running to stop at its next check (LAZ: the next
+        chunk); does not wait for it."""
+        if self._reading is not None and self._reading.progress is not None:
+            self._reading.progress.cancel()
 
     @property
     def reading(self):
@@ -359,7 +365,8 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
     def modal(self, context, event):
         if event.type == 'ESC':
             self._finish(context)
-            self._job.cleanup()  # a read still running finishes unseen
+            self._job.cancel_reading()
+            self._job.cleanup()  # a read still running stops unseen
             self.report({'WARNING'}, "Import of %s cancelled" % os.path.basename(self.filepath))
             return {'CANCELLED'}
         if event.type != 'TIMER':
