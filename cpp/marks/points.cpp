@@ -64,9 +64,10 @@ class Points final : public Mark {
     return {0.0, 0.5f * diameter + 1.0f};
   }
 
-  // The compute rasterizer places splats by their frame pixel; GL_POINTS
-  // go through the GL's viewport transform, whose rounding moves with it.
-  bool draws_tiles(const ParamValues& p) const override { return p.get_enum_name("rasterizer") == "compute"; }
+  // The compute rasterizer places splats by their frame pixel (less the
+  // tile's origin, exactly); GL_POINTS by the frame's viewport moved by it,
+  // with flat attributes: both the frame's bytes in every tile.
+  bool draws_tiles(const ParamValues&) const override { return true; }
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override {
     SplatSettings s;
@@ -163,8 +164,7 @@ void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s) {
   const gl::Program& p = ctx.shaders->graphics("points.vert", "points.frag");
   const Rect& clip = ctx.clip;
   glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
-  const glm::ivec2 frame = frame_size(ctx.targets);
-  glViewport(-ctx.targets.origin.x, -ctx.targets.origin.y, frame.x, frame.y);
+  set_frame_viewport(ctx.targets);
   glEnable(GL_SCISSOR_TEST);
   glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
   const float zero = 0.0f;

@@ -70,6 +70,11 @@ struct MarkTargets {
 
 // The frame's size the projection maps to (the images' when not tiled).
 inline glm::ivec2 frame_size(const MarkTargets& t) { return t.frame_size.x > 0 ? t.frame_size : t.size; }
+// GL draws into the images: the viewport is the frame's, moved by the tile's origin.
+inline void set_frame_viewport(const MarkTargets& t) {
+  const glm::ivec2 frame = frame_size(t);
+  glViewport(-t.origin.x, -t.origin.y, frame.x, frame.y);
+}
 
 // One stroke / splat a mark placed, when the caller asked to see them
 // (tests of coherence and direction, debugging).
