@@ -3,10 +3,13 @@
 f12 SIZE [BUDGET_GB]: one F12 render at SIZE x SIZE; prints its time, the
 tiles and the process's peak RSS (run each size in its own process: peak RSS
 is per process).
+core SIZE [BUDGET_GB]: the same frame through the core alone (the Python
+API: no Blender render result), for sizes whose Blender buffers would not fit.
 compare [SIZE_X SIZE_Y]: the core's time per pixel drawn whole (budget
 large enough) against tiled (budget 0.5 GB), side by side, best of 3.
 
     blender -b blend_examples/urban_lidarhd.blend --python bench/bench_tiles.py -- build f12 8000
+    blender -b blend_examples/urban_lidarhd.blend --python bench/bench_tiles.py -- build core 16384
     blender -b blend_examples/urban_lidarhd.blend --python bench/bench_tiles.py -- build compare 3840 2160
 """
 import os
@@ -44,12 +47,36 @@ if mode == "f12":
     t0 = time.perf_counter()
     bpy.ops.render.render()
     elapsed = time.perf_counter() - t0
-    # Blender's render result: Combined (RGBA float) and Depth per pixel.
-    blender_buffers = size * size * (16 + 4) / 2**30
-    core_result = size * size * (16 + 4 + 4) / 2**30
+    # Output buffers per pixel: Blender's passes (Combined 16 B, Depth 4,
+    # Segment Index 4) and its 8-bit display copy (4); the core's result
+    # (colour 16, depth 4, segment index 4); the engine's float copy of the
+    # segment index for its pass (4).
+    blender_buffers = size * size * 28 / 2**30
+    core_result = size * size * 24 / 2**30
+    engine_copy = size * size * 4 / 2**30
+    bound = before + budget + blender_buffers + core_result + engine_copy
     print(f"F12 {size}x{size}, budget {budget} GB: {elapsed:.0f} s; peak RSS {peak_rss_gb():.2f} GB "
-          f"(before the render {before:.2f} GB); output buffers: Blender's {blender_buffers:.2f} GB + the core's "
-          f"result {core_result:.2f} GB", flush=True)
+          f"(before the render {before:.2f} GB); output buffers: Blender's {blender_buffers:.2f} GB, the core's "
+          f"result {core_result:.2f} GB, the engine's copy {engine_copy:.2f} GB; before + budget + buffers "
+          f"= {bound:.2f} GB", flush=True)
+elif mode == "core":
+    # The same scene through the core alone (no Blender render result).
+    size = int(argv[2])
+    budget = float(argv[3]) if len(argv) > 3 else 2.0
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    camera = engine.make_camera(depsgraph, scene.camera, size, size)
+    synced = sync.build_scene(depsgraph, engine.scene_frame(scene))
+    before = peak_rss_gb()
+    t0 = time.perf_counter()
+    r = engine.renderer().render(synced.scene, camera, size, size, time=engine.scene_time(scene),
+                                 composite=sync.scene_settings(scene), background=engine.background(scene),
+                                 memory_budget_gb=budget)
+    elapsed = time.perf_counter() - t0
+    core_result = size * size * 24 / 2**30
+    print(f"core {size}x{size}, budget {budget} GB: {elapsed:.0f} s, {int(r.stats['tiles'])} tiles of "
+          f"{int(r.stats['tile_region_width'])}x{int(r.stats['tile_region_height'])}; peak RSS "
+          f"{peak_rss_gb():.2f} GB (before {before:.2f} GB); the result {core_result:.2f} GB; before + budget + "
+          f"result = {before + budget + core_result:.2f} GB", flush=True)
 else:
     w = int(argv[2]) if len(argv) > 2 else 3840
     h = int(argv[3]) if len(argv) > 3 else 2160

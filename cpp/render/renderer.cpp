@@ -604,16 +604,25 @@ RenderResult Renderer::render(const Scene& scene, const Camera& camera, const Re
     for (size_t i = 0; i < n; ++i) culled[i] = impl_->cull(scene.segments[i], camera, result);
   });
   const size_t tiles = plan.tiles.size();
-  for (size_t t = 0; t < tiles; ++t) {
-    const Tile& tile = plan.tiles[t];
-    const std::string where = tiles > 1 ? "tile " + std::to_string(t + 1) + "/" + std::to_string(tiles) + ": " : "";
-    device.run([&] { impl_->begin_tile(tile); });
-    for (size_t i = 0; i < n; ++i) {
-      const double fraction = (double(t) + double(i) / double(std::max<size_t>(n, 1))) / double(tiles);
-      if (s.progress && !s.progress(fraction, where + scene.segments[i].name)) throw RenderCancelled();
-      device.run([&] { impl_->render_segment(scene.segments[i], int(i), camera, s, culled[i], result); });
+  try {
+    for (size_t t = 0; t < tiles; ++t) {
+      const Tile& tile = plan.tiles[t];
+      const std::string where = tiles > 1 ? "tile " + std::to_string(t + 1) + "/" + std::to_string(tiles) + ": " : "";
+      device.run([&] { impl_->begin_tile(tile); });
+      for (size_t i = 0; i < n; ++i) {
+        const double fraction = (double(t) + double(i) / double(std::max<size_t>(n, 1))) / double(tiles);
+        if (s.progress && !s.progress(fraction, where + scene.segments[i].name)) throw RenderCancelled();
+        device.run([&] { impl_->render_segment(scene.segments[i], int(i), camera, s, culled[i], result); });
+      }
+      device.run([&] { impl_->read_tile(tile, result); });
     }
-    device.run([&] { impl_->read_tile(tile, result); });
+  } catch (...) {
+    // A cancelled or failed tile leaves no origin behind for filter runs outside a frame.
+    try {
+      device.run([] { pixel_origin() = glm::ivec2(0); });
+    } catch (...) {
+    }
+    throw;
   }
   if (s.progress && !s.progress(1.0, "compositing")) throw RenderCancelled();
   device.run([&] { impl_->finish(s, result); });

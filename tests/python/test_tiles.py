@@ -141,12 +141,17 @@ def test_one_size_limit_and_frames_beyond_the_gl_limit(renderer, clouds):
     assert np.asarray(result.color).reshape(24, width, 4)[..., 3].max() > 0
 
 
-@pytest.mark.parametrize("method", ["surface", "strict", "paper"])
-def test_every_inpainting_method_tiled_is_the_bytes_of_the_whole_frame(renderer, clouds, method):
+@pytest.mark.parametrize("mode,method", [("inpaint", "surface"), ("inpaint", "strict"), ("inpaint", "paper"),
+                                         ("depth_test", "surface"), ("layering", "surface")])
+def test_every_compositing_and_inpainting_method_tiled_is_the_bytes_of_the_whole_frame(renderer, clouds, mode,
+                                                                                        method):
     scene = pointnpr.Scene()
     scene.add_segment("wall", pointnpr.Style(rasterize={"point_size": 2}, filters=[("cartoon", {})],
                                              inpaint={"radius": 6, "method": method}), [clouds[0]])
     scene.add_segment("crown", pointnpr.Style(rasterize={"point_size": 2}, filters=[("xdog", {})],
                                               inpaint={"radius": 3, "method": method}), [clouds[1]])
-    whole, tiled = render_both(renderer, scene, 280, 210, 64)
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=280, height=210)
+    whole = renderer.render(scene, cam, 280, 210, composite={"mode": mode})
+    tiled = renderer.render(scene, cam, 280, 210, composite={"mode": mode}, tile_size=64)
+    assert tiled.stats["tiles"] == 5 * 4 and tiled.stats["tile_region_width"] < 280
     assert_same_bytes(whole, tiled)
