@@ -155,3 +155,14 @@ def test_every_compositing_and_inpainting_method_tiled_is_the_bytes_of_the_whole
     tiled = renderer.render(scene, cam, 280, 210, composite={"mode": mode}, tile_size=64)
     assert tiled.stats["tiles"] == 5 * 4 and tiled.stats["tile_region_width"] < 280
     assert_same_bytes(whole, tiled)
+
+
+@pytest.mark.parametrize("rasterizer", ["compute", "gl_points"])
+def test_many_splats_over_a_large_frame_tiled_are_the_bytes_of_the_whole_frame(renderer, rasterizer):
+    # Subpixel rounding that follows the tile's origin (the GL's viewport
+    # transform, gl_PointCoord) flips a few dozen edge pixels at this scale.
+    cloud = wavy_cloud(200000, 5, -6.0)
+    scene = pointnpr.Scene()
+    scene.add_segment("dense", pointnpr.Style(rasterize={"point_size": 3.3, "rasterizer": rasterizer}), [cloud])
+    whole, tiled = render_both(renderer, scene, 1500, 1100, 400)
+    assert_same_bytes(whole, tiled)
