@@ -576,7 +576,7 @@ TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vect
   TilePlan plan = plan_tiles(frame, halo, budget, s.tile_size, max_image);
   if (!plan.fits_budget)
     warnings.push_back("memory budget too small for the styles' halo of " + std::to_string(halo) +
-                       " pixels: tiles of " + std::to_string(plan.interior) + " pixels exceed it");
+                       " pixels: tiles of " + std::to_string(plan.interior.x) + " pixels exceed it");
   return plan;
 }
 

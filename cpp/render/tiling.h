@@ -19,7 +19,8 @@ namespace pointnpr {
 // the issue measured ~120 B for plain points and ~220 B with a cartoon.
 constexpr size_t kBytesPerTilePixel = 256;
 constexpr size_t kDefaultMemoryBudget = size_t(2) << 30;  // 2 GiB
-// Tiles' interiors are multiples of this (and at least this) per side.
+// Tiles' interiors are at least this per side (and multiples of 16, the
+// compute passes' work group side).
 constexpr int kTileAlign = 64;
 
 struct Tile {
@@ -30,14 +31,15 @@ struct Tile {
 struct TilePlan {
   glm::ivec2 region_size{0, 0};  // every tile's region: the GL images' size
   int halo = 0;
-  int interior = 0;              // interior side (the last row and column may be smaller)
+  glm::ivec2 interior{0, 0};     // interior size (the last row and column may be smaller)
   std::vector<Tile> tiles;       // row by row, bottom first
   bool fits_budget = true;       // false when even the smallest tile is over the budget
 };
 
 // Tiles for a frame. `tile_size` > 0 asks for interiors of that side (tests,
 // benchmarks); else the interior is the largest whose region fits
-// `budget_bytes`, and a frame that fits whole is one tile. Regions never
+// `budget_bytes`, evened out over the rows and columns it needs (less halo
+// drawn twice), and a frame that fits whole is one tile. Regions never
 // exceed `max_image_size` per side. Every region has the same size and its
 // frame edges are the images' edges (filters see the frame's border).
 TilePlan plan_tiles(glm::ivec2 frame, int halo, size_t budget_bytes, int tile_size, int max_image_size);

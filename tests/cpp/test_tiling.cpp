@@ -50,8 +50,19 @@ TEST(Tiling, TheBudgetBoundsEveryTilesImages) {
   EXPECT_TRUE(plan.fits_budget);
   EXPECT_GT(plan.tiles.size(), 1u);
   EXPECT_LE(size_t(plan.region_size.x) * size_t(plan.region_size.y) * kBytesPerTilePixel, budget);
-  EXPECT_EQ(plan.interior % kTileAlign, 0);
+  EXPECT_EQ(plan.interior.x % 16, 0);
+  EXPECT_EQ(plan.interior.y % 16, 0);
   expect_valid(plan, frame);
+}
+
+TEST(Tiling, TilesFromTheBudgetAreEvenedOutOverTheFrame) {
+  // 3840x2160 with regions of at most 1448 px (0.5 GiB): 3 x 2 tiles, the
+  // rows as tall as they need to be rather than one full row and a sliver.
+  const TilePlan plan = plan_tiles({3840, 2160}, 60, size_t(1) << 29, 0, 16384);
+  ASSERT_EQ(plan.tiles.size(), 6u);
+  EXPECT_EQ(plan.interior, glm::ivec2(1280, 1088));
+  EXPECT_EQ(plan.region_size, glm::ivec2(1400, 1208));
+  expect_valid(plan, {3840, 2160});
 }
 
 TEST(Tiling, FramesBeyondTheGlLimitAreTiled) {
@@ -65,7 +76,7 @@ TEST(Tiling, FramesBeyondTheGlLimitAreTiled) {
 TEST(Tiling, AHaloOverTheBudgetStillGivesTilesAndSaysSo) {
   const TilePlan plan = plan_tiles({4000, 3000}, 300, size_t(1) << 20, 0, 16384);
   EXPECT_FALSE(plan.fits_budget);
-  EXPECT_EQ(plan.interior, kTileAlign);
+  EXPECT_EQ(plan.interior, glm::ivec2(kTileAlign));
   expect_valid(plan, {4000, 3000});
 }
 
