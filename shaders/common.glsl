@@ -5,6 +5,10 @@
 
 uniform ivec2 u_rect_min;  // pixels processed: [u_rect_min, u_rect_max)
 uniform ivec2 u_rect_max;
+// The frame pixel of the images' (0, 0) (a tile's origin; cpp/render/
+// tiling.h): whatever depends on the pixel's place in the frame (noise,
+// patterns, surface points) uses p + u_origin, so tiles match the frame.
+uniform ivec2 u_origin;
 
 // The pixel of this invocation, or false when outside the rect.
 bool rect_pixel(out ivec2 p) {

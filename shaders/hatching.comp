@@ -102,7 +102,7 @@ void main() {
       if (covered(s)) sum += s.rgb, n += 1.0;
     }
   float tone = clamp(1.0 - lightness(sum / n), 0.0, 1.0);
-  vec2 pos = vec2(p) + 0.5;
+  vec2 pos = vec2(p + u_origin) + 0.5;  // frame pixel: tiles match the frame
   SurfacePatch surface = u_surface != 0 ? fit_surface(p, u_fit_radius) : SurfacePatch(false, vec3(0.0), vec3(0.0), vec3(0.0));
   bool has_depth = surface.valid;
   vec3 P = surface.P, Px = surface.dPdx, Py = surface.dPdy;

@@ -157,7 +157,7 @@ void main() {
     return;
   }
   vec2 t = imageLoad(u_tensor, p).xy;
-  vec2 pos = vec2(p) + 0.5;
+  vec2 pos = vec2(p + u_origin) + 0.5;  // frame pixel: tiles match the frame
   float sum = 0.0, wsum = 0.0;
   float sigma = 0.5 * float(u_stroke_length);
   for (int k = -u_stroke_length; k <= u_stroke_length; ++k) {

@@ -17,6 +17,7 @@ layout(std430, binding = 4) buffer Depths { uint depths[]; };
 layout(std430, binding = 5) buffer Keys { uint keys[]; };
 #endif
 layout(std430, binding = 3) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices (u_queue)
+uniform int u_image_width;  // the images' (a tile's), for the per-pixel buffers
 uniform int u_queue;  // 1: the i-th invocation draws the chunk's i-th point of the resolution queue
 layout(rgba32f, binding = 0) uniform writeonly image2D u_color_out;
 layout(r32f, binding = 1) uniform writeonly image2D u_depth_out;
@@ -28,6 +29,9 @@ void main() {
   uint index = u_first + local;
   Splat s = project_point(index);
   if (!s.visible) return;
+  // The tile's pixels: the frame's less the integer origin (exact for every
+  // splat that reaches the tile), so coverage is the frame's bit for bit.
+  s.center -= vec2(u_origin);
   float r = 0.5 * s.diameter;
   ivec2 lo = max(ivec2(floor(s.center - r)), u_clip_rect.xy);
   ivec2 hi = min(ivec2(ceil(s.center + r)), u_clip_rect.zw - 1);
@@ -39,7 +43,7 @@ void main() {
   for (int y = lo.y; y <= hi.y; ++y) {
     for (int x = lo.x; x <= hi.x; ++x) {
       if (!covers(vec2(x, y) + 0.5 - s.center, s.diameter)) continue;
-      uint pixel = uint(y) * uint(u_size.x) + uint(x);
+      uint pixel = uint(y) * uint(u_image_width) + uint(x);
 #ifdef INT64_ATOMICS
       uint64_t packed = packUint2x32(uvec2(key, depth_bits));
 #ifdef PASS_DEPTH

@@ -3,7 +3,7 @@
 #include "point_attributes.glsl"
 
 uniform mat4 u_projection;
-uniform ivec2 u_size;
+uniform ivec2 u_size;         // the frame's (the projection maps to it)
 uniform float u_near;
 uniform float u_far;
 uniform int u_ortho;
@@ -30,7 +30,9 @@ Splat project_point(uint index) {
   s.depth = -v.z;
   s.visible = s.depth >= u_near && s.depth <= u_far;
   vec4 clip = u_projection * v;
-  s.center = (clip.xy / clip.w * 0.5 + 0.5) * vec2(u_size);
+  // precise: no fused multiply-add, the same bits whatever u_origin a tile subtracts.
+  precise vec2 center = (clip.xy / clip.w * 0.5 + 0.5) * vec2(u_size);
+  s.center = center;
   float w = u_ortho != 0 ? 1.0 : s.depth;
   s.diameter = u_size_mode == 0 ? u_point_size : clamp(u_world_size * u_px_per_unit / w, 1.0, u_max_size);
   return s;

@@ -3,9 +3,17 @@
 // linear depth is written to a colour attachment for compositing.
 #include "points.glsl"
 
+// Tiles (cpp/render/tiling.h): the frame pixel on a 1/256 grid, less the
+// tile's origin, placed where a power-of-two viewport's transform is exact
+// (every value a multiple of 1/256 under 2^15): the rasterizer sees the
+// same subpixel centre in every tile, so coverage is the frame's.
+uniform ivec2 u_origin;
+uniform float u_raster_half;  // half the viewport's side (a power of two)
+
 flat out vec4 v_color;
 flat out float v_depth;
 flat out float v_diameter;
+flat out vec2 v_center;  // window position in the images (pixels)
 
 void main() {
   uint index = uint(gl_VertexID);
@@ -18,7 +26,9 @@ void main() {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume
     return;
   }
-  vec2 ndc = s.center / vec2(u_size) * 2.0 - 1.0;
+  precise vec2 win = round(s.center * 256.0) / 256.0 - vec2(u_origin);
+  precise vec2 ndc = (win - u_raster_half) / u_raster_half;
+  v_center = win;
   float z = u_ortho != 0 ? 1.0 - (s.depth - u_near) / (u_far - u_near) : u_near / s.depth;
   gl_Position = vec4(ndc, z, 1.0);
 }

@@ -33,7 +33,7 @@ SurfacePatch fit_surface(ivec2 p, int radius) {
   // degenerate fit (a line of pixels) fall back to flat depth.
   vec3 fit = vec3(0.0);
   if (A[2][2] >= 4.0 && abs(determinant(A)) > 1e-3) fit = inverse(A) * b;
-  vec2 pos = vec2(p) + 0.5;
+  vec2 pos = vec2(p + u_origin) + 0.5;  // frame pixel: tiles match the frame
   float d0 = dc + fit.z;
   s.P = surface_point(pos, d0);
   s.dPdx = surface_point(pos + vec2(1.0, 0.0), d0 + fit.x) - s.P;

@@ -9,7 +9,8 @@ uniform float u_wavelength;
 uniform vec2 u_direction;
 uniform float u_phase;
 
-vec4 fetch_premultiplied(ivec2 q) {
+vec4 fetch_premultiplied(ivec2 frame_q) {
+  ivec2 q = frame_q - u_origin;  // the tile's pixel
   ivec2 size = imageSize(u_in);
   if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) return vec4(0.0);
   vec4 c = imageLoad(u_in, q);
@@ -19,7 +20,7 @@ vec4 fetch_premultiplied(ivec2 q) {
 void main() {
   ivec2 p;
   if (!rect_pixel(p)) return;
-  vec2 pos = vec2(p) + 0.5;
+  vec2 pos = vec2(p + u_origin) + 0.5;  // frame pixel: tiles match the frame
   float along = dot(pos, u_direction);
   vec2 across = vec2(-u_direction.y, u_direction.x);
   vec2 src = pos - across * u_amplitude * sin(6.28318530718 * along / u_wavelength - u_phase) - 0.5;

@@ -89,7 +89,7 @@ float paper_height(vec2 x) {
   return clamp(0.5 + 2.0 * (fbm(x, u_paper_scale, 2, u_seed + 53u) - 0.5), 0.0, 1.0);
 }
 
-// (rgb * f, f) of the abstracted image, bilinear at pixel position x.
+// (rgb * f, f) of the abstracted image, bilinear at frame pixel position x.
 vec4 sample_abstract(vec2 x) {
   vec2 s = x - 0.5;
   ivec2 base = ivec2(floor(s));
@@ -98,7 +98,7 @@ vec4 sample_abstract(vec2 x) {
   vec4 acc = vec4(0.0);
   for (int j = 0; j <= 1; ++j)
     for (int i = 0; i <= 1; ++i) {
-      ivec2 q = base + ivec2(i, j);
+      ivec2 q = base + ivec2(i, j) - u_origin;  // the tile's pixel
       if (!in_image(q, size)) continue;
       vec4 v = imageLoad(u_abstract, q);
       float w = (i == 1 ? t.x : 1.0 - t.x) * (j == 1 ? t.y : 1.0 - t.y);
@@ -118,7 +118,7 @@ vec3 density(vec3 c, float d) { return clamp(c - (c - c * c) * (d - 1.0), 0.0, 1
 void main() {
   ivec2 p;
   if (!rect_pixel(p)) return;
-  vec2 pos = vec2(p) + 0.5;
+  vec2 pos = vec2(p + u_origin) + 0.5;  // frame pixel: tiles match the frame
   vec4 c = imageLoad(u_in, p);
   // Paper: smooth displacement, low-frequency turbulence, fine grain.
   vec2 offset = u_wobble * vec2(2.0 * fbm(pos, u_wobble_scale * 0.25, 3, u_seed + 11u) - 1.0,

@@ -95,7 +95,7 @@ void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const Para
   glUniform1i(g.location("u_ortho"), cam.orthographic ? 1 : 0);
   glUniform1f(g.location("u_near"), float(cam.clip_start));
   glUniform1f(g.location("u_far"), float(cam.clip_end));
-  glUniform1f(g.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, ctx.targets.size.y)));
+  glUniform1f(g.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, frame_size(ctx.targets).y)));
   const bool resolution = p.get_enum_name("size_mode") == "resolution";
   glUniform1i(g.location("u_size_mode"), resolution ? 0 : 1);
   glUniform1i(g.location("u_eps_mode"), resolution && p.get_enum_name("epsilon_mode") == "user" ? 1 : 0);
@@ -185,7 +185,7 @@ void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p
 class RasterState {
  public:
   RasterState(const MarkContext& ctx) {
-    glViewport(0, 0, ctx.targets.size.x, ctx.targets.size.y);
+    set_frame_viewport(ctx.targets);
     glEnable(GL_SCISSOR_TEST);
     glScissor(ctx.clip.min.x, ctx.clip.min.y, ctx.clip.size().x, ctx.clip.size().y);
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);

@@ -124,7 +124,7 @@ int primitive_of(const std::string& name) {
 
 void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   const Camera& cam = *ctx.camera;
-  const glm::ivec2 size = ctx.targets.size;
+  const glm::ivec2 size = frame_size(ctx.targets);  // the projection's
   const float px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
   const int k = p.get_int("feature_neighbors");
   const bool queue = queue_enabled(p);
@@ -137,7 +137,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   {
     const gl::Program& d = ctx.shaders->graphics("feature_strokes_depth.vert", "feature_strokes_depth.frag");
     glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
-    glViewport(0, 0, size.x, size.y);
+    set_frame_viewport(ctx.targets);
     glEnable(GL_SCISSOR_TEST);
     glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
     const float zero = 0.0f;

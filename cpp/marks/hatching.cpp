@@ -167,7 +167,7 @@ const std::vector<glm::vec3>& Hatching::pencils(const ParamValues& p) const {
 
 void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   const Camera& cam = *ctx.camera;
-  const glm::ivec2 size = ctx.targets.size;
+  const glm::ivec2 size = frame_size(ctx.targets);  // the projection's
   const bool world_units = p.get_enum_name("units") == "world";
   const bool depth_pass = p.get_bool("depth_pass");
   const float px_per_unit = float(cam.pixels_per_unit(1.0, size.y));

@@ -51,7 +51,7 @@ class MeshSurface final : public Mark {
                        GL_TEXTURE_2D, 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1);
     const gl::Program& prog = ctx.shaders->graphics("mesh_surface.vert", "mesh_surface.frag");
     glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
-    glViewport(0, 0, ctx.targets.size.x, ctx.targets.size.y);
+    set_frame_viewport(ctx.targets);
     glEnable(GL_SCISSOR_TEST);
     glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
     const float zero = 0.0f;

@@ -16,9 +16,12 @@ namespace {
 
 void set_splat_uniforms(const gl::Program& p, const MarkContext& ctx, const SplatSettings& s) {
   const Camera& cam = *ctx.camera;
-  const glm::ivec2 size = ctx.targets.size;
+  // The projection maps to the whole frame; the images hold [origin, origin + image size).
+  const glm::ivec2 size = frame_size(ctx.targets);
   glUniformMatrix4fv(p.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
   glUniform2i(p.location("u_size"), size.x, size.y);
+  glUniform2i(p.location("u_origin"), ctx.targets.origin.x, ctx.targets.origin.y);
+  glUniform1i(p.location("u_image_width"), ctx.targets.size.x);
   glUniform1f(p.location("u_near"), float(cam.clip_start));
   glUniform1f(p.location("u_far"), float(cam.clip_end));
   glUniform1i(p.location("u_ortho"), cam.orthographic ? 1 : 0);
@@ -60,6 +63,11 @@ class Points final : public Mark {
     const float diameter = p.get_enum("size_mode") == 0 ? float(p.get_float("point_size")) : kMaxSplatPixels;
     return {0.0, 0.5f * diameter + 1.0f};
   }
+
+  // The compute rasterizer places splats by their frame pixel (less the
+  // tile's origin, exactly); GL_POINTS by the frame's viewport moved by it,
+  // with flat attributes: both the frame's bytes in every tile.
+  bool draws_tiles(const ParamValues&) const override { return true; }
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override {
     SplatSettings s;
@@ -156,7 +164,10 @@ void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s) {
   const gl::Program& p = ctx.shaders->graphics("points.vert", "points.frag");
   const Rect& clip = ctx.clip;
   glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
-  glViewport(0, 0, ctx.targets.size.x, ctx.targets.size.y);
+  // A square power-of-two viewport over the images (points.vert: exact).
+  int side = 1;
+  while (side < std::max(ctx.targets.size.x, ctx.targets.size.y)) side *= 2;
+  glViewport(0, 0, side, side);
   glEnable(GL_SCISSOR_TEST);
   glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
   const float zero = 0.0f;
@@ -167,6 +178,7 @@ void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s) {
   glEnable(GL_PROGRAM_POINT_SIZE);
   p.use();
   set_splat_uniforms(p, ctx, s);
+  glUniform1f(p.location("u_raster_half"), 0.5f * float(side));
   for (size_t c = 0; c < ctx.chunks.size(); ++c) {
     const VisibleChunk& v = ctx.chunks[c];
     bind_splat_chunk(p, v, s);

@@ -58,9 +58,15 @@ const std::vector<const FilterInfo*>& registered_filters() { return Registry<Fil
 
 const FilterInfo& find_filter(const std::string& id) { return Registry<FilterInfo>::instance().find(id); }
 
+glm::ivec2& pixel_origin() {
+  static glm::ivec2 origin{0, 0};
+  return origin;
+}
+
 void dispatch_rect(const gl::Program& program, const Rect& rect) {
   if (rect.empty()) return;
   program.use();
+  glUniform2i(program.location("u_origin"), pixel_origin().x, pixel_origin().y);
   glUniform2i(program.location("u_rect_min"), rect.min.x, rect.min.y);
   glUniform2i(program.location("u_rect_max"), rect.max.x, rect.max.y);
   const glm::ivec2 s = rect.size();

@@ -88,8 +88,15 @@ const FilterInfo& find_filter(const std::string& id);  // throws ParameterError
 using FilterRegistration = Registration<FilterInfo>;
 
 // Dispatches `program` (local size 16x16, uniform ivec2 u_rect_min and
-// u_rect_max) over `rect`.
+// u_rect_max) over `rect`, setting u_origin (shaders/common.glsl) to
+// pixel_origin().
 void dispatch_rect(const gl::Program& program, const Rect& rect);
+
+// The frame pixel of the images' (0, 0): the tile's origin while the
+// renderer draws a frame in tiles (render/tiling.h), else (0, 0). Shaders
+// seed noise and place patterns by the frame pixel (local + u_origin), so a
+// tile draws the same bytes as the whole frame. GL thread only.
+glm::ivec2& pixel_origin();
 
 // Sets the uniforms of surface_point() (shaders/filter_common.glsl).
 void set_surface_uniforms(const gl::Program& program, const SurfaceFrame& frame);

@@ -35,7 +35,7 @@ InkLayer::InkLayer(const MarkContext& ctx, const char* what)
 void InkLayer::begin(bool depth_test) const {
   const Rect& clip = ctx_.clip;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glViewport(0, 0, ctx_.targets.size.x, ctx_.targets.size.y);
+  set_frame_viewport(ctx_.targets);
   glEnable(GL_SCISSOR_TEST);
   glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);

@@ -56,7 +56,12 @@ struct VisibleMesh {
 // (cleared to transparent and +inf over the segment's work area); the rest
 // is scratch shared by the marks.
 struct MarkTargets {
-  glm::ivec2 size{0, 0};
+  glm::ivec2 size{0, 0};          // the images' size (a tile's region, or the frame)
+  // Frame drawn in tiles (render/tiling.h): the images hold the frame's
+  // pixels [origin, origin + size); frame_size is the whole frame's, which
+  // the projection maps to. `ctx.clip` and every image access are local.
+  glm::ivec2 origin{0, 0};
+  glm::ivec2 frame_size{0, 0};
   bool int64_atomics = false;
   const gl::Texture* color = nullptr;
   const gl::Texture* depth = nullptr;
@@ -71,6 +76,14 @@ struct MarkTargets {
   // contents undefined.
   std::function<const gl::Buffer&(size_t bytes, int index)> scratch_buffer;
 };
+
+// The frame's size the projection maps to (the images' when not tiled).
+inline glm::ivec2 frame_size(const MarkTargets& t) { return t.frame_size.x > 0 ? t.frame_size : t.size; }
+// GL draws into the images: the viewport is the frame's, moved by the tile's origin.
+inline void set_frame_viewport(const MarkTargets& t) {
+  const glm::ivec2 frame = frame_size(t);
+  glViewport(-t.origin.x, -t.origin.y, frame.x, frame.y);
+}
 
 // One stroke / splat a mark placed, when the caller asked to see them
 // (tests of coherence and direction, debugging).
@@ -116,6 +129,13 @@ class Mark {
   virtual AttributeSet attributes(const ParamValues& params) const = 0;
   virtual MarkExtent extent(const ParamValues& params) const = 0;
   virtual void draw(const MarkContext& ctx, const ParamValues& params) const = 0;
+  // Whether draw() honours MarkTargets::origin and frame_size, drawing a
+  // tile the same bytes as that part of the whole frame; frames of marks
+  // that do not are drawn whole (over the memory budget, with a warning).
+  virtual bool draws_tiles(const ParamValues& /*params*/) const { return false; }
+  // Pixels beyond a tile that the mark's screen-space passes read (blurs,
+  // neighbourhoods), beyond its extent: part of the tiles' halo.
+  virtual int screen_reach(const ParamValues& /*params*/) const { return 0; }
 };
 
 struct MarkInfo {

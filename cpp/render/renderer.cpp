@@ -11,10 +11,12 @@
 #include "gl/device.h"
 #include "gl/objects.h"
 #include "gl/shaders.h"
+#include "marks/mesh_surface.h"
 #include "render/filter_chain.h"
 #include "render/gpu_cloud.h"
 #include "render/image_textures.h"
 #include "render/mesh_pass.h"
+#include "render/tiling.h"
 
 namespace pointnpr {
 
@@ -125,6 +127,8 @@ double hull_area(glm::dvec2 (&p)[8]) {
 
 }  // namespace
 
+TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vector<std::string>& warnings);
+
 struct Renderer::Impl {
   gl::ShaderLibrary shaders;
   FrameWarnings frame_warnings;
@@ -134,6 +138,10 @@ struct Renderer::Impl {
   GpuMeshCache meshes;
   FrameTargets targets;
   std::map<int, ScratchBuffer> mark_buffers;
+  // The frame being drawn: its size, and the tile whose region the images
+  // hold (frame pixels [origin, origin + targets.size)).
+  glm::ivec2 frame{0, 0};
+  glm::ivec2 origin{0, 0};
 
   void ensure_targets(glm::ivec2 size, bool int64) {
     if (targets.size == size && targets.int64 == int64) return;
@@ -209,11 +217,24 @@ struct Renderer::Impl {
                               GL_UNSIGNED_INT, &ones);
   }
 
-  void begin_frame(const RenderSettings& s) {
+  void begin_frame(const RenderSettings& s, const TilePlan& plan, RenderResult& result) {
     clouds.collect_garbage();
     meshes.collect_garbage();
     frame_warnings = FrameWarnings();
-    ensure_targets({s.width, s.height}, gl::Device::instance().info().int64_atomics);
+    frame = {s.width, s.height};
+    ensure_targets(plan.region_size, gl::Device::instance().info().int64_atomics);
+    const size_t pixels = size_t(s.width) * size_t(s.height);
+    result.width = s.width;
+    result.height = s.height;
+    result.pool = pool;
+    result.color = pool->take_floats(pixels * 4);
+    result.depth = pool->take_floats(pixels);
+    result.segment_index = pool->take_ints(pixels);
+  }
+
+  void begin_tile(const Tile& tile) {
+    origin = tile.region.min;
+    pixel_origin() = origin;
     const Rect all{{0, 0}, targets.size};
     const float zero4[4] = {0, 0, 0, 0};
     const int32_t minus_one = -1;
@@ -227,9 +248,23 @@ struct Renderer::Impl {
 
   struct Culled {
     std::vector<VisibleChunk> chunks;
-    Rect screen;  // conservative screen rectangle the marks can touch
+    std::vector<Rect> rects;  // per chunk: its conservative frame rectangle
+    Rect screen;  // conservative frame rectangle the marks can touch
     double depth_min = std::numeric_limits<double>::max(), depth_max = 0.0;
+    // The segment's meshes drawn as surfaces (their clouds, for meshes drawn
+    // as points, are kept alive here: `chunks` points into them).
+    MeshPass meshes;
   };
+
+  // A segment's meshes and chunks, once per frame, in frame pixels.
+  Culled cull_segment(const Segment& seg, const Camera& cam, RenderResult& result) {
+    MeshPass mesh_pass = prepare_meshes(seg, cam, frame, meshes);
+    result.warnings.insert(result.warnings.end(), mesh_pass.warnings.begin(), mesh_pass.warnings.end());
+    Culled out = cull(seg, mesh_pass.point_instances, cam, result);
+    result.stats["triangles_drawn"] += double(mesh_pass.triangles);
+    out.meshes = std::move(mesh_pass);
+    return out;
+  }
 
   // Culls chunks (their bounds grown by the mark's extent) against the view
   // volume, in double; uploads what the mark needs for the survivors' clouds.
@@ -239,7 +274,7 @@ struct Renderer::Impl {
     const MarkExtent extent = seg.style.mark.mark->extent(seg.style.mark.params);
     uint32_t key_base = 0;
     int total = 0, culled = 0;
-    const glm::ivec2 size = targets.size;
+    const glm::ivec2 size = frame;
     const double margin = double(extent.pixels);
     for (const Instance& inst : instances) {
       if (inst.cloud && inst.cloud->skipped_nonfinite() > 0) frame_warnings.add_nonfinite(inst, seg);
@@ -296,9 +331,11 @@ struct Renderer::Impl {
         out.depth_max = std::max(out.depth_max, std::min(dmax, cam.clip_end));
         out.chunks.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base,
                               crosses_near ? -1.0 : hull_area(projected)});
+        out.rects.push_back(r);
         key_base += chunk.count;
       }
     }
+    for (const VisibleChunk& v : out.chunks) result.stats["points_drawn"] += double(v.chunk->count);
     result.stats["chunks_total"] += total;
     result.stats["chunks_culled"] += culled;
     return out;
@@ -307,6 +344,8 @@ struct Renderer::Impl {
   MarkTargets mark_targets() {
     MarkTargets t;
     t.size = targets.size;
+    t.origin = origin;
+    t.frame_size = frame;
     t.int64_atomics = targets.int64;
     t.color = &targets.raster_color;
     t.depth = &targets.raster_depth;
@@ -347,18 +386,39 @@ struct Renderer::Impl {
     return glm::dmat4(1.0);
   }
 
+  // The frame's chunks that reach the tile's region, and their rectangle in
+  // the tile's pixels (the depth range stays the frame's: marks see the
+  // same numbers in every tile).
+  Culled in_tile(const Culled& all) const {
+    Culled out;
+    out.depth_min = all.depth_min;
+    out.depth_max = all.depth_max;
+    const Rect region{origin, origin + targets.size};
+    for (size_t i = 0; i < all.chunks.size(); ++i) {
+      const Rect& r = all.rects[i];
+      const Rect cut{glm::max(r.min, region.min), glm::min(r.max, region.max)};
+      if (cut.empty()) continue;
+      out.chunks.push_back(all.chunks[i]);
+      out.screen = out.screen.united(Rect{cut.min - origin, cut.max - origin});
+    }
+    const Rect& m = all.meshes.screen;
+    const Rect mesh_cut{glm::max(m.min, region.min), glm::min(m.max, region.max)};
+    if (!all.meshes.visible.empty() && !mesh_cut.empty()) {
+      out.meshes.visible = all.meshes.visible;
+      out.meshes.screen = Rect{mesh_cut.min - origin, mesh_cut.max - origin};
+      out.meshes.depth_min = all.meshes.depth_min;
+      out.meshes.depth_max = all.meshes.depth_max;
+    }
+    return out;
+  }
+
   void render_segment(const Segment& seg, int index, const Camera& cam, const RenderSettings& s,
-                      RenderResult& result) {
+                      const Culled& in_frame, RenderResult& result) {
     auto t0 = Clock::now();
-    MeshPass mesh_pass = prepare_meshes(seg, cam, targets.size, meshes);
-    result.warnings.insert(result.warnings.end(), mesh_pass.warnings.begin(), mesh_pass.warnings.end());
-    const Culled visible = cull(seg, mesh_pass.point_instances, cam, result);
+    const Culled visible = in_tile(in_frame);
+    const MeshPass& mesh_pass = visible.meshes;
     if (visible.chunks.empty() && mesh_pass.visible.empty()) return;
     const Rect screen = visible.screen.united(mesh_pass.screen);
-    result.stats["triangles_drawn"] += double(mesh_pass.triangles);
-    size_t points = 0;
-    for (const auto& v : visible.chunks) points += v.chunk->count;
-    result.stats["points_drawn"] += double(points);
 
     // Everything this segment may read or write lies within `work`.
     const CompositeMode mode = CompositeMode(s.composite.get_enum("mode"));
@@ -426,7 +486,7 @@ struct Renderer::Impl {
       chain.image_size = targets.size;
       chain.time = s.time;
       chain.segment_seed = mark.segment_seed;
-      chain.surface = make_surface_frame(cam, targets.size, surface_anchor(seg));
+      chain.surface = make_surface_frame(cam, frame, surface_anchor(seg));
       current = run_filter_chain(seg.style.filters, chain, rect);
     }
     glFinish();
@@ -468,22 +528,37 @@ struct Renderer::Impl {
     result.stats["composite_ms"] += ms_since(t0);
   }
 
+  // The tile's interior into the frame's buffers, in bands of rows that
+  // keep each read under GLsizei's 2 GB.
+  void read_tile(const Tile& tile, RenderResult& result) {
+    auto t0 = Clock::now();
+    const glm::ivec2 at = tile.interior.min - origin, size = tile.interior.size();
+    const size_t row_bytes = size_t(frame.x) * 16;
+    const int band = int(std::max<size_t>(1, (size_t(1) << 30) / row_bytes));
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glPixelStorei(GL_PACK_ROW_LENGTH, frame.x);
+    for (int y = 0; y < size.y; y += band) {
+      const int rows = std::min(band, size.y - y);
+      const size_t first = size_t(tile.interior.min.y + y) * size_t(frame.x) + size_t(tile.interior.min.x);
+      const size_t span = size_t(rows - 1) * size_t(frame.x) + size_t(size.x);  // pixels the read touches
+      glGetTextureSubImage(targets.accum.id(), 0, at.x, at.y + y, 0, size.x, rows, 1, GL_RGBA, GL_FLOAT,
+                           GLsizei(span * 16), result.color.data() + first * 4);
+      glGetTextureSubImage(targets.accum_depth.id(), 0, at.x, at.y + y, 0, size.x, rows, 1, GL_RED, GL_FLOAT,
+                           GLsizei(span * 4), result.depth.data() + first);
+      glGetTextureSubImage(targets.accum_index.id(), 0, at.x, at.y + y, 0, size.x, rows, 1, GL_RED_INTEGER, GL_INT,
+                           GLsizei(span * 4), result.segment_index.data() + first);
+    }
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+    gl::check_gl("read back");
+    result.stats["readback_ms"] += ms_since(t0);
+  }
+
   void finish(const RenderSettings& s, RenderResult& result) {
     auto t0 = Clock::now();
     frame_warnings.report(result.warnings);
+    pixel_origin() = glm::ivec2(0);
+    origin = glm::ivec2(0);
     const size_t pixels = size_t(s.width) * size_t(s.height);
-    result.width = s.width;
-    result.height = s.height;
-    result.pool = pool;
-    result.color = pool->take_floats(pixels * 4);
-    result.depth = pool->take_floats(pixels);
-    result.segment_index = pool->take_ints(pixels);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glGetTextureImage(targets.accum.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(pixels * 16), result.color.data());
-    glGetTextureImage(targets.accum_depth.id(), 0, GL_RED, GL_FLOAT, GLsizei(pixels * 4), result.depth.data());
-    glGetTextureImage(targets.accum_index.id(), 0, GL_RED_INTEGER, GL_INT, GLsizei(pixels * 4),
-                      result.segment_index.data());
-    gl::check_gl("read back");
     // Background under the premultiplied image, and Blender's empty depth.
     const glm::vec4 bg(glm::vec3(s.background) * float(s.background.a), float(s.background.a));
     for (size_t i = 0; i < pixels; ++i) {
@@ -512,10 +587,52 @@ Renderer::~Renderer() {
   }
 }
 
+// The frame's tiles: grown by the widest reach of any segment (its mark's
+// extent and screen passes, twice its filters' footprints as the segment's
+// work area, its inpainting radius); drawn whole when a mark cannot tile.
+TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vector<std::string>& warnings) {
+  const glm::ivec2 frame{s.width, s.height};
+  const int max_image = gl::Device::instance().info().max_texture_size;
+  const size_t budget = s.memory_budget > 0 ? s.memory_budget : kDefaultMemoryBudget;
+  int halo = 0;
+  std::string whole;  // a mark that cannot draw tiles
+  for (const Segment& seg : scene.segments) {
+    const MarkStep& m = seg.style.mark;
+    const int reach = int(std::ceil(m.mark->extent(m.params).pixels)) + m.mark->screen_reach(m.params) +
+                      total_footprint(seg.style.filters) + seg.style.inpaint.get_int("radius") + 1;
+    halo = std::max(halo, reach);
+    if (!m.mark->draws_tiles(m.params) && whole.empty()) whole = m.info->schema.id;
+    // Mesh surfaces are GL triangles, whose interpolated attributes depend
+    // on where a tile's window starts (not the same bytes): drawn whole.
+    if (whole.empty() && mesh_mode(seg.style.surface.params) == MeshMode::Surface)
+      for (const Instance& inst : seg.instances)
+        if (inst.mesh && inst.mesh->num_triangles() > 0) whole = seg.style.surface.info->schema.id;
+  }
+  // Captured marks are listed once per frame, so such frames are drawn whole too.
+  if (!whole.empty() || s.capture_marks) {
+    if (s.width > max_image || s.height > max_image)
+      throw GLError("the '" + (whole.empty() ? std::string("capture_marks") : whole) +
+                    "' mark draws frames whole, and " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                    " exceeds the GL limit of " + std::to_string(max_image) + " pixels per side");
+    const double bytes = double(s.width) * double(s.height) * double(kBytesPerTilePixel);
+    if (!whole.empty() && bytes > double(budget))
+      warnings.push_back("the '" + whole + "' mark does not draw in tiles yet: the frame is drawn whole (about " +
+                         std::to_string(int(std::ceil(bytes / double(1 << 30)))) + " GB, over the memory budget of " +
+                         std::to_string(double(budget) / double(1 << 30)).substr(0, 4) + " GB)");
+    return whole_frame(frame);
+  }
+  TilePlan plan = plan_tiles(frame, halo, budget, s.tile_size, max_image);
+  if (!plan.fits_budget)
+    warnings.push_back("memory budget too small for the styles' halo of " + std::to_string(halo) +
+                       " pixels: tiles of " + std::to_string(plan.interior.x) + " pixels exceed it");
+  return plan;
+}
+
 RenderResult Renderer::render(const Scene& scene, const Camera& camera, const RenderSettings& s) {
-  if (s.width <= 0 || s.height <= 0 || s.width > 32768 || s.height > 32768)
-    throw ParameterError("render size must be between 1 and 32768 pixels per side, got " + std::to_string(s.width) +
-                         "x" + std::to_string(s.height));
+  if (s.width <= 0 || s.height <= 0 || s.width > kMaxFrameSide || s.height > kMaxFrameSide)
+    throw ParameterError("render size must be between 1 and " + std::to_string(kMaxFrameSide) +
+                         " pixels per side, got " + std::to_string(s.width) + "x" + std::to_string(s.height));
+  if (s.tile_size < 0) throw ParameterError("tile_size must be 0 (from the memory budget) or a number of pixels");
   for (double v : {s.background.r, s.background.g, s.background.b, s.background.a})
     if (!std::isfinite(v)) throw ParameterError("background color must be finite");
   if (camera.resolution != glm::ivec2(0) && camera.resolution != glm::ivec2(s.width, s.height))
@@ -526,15 +643,41 @@ RenderResult Renderer::render(const Scene& scene, const Camera& camera, const Re
   auto& device = gl::Device::instance();
   const auto t0 = Clock::now();
   RenderResult result;
-  device.run([&] { impl_->begin_frame(s); });
+  const TilePlan plan = plan_frame_tiles(scene, s, result.warnings);
+  device.run([&] { impl_->begin_frame(s, plan, result); });
   const size_t n = scene.segments.size();
-  for (size_t i = 0; i < n; ++i) {
-    if (s.progress && !s.progress(double(i) / double(std::max<size_t>(n, 1)), scene.segments[i].name))
-      throw RenderCancelled();
-    device.run([&] { impl_->render_segment(scene.segments[i], int(i), camera, s, result); });
+  // Culled once per frame, in frame pixels; each tile draws the chunks that reach it.
+  std::vector<Impl::Culled> culled(n);
+  device.run([&] {
+    for (size_t i = 0; i < n; ++i) culled[i] = impl_->cull_segment(scene.segments[i], camera, result);
+  });
+  const size_t tiles = plan.tiles.size();
+  try {
+    for (size_t t = 0; t < tiles; ++t) {
+      const Tile& tile = plan.tiles[t];
+      const std::string where = tiles > 1 ? "tile " + std::to_string(t + 1) + "/" + std::to_string(tiles) + ": " : "";
+      device.run([&] { impl_->begin_tile(tile); });
+      for (size_t i = 0; i < n; ++i) {
+        const double fraction = (double(t) + double(i) / double(std::max<size_t>(n, 1))) / double(tiles);
+        if (s.progress && !s.progress(fraction, where + scene.segments[i].name)) throw RenderCancelled();
+        device.run([&] { impl_->render_segment(scene.segments[i], int(i), camera, s, culled[i], result); });
+      }
+      device.run([&] { impl_->read_tile(tile, result); });
+    }
+  } catch (...) {
+    // A cancelled or failed tile leaves no origin behind for filter runs outside a frame.
+    try {
+      device.run([] { pixel_origin() = glm::ivec2(0); });
+    } catch (...) {
+    }
+    throw;
   }
   if (s.progress && !s.progress(1.0, "compositing")) throw RenderCancelled();
   device.run([&] { impl_->finish(s, result); });
+  result.stats["tiles"] = double(tiles);
+  result.stats["tile_halo"] = double(plan.halo);
+  result.stats["tile_region_width"] = double(plan.region_size.x);
+  result.stats["tile_region_height"] = double(plan.region_size.y);
   result.stats["total_ms"] = ms_since(t0);
   return result;
 }

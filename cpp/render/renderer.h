@@ -20,6 +20,9 @@ class RenderCancelled : public Cancelled {
   RenderCancelled() : Cancelled("render cancelled") {}
 };
 
+// The largest frame side (frames larger than the GL's image limit are drawn in tiles).
+constexpr int kMaxFrameSide = 32768;
+
 struct RenderSettings {
   int width = 0;
   int height = 0;
@@ -28,7 +31,12 @@ struct RenderSettings {
   glm::dvec4 background{0.0, 0.0, 0.0, 0.0};  // scene-linear, straight alpha
   // Hand back every mark drawn (RenderResult::marks), for tests and debugging.
   bool capture_marks = false;
-  // Called between segments on the calling thread; returning false cancels.
+  // GL memory the frame may take (render/tiling.h): larger frames are drawn
+  // in tiles, the same bytes as drawn whole. 0 = the default (2 GiB).
+  size_t memory_budget = 0;
+  // Tiles of this many pixels per side whatever the budget (tests, benchmarks); 0 = from the budget.
+  int tile_size = 0;
+  // Called between segments and tiles on the calling thread; returning false cancels.
   std::function<bool(double fraction, const std::string& what)> progress;
 };
 

@@ -512,3 +512,28 @@ def test_border_render(tmp_path, crop):
         assert part.shape == full.shape
         assert np.array_equal(part[y0:y1, x0:x1], full[y0:y1, x0:x1])
         assert part[CORNER][3] == 0.0   # outside the border: nothing rendered
+
+
+def test_a_frame_over_the_memory_budget_renders_in_tiles_the_same_pixels(tmp_path, monkeypatch):
+    scene, _, _ = helpers.two_planes_scene("inpaint")
+    scene.render.resolution_x, scene.render.resolution_y = 800, 760  # 155 MB of GL images at 256 B/px
+    scene.render.resolution_percentage = 100
+    assert scene.pointnpr.memory_budget_gb == 2.0
+    whole, _ = helpers.render_pixels(tmp_path, "whole.png")
+    calls = []
+    real = engine.do_render
+
+    def spy(*args, progress=None, **kwargs):
+        def recorded(fraction, text):
+            calls.append((fraction, text))
+            return progress(fraction, text)
+        return real(*args, progress=recorded, **kwargs)
+
+    monkeypatch.setattr(engine, "do_render", spy)
+    scene.pointnpr.memory_budget_gb = 0.125
+    tiled, _ = helpers.render_pixels(tmp_path, "tiled.png")
+    assert np.array_equal(whole, tiled)
+    # The progress bar moves per tile.
+    tiles = {text.split(":")[0] for _, text in calls if text.startswith("tile ")}
+    assert len(tiles) > 1 and "tile 1/%d" % len(tiles) in tiles, calls
+    assert [f for f, _ in calls] == sorted(f for f, _ in calls)

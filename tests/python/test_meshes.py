@@ -402,3 +402,20 @@ def test_styles_take_surface_parameters_and_refuse_mesh_surface_as_their_mark():
         pointnpr.Style(surface={"meshes": "wireframe"})
     assert set(pointnpr.Style().mesh_source_attributes) == {"base_color", "colors", "texture", "uvs"}
     assert pointnpr.Style(surface={"color_source": "constant"}).mesh_source_attributes == []
+
+
+def test_mesh_surfaces_draw_the_frame_whole_over_the_memory_budget_and_say_so(renderer):
+    # Interpolated triangle attributes depend on where a tile's window
+    # starts, so frames with mesh surfaces are not tiled (render/tiling.h).
+    cube, _v, _t = box_mesh(CUBE_LO, CUBE_HI, base_color=(0.9, 0.3, 0.2))
+    scene = pointnpr.Scene()
+    scene.add_segment("cube", pointnpr.Style(), [(cube, np.eye(4), "Cube")])
+    whole = renderer.render(scene, camera(), W, H)
+    tight = renderer.render(scene, camera(), W, H, memory_budget_gb=0.001)
+    assert tight.stats["tiles"] == 1
+    assert any("'mesh_surface' mark does not draw in tiles" in w for w in tight.warnings), tight.warnings
+    assert np.array_equal(np.asarray(whole.color), np.asarray(tight.color))
+    # Drawn as points, the same mesh tiles.
+    points = pointnpr.Scene()
+    points.add_segment("cube", pointnpr.Style(surface={"meshes": "points"}), [(cube, np.eye(4), "Cube")])
+    assert renderer.render(points, camera(), W, H, tile_size=64).stats["tiles"] > 1

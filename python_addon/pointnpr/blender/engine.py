@@ -133,6 +133,11 @@ def _find_pass(layer, name, view):
     return found
 
 
+def memory_budget_gb(scene):
+    """Scene.pointnpr's memory budget (GB; 0 = the core's default)."""
+    return float(getattr(getattr(scene, "pointnpr", None), "memory_budget_gb", 0.0))
+
+
 def do_render(scene_depsgraph, camera, width, height, progress=None, trust_cache=False):
     """Sync and render; returns (pointnpr render result, SyncResult)."""
     scene = scene_depsgraph.scene
@@ -140,7 +145,7 @@ def do_render(scene_depsgraph, camera, width, height, progress=None, trust_cache
     composite = sync.scene_settings(scene)
     result = renderer().render(synced.scene, camera, width, height, time=scene_time(scene),
                                composite=composite, background=background(scene),
-                               progress=progress)
+                               progress=progress, memory_budget_gb=memory_budget_gb(scene))
     return result, synced
 
 

@@ -24,7 +24,7 @@ _classes = []
 def _reserved_group_names():
     names = set(dir(bpy.types.PropertyGroup))
     names.update(p.identifier for p in bpy.types.PropertyGroup.bl_rna.properties)
-    names.add("rasterizer")
+    names.update(("rasterizer", "memory_budget_gb"))
     return names
 
 
@@ -40,6 +40,11 @@ def build_settings_class(schema):
         name="Rasterizer (legacy)", items=RASTERIZERS, default="compute",
         description="Scene-wide rasterizer of files saved before the mark stage; now the "
                     "Points mark node's Rasterizer")
+    # A render setting, not a style's: the renderer's memory budget.
+    annotations["memory_budget_gb"] = bpy.props.FloatProperty(
+        name="Memory Budget", default=2.0, min=0.125, max=4096.0, step=25, precision=2,
+        description="GL memory a frame may take, in GB: larger frames (posters, prints) are drawn "
+                    "in tiles, the same pixels as drawn whole")
     return type("PointNPRSceneSettings", (bpy.types.PropertyGroup,), {
         "__annotations__": annotations,
         "__doc__": schema.get("doc", "PointNPR scene settings"),

@@ -1,0 +1,168 @@
+"""Frames drawn in tiles (issue 17): the same bytes as the frame drawn whole,
+progress per tile, cancelling between tiles, the memory budget."""
+import numpy as np
+import pytest
+
+import pointnpr
+
+FILTERS = [s["id"] for s in pointnpr.schemas() if s["kind"] == "filter"]
+
+
+def wavy_cloud(n, seed, z0, spread=2.0):
+    """Random points on a wavy surface with random colours: every pixel differs."""
+    rng = np.random.default_rng(seed)
+    x = rng.uniform(-spread, spread, n)
+    y = rng.uniform(-0.75 * spread, 0.75 * spread, n)
+    z = z0 + 0.4 * np.sin(3 * x) * np.cos(2 * y) + rng.normal(0, 0.01, n)
+    return pointnpr.PointCloud(np.column_stack([x, y, z]), colors=rng.integers(0, 255, (n, 3)).astype(np.uint8))
+
+
+@pytest.fixture(scope="module")
+def clouds():
+    return wavy_cloud(30000, 3, -6.0), wavy_cloud(12000, 4, -5.0, spread=1.0)
+
+
+def two_segments(clouds, filters, rasterizer="compute"):
+    scene = pointnpr.Scene()
+    scene.add_segment("wall", pointnpr.Style(rasterize={"point_size": 3, "rasterizer": rasterizer}, filters=filters,
+                                             inpaint={"radius": 4}), [clouds[0]])
+    scene.add_segment("crown", pointnpr.Style(rasterize={"point_size": 2, "rasterizer": rasterizer},
+                                              filters=[("cartoon", {})]), [clouds[1]])
+    return scene
+
+
+def assert_same_bytes(whole, tiled):
+    assert tiled.width == whole.width and tiled.height == whole.height
+    for name in ("color", "depth", "segment_index"):
+        a, b = np.asarray(getattr(whole, name)), np.asarray(getattr(tiled, name))
+        differing = int(np.count_nonzero(a != b))
+        assert a.tobytes() == b.tobytes(), f"{name}: {differing} values differ"
+
+
+def render_both(renderer, scene, width, height, tile_size):
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=width, height=height)
+    whole = renderer.render(scene, cam, width, height)
+    tiled = renderer.render(scene, cam, width, height, tile_size=tile_size)
+    assert whole.stats["tiles"] == 1
+    # Real tiles: more than one, and regions smaller than the frame.
+    assert tiled.stats["tiles"] > 1
+    assert tiled.stats["tile_region_width"] < width and tiled.stats["tile_region_height"] < height
+    covered = np.asarray(whole.color).reshape(height, width, 4)[..., 3] > 0
+    assert covered.mean() > 0.3  # a picture, not an empty frame
+    return whole, tiled
+
+
+@pytest.mark.parametrize("filter_id", FILTERS)
+def test_each_filter_tiled_is_the_bytes_of_the_whole_frame(renderer, clouds, filter_id):
+    whole, tiled = render_both(renderer, two_segments(clouds, [filter_id]), 301, 233, 64)
+    assert_same_bytes(whole, tiled)
+
+
+def test_every_filter_in_one_chain_tiled_is_the_bytes_of_the_whole_frame(renderer, clouds):
+    whole, tiled = render_both(renderer, two_segments(clouds, FILTERS), 430, 330, 112)
+    assert tiled.stats["tile_halo"] > 50  # the chain's footprints, not just the splats'
+    assert_same_bytes(whole, tiled)
+
+
+@pytest.mark.parametrize("rasterizer", ["compute", "gl_points"])
+def test_points_tiled_are_the_bytes_of_the_whole_frame_for_both_rasterizers(renderer, clouds, rasterizer):
+    whole, tiled = render_both(renderer, two_segments(clouds, [], rasterizer), 257, 199, 64)
+    assert_same_bytes(whole, tiled)
+
+
+def test_the_memory_budget_chooses_the_tiles(renderer, clouds):
+    scene = two_segments(clouds, [("cartoon", {})])
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=400, height=300)
+    whole = renderer.render(scene, cam, 400, 300)
+    budget_gb = 0.01  # 10.7 MB: regions of about 204 x 204 pixels at 256 B each
+    tiled = renderer.render(scene, cam, 400, 300, memory_budget_gb=budget_gb)
+    assert tiled.stats["tiles"] > 1
+    region = tiled.stats["tile_region_width"] * tiled.stats["tile_region_height"]
+    assert region * 256 <= budget_gb * 2**30
+    assert_same_bytes(whole, tiled)
+    with pytest.raises(ValueError, match="memory_budget_gb"):
+        renderer.render(scene, cam, 400, 300, memory_budget_gb=-1.0)
+    with pytest.raises(ValueError, match="tile_size"):
+        renderer.render(scene, cam, 400, 300, tile_size=-5)
+
+
+def test_progress_advances_per_tile(renderer, clouds):
+    scene = two_segments(clouds, [])
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=300, height=200)
+    calls = []
+    result = renderer.render(scene, cam, 300, 200, tile_size=64, progress=lambda f, what: calls.append((f, what)))
+    tiles = int(result.stats["tiles"])
+    assert tiles == 5 * 4
+    fractions = [f for f, _ in calls]
+    assert fractions == sorted(fractions) and fractions[-1] == 1.0
+    for t in range(1, tiles + 1):
+        assert any(what.startswith(f"tile {t}/{tiles}: ") for _, what in calls), t
+    # Within a tile, one call per segment, in order.
+    assert [w for _, w in calls[:2]] == [f"tile 1/{tiles}: wall", f"tile 1/{tiles}: crown"]
+
+
+def test_cancelling_stops_between_tiles_and_the_renderer_renders_on(renderer, clouds):
+    scene = two_segments(clouds, [])
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=300, height=200)
+    seen = []
+
+    def cancel_at_third_tile(fraction, what):
+        seen.append(what)
+        return not what.startswith("tile 3/")
+
+    with pytest.raises(pointnpr.RenderCancelled):
+        renderer.render(scene, cam, 300, 200, tile_size=64, progress=cancel_at_third_tile)
+    assert seen[-1].startswith("tile 3/") and not any(w.startswith("tile 4/") for w in seen)
+    whole = renderer.render(scene, cam, 300, 200)
+    again = renderer.render(scene, cam, 300, 200, tile_size=64)
+    assert_same_bytes(whole, again)
+
+
+def test_a_mark_that_cannot_tile_draws_the_frame_whole_and_says_so(renderer, clouds):
+    scene = pointnpr.Scene()
+    scene.add_segment("hatched", pointnpr.Style(mark=("hatching", {})), [clouds[0]])
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=200, height=150)
+    result = renderer.render(scene, cam, 200, 150, memory_budget_gb=0.001)
+    assert result.stats["tiles"] == 1
+    assert any("'hatching' mark does not draw in tiles" in w for w in result.warnings), result.warnings
+    # Within the budget nothing is said.
+    assert not any("tiles" in w for w in renderer.render(scene, cam, 200, 150).warnings)
+
+
+def test_one_size_limit_and_frames_beyond_the_gl_limit(renderer, clouds):
+    scene = two_segments(clouds, [])
+    with pytest.raises(ValueError, match=r"between 1 and 32768 pixels per side, got 40000x10"):
+        renderer.render(scene, pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=40000, height=10), 40000, 10)
+    # Wider than any GL image (16384 on llvmpipe): drawn in tiles.
+    width = 17000
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=width, height=24)
+    result = renderer.render(scene, cam, width, 24)
+    assert result.stats["tiles"] > 1 and result.stats["tile_region_width"] <= 16384
+    assert np.asarray(result.color).reshape(24, width, 4)[..., 3].max() > 0
+
+
+@pytest.mark.parametrize("mode,method", [("inpaint", "surface"), ("inpaint", "strict"), ("inpaint", "paper"),
+                                         ("depth_test", "surface"), ("layering", "surface")])
+def test_every_compositing_and_inpainting_method_tiled_is_the_bytes_of_the_whole_frame(renderer, clouds, mode,
+                                                                                        method):
+    scene = pointnpr.Scene()
+    scene.add_segment("wall", pointnpr.Style(rasterize={"point_size": 2}, filters=[("cartoon", {})],
+                                             inpaint={"radius": 6, "method": method}), [clouds[0]])
+    scene.add_segment("crown", pointnpr.Style(rasterize={"point_size": 2}, filters=[("xdog", {})],
+                                              inpaint={"radius": 3, "method": method}), [clouds[1]])
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=280, height=210)
+    whole = renderer.render(scene, cam, 280, 210, composite={"mode": mode})
+    tiled = renderer.render(scene, cam, 280, 210, composite={"mode": mode}, tile_size=64)
+    assert tiled.stats["tiles"] == 5 * 4 and tiled.stats["tile_region_width"] < 280
+    assert_same_bytes(whole, tiled)
+
+
+@pytest.mark.parametrize("rasterizer", ["compute", "gl_points"])
+def test_many_splats_over_a_large_frame_tiled_are_the_bytes_of_the_whole_frame(renderer, rasterizer):
+    # Subpixel rounding that follows the tile's origin (the GL's viewport
+    # transform, gl_PointCoord) flips a few dozen edge pixels at this scale.
+    cloud = wavy_cloud(200000, 5, -6.0)
+    scene = pointnpr.Scene()
+    scene.add_segment("dense", pointnpr.Style(rasterize={"point_size": 3.3, "rasterizer": rasterizer}), [cloud])
+    whole, tiled = render_both(renderer, scene, 1500, 1100, 400)
+    assert_same_bytes(whole, tiled)
