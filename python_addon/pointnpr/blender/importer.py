@@ -41,7 +41,7 @@ def class_name(code):
 
 
 def _core():
-    import pointnpr
+    from .. import _self as pointnpr
     return pointnpr
 
 

