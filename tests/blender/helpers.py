@@ -1,6 +1,7 @@
 """Scene building and image helpers for the in-Blender tests."""
 
 import os
+import sys
 
 import bpy
 import numpy as np
@@ -14,6 +15,27 @@ BLUE = (0.0, 0.0, 1.0, 1.0)
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 IO_DATA = os.path.join(REPO, "tests", "data", "io")
+# "build" (Blender 3.4: build/pointnpr registered by run.py) or "extension"
+# (bpy 4.2+: the extension zip installed through Blender's operator).
+TESTED_PACKAGE = os.environ.get("POINTNPR_TESTED_PACKAGE", "build")
+
+
+def blender_command():
+    """The command that starts another Blender: its executable, or, in bpy
+    (which has none), Python running bpy_blender.py, which takes the same
+    arguments and enables the installed extension."""
+    if bpy.app.binary_path:
+        return [bpy.app.binary_path]
+    return [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "bpy_blender.py")]
+
+
+def addon_args():
+    """What another Blender needs to have PointNPR: the build folder's
+    package enabled by scripts/enable_addon.py, or nothing where the
+    extension is installed (its user folder is inherited)."""
+    if TESTED_PACKAGE == "extension":
+        return []
+    return ["--python", os.path.join(REPO, "scripts", "enable_addon.py")]
 
 
 def reset_scene():

@@ -292,6 +292,7 @@ bpy.app.timers.register(tick, first_interval=0.6)
 """
 
 
+@pytest.mark.window
 def test_interactive_import_shows_progress_and_cancels_with_esc(tmp_path):
     script = tmp_path / "interactive.py"
     script.write_text(INTERACTIVE_SCRIPT)

@@ -246,9 +246,8 @@ def test_resolution_percentage(tmp_path):
 def _blender_render(blend, out_pattern, frame_args):
     env = dict(os.environ)
     env["POINTNPR_BUILD_DIR"] = os.environ["POINTNPR_BUILD_DIR"]
-    enable = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "enable_addon.py")
-    cmd = [bpy.app.binary_path, "-b", "--factory-startup", blend, "--python-exit-code", "1",
-           "--python", enable, "-o", out_pattern, "-F", "PNG"] + frame_args
+    cmd = helpers.blender_command() + ["-b", "--factory-startup", blend, "--python-exit-code", "1",
+                                       *helpers.addon_args(), "-o", out_pattern, "-F", "PNG"] + frame_args
     proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           timeout=300)
     assert proc.returncode == 0, proc.stdout.decode(errors="replace")[-3000:]
