@@ -81,7 +81,10 @@ def reset_scene():
     scene.world.color = (0.0, 0.0, 0.0)
     scene.frame_start, scene.frame_end = 1, 10
     scene.frame_set(1)
-    scene.use_nodes = False
+    if hasattr(scene, "compositing_node_group"):  # Blender 5.0+
+        scene.compositing_node_group = None
+    else:
+        scene.use_nodes = False
     scene.view_layers[0].use_pass_z = False
     scene.pointnpr_default_style = None
     for _param, prop in scene.pointnpr.pointnpr_params:
@@ -217,3 +220,28 @@ def run_blender_in_window(script_path, env=None, timeout=300):
         out, err = proc.communicate()
         raise AssertionError("the interactive Blender timed out:\n" + out[-3000:] + err[-3000:])
     return subprocess.CompletedProcess(cmd, proc.returncode, out, err)
+
+
+def fcurves(id_block):
+    """The F-Curves of ``id_block``'s action: its slot's channel bags in the
+    layered actions of Blender 4.4+ (where 5.0 has no Action.fcurves), the
+    flat list before."""
+    anim = id_block.animation_data
+    return nodes._action_fcurves(anim, anim.action)
+
+
+def compositor_tree(scene):
+    """The scene's compositing node tree, emptied, with an image output
+    linked from nothing yet: (tree, output node). Blender 5.0 keeps it in a
+    node group (Scene.compositing_node_group, a Group Output), earlier
+    versions on the scene (Scene.node_tree, a Composite node)."""
+    if hasattr(scene, "compositing_node_group"):
+        tree = bpy.data.node_groups.new("Compositing", "CompositorNodeTree")
+        tree.interface.new_socket("Image", in_out='OUTPUT', socket_type='NodeSocketColor')
+        scene.compositing_node_group = tree
+        tree.nodes.clear()
+        return tree, tree.nodes.new("NodeGroupOutput")
+    scene.use_nodes = True
+    tree = scene.node_tree
+    tree.nodes.clear()
+    return tree, tree.nodes.new("CompositorNodeComposite")
