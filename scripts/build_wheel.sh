@@ -1,21 +1,21 @@
 #!/usr/bin/env bash
 # Builds the self-contained wheel of the core into build/dist/:
 #   pointnpr-<version>-cp3XX-cp3XX-manylinux_2_35_x86_64.whl
-# `pip wheel .` (pyproject.toml, scikit-build-core) reuses build/, so after
-# scripts/build.sh it compiles nothing new; auditwheel then copies every
+# For Debian's python3 the wheel is packed from scripts/build.sh's
+# build/pointnpr (scripts/pack_wheel.py: nothing compiled twice); for
+# another interpreter, or with POINTNPR_WHEEL_WITH=pip, `pip wheel .`
+# (pyproject.toml, scikit-build-core) builds it. auditwheel then copies every
 # shared library the module needs into the wheel (pointnpr.libs/, renamed
 # with a hash so they cannot clash with Blender's own copies) and points the
 # module's RPATH at them. libEGL/libGL/libOpenGL stay the system's: they
 # pick the GPU driver. The repair (~1 min, ~125 MB) is skipped when the
 # module and package did not change since the last one.
-#   PYTHON=/path/to/python3.13 scripts/build_wheel.sh    (another ABI; its
-#   own build folder build-cp313, needs that interpreter's headers)
+#   PYTHON=/path/to/python3.13 scripts/build_wheel.sh    (another ABI, built
+#   by pip in build-wheel/<tag>; needs that interpreter's headers)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python=${PYTHON:-/usr/bin/python3}
 abi=$("$python" -c 'import sys; print("cp%d%d" % sys.version_info[:2])')
-build_dir=build
-if [[ "$abi" != cp311 ]]; then build_dir=build-$abi; fi
 dist=build/dist
 mkdir -p "$dist/raw"
 
@@ -27,9 +27,14 @@ if [[ ! -x $tools/bin/auditwheel ]]; then
 fi
 
 rm -f "$dist"/raw/pointnpr-*-"$abi"-*.whl
-"$python" -m pip wheel -q --no-deps -w "$dist/raw" \
-  --config-settings=build-dir="$build_dir" \
-  --config-settings=cmake.define.Python3_EXECUTABLE="$python" .
+if [[ "$python" == /usr/bin/python3 && "${POINTNPR_WHEEL_WITH:-}" != pip ]]; then
+  cmake --build build --target _pointnpr pointnpr_package >/dev/null
+  "$python" scripts/pack_wheel.py build/pointnpr "$dist/raw" >/dev/null
+else
+  # (pip 23.0 spells -C as --config-settings)
+  "$python" -m pip wheel -q --no-deps -w "$dist/raw" \
+    --config-settings=cmake.define.Python3_EXECUTABLE="$python" .
+fi
 raw=$(ls "$dist"/raw/pointnpr-*-"$abi"-"$abi"-linux_x86_64.whl)
 
 # The raw wheel's content (names and CRCs, not timestamps) decides whether

@@ -5,6 +5,7 @@ Blender 3.4-4.1, the extension zip (Get Extensions > Install from Disk) in
 import os
 import shutil
 import subprocess
+import sys
 import zipfile
 
 import bpy
@@ -181,3 +182,32 @@ def test_extension_installs_enables_and_migrates_a_legacy_file(tmp_path):
                            user, installed=True)
     assert code == 0, out[-3000:]
     assert "MIGRATED PointNPRMarkPointsNode gl_points constant" in out, out[-3000:]
+
+
+@pytest.mark.extension
+def test_extension_zip_passes_blenders_own_validation():
+    """Blender's extension tool (what `blender --command extension validate`
+    runs) accepts the zip: the manifest's fields and types, tagline and
+    permission wording, wheel paths; and what the manifest names is there."""
+    import tomllib
+
+    zip_path = _extension_zip()
+    import bl_pkg  # Blender's extensions add-on (addons_core), enabled by default
+
+    tool = os.path.join(os.path.dirname(bl_pkg.__file__), "cli", "blender_ext.py")
+    assert os.path.isfile(tool), tool
+    proc = subprocess.run([sys.executable, tool, "validate", zip_path], stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, timeout=120)
+    out = proc.stdout.decode(errors="replace")
+    assert proc.returncode == 0 and "Success" in out, out[-3000:]
+    with zipfile.ZipFile(zip_path) as z:
+        manifest = tomllib.loads(z.read("blender_manifest.toml").decode())
+        names = set(z.namelist())
+    assert manifest["id"] == "pointnpr" and manifest["type"] == "add-on"
+    assert manifest["blender_version_min"] == "4.2.0" and manifest["platforms"] == ["linux-x64"]
+    assert "files" in manifest["permissions"]
+    # One wheel per CPython ABI of the Blenders the manifest admits (3.11 up to 5.0).
+    assert manifest["wheels"] and all(w[2:] in names for w in manifest["wheels"]), (manifest["wheels"], names)
+    assert {w.split("-")[2] for w in manifest["wheels"]} == {"cp311"}
+    assert manifest["blender_version_max"] == "5.1.0"
+    assert "__init__.py" in names
