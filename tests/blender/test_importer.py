@@ -327,3 +327,16 @@ def test_ply_with_more_vertex_lines_than_declared_imports_with_a_warning(scene, 
     objects = importer.import_point_cloud(bpy.context, str(path), warnings=warnings)
     assert len(objects) == 1 and len(objects[0].data.vertices) == 3
     assert warnings == ["ignored 6 bytes (1 lines) after the last element declared in the header"]
+
+
+def test_a_dropped_file_imports_without_the_file_browser(scene):
+    """Dropping a scan on the viewport invokes the importer with its path
+    (Blender 4.1+'s FileHandler): it imports at once."""
+    assert bpy.ops.import_scene.pointnpr_cloud('INVOKE_DEFAULT', filepath=PLY) == {'FINISHED'}
+    assert len(bpy.data.objects["tinyply_elephant"].data.vertices) == ply_vertex_count(PLY)
+    if bpy.app.version >= (4, 1, 0):
+        handler = bpy.types.FileHandler.bl_rna_get_subclass_py("IO_FH_pointnpr_cloud")
+        assert handler is not None and handler.bl_import_operator == "import_scene.pointnpr_cloud"
+        assert set(handler.bl_file_extensions.split(";")) >= {".las", ".laz", ".ply", ".pcd", ".xyz"}
+    else:
+        assert not hasattr(bpy.types, "FileHandler")
