@@ -11,7 +11,7 @@
 # pick the GPU driver. The repair (~1 min, ~125 MB) is skipped when the
 # module and package did not change since the last one.
 #   PYTHON=/path/to/python3.13 scripts/build_wheel.sh    (another ABI, built
-#   by pip in build-wheel/<tag>; needs that interpreter's headers)
+#   by pip in build-cp313/; needs that interpreter's headers)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python=${PYTHON:-/usr/bin/python3}
@@ -32,7 +32,10 @@ if [[ "$python" == /usr/bin/python3 && "${POINTNPR_WHEEL_WITH:-}" != pip ]]; the
   "$python" scripts/pack_wheel.py build/pointnpr "$dist/raw" >/dev/null
 else
   # (pip 23.0 spells -C as --config-settings)
+  # build-<abi> sits beside build/, so with ccache (CCACHE_BASEDIR) the
+  # core's objects, which do not depend on Python, come from the cache.
   "$python" -m pip wheel -q --no-deps -w "$dist/raw" \
+    --config-settings=build-dir="build-$abi" \
     --config-settings=cmake.define.Python3_EXECUTABLE="$python" .
 fi
 raw=$(ls "$dist"/raw/pointnpr-*-"$abi"-"$abi"-linux_x86_64.whl)
