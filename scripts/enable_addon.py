@@ -1,11 +1,12 @@
 """Enables PointNPR from a build folder without installing the add-on, for
 headless renders of a .blend that uses it:
 
-    POINTNPR_BUILD_DIR=$PWD/build blender -b scene.blend --python scripts/enable_addon.py -o //out_#### -a
+    POINTNPR_BUILD_DIR=$PWD/build blender -b --python scripts/enable_addon.py scene.blend -o //out_#### -a
 
-(Blender prints "Engine 'POINTNPR' not available" while loading the file,
-before this script runs; the render itself uses PointNPR.) With the add-on
-installed in Blender's preferences this script is not needed.
+Blender runs its arguments in order: named before the .blend, the script
+registers the engine before the file is read (after it, loading prints
+"Engine 'POINTNPR' not available"). With the add-on installed in Blender's
+preferences this script is not needed.
 """
 import os
 import sys

@@ -13,22 +13,38 @@ packages=(
 if [[ "${1:-}" == "--tests" ]]; then
   packages+=(libgtest-dev libgmock-dev googletest libbenchmark-dev python3-pytest xvfb xauth glslang-tools)
   packages+=(clang libclang-rt-14-dev)  # scripts/fuzz_smoke.sh (libFuzzer)
-  packages+=(python3-venv)  # .venv-test: the test oracles of tests/requirements.txt
+  packages+=(python3-venv)  # .venv-test (test oracles), the bpy venvs, the wheel's build tools and clean-venv test
 fi
 
 # Test oracles from PyPI (laspy + lazrs for LAZ), never run-time dependencies:
 # a venv over Debian's python3 that still sees its numpy and pytest.
 test_venv() {
-  [[ "${1:-}" == "--tests" ]] || return 0
-  local root
-  root="$(cd "$(dirname "$0")/.." && pwd)"
-  if [[ ! -x "$root/.venv-test/bin/python" ]]; then
-    /usr/bin/python3 -m venv --system-site-packages "$root/.venv-test"
+  if [[ ! -x .venv-test/bin/python ]]; then
+    /usr/bin/python3 -m venv --system-site-packages .venv-test
   fi
-  if ! "$root/.venv-test/bin/python" -m pip install -q -r "$root/tests/requirements.txt"; then
+  if ! .venv-test/bin/python -m pip install -q -r tests/requirements.txt; then
     echo "install_deps: pip install -r tests/requirements.txt failed" >&2
     return 1
   fi
+}
+
+# The Blender suite also runs in bpy (Blender as a Python module) from PyPI,
+# one venv per Blender line, newest patch of each, pinned; numpy and pytest
+# as the official Blender of that line ships them. pip's cache (~/.cache/pip)
+# keeps the ~350 MB wheels between runs.
+bpy_venvs() {
+  local line pin
+  for line in 4.2=4.2.23 4.5=4.5.15 5.0=5.0.1; do
+    pin=${line#*=}; line=${line%=*}
+    local venv=.venv-bpy-$line
+    if [[ -x $venv/bin/python ]] && "$venv/bin/python" -c "import importlib.metadata as m, sys
+sys.exit(m.version('bpy') != '$pin' or m.version('numpy') != '1.26.4' or m.version('pytest') != '8.3.4')" 2>/dev/null; then
+      continue
+    fi
+    echo "install_deps: $venv (bpy $pin from PyPI)"
+    /usr/bin/python3 -m venv "$venv"
+    "$venv/bin/python" -m pip install -q "bpy==$pin" numpy==1.26.4 pytest==8.3.4
+  done
 }
 
 missing=()
@@ -37,14 +53,16 @@ for p in "${packages[@]}"; do
 done
 if ((${#missing[@]} == 0)); then
   echo "install_deps: all ${#packages[@]} packages present"
-  test_venv "${1:-}"
-  exit 0
+else
+  SUDO=""
+  if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+  echo "install_deps: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
-
-SUDO=""
-if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
-echo "install_deps: installing ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-test_venv "${1:-}"
+if [[ "${1:-}" == "--tests" ]]; then
+  cd "$(dirname "$0")/.."
+  test_venv
+  bpy_venvs
+fi

@@ -30,6 +30,29 @@ if compgen -G "tests/blender/test_*.py" >/dev/null; then
   run "Blender tests (blender -b)" blender -b --factory-startup --python-exit-code 1 \
     --python tests/blender/run.py -- "$root/build"
 fi
+# The self-contained wheel and the extension zip (auditwheel ~1 min, skipped
+# when the package did not change), then the wheel alone in a clean venv.
+run "Wheel and extension zip (scripts/build_extension.sh)" bash scripts/build_extension.sh
+run "Wheel in a clean venv, Debian's OpenImageIO hidden (pytest tests/wheel)" \
+  "$python" -m pytest -q -p no:cacheprovider tests/wheel
+# The Blender suite in bpy 4.2 / 4.5 / 5.0 from PyPI (scripts/install_deps.sh
+# --tests made the venvs), the extension zip installed by Blender's operator.
+# A missing venv or zip, or a run that did not test that version, fails.
+bpy_suite() {
+  local line=$1 venv=.venv-bpy-$1 log=build/blender-tests-bpy-$1.log zip
+  zip=$(ls build/dist/pointnpr-extension-*.zip 2>/dev/null | head -1)
+  [[ -x $venv/bin/python ]] || { echo "$venv missing: run scripts/install_deps.sh --tests"; return 1; }
+  [[ -n $zip ]] || { echo "no extension zip in build/dist (scripts/build_extension.sh)"; return 1; }
+  "$venv/bin/python" tests/blender/run.py --extension "$zip" -- "$root/build" -q >"$log" 2>&1
+  local code=$?
+  tail -n 15 "$log"
+  grep -q "^PointNPR tests in Blender $line\." "$log" || { echo "bpy $line did not run the suite"; return 1; }
+  grep -Eq "^[0-9]+ passed" "$log" || { echo "bpy $line: no test passed"; return 1; }
+  return $code
+}
+for line in 4.2 4.5 5.0; do
+  run "Blender tests (bpy $line from PyPI, extension installed)" bpy_suite "$line"
+done
 if [[ -f tests/viewport/viewport_test.py ]]; then
   run "Viewport test (Xvfb)" xvfb-run -a -s "-screen 0 1280x800x24" \
     blender --factory-startup --python-exit-code 1 --python tests/viewport/viewport_test.py -- \

@@ -5,6 +5,13 @@ The Blender part loads only when ``bpy`` is importable.
 """
 import atexit as _atexit
 import os as _os
+import sys as _sys
+
+# The package itself, for its submodules: `from .. import _self as pointnpr`
+# works under whatever name the package was imported (a legacy add-on zip
+# unpacked under another folder name, bl_ext.<repository>.<id>), where
+# `import pointnpr` would find another copy or nothing.
+_self = _sys.modules[__name__]
 
 from . import _pointnpr
 from ._pointnpr import (  # noqa: F401  (the public API)

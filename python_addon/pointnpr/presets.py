@@ -226,7 +226,7 @@ PRESETS = {
 
 def style(name):
     """The preset `name` as a validated `pointnpr.Style`."""
-    import pointnpr
+    from . import _self as pointnpr
 
     if name not in PRESETS:
         raise KeyError(f"unknown preset {name!r} (presets: {', '.join(PRESETS)})")

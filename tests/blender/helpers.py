@@ -1,6 +1,7 @@
 """Scene building and image helpers for the in-Blender tests."""
 
 import os
+import sys
 
 import bpy
 import numpy as np
@@ -14,6 +15,27 @@ BLUE = (0.0, 0.0, 1.0, 1.0)
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 IO_DATA = os.path.join(REPO, "tests", "data", "io")
+# "build" (Blender 3.4: build/pointnpr registered by run.py) or "extension"
+# (bpy 4.2+: the extension zip installed through Blender's operator).
+TESTED_PACKAGE = os.environ.get("POINTNPR_TESTED_PACKAGE", "build")
+
+
+def blender_command():
+    """The command that starts another Blender: its executable, or, in bpy
+    (which has none), Python running bpy_blender.py, which takes the same
+    arguments and enables the installed extension."""
+    if bpy.app.binary_path:
+        return [bpy.app.binary_path]
+    return [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "bpy_blender.py")]
+
+
+def addon_args():
+    """What another Blender needs to have PointNPR: the build folder's
+    package enabled by scripts/enable_addon.py, or nothing where the
+    extension is installed (its user folder is inherited)."""
+    if TESTED_PACKAGE == "extension":
+        return []
+    return ["--python", os.path.join(REPO, "scripts", "enable_addon.py")]
 
 
 def reset_scene():
@@ -59,7 +81,10 @@ def reset_scene():
     scene.world.color = (0.0, 0.0, 0.0)
     scene.frame_start, scene.frame_end = 1, 10
     scene.frame_set(1)
-    scene.use_nodes = False
+    if hasattr(scene, "compositing_node_group"):  # Blender 5.0+
+        scene.compositing_node_group = None
+    else:
+        scene.use_nodes = False
     scene.view_layers[0].use_pass_z = False
     scene.pointnpr_default_style = None
     for _param, prop in scene.pointnpr.pointnpr_params:
@@ -195,3 +220,28 @@ def run_blender_in_window(script_path, env=None, timeout=300):
         out, err = proc.communicate()
         raise AssertionError("the interactive Blender timed out:\n" + out[-3000:] + err[-3000:])
     return subprocess.CompletedProcess(cmd, proc.returncode, out, err)
+
+
+def fcurves(id_block):
+    """The F-Curves of ``id_block``'s action: its slot's channel bags in the
+    layered actions of Blender 4.4+ (where 5.0 has no Action.fcurves), the
+    flat list before."""
+    anim = id_block.animation_data
+    return nodes._action_fcurves(anim, anim.action)
+
+
+def compositor_tree(scene):
+    """The scene's compositing node tree, emptied, with an image output
+    linked from nothing yet: (tree, output node). Blender 5.0 keeps it in a
+    node group (Scene.compositing_node_group, a Group Output), earlier
+    versions on the scene (Scene.node_tree, a Composite node)."""
+    if hasattr(scene, "compositing_node_group"):
+        tree = bpy.data.node_groups.new("Compositing", "CompositorNodeTree")
+        tree.interface.new_socket("Image", in_out='OUTPUT', socket_type='NodeSocketColor')
+        scene.compositing_node_group = tree
+        tree.nodes.clear()
+        return tree, tree.nodes.new("NodeGroupOutput")
+    scene.use_nodes = True
+    tree = scene.node_tree
+    tree.nodes.clear()
+    return tree, tree.nodes.new("CompositorNodeComposite")

@@ -292,6 +292,7 @@ bpy.app.timers.register(tick, first_interval=0.6)
 """
 
 
+@pytest.mark.window
 def test_interactive_import_shows_progress_and_cancels_with_esc(tmp_path):
     script = tmp_path / "interactive.py"
     script.write_text(INTERACTIVE_SCRIPT)
@@ -371,3 +372,16 @@ def test_laz_read_progress_and_cancel(scene, monkeypatch):
             time.sleep(0.001)
     job.cleanup()
     assert _scene_snapshot() == before
+
+
+def test_a_dropped_file_imports_without_the_file_browser(scene):
+    """Dropping a scan on the viewport invokes the importer with its path
+    (Blender 4.1+'s FileHandler): it imports at once."""
+    assert bpy.ops.import_scene.pointnpr_cloud('INVOKE_DEFAULT', filepath=PLY) == {'FINISHED'}
+    assert len(bpy.data.objects["tinyply_elephant"].data.vertices) == ply_vertex_count(PLY)
+    if bpy.app.version >= (4, 1, 0):
+        handler = bpy.types.FileHandler.bl_rna_get_subclass_py("IO_FH_pointnpr_cloud")
+        assert handler is not None and handler.bl_import_operator == "import_scene.pointnpr_cloud"
+        assert set(handler.bl_file_extensions.split(";")) >= {".las", ".laz", ".ply", ".pcd", ".xyz"}
+    else:
+        assert not hasattr(bpy.types, "FileHandler")

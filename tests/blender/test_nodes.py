@@ -210,7 +210,7 @@ def test_animation_is_evaluated_by_node_name(scene):
     rast.keyframe_insert("color_source", frame=1)
     rast.color_source = "constant"
     rast.keyframe_insert("color_source", frame=11)
-    for fc in tree.animation_data.action.fcurves:
+    for fc in helpers.fcurves(tree):
         for kp in fc.keyframe_points:
             kp.interpolation = 'LINEAR'
     # The static value is whatever was set last; read_style must not use it.
@@ -227,7 +227,7 @@ def test_animation_is_evaluated_by_node_name(scene):
     assert d50["point_size"] == 20.0
     # Renaming the node keeps its animation (paths are re-keyed by name).
     rast.name = "Renamed"
-    assert any('nodes["Renamed"]' in fc.data_path for fc in tree.animation_data.action.fcurves)
+    assert any('nodes["Renamed"]' in fc.data_path for fc in helpers.fcurves(tree))
     assert math.isclose(nodes.read_style(tree, 6.0)["mark"][1]["point_size"], 11.0, abs_tol=1e-4)
 
 
@@ -238,7 +238,7 @@ def test_animation_clamped_to_hard_range(scene):
     rast.keyframe_insert("point_size", frame=1)
     rast.point_size = 32.0
     rast.keyframe_insert("point_size", frame=2)
-    fc = tree.animation_data.action.fcurves[0]
+    fc = helpers.fcurves(tree)[0]
     fc.extrapolation = 'LINEAR'
     for kp in fc.keyframe_points:
         kp.interpolation = 'LINEAR'
@@ -491,5 +491,5 @@ def test_replacing_a_mark_keeps_shared_values_and_their_animation(scene):
     assert new.name == "Points" and len(tree.nodes) == 3
     assert new.color_source == "intensity"
     assert [n.name for n in nodes.style_chain(tree)] == ["Points", "Cartoon"]
-    assert [fc.data_path for fc in tree.animation_data.action.fcurves] == ['nodes["Points"].point_size']
+    assert [fc.data_path for fc in helpers.fcurves(tree)] == ['nodes["Points"].point_size']
     assert nodes.read_style(tree, 6.0)["mark"][1]["point_size"] == pytest.approx(7.0, abs=0.6)

@@ -204,6 +204,7 @@ bpy.app.timers.register(guarded(tick), first_interval=0.6)
 """
 
 
+@pytest.mark.window
 def test_interactive_segment_cancels_the_core_call_with_esc(tmp_path):
     script = tmp_path / "interactive_segment.py"
     script.write_text(INTERACTIVE_SCRIPT)

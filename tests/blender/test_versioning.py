@@ -113,9 +113,9 @@ def test_animation_keyed_on_the_rasterize_node_survives(fresh_file, tmp_path):
     bpy.ops.wm.open_mainfile(filepath=ANIM_BLEND, load_ui=False)
     animated = bpy.data.node_groups["Animated"]
     constant = bpy.data.node_groups["Constant"]
-    paths = sorted(fc.data_path for fc in animated.animation_data.action.fcurves)
+    paths = sorted(fc.data_path for fc in helpers.fcurves(animated))
     assert paths == ['nodes["Rasterize"].point_size']
-    paths = {fc.data_path for fc in constant.animation_data.action.fcurves}
+    paths = {fc.data_path for fc in helpers.fcurves(constant)}
     assert paths == {'nodes["Rasterize"].%s' % nodes.property_identifier("color")}
     # point_size 2 -> 9 linear over frames 1..11; colour red -> blue.
     for frame, size in ((1, 2.0), (6, 5.5), (11, 9.0)):
@@ -179,6 +179,6 @@ def test_migrated_node_name_and_drivers(fresh_file):
     assert new.rasterizer == "gl_points"
     assert new.color_source == "rgb"
     assert [d.data_path for d in tree.animation_data.drivers] == ['nodes["Ras \\"terize\\""].point_size']
-    assert {fc.data_path for fc in tree.animation_data.action.fcurves} == \
+    assert {fc.data_path for fc in helpers.fcurves(tree)} == \
         {'nodes["Ras \\"terize\\""].%s' % nodes.property_identifier("color")}
     assert nodes.style_chain(tree) == [new]

@@ -13,7 +13,7 @@ class BackgroundCall:
     ``progress`` keyword when ``watch`` is False, for calls that take none)."""
 
     def __init__(self, fn, *args, name="pointnpr", watch=True, **kwargs):
-        import pointnpr
+        from .. import _self as pointnpr
 
         self.progress = pointnpr.Progress() if watch else None
         if watch:

@@ -18,7 +18,7 @@ stats = {"final_renders": 0, "viewport_renders": 0, "viewport_draws": 0, "slow_p
 
 
 def _core():
-    import pointnpr
+    from .. import _self as pointnpr
     return pointnpr
 
 

@@ -41,7 +41,7 @@ def class_name(code):
 
 
 def _core():
-    import pointnpr
+    from .. import _self as pointnpr
     return pointnpr
 
 
@@ -414,6 +414,13 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
                     "Esc cancels and leaves the scene as it was",
         default=True, options={'HIDDEN', 'SKIP_SAVE'})
 
+    def invoke(self, context, event):
+        # A file dropped on the viewport (Blender 4.1+'s FileHandler below)
+        # comes with its path: import it, no file browser.
+        if self.properties.is_property_set("filepath"):
+            return self.execute(context)
+        return ImportHelper.invoke(self, context, event)
+
     def execute(self, context):
         if self.background and not bpy.app.background and context.window is not None:
             # Interactive: hand over to the modal job (progress bar, Esc),
@@ -440,13 +447,35 @@ def menu_func_import(self, context):
     self.layout.operator(IMPORT_SCENE_OT_pointnpr_cloud.bl_idname, text="Point Cloud (.las, .ply, .pcd, .xyz)")
 
 
+# Drag and drop of scans into the 3D viewport (FileHandler: Blender 4.1+).
+# .laz is listed even where the reader lacks it: the import then reports why.
+DROP_EXTENSIONS = tuple(sorted(set(FILE_EXTENSIONS) | {"laz"}))
+_file_handlers = []
+if hasattr(bpy.types, "FileHandler"):
+    class IO_FH_pointnpr_cloud(bpy.types.FileHandler):
+        bl_idname = "IO_FH_pointnpr_cloud"
+        bl_label = "PointNPR Point Cloud"
+        bl_import_operator = "import_scene.pointnpr_cloud"
+        bl_file_extensions = ";".join("." + e for e in DROP_EXTENSIONS)
+
+        @classmethod
+        def poll_drop(cls, context):
+            return context.area is not None and context.area.type == 'VIEW_3D'
+
+    _file_handlers.append(IO_FH_pointnpr_cloud)
+
+
 def register():
     bpy.utils.register_class(IMPORT_SCENE_OT_pointnpr_cloud_job)
     bpy.utils.register_class(IMPORT_SCENE_OT_pointnpr_cloud)
     bpy.types.TOPBAR_MT_file_import.append(menu_func_import)
+    for cls in _file_handlers:
+        bpy.utils.register_class(cls)
 
 
 def unregister():
+    for cls in reversed(_file_handlers):
+        bpy.utils.unregister_class(cls)
     bpy.types.TOPBAR_MT_file_import.remove(menu_func_import)
     bpy.utils.unregister_class(IMPORT_SCENE_OT_pointnpr_cloud)
     bpy.utils.unregister_class(IMPORT_SCENE_OT_pointnpr_cloud_job)

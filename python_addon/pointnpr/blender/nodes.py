@@ -81,7 +81,7 @@ def _tag_view3d_redraw():
 
 
 def _core():
-    import pointnpr
+    from .. import _self as pointnpr
     return pointnpr
 
 

@@ -35,7 +35,7 @@ class SegmentCancelled(Exception):
 
 
 def _core():
-    import pointnpr
+    from .. import _self as pointnpr
 
     return pointnpr
 

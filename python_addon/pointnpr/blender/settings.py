@@ -53,7 +53,7 @@ def build_settings_class(schema):
 
 
 def register():
-    import pointnpr
+    from .. import _self as pointnpr
     cls = build_settings_class(pointnpr.schema("composite"))
     bpy.utils.register_class(cls)
     _classes.append(cls)

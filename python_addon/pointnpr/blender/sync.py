@@ -22,7 +22,7 @@ _COLOR_TYPES = {'BYTE_COLOR', 'FLOAT_COLOR'}
 
 
 def _core():
-    import pointnpr
+    from .. import _self as pointnpr
     return pointnpr
 
 
@@ -336,8 +336,20 @@ def visible_instances(depsgraph):
             continue
         if not has_points(obj):
             continue
+        if inst.is_instance:
+            obj = _InstanceCopy(obj)
         out.append((obj, _matrix64(inst.matrix_world), owner))
     return out
+
+
+class _InstanceCopy:
+    """What the sync reads of an instanced object (geometry-nodes output),
+    taken while the iterator is on it: the object is a temporary the next
+    step reuses (garbage afterwards in Blender 4.5+); its data stays."""
+    __slots__ = ("name", "type", "data")
+
+    def __init__(self, obj):
+        self.name, self.type, self.data = obj.name, obj.type, obj.data
 
 
 def scene_sun_direction(depsgraph):

@@ -1,0 +1,133 @@
+"""The self-contained wheel (scripts/build_wheel.sh) imports, renders and
+writes an image in a clean venv (no system site packages) in a process
+where Debian's OpenImageIO, OpenEXR, Imath, OpenColorIO and TBB cannot be
+loaded: a private mount namespace (unshare -m) binds /dev/null over each of
+those files, so a module still needing them fails to import.
+
+    scripts/build_extension.sh && python3 -m pytest -q tests/wheel
+"""
+import glob
+import json
+import os
+import re
+import subprocess
+import sys
+import textwrap
+import zipfile
+
+import pytest
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+DIST = os.path.join(REPO, "build", "dist")
+ABI = "cp%d%d" % sys.version_info[:2]
+# Debian's libraries the compiled module reaches (directly or through OIIO).
+HIDDEN_NAMES = r"lib(OpenImageIO|OpenImageIO_Util|OpenEXR|OpenEXRCore|Imath|Iex|IlmThread|OpenColorIO|tbb)[-.]"
+LIBDIR = "/usr/lib/x86_64-linux-gnu"
+
+CHECK = textwrap.dedent("""
+    import hashlib, json, sys
+    import numpy as np
+    import pointnpr
+
+    def plane(z, spacing, rgb, half):
+        xs = np.arange(-half, half + 1e-9, spacing)
+        X, Y = np.meshgrid(xs, xs)
+        pos = np.column_stack([X.ravel(), Y.ravel(), np.full(X.size, float(z))])
+        return pointnpr.PointCloud(pos, colors=np.tile(np.array(rgb, np.uint8), (X.size, 1)))
+
+    scene = pointnpr.Scene()
+    scene.add_segment("near", pointnpr.Style(rasterize={"point_size": 3}, filters=["cartoon"]),
+                      [plane(-5, 0.03, (230, 60, 40), 0.8)])
+    scene.add_segment("far", pointnpr.Style(rasterize={"point_size": 3}), [plane(-10, 0.05, (40, 60, 230), 3)])
+    camera = pointnpr.Camera.perspective(np.eye(4), width=160, height=120)
+    result = pointnpr.Renderer().render(scene, camera, 160, 120, background=(0, 0, 0, 1))
+    pointnpr.save_image(sys.argv[1], np.ascontiguousarray(result.color))
+    back = pointnpr.load_image(sys.argv[1])
+    maps = sorted({line.split()[-1] for line in open("/proc/self/maps") if ".so" in line.split()[-1]})
+    print("RESULT " + json.dumps({
+        "package": pointnpr.__file__, "maps": maps, "shape": list(back.shape),
+        "centre": [float(v) for v in back[60, 80, :3]], "side": [float(v) for v in back[60, 40, :3]],
+        "digest": hashlib.sha256(np.asarray(result.color).tobytes()).hexdigest()}))
+""")
+
+
+def _wheel():
+    wheels = glob.glob(os.path.join(DIST, "pointnpr-*-%s-%s-manylinux_*_x86_64.whl" % (ABI, ABI)))
+    assert len(wheels) == 1, "scripts/build_wheel.sh makes one repaired wheel per ABI in %s: %s" % (DIST, wheels)
+    return wheels[0]
+
+
+def _hidden_files():
+    files = sorted({os.path.realpath(os.path.join(LIBDIR, f)) for f in os.listdir(LIBDIR)
+                    if re.match(HIDDEN_NAMES, f) and ".so" in f})
+    assert any("libOpenImageIO.so" in f for f in files), files  # Debian's OIIO is there to hide
+    return files
+
+
+def _hiding(command):
+    """``command`` in a private mount namespace where the hidden files read
+    as empty (root, or password-less sudo, for unshare)."""
+    binds = " ".join("mount --bind /dev/null %s &&" % f for f in _hidden_files())
+    prefix = [] if os.geteuid() == 0 else ["sudo", "-n"]
+    return prefix + ["unshare", "-m", "sh", "-c", binds + ' exec "$@"', "sh"] + command
+
+
+@pytest.fixture(scope="module")
+def venv(tmp_path_factory):
+    """A clean venv (no system site packages) with the wheel and numpy."""
+    path = tmp_path_factory.mktemp("wheel") / "venv"
+    subprocess.run(["/usr/bin/python3", "-m", "venv", str(path)], check=True)
+    python = str(path / "bin" / "python")
+    out = subprocess.run([python, "-c", "import sys; print(sys.flags.no_site, sys.path)"],
+                         capture_output=True, text=True, check=True).stdout
+    assert "/usr/lib/python3/dist-packages" not in out, out
+    subprocess.run([python, "-m", "pip", "install", "-q", _wheel(), "numpy==1.26.4"], check=True)
+    return python
+
+
+def test_hiding_really_hides_debians_openimageio():
+    proc = subprocess.run(_hiding(["/usr/bin/python3", "-c",
+                                   "import ctypes; ctypes.CDLL('%s/libOpenImageIO.so.2.4')" % LIBDIR]),
+                          capture_output=True, text=True)
+    assert proc.returncode != 0 and "OSError" in proc.stderr, proc.stderr[-2000:]
+
+
+def test_wheel_renders_and_writes_an_image_without_debians_libraries(venv, tmp_path):
+    image = str(tmp_path / "frame.png")
+    script = tmp_path / "check.py"
+    script.write_text(CHECK)
+    proc = subprocess.run(_hiding([venv, str(script), image]), capture_output=True, text=True, timeout=300,
+                          cwd=str(tmp_path))
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-3000:]
+    result = json.loads(proc.stdout.split("RESULT ", 1)[1])
+    site = os.path.dirname(os.path.dirname(result["package"]))
+    assert site.startswith(str(tmp_path.parent)) and site.endswith("site-packages"), result["package"]
+    hidden = set(_hidden_files())
+    assert not hidden & set(result["maps"]), sorted(hidden & set(result["maps"]))
+    vendored = [m for m in result["maps"] if "/pointnpr.libs/" in m]
+    assert any(os.path.basename(m).startswith("libOpenImageIO-") for m in vendored), result["maps"]
+    # The picture, read back from the file: 160x120, the red near plane in
+    # the middle, the blue far one around it.
+    assert result["shape"][:2] == [120, 160] and os.path.getsize(image) > 0
+    r, g, b = result["centre"]
+    assert r > 0.3 and r > 2 * b, result["centre"]
+    r, g, b = result["side"]
+    assert b > 0.1 and b > 2 * r, result["side"]
+    # Same pixels as the module built against Debian's libraries.
+    env = dict(os.environ, PYTHONPATH=os.path.join(REPO, "build"))
+    reference = subprocess.run(["/usr/bin/python3", str(script), str(tmp_path / "reference.png")], env=env,
+                               capture_output=True, text=True, timeout=300, check=True).stdout
+    assert json.loads(reference.split("RESULT ", 1)[1])["digest"] == result["digest"]
+
+
+def test_vendored_libraries_are_renamed_and_gl_stays_the_systems():
+    """auditwheel gives every vendored library a hashed name (and SONAME), so
+    it cannot be mistaken for a copy Blender ships; libEGL/libOpenGL, which
+    pick the GPU driver, are not vendored."""
+    names = [n for n in zipfile.ZipFile(_wheel()).namelist() if n.startswith("pointnpr.libs/") and n[-1] != "/"]
+    assert len(names) > 50, names   # OIIO's whole dependency tree
+    libs = [os.path.basename(n) for n in names]
+    assert all(re.search(r"-[0-9a-f]{8}\.", n) for n in libs), [n for n in libs
+                                                                  if not re.search(r"-[0-9a-f]{8}\.", n)]
+    assert not [n for n in libs if re.match(r"lib(EGL|GL|OpenGL|GLX|GLdispatch)[-.]", n)]
+    assert any(n.startswith("libOpenImageIO-") for n in libs) and any(n.startswith("libtbb-") for n in libs)
