@@ -22,7 +22,7 @@ _COLOR_TYPES = {'BYTE_COLOR', 'FLOAT_COLOR'}
 
 
 def _core():
-    import pointnpr
+    from .. import _self as pointnpr
     return pointnpr
 
 
