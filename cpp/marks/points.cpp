@@ -42,14 +42,6 @@ void bind_splat_chunk(const gl::Program& p, const VisibleChunk& v, const SplatSe
   bind_chunk(p, v, s.color_source, {{2, normals}});
 }
 
-// Towards the light, in view space: elevation away from the view axis,
-// azimuth around it (0 from the right, 90 from above).
-glm::vec3 view_light(double azimuth_deg, double elevation_deg) {
-  const double azimuth = glm::radians(azimuth_deg), elevation = glm::radians(elevation_deg);
-  return {float(std::sin(elevation) * std::cos(azimuth)), float(std::sin(elevation) * std::sin(azimuth)),
-          float(std::cos(elevation))};
-}
-
 class Points final : public Mark {
  public:
   AttributeSet attributes(const ParamValues& p) const override {
@@ -78,7 +70,7 @@ class Points final : public Mark {
     s.constant_color = p.get_color("color");
     s.shading = p.get_enum("shading") != 0;
     s.shading_strength = float(p.get_float("shading_strength"));
-    s.light_dir = view_light(p.get_float("light_azimuth"), p.get_float("light_elevation"));
+    s.light_dir = view_light_direction(p, *ctx.camera);
     s.normal_k = p.get_int("normal_neighbors");
     if (queue_enabled(p))
       for (const VisibleChunk& v : ctx.chunks) s.queue_counts.push_back(queue_count(v, p));
@@ -110,12 +102,15 @@ const MarkRegistration registration{{
                only_when(float_param("shading_strength", 0.7, 0.0, 1.0, "",
                                      "How dark surfaces turned away from the light get (diffuse shading)"),
                          "shading", {"diffuse"}),
-               only_when(float_param("light_azimuth", 135.0, -180.0, 180.0, "deg",
-                                     "Light direction around the view axis, from the camera (0: from the right, 90: from above)"),
+               // Camera by default, as the points mark has always lit; world and
+               // scene_sun (the host's sun lamp) as the other marks and mesh surfaces.
+               only_when(enum_param("light_space", {"world", "camera", "scene_sun"}, 1,
+                                    "camera: the light moves with the view; world: it stays with the scene; "
+                                    "scene_sun: as world, from the host scene's sun lamp (Blender), so scans, "
+                                    "meshes and the other marks share one light"),
                          "shading", {"diffuse"}),
-               only_when(float_param("light_elevation", 45.0, 0.0, 90.0, "deg",
-                                     "Light direction away from the view axis (0: along it, from the camera)"),
-                         "shading", {"diffuse"}),
+               only_when(light_azimuth_param(135.0), "shading", {"diffuse"}),
+               only_when(light_elevation_param(45.0), "shading", {"diffuse"}),
                only_when(int_param("normal_neighbors", 16, 3, 64, "",
                                    "Neighbours the normals are estimated from where a cloud has none (PCA, seed 001 eq. 1)"),
                          "shading", {"diffuse"}),

@@ -273,3 +273,10 @@ def test_the_scene_sun_lights_meshes_and_marks_of_a_style(tmp_path):
     assert desc["mark"][1]["light_space"] == "scene_sun"
     assert desc["mark"][1]["light_elevation"] == pytest.approx(90.0)
     assert desc["surface"]["light_elevation"] == pytest.approx(90.0) and not warnings
+    # And so does the points mark's diffuse shading.
+    desc["mark"] = ("points", {"shading": "diffuse", "light_space": "camera"})
+    sync._apply_scene_sun(desc, bpy.context.evaluated_depsgraph_get(), warnings, coll.pointnpr_style)
+    assert desc["mark"][1]["light_space"] == "scene_sun"
+    assert desc["mark"][1]["light_elevation"] == pytest.approx(90.0) and not warnings
+    core_style = nodes.make_core_style(desc)
+    assert core_style.mark[1]["light_space"] == "scene_sun"

@@ -457,3 +457,30 @@ def test_every_mark_renders_the_same_bytes_in_another_process():
             r = render(pointnpr.Renderer(), pointnpr.Style(mark=(mark, p)), [c], capture=False)
             digest = hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest()
             assert line == f"{mark} {digest}"
+
+
+def test_points_shading_light_stays_with_the_scene_in_world_space_and_with_the_view_in_camera_space(renderer):
+    """The points mark's diffuse light: camera (the default, as it always
+    lit) turns with the view; world (and scene_sun, the Blender sun lamp)
+    stays with the scene, as the other marks' and mesh surfaces' light.
+    Lambert is two-sided (|n.l|: estimated normals have no side), so the
+    test looks at the centre of a ball, which faces the camera."""
+    pos, normals = sphere(40000, centre=(0.0, 0.0, 0.0))
+    ball = cloud(pos, normals, colors=np.full((len(pos), 3), 255, np.uint8))
+
+    def centre(light, eye):
+        params = {"shading": "diffuse", "shading_strength": 1.0, "point_size": 3.0, **light}
+        scene = pointnpr.Scene()
+        scene.add_segment("s", pointnpr.Style(mark=("points", params)), [(ball, np.eye(4))])
+        cam = pointnpr.Camera.perspective(pointnpr.look_at(eye, (0.0, 0.0, 0.0)), lens=50.0, width=W, height=H)
+        img = np.asarray(renderer.render(scene, cam, W, H).color)
+        return float(img[H // 2 - 8:H // 2 + 8, W // 2 - 8:W // 2 + 8, 0].mean())
+
+    world = {"light_space": "world", "light_azimuth": 0.0, "light_elevation": 0.0}  # from +X
+    # Seen from +X the ball's centre faces that light, seen from +Y it is lit edge-on.
+    assert centre(world, (6.0, 0.0, 0.0)) > 0.9 and centre(world, (0.0, 6.0, 0.0)) < 0.1
+    # A camera light along the view axis lights the centre from any side.
+    view = {"light_space": "camera", "light_azimuth": 0.0, "light_elevation": 0.0}
+    assert centre(view, (6.0, 0.0, 0.0)) > 0.9 and centre(view, (0.0, 6.0, 0.0)) > 0.9
+    params = pointnpr.schema("points", kind="mark")["params"]
+    assert next(p for p in params if p["name"] == "light_space")["default"] == "camera"
