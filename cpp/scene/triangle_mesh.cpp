@@ -219,6 +219,21 @@ std::shared_ptr<const PointCloud> TriangleMesh::vertex_cloud() const {
     if (has_colors() && color_domain_ == MeshDomain::Vertex)
       for (uint32_t c : colors_)
         for (int k = 0; k < 4; ++k) colors.push_back(uint8_t(c >> (8 * k)));
+    if (has_colors() && color_domain_ == MeshDomain::Corner) {
+      // A vertex gets the mean of its corners' colours (white where no
+      // triangle uses it).
+      std::vector<uint32_t> sums(4 * num_vertices(), 0), counts(num_vertices(), 0);
+      for (size_t corner = 0; corner < indices_.size(); ++corner) {
+        const size_t v = indices_[corner];
+        ++counts[v];
+        for (int k = 0; k < 4; ++k) sums[4 * v + size_t(k)] += (colors_[corner] >> (8 * k)) & 0xffu;
+      }
+      colors.resize(4 * num_vertices(), 255);
+      for (size_t v = 0; v < num_vertices(); ++v)
+        if (counts[v] > 0)
+          for (int k = 0; k < 4; ++k)
+            colors[4 * v + size_t(k)] = uint8_t((sums[4 * v + size_t(k)] + counts[v] / 2) / counts[v]);
+    }
     PointCloudInput in;
     in.positions = positions;
     in.normals = normals;

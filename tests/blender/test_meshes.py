@@ -243,6 +243,12 @@ def test_meshes_as_points_and_sampled_points():
     surface.meshes = "points"
     synced = sync.build_scene(bpy.context.evaluated_depsgraph_get(), 1.0)
     assert synced.num_points == 4  # its vertices, as before meshes had surfaces
+    # Face-corner colours reach the vertices (each the mean of its corners').
+    attr = obj.data.color_attributes.new("Paint", 'BYTE_COLOR', 'CORNER')
+    rgba = np.tile(np.array([1.0, 1.0, 0.0, 1.0], np.float32), (len(attr.data), 1))
+    attr.data.foreach_set("color_srgb", rgba.ravel())
+    obj.data.update()
+    assert sync.read_colors(obj).tolist() == [[255, 255, 0]] * 4
     assert mesh_sync.cache_stats()["objects"] == 0  # its mesh is no longer kept
     surface.meshes = "sampled"
     surface.sample_density = 100.0

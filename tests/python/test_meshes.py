@@ -419,3 +419,23 @@ def test_mesh_surfaces_draw_the_frame_whole_over_the_memory_budget_and_say_so(re
     points = pointnpr.Scene()
     points.add_segment("cube", pointnpr.Style(surface={"meshes": "points"}), [(cube, np.eye(4), "Cube")])
     assert renderer.render(points, camera(), W, H, tile_size=64).stats["tiles"] > 1
+
+
+def test_a_mesh_drawn_as_points_takes_the_mean_of_its_vertices_corner_colours(renderer):
+    # Two triangles sharing the diagonal's vertices 0 and 2: red and blue corners.
+    v = np.array([[-1, -1, -5], [1, -1, -5], [1, 1, -5], [-1, 1, -5]], float)
+    tri = np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
+    corner = np.array([[255, 0, 0]] * 3 + [[0, 0, 255]] * 3, np.uint8)
+    mesh = pointnpr.TriangleMesh(v, tri, colors=corner)
+    scene = pointnpr.Scene()
+    style = pointnpr.Style(mark=("points", {"point_size": 9.0, "color_source": "rgb"}), surface={"meshes": "points"})
+    scene.add_segment("m", style, [mesh])
+    res = renderer.render(scene, camera(), W, H)
+    assert not any("colors" in w for w in res.warnings), res.warnings
+    img = np.asarray(res.color)
+    covered = img[..., 3] > 0.5
+    rgb = img[covered][:, :3]
+    # Vertex 1 is only red, vertex 3 only blue, 0 and 2 half of each (purple).
+    assert (rgb[:, 0] > 0.9).any() and (rgb[:, 2] > 0.9).any()
+    purple = (rgb[:, 0] > 0.1) & (rgb[:, 0] < 0.5) & (rgb[:, 2] > 0.1) & (rgb[:, 2] < 0.5)
+    assert purple.any()

@@ -110,7 +110,7 @@ def _first_color_attribute(data):
     colors = getattr(data, "color_attributes", None)
     candidates = colors if colors is not None else _point_attributes(data)
     for attr in candidates:
-        if attr.data_type in _COLOR_TYPES and attr.domain == 'POINT' and not attr.name.startswith("."):
+        if attr.data_type in _COLOR_TYPES and attr.domain in ('POINT', 'CORNER') and not attr.name.startswith("."):
             return attr
     return None
 
@@ -139,6 +139,18 @@ def read_colors(obj):
         attr.data.foreach_get("color", values)
         values = linear_to_srgb(values)
     rgb = values.reshape(n, 4)[:, :3]
+    if attr.domain == 'CORNER':
+        # Face-corner colours (a mesh drawn as points): each vertex the mean
+        # of its corners'.
+        loops = obj.data.loops
+        vertex = np.empty(len(loops), dtype=np.int64)
+        loops.foreach_get("vertex_index", vertex)
+        count = np.bincount(vertex, minlength=len(obj.data.vertices)).astype(np.float64)
+        mean = np.ones((len(obj.data.vertices), 3))
+        for k in range(3):
+            total = np.bincount(vertex, weights=rgb[:, k], minlength=len(obj.data.vertices))
+            mean[:, k] = np.where(count > 0, total / np.maximum(count, 1.0), 1.0)
+        rgb = mean
     return np.clip(np.rint(rgb * 255.0), 0, 255).astype(np.uint8)
 
 
@@ -346,10 +358,19 @@ class _InstanceCopy:
     """What the sync reads of an instanced object (geometry-nodes output),
     taken while the iterator is on it: the object is a temporary the next
     step reuses (garbage afterwards in Blender 4.5+); its data stays."""
-    __slots__ = ("name", "type", "data")
+    __slots__ = ("name", "type", "data", "material_slots")
 
     def __init__(self, obj):
         self.name, self.type, self.data = obj.name, obj.type, obj.data
+        # Mesh surfaces read their materials through the slots.
+        self.material_slots = [_MaterialSlot(slot.material) for slot in getattr(obj, "material_slots", ())]
+
+
+class _MaterialSlot:
+    __slots__ = ("material",)
+
+    def __init__(self, material):
+        self.material = material
 
 
 def scene_sun_direction(depsgraph):
