@@ -12,6 +12,7 @@
 #include "gl/objects.h"
 #include "gl/shaders.h"
 #include "marks/mesh_surface.h"
+#include "render/box_projection.h"
 #include "render/filter_chain.h"
 #include "render/gpu_cloud.h"
 #include "render/image_textures.h"
@@ -107,7 +108,9 @@ struct FrameWarnings {
 
 // Area of the convex hull of 8 points (the projected corners of a box), by
 // Andrew's monotone chain: the continuous resolution queue's M.
-double hull_area(glm::dvec2 (&p)[8]) {
+double hull_area(const glm::dvec2 (&corners)[8]) {
+  glm::dvec2 p[8];
+  std::copy(std::begin(corners), std::end(corners), p);
   std::sort(std::begin(p), std::end(p), [](glm::dvec2 a, glm::dvec2 b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
   auto cross = [](glm::dvec2 o, glm::dvec2 a, glm::dvec2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
   glm::dvec2 hull[16];
@@ -286,37 +289,9 @@ struct Renderer::Impl {
         const glm::dmat4 view_from_chunk = view_from_object * glm::translate(glm::dmat4(1.0), chunk.origin);
         const glm::dvec3 lo_box = glm::dvec3(chunk.local_min) - extent.world;
         const glm::dvec3 hi_box = glm::dvec3(chunk.local_max) + extent.world;
-        bool all_near = true, all_far = true, crosses_near = false;
-        double dmin = std::numeric_limits<double>::max(), dmax = 0.0;
-        glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-        glm::dvec2 projected[8];
-        for (int c = 0; c < 8; ++c) {
-          const glm::dvec3 corner((c & 1) ? hi_box.x : lo_box.x, (c & 2) ? hi_box.y : lo_box.y,
-                                  (c & 4) ? hi_box.z : lo_box.z);
-          const glm::dvec4 v = view_from_chunk * glm::dvec4(corner, 1.0);
-          const double dist = -v.z;
-          dmin = std::min(dmin, dist);
-          dmax = std::max(dmax, dist);
-          all_near = all_near && dist < cam.clip_start;
-          all_far = all_far && dist > cam.clip_end;
-          if (!cam.orthographic && dist < cam.clip_start * 0.5) {
-            crosses_near = true;
-            continue;
-          }
-          const glm::dvec4 clip = cam.projection * v;
-          const glm::dvec2 win = (glm::dvec2(clip) / clip.w * 0.5 + 0.5) * glm::dvec2(size);
-          lo = glm::min(lo, win);
-          hi = glm::max(hi, win);
-          projected[c] = win;
-        }
-        Rect r;
-        if (crosses_near) {
-          r = Rect{{0, 0}, size};
-        } else {
-          r.min = glm::ivec2(glm::max(glm::floor(lo - margin), glm::dvec2(0.0)));
-          r.max = glm::ivec2(glm::min(glm::ceil(hi + margin), glm::dvec2(size)));
-        }
-        if (all_near || all_far || r.empty()) {
+        const ProjectedBox box = project_box(view_from_chunk, lo_box, hi_box, cam, size);
+        const Rect r = box.rect(size, margin);
+        if (box.all_near || box.all_far || r.empty()) {
           ++culled;
           key_base += chunk.count;
           continue;
@@ -327,10 +302,10 @@ struct Renderer::Impl {
           if (!missing.empty()) frame_warnings.add_missing_color(missing, inst, seg);
         }
         out.screen = out.screen.united(r);
-        out.depth_min = std::min(out.depth_min, std::max(dmin, cam.clip_start));
-        out.depth_max = std::max(out.depth_max, std::min(dmax, cam.clip_end));
+        out.depth_min = std::min(out.depth_min, std::max(box.depth_min, cam.clip_start));
+        out.depth_max = std::max(out.depth_max, std::min(box.depth_max, cam.clip_end));
         out.chunks.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base,
-                              crosses_near ? -1.0 : hull_area(projected)});
+                              box.crosses_near ? -1.0 : hull_area(box.corners)});
         out.rects.push_back(r);
         key_base += chunk.count;
       }
