@@ -26,7 +26,8 @@ def _quad_mesh(name, half=1.0, z=0.0):
 
 def _material(name, rgb, image=None):
     mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
+    if bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True  # always on in 5.0 (deprecated there)
     bsdf = mat.node_tree.nodes["Principled BSDF"]
     bsdf.inputs["Base Color"].default_value = (*rgb, 1.0)
     if image is not None:

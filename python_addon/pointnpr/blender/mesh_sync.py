@@ -15,6 +15,8 @@ until a depsgraph update invalidates it.
 
 import zlib
 
+import bpy
+
 import numpy as np
 
 
@@ -41,7 +43,10 @@ def _linear_to_srgb(x):
 
 def _principled(material):
     """The Principled BSDF feeding the material's output, or None."""
-    if material is None or not getattr(material, "use_nodes", False) or material.node_tree is None:
+    if material is None or material.node_tree is None:
+        return None
+    # Blender 5.0 always uses a material's nodes (use_nodes is deprecated).
+    if bpy.app.version < (5, 0, 0) and not material.use_nodes:
         return None
     tree = material.node_tree
     outputs = [n for n in tree.nodes if n.type == 'OUTPUT_MATERIAL']
