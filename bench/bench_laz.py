@@ -17,7 +17,6 @@ decode every field of every point.
 import argparse
 import os
 import pathlib
-import statistics
 import sys
 import tempfile
 import time
@@ -28,6 +27,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, os.path.abspath(os.environ.get("POINTNPR_BUILD_DIR", ROOT / "build")))
 
 import laspy  # noqa: E402
+from bench_io import median_time  # noqa: E402  (the same timer as the LAS figures)
 import pointnpr  # noqa: E402
 
 LAZ = ROOT / "tests" / "data" / "io" / "laz"
@@ -52,16 +52,6 @@ def make_tiled(path, tiles, point_format):
             out.array["gps_time"][sl] = pts.array["gps_time"] + t * 1000.0
     las = laspy.LasData(header=header, points=out)
     las.write(str(path), laz_backend=laspy.LazBackend.Lazrs)
-
-
-def timed(fn, repeat):
-    fn()  # warm-up (page cache, allocator)
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def main():
@@ -89,7 +79,7 @@ def main():
             mb = f.stat().st_size / 1e6
             cells = []
             for name, read in readers.items():
-                s = timed(lambda: read(str(f)), args.repeat)
+                s = median_time(lambda: read(str(f)), args.repeat)
                 cells.append("%.1f, %.2f" % (mb / s, n / s / 1e6))
             print("| %s | %d | %.2f | %s |" % (f.name, n, mb, " | ".join(cells)))
 

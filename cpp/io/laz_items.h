@@ -10,12 +10,32 @@
 // them directly on concrete types (no virtual calls per point).
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <vector>
 
 #include "io/laz_arithmetic.h"
 
 namespace pointnpr::laz {
+
+// Little-endian fields of a raw point record, and the wrap-around integer
+// arithmetic the item decoders predict with (LASzip's, on unsigned values).
+template <class T>
+T get(const uint8_t* p) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return v;
+}
+template <class T>
+void put(uint8_t* p, T v) {
+  std::memcpy(p, &v, sizeof(T));
+}
+inline int32_t wrap_add(int32_t a, int32_t b) {
+  return static_cast<int32_t>(static_cast<uint32_t>(a) + static_cast<uint32_t>(b));
+}
+inline int32_t wrap_mul(int32_t a, int32_t b) {
+  return static_cast<int32_t>(static_cast<uint32_t>(a) * static_cast<uint32_t>(b));
+}
 
 // Running median of the last five values (the x/y difference predictor).
 struct Median5 {

@@ -17,22 +17,6 @@
 namespace pointnpr::laz {
 namespace {
 
-template <class T>
-T get(const uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  return v;
-}
-template <class T>
-void put(uint8_t* p, T v) {
-  std::memcpy(p, &v, sizeof(T));
-}
-inline int32_t wrap_add(int32_t a, int32_t b) {
-  return static_cast<int32_t>(static_cast<uint32_t>(a) + static_cast<uint32_t>(b));
-}
-inline int32_t wrap_mul(int32_t a, int32_t b) {
-  return static_cast<int32_t>(static_cast<uint32_t>(a) * static_cast<uint32_t>(b));
-}
 
 // (number of returns, return number) -> one of 6 contexts for x/y, and the
 // level (8 contexts) for z.
