@@ -13,7 +13,7 @@ layout(std430, binding = 7) writeonly buffer Records { SplatRecord records[]; };
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= u_count) return;
-  uint index = u_first + i;
+  uint index = splat_point(i);
   BrushSplat s = brush_splat(index);
   records[i] = SplatRecord(vec4(s.center, s.visible ? 2.0 * s.radius * s.stretch : 0.0), vec4(s.t, s.two_layers ? 1.0 : 0.0),
                            vec4(s.n, uintBitsToFloat(point_ids[index])), source_color(index));

@@ -9,6 +9,11 @@ layout(std430, binding = 4) readonly buffer Deviation { float deviation[]; };   
 layout(std430, binding = 5) readonly buffer Clusters { uint clusters_u[]; };    // 4 per point: axis, elongation, size, label
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 13) readonly buffer Axes { uint axes_u[]; };  // covariance frame: major axis, snorm8
+layout(std430, binding = 14) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices (u_queue)
+uniform int u_queue;  // 1: the chunk's i-th splat is the i-th point of its resolution queue
+
+// The point of the chunk's i-th splat.
+uint splat_point(uint i) { return u_first + (u_queue != 0 ? queue_order[u_first + i] : i); }
 
 uniform mat4 u_projection;
 uniform int u_ortho;

@@ -16,7 +16,7 @@ flat out int v_two_layers;
 const vec2 CORNERS[4] = vec2[](vec2(0, 0), vec2(1, 0), vec2(0, 1), vec2(1, 1));
 
 void main() {
-  uint index = u_first + uint(gl_InstanceID);
+  uint index = splat_point(uint(gl_InstanceID));
   vec2 corner = CORNERS[gl_VertexID];
   BrushSplat s = brush_splat(index);
   if (!s.visible) {

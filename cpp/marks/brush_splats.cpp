@@ -77,6 +77,7 @@ class BrushSplats final : public Mark {
     if (p.get_enum_name("tangent_frame") == "covariance")
       set.insert({AttributeKind::PrincipalAxis, p.get_int("normal_neighbors")});
     if (p.get_bool("clusters")) set.insert({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")});
+    if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
     return set;
   }
 
@@ -141,7 +142,12 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
               {4, c.find({AttributeKind::ResolutionDeviation, k})},
               {5, c.find({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")})},
               {6, c.find({AttributeKind::PointId})},
-              {13, c.find({AttributeKind::PrincipalAxis, p.get_int("normal_neighbors")})}});
+              {13, c.find({AttributeKind::PrincipalAxis, p.get_int("normal_neighbors")})},
+              {14, c.find({AttributeKind::QueueOrder})}});
+  const bool queued = draws_queue(v, p);
+  if (queued && !c.find({AttributeKind::QueueOrder})) throw GLError("brush_splats: the queue order was not uploaded");
+  glUniform1i(g.location("u_queue"), queued ? 1 : 0);
+  glUniform1ui(g.location("u_count"), queue_count(v, p));
 }
 
 gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const gl::Texture& depth) {
@@ -176,7 +182,8 @@ void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p
   glBindVertexArray(vao);
   for (const VisibleChunk& v : ctx.chunks) {
     bind_splat_chunk(g, v, p);
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(v.chunk->count));
+    const uint32_t count = queue_count(v, p);
+    if (count > 0) glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(count));
   }
   glBindVertexArray(0);
 }
@@ -395,7 +402,7 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
   if (blending != "a_buffer" || !draw_a_buffer(ctx, p)) draw_blended(ctx, p, blending != "none");
 
   uint64_t drawn = 0;
-  for (const VisibleChunk& v : ctx.chunks) drawn += v.chunk->count;
+  for (const VisibleChunk& v : ctx.chunks) drawn += queue_count(v, p);
   if (ctx.stats) (*ctx.stats)["splats_drawn"] += double(drawn);
 
   // Captured splats, per chunk (chunks are bounded in size).
@@ -404,12 +411,14 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
     capture.use();
     set_splat_uniforms(capture, ctx, p);
     for (const VisibleChunk& v : ctx.chunks) {
-      const gl::Buffer records = gl::make_buffer(size_t(v.chunk->count) * sizeof(SplatRecord), nullptr, 0);
+      const uint32_t count = queue_count(v, p);
+      if (count == 0) continue;
+      const gl::Buffer records = gl::make_buffer(size_t(count) * sizeof(SplatRecord), nullptr, 0);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, records.id());
       bind_splat_chunk(capture, v, p);
-      glDispatchCompute((v.chunk->count + 127) / 128, 1, 1);
+      glDispatchCompute((count + 127) / 128, 1, 1);
       glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-      std::vector<SplatRecord> out(v.chunk->count);
+      std::vector<SplatRecord> out(count);
       glGetNamedBufferSubData(records.id(), 0, GLsizeiptr(out.size() * sizeof(SplatRecord)), out.data());
       for (const SplatRecord& r : out) {
         if (!(r.center_size.w > 0.0f)) continue;
@@ -508,6 +517,8 @@ const MarkRegistration registration{{
                                      "Neighbours mix only within this fraction of the depth"),
                          "blending", {"blur", "a_buffer"}),
                int_param("seed", 0, 0, 65535, "", "Varies the brushes' noise (still fixed per point)"),
+               density_mode_param(),
+               queue_level_param(0.5),
            }},
     [] { return std::make_unique<BrushSplats>(); }}};
 

@@ -127,7 +127,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   const glm::ivec2 size = frame_size(ctx.targets);  // the projection's
   const float px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
   const int k = p.get_int("feature_neighbors");
-  const bool queue = queue_enabled(p);
+  const bool queue = draws_queue(ctx, p);
   const Rect& clip = ctx.clip;
   const ColorSource color_source = ColorSource(p.get_enum("color_source"));
   const AttributeKey line_key = feature_line_key(p.get_int("line_neighbors"), k, p.get_float("feature_threshold"));

@@ -316,8 +316,8 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
       glUniform1ui(select.location("u_command_base"), offsets[c - batch_start] / 128u);
       glUniform1i(select.location("u_has_curvature"), g.find({AttributeKind::Curvature, k}) ? 1 : 0);
       const uint32_t count = queue_count(v, p);
-      glUniform1i(select.location("u_queue"), queue_enabled(p) ? 1 : 0);
-      if (queue_enabled(p)) {
+      glUniform1i(select.location("u_queue"), draws_queue(v, p) ? 1 : 0);
+      if (draws_queue(v, p)) {
         const gl::Buffer* order = g.find({AttributeKind::QueueOrder});
         if (!order) throw GLError("hatching: the queue order was not uploaded");
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, order->id());

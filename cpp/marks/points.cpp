@@ -72,7 +72,7 @@ class Points final : public Mark {
     s.shading_strength = float(p.get_float("shading_strength"));
     s.light_dir = view_light_direction(p, *ctx.camera);
     s.normal_k = p.get_int("normal_neighbors");
-    if (queue_enabled(p))
+    if (draws_queue(ctx, p))
       for (const VisibleChunk& v : ctx.chunks) s.queue_counts.push_back(queue_count(v, p));
     if (p.get_enum_name("rasterizer") == "compute")
       draw_splats_compute(ctx, s);

@@ -54,7 +54,7 @@ void clear_uint(const gl::Buffer& b, size_t count, uint32_t value) {
 // how many points to dispatch.
 uint32_t bind_queued_chunk(const gl::Program& prog, const VisibleChunk& v, const ParamValues& p) {
   bind_chunk(prog, v, ColorSource::Constant, {{6, v.gpu->find({AttributeKind::PointId})}});
-  const bool queued = queue_enabled(p);
+  const bool queued = draws_queue(v, p);
   glUniform1i(prog.location("u_queue"), queued ? 1 : 0);
   if (!queued) return v.chunk->count;
   const gl::Buffer* order = v.gpu->find({AttributeKind::QueueOrder});

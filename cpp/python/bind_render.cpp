@@ -476,8 +476,12 @@ void bind_render(py::module_& m) {
       }))
       .def("render", [](Renderer& self, const Scene& scene, const Camera& camera, int width, int height, double time,
                         const py::object& composite, const py::object& background, const py::object& progress,
-                        bool capture_marks, double memory_budget_gb, int tile_size) {
+                        bool capture_marks, double memory_budget_gb, int tile_size, long long point_budget) {
         RenderSettings s;
+        if (point_budget < 0)
+          throw ParameterError("point_budget must be 0 (every point) or a number of points, got " +
+                               std::to_string(point_budget));
+        s.point_budget = uint64_t(point_budget);
         if (!std::isfinite(memory_budget_gb) || memory_budget_gb < 0.0 || memory_budget_gb > 1e6)
           throw ParameterError("memory_budget_gb must be a positive number of GB (0 = the default, 2), got " +
                                std::to_string(memory_budget_gb));
@@ -507,7 +511,7 @@ void bind_render(py::module_& m) {
       }, py::arg("scene"), py::arg("camera"), py::arg("width"), py::arg("height"), py::arg("time") = 0.0,
          py::arg("composite") = py::none(), py::arg("background") = std::vector<double>{0, 0, 0, 0},
          py::arg("progress") = py::none(), py::arg("capture_marks") = false, py::arg("memory_budget_gb") = 0.0,
-         py::arg("tile_size") = 0)
+         py::arg("tile_size") = 0, py::arg("point_budget") = 0)
       .def("cached_clouds", &Renderer::cached_clouds, py::call_guard<py::gil_scoped_release>())
       .def("uploaded_attributes", [](const Renderer& r, const PointCloud& c) {
         return attribute_names(r.uploaded_attributes(c.id()));

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "scene/camera.h"
@@ -62,8 +61,16 @@ ParamSpec queue_level_param(double default_level) {
 
 bool queue_enabled(const ParamValues& p) { return p.get_enum_name("density_mode") == "constant_on_screen"; }
 
+bool draws_queue(const VisibleChunk& v, const ParamValues& p) {
+  return queue_enabled(p) || v.budget_count < v.chunk->count;
+}
+
+bool draws_queue(const MarkContext& ctx, const ParamValues& p) {
+  return std::any_of(ctx.chunks.begin(), ctx.chunks.end(), [&p](const VisibleChunk& v) { return draws_queue(v, p); });
+}
+
 uint32_t queue_count(const VisibleChunk& v, const ParamValues& p) {
-  const uint32_t n = v.chunk->count;
+  const uint32_t n = std::min(v.chunk->count, v.budget_count);
   if (!queue_enabled(p) || !(v.screen_area >= 0.0)) return n;
   const double wanted = std::floor(p.get_float("queue_level") * v.screen_area + 0.5);
   return wanted >= double(n) ? n : uint32_t(std::max(wanted, 0.0));

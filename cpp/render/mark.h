@@ -8,6 +8,7 @@
 // where empty; finite exactly where coverage > 0), within `ctx.clip`. Every
 // filter, the depth inpainting and the compositing read those, whichever
 // mark made them.
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -42,6 +43,9 @@ struct VisibleChunk {
   // hull of its 8 projected corners, not clipped to the image); negative
   // where the box crosses the camera plane (then every point is drawn).
   double screen_area = -1.0;
+  // At most this many of the chunk's queue order, set by the frame's point
+  // budget (render/point_budget.h); the mark's own count where that is less.
+  uint32_t budget_count = UINT32_MAX;
 };
 
 // A mesh that survived culling (the mesh_surface mark's input), with its
@@ -168,7 +172,12 @@ ColorSource resolve_color_source(ColorSource source, const GpuCloud& cloud);
 ParamSpec density_mode_param();
 ParamSpec queue_level_param(double default_level);
 bool queue_enabled(const ParamValues& params);  // density_mode == constant_on_screen
-// How many of the chunk's points to draw: all of them when the queue is off.
+// Whether the mark draws by the queue order this frame: its own density
+// mode, or the frame's point budget cutting some chunk short.
+bool draws_queue(const MarkContext& ctx, const ParamValues& params);
+bool draws_queue(const VisibleChunk& chunk, const ParamValues& params);  // for this chunk
+// How many of the chunk's points to draw: all of them when the queue is off
+// and no budget applies; the lesser of the two otherwise.
 uint32_t queue_count(const VisibleChunk& chunk, const ParamValues& params);
 
 // The light of marks that shade (hatching, stipples): `light_space`

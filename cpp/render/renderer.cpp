@@ -13,6 +13,7 @@
 #include "gl/shaders.h"
 #include "marks/mesh_surface.h"
 #include "render/box_projection.h"
+#include "render/point_budget.h"
 #include "render/filter_chain.h"
 #include "render/gpu_cloud.h"
 #include "render/image_textures.h"
@@ -314,6 +315,29 @@ struct Renderer::Impl {
     result.stats["chunks_total"] += total;
     result.stats["chunks_culled"] += culled;
     return out;
+  }
+
+  // The frame's point budget over every segment's visible chunks: each cut
+  // short draws a prefix of its queue order, which its cloud then uploads.
+  void apply_point_budget(const Scene& scene, std::vector<Culled>& culled, uint64_t budget, RenderResult& result) {
+    std::vector<BudgetChunk> chunks;
+    const double frame_area = double(frame.x) * double(frame.y);
+    for (size_t i = 0; i < culled.size(); ++i)
+      for (const VisibleChunk& v : culled[i].chunks)
+        // A chunk across the camera plane may fill the frame.
+        chunks.push_back({queue_count(v, scene.segments[i].style.mark.params),
+                          v.screen_area >= 0.0 ? std::max(v.screen_area, 1.0) : frame_area});
+    const BudgetPlan plan = plan_point_budget(chunks, budget);
+    result.stats["point_budget_points"] = double(plan.drawn);
+    if (!plan.applied) return;
+    result.stats["point_budget_level"] = plan.level;
+    size_t k = 0;
+    for (Culled& c : culled)
+      for (VisibleChunk& v : c.chunks) {
+        v.budget_count = plan.counts[k++];
+        if (v.budget_count < v.chunk->count && !v.gpu->find({AttributeKind::QueueOrder}))
+          if (const auto cloud = v.gpu->source.lock()) clouds.get(cloud, {{AttributeKind::QueueOrder}});
+      }
   }
 
   MarkTargets mark_targets() {
@@ -625,6 +649,7 @@ RenderResult Renderer::render(const Scene& scene, const Camera& camera, const Re
   std::vector<Impl::Culled> culled(n);
   device.run([&] {
     for (size_t i = 0; i < n; ++i) culled[i] = impl_->cull_segment(scene.segments[i], camera, result);
+    if (s.point_budget > 0) impl_->apply_point_budget(scene, culled, s.point_budget, result);
   });
   const size_t tiles = plan.tiles.size();
   try {

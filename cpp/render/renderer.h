@@ -36,6 +36,9 @@ struct RenderSettings {
   size_t memory_budget = 0;
   // Tiles of this many pixels per side whatever the budget (tests, benchmarks); 0 = from the budget.
   int tile_size = 0;
+  // Most points the frame's marks draw (render/point_budget.h: each visible
+  // chunk a prefix of its resolution queue, one density on screen); 0 = all.
+  uint64_t point_budget = 0;
   // Called between segments and tiles on the calling thread; returning false cancels.
   std::function<bool(double fraction, const std::string& what)> progress;
 };

@@ -545,3 +545,26 @@ def test_a_frame_over_the_memory_budget_renders_in_tiles_the_same_pixels(tmp_pat
     tiles = {text.split(":")[0] for _, text in calls if text.startswith("tile ")}
     assert len(tiles) > 1 and "tile 1/%d" % len(tiles) in tiles, calls
     assert [f for f, _ in calls] == sorted(f for f, _ in calls)
+
+
+def test_the_point_budget_thins_final_renders_and_the_viewport_has_its_own(tmp_path, monkeypatch):
+    scene, _, _ = helpers.two_planes_scene()
+    assert scene.pointnpr.point_budget_millions == 0.0       # F12: every point by default
+    assert scene.pointnpr.viewport_point_budget_millions == 3.0
+    assert engine.point_budget(scene) == 0
+    assert engine.point_budget(scene, viewport=True) == 3000000
+    full, _ = helpers.render_pixels(tmp_path, "full.png")
+    budgets = []
+    real = engine.renderer().render
+
+    class Spy:
+        def render(self, *args, point_budget=0, **kwargs):
+            budgets.append(point_budget)
+            return real(*args, point_budget=point_budget, **kwargs)
+
+    monkeypatch.setattr(engine, "renderer", lambda: Spy())
+    scene.pointnpr.point_budget_millions = 0.0005            # 500 of the planes' 16,000 points
+    thinned, _ = helpers.render_pixels(tmp_path, "thinned.png")
+    assert budgets == [500]
+    covered = lambda px: int((px[..., :3].sum(axis=-1) > 0.1).sum())  # red or blue, not the black world
+    assert 0 < covered(thinned) < covered(full)

@@ -138,14 +138,22 @@ def memory_budget_gb(scene):
     return float(getattr(getattr(scene, "pointnpr", None), "memory_budget_gb", 0.0))
 
 
-def do_render(scene_depsgraph, camera, width, height, progress=None, trust_cache=False):
+def point_budget(scene, viewport=False):
+    """Scene.pointnpr's point budget for final renders or the viewport (points; 0 = all)."""
+    settings = getattr(scene, "pointnpr", None)
+    name = "viewport_point_budget_millions" if viewport else "point_budget_millions"
+    return int(round(float(getattr(settings, name, 0.0)) * 1e6))
+
+
+def do_render(scene_depsgraph, camera, width, height, progress=None, trust_cache=False, viewport=False):
     """Sync and render; returns (pointnpr render result, SyncResult)."""
     scene = scene_depsgraph.scene
     synced = sync.build_scene(scene_depsgraph, scene_frame(scene), trust_cache=trust_cache)
     composite = sync.scene_settings(scene)
     result = renderer().render(synced.scene, camera, width, height, time=scene_time(scene),
                                composite=composite, background=background(scene),
-                               progress=progress, memory_budget_gb=memory_budget_gb(scene))
+                               progress=progress, memory_budget_gb=memory_budget_gb(scene),
+                               point_budget=point_budget(scene, viewport))
     return result, synced
 
 
@@ -311,7 +319,7 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
                 or image is None:
             try:
                 camera = _core().Camera.from_matrices(view, proj)
-                result, synced = do_render(depsgraph, camera, width, height, trust_cache=True)
+                result, synced = do_render(depsgraph, camera, width, height, trust_cache=True, viewport=True)
                 t0 = time.perf_counter()
                 image = _ViewportImage(result.color)
                 stats["viewport_upload_ms"] = (time.perf_counter() - t0) * 1000.0

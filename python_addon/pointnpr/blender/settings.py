@@ -24,7 +24,7 @@ _classes = []
 def _reserved_group_names():
     names = set(dir(bpy.types.PropertyGroup))
     names.update(p.identifier for p in bpy.types.PropertyGroup.bl_rna.properties)
-    names.update(("rasterizer", "memory_budget_gb"))
+    names.update(("rasterizer", "memory_budget_gb", "point_budget_millions", "viewport_point_budget_millions"))
     return names
 
 
@@ -45,6 +45,16 @@ def build_settings_class(schema):
         name="Memory Budget", default=2.0, min=0.125, max=4096.0, step=25, precision=2,
         description="GL memory a frame may take, in GB: larger frames (posters, prints) are drawn "
                     "in tiles, the same pixels as drawn whole")
+    # Level of detail (the resolution queue): most points a frame draws.
+    annotations["point_budget_millions"] = bpy.props.FloatProperty(
+        name="Point Budget", default=0.0, min=0.0, max=100000.0, step=10, precision=1, unit='NONE',
+        description="Most points a final render draws, in millions (0: every point). Over it, every "
+                    "visible chunk draws the start of its fixed random order, with one density on "
+                    "screen: near chunks keep more, far ones fewer")
+    annotations["viewport_point_budget_millions"] = bpy.props.FloatProperty(
+        name="Viewport Point Budget", default=3.0, min=0.0, max=100000.0, step=10, precision=1,
+        description="Most points the viewport draws, in millions (0: every point): keeps large "
+                    "scans interactive; F12 uses Point Budget")
     return type("PointNPRSceneSettings", (bpy.types.PropertyGroup,), {
         "__annotations__": annotations,
         "__doc__": schema.get("doc", "PointNPR scene settings"),

@@ -199,6 +199,8 @@ class RENDER_PT_pointnpr(PointNPRPanel, bpy.types.Panel):
         for _param, pid in settings.pointnpr_params:
             col.prop(settings, pid)
         col.prop(settings, "memory_budget_gb")
+        col.prop(settings, "point_budget_millions")
+        col.prop(settings, "viewport_point_budget_millions")
         col.prop(scene.render, "film_transparent", text="Transparent Film")
         if scene.world is not None:
             col.prop(scene.world, "color", text="Background")
