@@ -568,3 +568,13 @@ def test_the_point_budget_thins_final_renders_and_the_viewport_has_its_own(tmp_p
     assert budgets == [500]
     covered = lambda px: int((px[..., :3].sum(axis=-1) > 0.1).sum())  # red or blue, not the black world
     assert 0 < covered(thinned) < covered(full)
+
+
+def test_the_viewport_header_says_when_the_point_budget_thinned_the_frame():
+    from types import SimpleNamespace
+    synced = SimpleNamespace(segment_names=["a", "b"], num_points=12_000_000)
+    whole = SimpleNamespace(stats={"point_budget_points": 12_000_000.0})
+    thinned = SimpleNamespace(stats={"point_budget_points": 2_999_871.0, "point_budget_level": 0.4})
+    assert engine.stats_line(synced, whole) == "PointNPR: 2 segments, 12,000,000 points"
+    assert engine.stats_line(synced, thinned) == \
+        "PointNPR: 2 segments, 12,000,000 points (2,999,871 drawn: point budget)"

@@ -145,6 +145,14 @@ def point_budget(scene, viewport=False):
     return int(round(float(getattr(settings, name, 0.0)) * 1e6))
 
 
+def stats_line(synced, result):
+    """The viewport header's line: segments, points, and what the point budget kept."""
+    line = "PointNPR: %d segments, %s points" % (len(synced.segment_names), "{:,}".format(synced.num_points))
+    if "point_budget_level" in result.stats:
+        line += " (%s drawn: point budget)" % "{:,}".format(int(result.stats["point_budget_points"]))
+    return line
+
+
 def do_render(scene_depsgraph, camera, width, height, progress=None, trust_cache=False, viewport=False):
     """Sync and render; returns (pointnpr render result, SyncResult)."""
     scene = scene_depsgraph.scene
@@ -328,8 +336,7 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
                 self._pointnpr_key = key
                 self._pointnpr_dirty = False
                 self._pointnpr_error = None
-                self.update_stats("", "PointNPR: %d segments, %d points" %
-                                  (len(synced.segment_names), synced.num_points))
+                self.update_stats("", stats_line(synced, result))
             except Exception as exc:
                 traceback.print_exc()
                 self._pointnpr_image = None
