@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs what PointNPR needs on Debian 12 (bookworm). Idempotent: does
-# nothing when every package is present. Usage: scripts/install_deps.sh [--tests]
+# nothing when every package is present. Usage: scripts/install_deps.sh [--tests | --bench]
 set -euo pipefail
 
 packages=(
@@ -14,6 +14,9 @@ if [[ "${1:-}" == "--tests" ]]; then
   packages+=(libgtest-dev libgmock-dev googletest libbenchmark-dev python3-pytest xvfb xauth glslang-tools)
   packages+=(clang libclang-rt-14-dev)  # scripts/fuzz_smoke.sh (libFuzzer)
   packages+=(python3-venv)  # .venv-test (test oracles), the bpy venvs, the wheel's build tools and clean-venv test
+fi
+if [[ "${1:-}" == "--bench" ]]; then
+  packages+=(libbenchmark-dev python3-matplotlib)  # bench/: Google Benchmark, bench/speed_vs_error.py's plots
 fi
 
 # Test oracles from PyPI (laspy + lazrs for LAZ), never run-time dependencies:

@@ -178,6 +178,25 @@ class BytesV2 {
   std::vector<SymbolModel> models_;
 };
 
+// Wave packet descriptors of formats 4 and 5 (29 bytes: descriptor index,
+// byte offset to the waveform, packet size, return point location, x(t),
+// y(t), z(t)), versions 1 and 2 alike. The waveforms themselves are not
+// read; the packets must still be decoded for the items after them.
+class WavePacket13 {
+ public:
+  WavePacket13();
+  void init(const uint8_t* first);
+  void read(Decoder& dec, uint8_t* item);
+
+ private:
+  std::array<uint8_t, 29> last_{};
+  int32_t last_offset_diff_ = 0;
+  uint32_t offset_case_ = 0;  // how the last offset was coded: a context for the next
+  SymbolModel index_;
+  std::array<SymbolModel, 4> offset_cases_;
+  IntegerDecompressor ic_offset_diff_, ic_size_, ic_return_point_, ic_xyz_;
+};
+
 // ---- point-wise items, version 1 (LASzip 1.x; the early compressor) ----
 
 class Point10V1 {

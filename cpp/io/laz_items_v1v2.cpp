@@ -448,6 +448,55 @@ void BytesV2::read(Decoder& dec, uint8_t* item) {
   }
 }
 
+// ------------------------------------------------------------ WAVEPACKET13
+
+WavePacket13::WavePacket13() {
+  ic_offset_diff_.setup(32, 1);
+  ic_size_.setup(32, 1);
+  ic_return_point_.setup(32, 1);
+  ic_xyz_.setup(32, 3);
+}
+
+void WavePacket13::init(const uint8_t* first) {
+  index_.init(256);
+  for (SymbolModel& m : offset_cases_) m.init(4);
+  ic_offset_diff_.init();
+  ic_size_.init();
+  ic_return_point_.init();
+  ic_xyz_.init();
+  last_offset_diff_ = 0;
+  offset_case_ = 0;
+  std::memcpy(last_.data(), first, last_.size());
+}
+
+void WavePacket13::read(Decoder& dec, uint8_t* item) {
+  const uint8_t* last = last_.data();
+  item[0] = static_cast<uint8_t>(dec.decode_symbol(index_));
+  // The waveform's offset: the same as the last packet's, right after it,
+  // a coded difference to it, or raw.
+  offset_case_ = dec.decode_symbol(offset_cases_[offset_case_]);
+  const uint64_t last_offset = get<uint64_t>(last + 1);
+  const uint32_t last_size = get<uint32_t>(last + 9);
+  uint64_t offset;
+  if (offset_case_ == 0) {
+    offset = last_offset;
+  } else if (offset_case_ == 1) {
+    offset = last_offset + last_size;
+  } else if (offset_case_ == 2) {
+    last_offset_diff_ = ic_offset_diff_.decompress(dec, last_offset_diff_);
+    offset = last_offset + static_cast<uint64_t>(static_cast<int64_t>(last_offset_diff_));
+  } else {
+    offset = dec.read_int64();
+  }
+  put<uint64_t>(item + 1, offset);
+  put<int32_t>(item + 9, ic_size_.decompress(dec, static_cast<int32_t>(last_size)));
+  // The float fields are predicted by their bit patterns.
+  put<int32_t>(item + 13, ic_return_point_.decompress(dec, get<int32_t>(last + 13)));
+  for (uint32_t c = 0; c < 3; ++c)
+    put<int32_t>(item + 17 + 4 * c, ic_xyz_.decompress(dec, get<int32_t>(last + 17 + 4 * c), c));
+  std::memcpy(last_.data(), item, last_.size());
+}
+
 }  // namespace pointnpr::laz
 
 // ------------------------------------------------- point-wise chunk decoder
@@ -466,6 +515,7 @@ class PointwiseDecoder final : public ChunkDecoder {
         case kPoint10: break;
         case kGpsTime11: gps_.emplace(); gps_at_ = at; break;
         case kRgb12: rgb_.emplace(); rgb_at_ = at; break;
+        case kWavePacket13: wave_.emplace(); wave_at_ = at; break;
         case kByte: bytes_.emplace(it.size); bytes_at_ = at; break;
         default: break;  // check_items() allowed no other
       }
@@ -490,6 +540,7 @@ class PointwiseDecoder final : public ChunkDecoder {
     p10_.init(out);
     if (gps_) gps_->init(out + gps_at_);
     if (rgb_) rgb_->init(out + rgb_at_);
+    if (wave_) wave_->init(out + wave_at_);
     if (bytes_) bytes_->init(out + bytes_at_);
     Decoder dec(begin + rl_, end);
     uint8_t* rec = out;
@@ -498,6 +549,7 @@ class PointwiseDecoder final : public ChunkDecoder {
       p10_.read(dec, rec);
       if (gps_) gps_->read(dec, rec + gps_at_);
       if (rgb_) rgb_->read(dec, rec + rgb_at_);
+      if (wave_) wave_->read(dec, rec + wave_at_);
       if (bytes_) bytes_->read(dec, rec + bytes_at_);
       if (dec.overrun() > kOverrunSlack) [[unlikely]]
         throw FormatError("its data ends after " + std::to_string(i) + " of " +
@@ -523,8 +575,9 @@ class PointwiseDecoder final : public ChunkDecoder {
   P10 p10_;
   std::optional<Gps> gps_;
   std::optional<Rgb> rgb_;
+  std::optional<WavePacket13> wave_;
   std::optional<Bytes> bytes_;
-  size_t gps_at_ = 0, rgb_at_ = 0, bytes_at_ = 0;
+  size_t gps_at_ = 0, rgb_at_ = 0, wave_at_ = 0, bytes_at_ = 0;
 };
 
 }  // namespace

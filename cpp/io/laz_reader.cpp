@@ -168,6 +168,7 @@ void check_items(const LaszipVlr& v, int pf, size_t rl) {
       case kGpsTime11: ok = !layered && (it.version == 1 || it.version == 2); expected_size = 8; break;
       case kRgb12: ok = !layered && (it.version == 1 || it.version == 2); expected_size = 6; break;
       case kByte: ok = !layered && (it.version == 1 || it.version == 2); break;
+      case kWavePacket13: ok = !layered && (it.version == 1 || it.version == 2); expected_size = 29; break;
       case kPoint14: ok = layered && (it.version == 3 || it.version == 4); expected_size = 30; break;
       case kRgb14: ok = layered && (it.version == 3 || it.version == 4); expected_size = 6; break;
       case kRgbNir14: ok = layered && (it.version == 3 || it.version == 4); expected_size = 8; break;

@@ -78,6 +78,26 @@ TEST(IoLaz, AutzenRecordsEqualTheLasTwinByteForByte) {
   EXPECT_EQ(0, std::memcmp(records.data(), l.data() + at<uint32_t>(l, 96), records.size()));
 }
 
+TEST(IoLaz, WavePacketRecordsEqualTheLasTwinByteForByte) {
+  // Format 5: POINT10, GPSTIME11, RGB12, WAVEPACKET13 and two extra bytes,
+  // every way of coding a waveform's offset (tests/data/io/make_wavepacket_laz.py).
+  const std::string z = slurp(data_path("laz/lazrs_wavepacket5.laz"));
+  const std::string l = slurp(data_path("wavepacket5.las"));
+  const uint32_t count = at<uint32_t>(z, 107);
+  const uint16_t rl = at<uint16_t>(z, 105);
+  ASSERT_EQ(count, 3000u);
+  ASSERT_EQ(rl, 65u);
+  ASSERT_EQ(rl, at<uint16_t>(l, 105));
+  const auto vlr = laszip_vlr_of(z);
+  ASSERT_EQ(vlr.items.size(), 5u);
+  EXPECT_EQ(vlr.items[3].type, laz::kWavePacket13);
+  const std::vector<uint8_t> records =
+      laz::decompress(reinterpret_cast<const uint8_t*>(z.data()), z.size(), at<uint32_t>(z, 96),
+                      z.size(), count, rl, vlr);
+  ASSERT_EQ(records.size(), size_t{count} * rl);
+  EXPECT_EQ(0, std::memcmp(records.data(), l.data() + at<uint32_t>(l, 96), records.size()));
+}
+
 TEST(IoLaz, EveryTestFileReads) {
   struct Case {
     const char* name;
@@ -94,7 +114,7 @@ TEST(IoLaz, EveryTestFileReads) {
       {"pdal_simple-laszip-compressor-version-1.2r0.laz", 1065, 3, 1},
       {"pdal_lone-star-split-1.laz", 122893, 1, 2}, {"pdal_ept_tile_3-5-4-3.laz", 18266, 1, 2},
       {"pdal_faceraster_numerical_imprecision.laz", 18074, 3, 2},
-      {"las_fullwave.laz", 10750, 10, 3}};
+      {"las_fullwave.laz", 10750, 10, 3},        {"lazrs_wavepacket5.laz", 3000, 5, 2}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     const PointData d = read_las(data_path(std::string("laz/") + c.name));
