@@ -493,3 +493,34 @@ def test_replacing_a_mark_keeps_shared_values_and_their_animation(scene):
     assert [n.name for n in nodes.style_chain(tree)] == ["Points", "Cartoon"]
     assert [fc.data_path for fc in helpers.fcurves(tree)] == ['nodes["Points"].point_size']
     assert nodes.read_style(tree, 6.0)["mark"][1]["point_size"] == pytest.approx(7.0, abs=0.6)
+
+
+def test_the_style_panel_header_offers_every_preset(scene):
+    from pointnpr.blender import ui
+
+    class Recorder:
+        def __init__(self):
+            self.calls = []
+
+        def menu(self, idname, **kwargs):
+            self.calls.append(("menu", idname, kwargs))
+
+        def operator(self, idname, **kwargs):
+            op = type("Props", (), {})()
+            self.calls.append(("operator", idname, kwargs, op))
+            return op
+
+    header = type("Panel", (), {"layout": Recorder()})()
+    ui.COLLECTION_PT_pointnpr_style.draw_header_preset(header, bpy.context)
+    assert header.layout.calls == [("menu", "POINTNPR_MT_style_presets", {"text": "", "icon": "PRESET"})]
+    assert hasattr(bpy.types, "POINTNPR_MT_style_presets")
+    menu = type("Menu", (), {"layout": Recorder()})()
+    ui.POINTNPR_MT_style_presets.draw(menu, bpy.context)
+    entries = [(c[1], c[2]["text"], c[3].preset, c[3].target) for c in menu.layout.calls]
+    assert entries == [("pointnpr.new_style", name, name, "COLLECTION") for name in presets.PRESETS]
+    # What an entry does: the preset's style, assigned to the active collection.
+    coll = helpers.new_collection("PresetColl")
+    bpy.context.view_layer.active_layer_collection = bpy.context.view_layer.layer_collection.children["PresetColl"]
+    first = next(iter(presets.PRESETS))
+    assert bpy.ops.pointnpr.new_style(preset=first, target='COLLECTION') == {'FINISHED'}
+    _assert_tree_is_preset(coll.pointnpr_style, presets.PRESETS[first])

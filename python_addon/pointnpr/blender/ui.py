@@ -212,6 +212,20 @@ class RENDER_PT_pointnpr(PointNPRPanel, bpy.types.Panel):
         layout.template_ID(scene, "pointnpr_default_style", new=POINTNPR_OT_new_style.bl_idname)
 
 
+class POINTNPR_MT_style_presets(bpy.types.Menu):
+    """The presets menu of the style panel's header (Blender's preset icon)"""
+    bl_idname = "POINTNPR_MT_style_presets"
+    bl_label = "Style Presets"
+
+    def draw(self, _context):
+        from .. import presets
+        layout = self.layout
+        for name in presets.PRESETS:
+            op = layout.operator(POINTNPR_OT_new_style.bl_idname, text=name)
+            op.preset = name
+            op.target = 'COLLECTION'
+
+
 class COLLECTION_PT_pointnpr_style(PointNPRPanel, bpy.types.Panel):
     bl_label = "PointNPR Style"
     bl_context = "collection"
@@ -219,6 +233,10 @@ class COLLECTION_PT_pointnpr_style(PointNPRPanel, bpy.types.Panel):
     @classmethod
     def poll(cls, context):
         return _engine_is_ours(context) and getattr(context, "collection", None) is not None
+
+    def draw_header_preset(self, _context):
+        # As Blender's own panels offer presets: a new style from one, assigned here.
+        self.layout.menu(POINTNPR_MT_style_presets.bl_idname, text="", icon='PRESET')
 
     def draw(self, context):
         layout = self.layout
@@ -320,6 +338,7 @@ _classes = (
     POINTNPR_OT_set_mark,
     POINTNPR_OT_remove_step,
     RENDER_PT_pointnpr,
+    POINTNPR_MT_style_presets,
     COLLECTION_PT_pointnpr_style,
     NODE_PT_pointnpr_style,
 )
