@@ -40,11 +40,11 @@ import traceback
 import bpy
 
 # Bounded logs for tests and diagnostics: (event, generation, detail...).
-events = collections.deque(maxlen=512)
+events = collections.deque(maxlen=4096)
 # Per callback: [calls, total ms, max ms] of main-thread time spent here.
 timing = {}
 _POLL_S = 0.02          # timer period while frames are in flight
-_GATE_POLL_S = 0.01
+_HOLD_POLL_S = 0.01
 
 
 def reset_timing():
@@ -75,10 +75,10 @@ def longest_block_ms():
     return max((e[2] for e in timing.values()), default=0.0)
 
 
-# Tests hold jobs here (cleared) to make "a job is in flight" a state they
-# can wait on instead of a timing; set (open) in normal use.
-gate = threading.Event()
-gate.set()
+# Tests hold requests here to make "a frame is in flight" a state they can
+# wait on instead of a timing: a function(request) -> True while that
+# request must wait (cancelling it still works); None in normal use.
+hold = None
 
 
 class Request:
@@ -248,17 +248,18 @@ def _take_request():
     return best
 
 
-def _wait_at_gate(request):
-    while not gate.wait(_GATE_POLL_S):
+def _wait_while_held(request):
+    while hold is not None and hold(request):
         if request.cancelled is not None or _stopping[0]:
             return False
+        time.sleep(_HOLD_POLL_S)
     return request.cancelled is None
 
 
 def _render(session, request):
     from .. import _self as pointnpr
     cancelled_error = pointnpr.RenderCancelled
-    if not _wait_at_gate(request):
+    if not _wait_while_held(request):
         session._finish(request, None, 0.0)
         return
     t0 = time.perf_counter()
