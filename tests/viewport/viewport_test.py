@@ -1,12 +1,18 @@
 """Viewport (Rendered shading) test; needs a display, e.g. Xvfb:
 
-    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --python-exit-code 1 \
-        --python tests/viewport/viewport_test.py -- <builddir> <out.png>
+    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --enable-event-simulate \
+        --python-exit-code 1 --python tests/viewport/viewport_test.py -- <builddir> <out.png>
 
 Builds a scene with two styled segments (red points left, blue points
 right), switches the 3D viewport to Rendered shading with the PointNPR
 engine, waits for redraws, takes a screenshot, checks that the viewport area
-shows both segments' colours, and exits with 0 (pass) or 1 (fail).
+shows both segments' colours, and exits with 0 (pass) or 1 (fail). Then
+edits (style, points, a mesh) must reach the viewport, and navigation
+(frames rendered off the UI thread, blender/viewport_worker.py): a moving
+view gets reduced frames, a resting one the full frame, a stale full frame
+is never shown, Esc (a simulated key press with --enable-event-simulate,
+else the operator it runs) and closing the viewport cancel the frame in
+flight. Waits are on conditions with a timeout, never on timings.
 """
 import os
 import sys

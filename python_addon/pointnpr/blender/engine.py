@@ -173,7 +173,7 @@ class _ViewportImage:
         h, w = color.shape[:2]
         flat = np.ascontiguousarray(color, dtype=np.float32).reshape(-1)
         buf = gpu.types.Buffer('FLOAT', flat.size, flat)
-        self.texture = gpu.types.GPUTexture((w, h), format='RGBA16F', data=buf)
+        self.texture = gpu.types.GPUTexture((w, h), format='RGBA32F', data=buf)
         self.size = (w, h)
 
     def draw(self, w, h):
