@@ -32,6 +32,7 @@ Timings of PointNPR's main-thread callbacks are kept (``timing``) so the
 longest block of Blender's UI thread can be measured.
 """
 
+import atexit
 import collections
 import threading
 import time
@@ -305,6 +306,12 @@ def _start_worker():
 
 def shutdown(timeout=5.0):
     """Cancel every session's work and stop the worker (add-on unregister)."""
+    _stop_worker(timeout)
+    if bpy.app.timers.is_registered(_poll):
+        bpy.app.timers.unregister(_poll)
+
+
+def _stop_worker(timeout):
     for session in sessions():
         session.close()
     with _lock:
@@ -314,8 +321,11 @@ def shutdown(timeout=5.0):
         _worker[0] = None
     if thread is not None and thread is not threading.current_thread():
         thread.join(timeout)
-    if bpy.app.timers.is_registered(_poll):
-        bpy.app.timers.unregister(_poll)
+
+
+# Before the core's own exit handler (registered earlier, so run later)
+# stops its GL thread: a frame in flight finishes or is cancelled first.
+atexit.register(_stop_worker, 30.0)
 
 
 # ---------------------------------------------------------------------------
