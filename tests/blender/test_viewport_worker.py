@@ -106,6 +106,23 @@ def test_the_same_view_at_full_quality_is_not_superseded(worker, frame_scene):
     assert "published" in [e[0] for e in events_of(full.generation)]
 
 
+def test_the_deferred_full_frame_starts_by_itself_unless_a_newer_request_comes(worker, frame_scene):
+    session = worker.Session()
+    reduced, full = request(frame_scene, "v", scale=4), request(frame_scene, "v")
+    session.submit(reduced, deferred=full, deferred_at=time.perf_counter() + 0.1)
+    wait_for(lambda: session.frame() is not None and session.frame().full, "the deferred full frame")
+    assert [e[0] for e in events_of(reduced.generation)] == ["submitted", "published"]
+    assert [e[0] for e in events_of(full.generation)] == ["deferred", "published"]
+    assert full.generation > reduced.generation
+    # Moving on before it is due replaces it: it never renders.
+    moved, never = request(frame_scene, "w", scale=4), request(frame_scene, "w")
+    session.submit(moved, deferred=never, deferred_at=time.perf_counter() + 3600.0)
+    session.submit(request(frame_scene, "x", scale=4))
+    assert ("dropped", never.generation, 1, "replaced") in worker.events
+    wait_for(lambda: session.frame().key == "x", "the newest frame")
+    assert "published" not in [e[0] for e in events_of(never.generation)]
+
+
 def test_cancel_drops_pending_and_running_work_and_keeps_what_was_shown(worker, frame_scene):
     session = worker.Session()
     shown = request(frame_scene, "shown", scale=4)
@@ -116,15 +133,17 @@ def test_cancel_drops_pending_and_running_work_and_keeps_what_was_shown(worker, 
     running, pending = request(frame_scene, "r", scale=4), request(frame_scene, "p")
     session.submit(running)
     wait_for(lambda: session.running is running, "a frame in flight")
-    session.submit(pending)
+    later = request(frame_scene, "p")
+    session.submit(pending, deferred=later, deferred_at=time.perf_counter() + 3600.0)
     session.last_key = "p"
     assert session.cancel()
     wait_for(lambda: not session.busy(), "the cancelled frame to stop")
     assert ("dropped", running.generation, 4, "cancelled") in worker.events
     assert ("dropped", pending.generation, 1, "cancelled") in worker.events
+    assert ("dropped", later.generation, 1, "cancelled") in worker.events
     assert session.frame().key == "shown"
     # Nothing renders again until the view changes (engine.view_draw reads it).
-    assert session.halted_key == "p" and session.refine_at is None
+    assert session.halted_key == "p"
 
 
 def test_closing_cancels_and_forgets_the_session(worker, frame_scene):

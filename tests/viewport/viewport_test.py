@@ -344,8 +344,9 @@ def navigation():
     space = state["area"].spaces.active
     region = state["region"]
     scene.pointnpr.navigation_resolution = "4"
-    # Steps come every 50 ms: a moving view never rests this long.
-    scene.pointnpr.refine_delay = 2.0
+    # Steps come every 50 ms (slower when the machine is loaded): a moving
+    # view never rests this long.
+    scene.pointnpr.refine_delay = 5.0
     space.region_3d.view_perspective = 'PERSP'
     yield from wait_for(settled, "the full frame after leaving the camera view")
     s = session()

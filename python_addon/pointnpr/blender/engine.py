@@ -367,16 +367,20 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
         scale = 1 if resting else factor
         frame = session.frame()
         if (frame is None or frame.key != key or (resting and not frame.full)) and \
-                session.requested != (key, scale) and session.halted_key != key:
-            session.requested = (key, scale)
-            camera = _core().Camera.from_matrices(view, proj)
-            # Ceil: the reduced image covers the region (stretched by < 1 of its pixels).
-            w, h = -(-width // scale), -(-height // scale)
-            session.submit(viewport_worker.Request(renderer(), synced.scene_at(scale), camera, w, h, scale, key,
-                                                   synced.render_args))
-        session.refine_at = None if resting or session.halted_key == key else session.last_change + delay
-        if session.refine_at is not None:
-            viewport_worker.ensure_polling()
+                (key, scale) not in session.requested and session.halted_key != key:
+            camera = _core().Camera.from_matrices(view, proj)   # any size: its aspect is the matrices'
+
+            def request(k):
+                # Ceil: a reduced image covers the region (stretched by < 1 of its pixels).
+                return viewport_worker.Request(renderer(), synced.scene_at(k), camera, -(-width // k),
+                                               -(-height // k), k, key, synced.render_args)
+            if scale == 1:
+                session.requested = {(key, 1)}
+                session.submit(request(1))
+            else:
+                # The full frame of this view follows when it has rested.
+                session.requested = {(key, scale), (key, 1)}
+                session.submit(request(scale), deferred=request(1), deferred_at=session.last_change + delay)
         if session.error is not None:
             self._pointnpr_error = session.error
             self.update_stats("", "PointNPR error: %s" % session.error)

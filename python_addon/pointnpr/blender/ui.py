@@ -322,7 +322,7 @@ class POINTNPR_OT_viewport_cancel(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return any(s.busy() or s.refine_at is not None for s in viewport_worker.sessions())
+        return any(s.busy() for s in viewport_worker.sessions())
 
     def invoke(self, context, event):
         return self.execute(context)

@@ -25,8 +25,10 @@ The rules that keep what is drawn honest:
 - While the view moves, requests render at a reduced resolution (the scene's
   Navigation Resolution, with pixel-sized style parameters scaled by
   preview.py so the preview looks like the frame); once it has rested for
-  the Refine Delay, at full resolution. A main-thread timer tags the 3D views
-  for redraw when a frame is ready or a refinement is due.
+  the Refine Delay, at full resolution: each reduced request comes with the
+  full one of its view, which the worker starts when it falls due unless a
+  newer request replaced it. A main-thread timer tags the 3D views for
+  redraw when a frame is ready.
 
 Timings of PointNPR's main-thread callbacks are kept (``timing``) so the
 longest block of Blender's UI thread can be measured.
@@ -125,28 +127,39 @@ class Session:
     def __init__(self):
         self.pending = None
         self.running = None
+        self.deferred = None      # the full frame due once the view has rested
+        self.deferred_at = 0.0    # perf_counter time it is due
         self.published = None     # the newest finished Frame
         self.error = None         # the last render's error message, or None
         self.drawn_generation = -1
         self.closed = False
         # Main-thread only: what view_draw asked for last, and when the view last changed.
-        self.requested = None     # (key, scale)
+        self.requested = set()    # {(key, scale)} view_draw asked for last
         self.halted_key = None    # the view Esc stopped at: nothing renders until it changes
         self.synced = None        # the engine's _SyncedScene
         self.last_key = None
         self.last_change = 0.0
-        self.refine_at = None     # perf_counter time a refinement is due, or None
         with _lock:
             _sessions.append(self)
 
     # -- main thread ---------------------------------------------------------
-    def submit(self, request):
+    def submit(self, request, deferred=None, deferred_at=0.0):
+        """Render ``request`` next; ``deferred`` (the full frame of the same
+        view) once perf_counter() reaches ``deferred_at`` unless a newer
+        request comes first. The worker starts it itself, so the refinement
+        does not wait for Blender's event loop."""
         with _lock:
             if self.closed:
                 return
             request.generation = _next_generation()
-            if self.pending is not None:
-                self._drop(self.pending, "replaced")
+            for old in (self.pending, self.deferred):
+                if old is not None:
+                    self._drop(old, "replaced")
+            self.deferred = None
+            if deferred is not None:
+                deferred.generation = _next_generation()
+                self.deferred, self.deferred_at = deferred, deferred_at
+                events.append(("deferred", deferred.generation, deferred.scale))
             running = self.running
             if running is not None and running.full and running.key != request.key:
                 running.cancelled = running.cancelled or "superseded"
@@ -160,13 +173,13 @@ class Session:
         """Cancel pending and running work (Esc) and the refinement due; what
         was published stays, and nothing renders until the view changes."""
         self.halted_key = self.last_key
-        self.refine_at = None
         with _lock:
             cancelled = False
-            if self.pending is not None:
-                self._drop(self.pending, reason)
-                self.pending = None
-                cancelled = True
+            for waiting in (self.pending, self.deferred):
+                if waiting is not None:
+                    self._drop(waiting, reason)
+                    cancelled = True
+            self.pending = self.deferred = None
             if self.running is not None and self.running.cancelled is None:
                 self.running.cancelled = reason
                 cancelled = True
@@ -183,16 +196,15 @@ class Session:
 
     def busy(self):
         with _lock:
-            return self.pending is not None or self.running is not None
+            return self.pending is not None or self.running is not None or self.deferred is not None
 
     def frame(self):
         with _lock:
             return self.published
 
-    def needs_redraw(self, now):
+    def needs_redraw(self):
         with _lock:
-            fresh = self.published is not None and self.published.generation != self.drawn_generation
-        return fresh or (self.refine_at is not None and now >= self.refine_at)
+            return self.published is not None and self.published.generation != self.drawn_generation
 
     # -- worker --------------------------------------------------------------
     def _drop(self, request, reason):
@@ -236,17 +248,30 @@ def sessions():
         return list(_sessions)
 
 
-def _take_request():
-    """The oldest pending request of any session (under _lock)."""
-    best = None
+def _take_request(now):
+    """(session, request) of the oldest pending request of any session, else
+    of a deferred one that is due, or None; and when the next deferred one
+    falls due (under _lock)."""
+    best, due = None, None
     for session in _sessions:
         if session.pending is not None and (best is None or session.pending.generation < best[1].generation):
             best = (session, session.pending)
+    if best is None:
+        for session in _sessions:
+            if session.deferred is None:
+                continue
+            if session.deferred_at <= now and (best is None or session.deferred.generation < best[1].generation):
+                best = (session, session.deferred)
+            elif session.deferred_at > now:
+                due = session.deferred_at if due is None else min(due, session.deferred_at)
     if best is not None:
         session, request = best
-        session.pending = None
+        if session.pending is request:
+            session.pending = None
+        else:
+            session.deferred = None
         session.running = request
-    return best
+    return best, due
 
 
 def _wait_while_held(request):
@@ -285,10 +310,11 @@ def _worker_main():
         with _lock:
             taken = None
             while not _stopping[0]:
-                taken = _take_request()
+                now = time.perf_counter()
+                taken, due = _take_request(now)
                 if taken is not None:
                     break
-                _wake.wait()
+                _wake.wait(None if due is None else max(due - now, 0.001))
             if taken is None:
                 return
         _render(*taken)
@@ -343,11 +369,10 @@ def _tag_rendered_views():
 def _poll():
     with main_thread_timer("timer"):
         try:
-            now = time.perf_counter()
             active = sessions()
-            if any(s.needs_redraw(now) for s in active):
+            if any(s.needs_redraw() for s in active):
                 _tag_rendered_views()
-            if any(s.busy() or s.needs_redraw(now) or s.refine_at is not None for s in active):
+            if any(s.busy() or s.needs_redraw() for s in active):
                 return _POLL_S
         except Exception:
             traceback.print_exc()
