@@ -5,6 +5,7 @@ tests wait on; nothing asserts a timing. The window side (view_draw, Esc,
 closing the viewport) is tests/viewport/viewport_test.py."""
 import time
 
+import bpy
 import numpy as np
 import pytest
 
@@ -185,3 +186,20 @@ def test_shutdown_stops_the_worker_and_a_new_request_starts_it_again(worker, fra
     again = worker.Session()
     again.submit(request(frame_scene, "after"))
     wait_for(lambda: again.frame() is not None, "a frame after the restart")
+
+
+def test_the_viewport_settings_and_the_cancel_operator(worker, frame_scene, scene):
+    from pointnpr.blender import engine
+    assert scene.pointnpr.navigation_resolution == "4" and engine.navigation_factor(scene) == 4
+    assert scene.pointnpr.refine_delay == 0.5 and engine.refine_delay(scene) == 0.5
+    scene.pointnpr.navigation_resolution = "1"
+    assert engine.navigation_factor(scene) == 1
+    # Esc passes through when nothing is in flight (the operator's poll fails).
+    assert not bpy.ops.pointnpr.viewport_cancel.poll()
+    session = worker.Session()
+    worker.hold = lambda r: True
+    req = request(frame_scene, "esc")
+    session.submit(req)
+    assert bpy.ops.pointnpr.viewport_cancel.poll()
+    assert bpy.ops.pointnpr.viewport_cancel() == {'PASS_THROUGH'}
+    wait_for(lambda: ("dropped", req.generation, 1, "cancelled") in worker.events, "Esc to cancel")
