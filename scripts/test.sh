@@ -55,7 +55,7 @@ for line in 4.2 4.5 5.0; do
 done
 if [[ -f tests/viewport/viewport_test.py ]]; then
   run "Viewport test (Xvfb)" xvfb-run -a -s "-screen 0 1280x800x24" \
-    blender --factory-startup --python-exit-code 1 --python tests/viewport/viewport_test.py -- \
+    blender --factory-startup --enable-event-simulate --python-exit-code 1 --python tests/viewport/viewport_test.py -- \
     "$root/build" "$root/build/viewport_screenshot.png"
 fi
 exit $status

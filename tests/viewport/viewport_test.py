@@ -1,12 +1,18 @@
 """Viewport (Rendered shading) test; needs a display, e.g. Xvfb:
 
-    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --python-exit-code 1 \
-        --python tests/viewport/viewport_test.py -- <builddir> <out.png>
+    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --enable-event-simulate \
+        --python-exit-code 1 --python tests/viewport/viewport_test.py -- <builddir> <out.png>
 
 Builds a scene with two styled segments (red points left, blue points
 right), switches the 3D viewport to Rendered shading with the PointNPR
 engine, waits for redraws, takes a screenshot, checks that the viewport area
-shows both segments' colours, and exits with 0 (pass) or 1 (fail).
+shows both segments' colours, and exits with 0 (pass) or 1 (fail). Then
+edits (style, points, a mesh) must reach the viewport, and navigation
+(frames rendered off the UI thread, blender/viewport_worker.py): a moving
+view gets reduced frames, a resting one the full frame, a stale full frame
+is never shown, Esc (a simulated key press with --enable-event-simulate,
+else the operator it runs) and closing the viewport cancel the frame in
+flight. Waits are on conditions with a timeout, never on timings.
 """
 import os
 import sys
@@ -28,7 +34,7 @@ bpy.context.preferences.view.show_splash = False
 
 import numpy as np  # noqa: E402
 import pointnpr  # noqa: E402
-from pointnpr.blender import engine, mesh_sync, nodes  # noqa: E402
+from pointnpr.blender import engine, mesh_sync, nodes, viewport_worker  # noqa: E402
 
 TIMEOUT_S = 90.0
 START = time.time()
@@ -95,6 +101,19 @@ def build_scene():
     blue = styled_collection("Blue", (0.0, 0.0, 1.0, 1.0))
     add_points("RedPoints", red, grid(1.3, 2.0, 0.04, (-1.6, 0.0, 0.0)))
     add_points("BluePoints", blue, grid(1.3, 2.0, 0.04, (1.6, 0.0, 0.0)))
+
+
+def session():
+    """The viewport's session (one 3D view in Rendered shading), or None."""
+    sessions = viewport_worker.sessions()
+    return sessions[0] if len(sessions) == 1 else None
+
+
+def settled():
+    """The full-resolution frame of the current view is drawn."""
+    s = session()
+    frame = s.frame() if s is not None else None
+    return frame is not None and frame.full and frame.key == s.last_key and s.drawn_generation == frame.generation
 
 
 def find_view3d():
@@ -273,6 +292,143 @@ def move_blue_points():
     mesh.update()
 
 
+# ---------------------------------------------------------------------------
+# Navigation: frames off the UI thread (blender/viewport_worker.py)
+
+def wait_for(condition, what, timeout=30.0):
+    """Yields timer intervals until ``condition()`` holds (redrawing)."""
+    t0 = time.time()
+    while not condition():
+        if time.time() - t0 > timeout:
+            raise AssertionError("timed out waiting for %s; events %s" % (what, list(viewport_worker.events)[-12:]))
+        state["area"].tag_redraw()
+        yield 0.05
+
+
+def orbit(angle=0.03):
+    from mathutils import Quaternion
+    rv3d = state["area"].spaces.active.region_3d
+    rv3d.view_rotation = Quaternion((0.0, 0.0, 1.0), angle) @ rv3d.view_rotation
+    state["area"].tag_redraw()
+
+
+def events_since(mark, kind=None):
+    return [e for e in list(viewport_worker.events)[mark:] if kind is None or e[0] == kind]
+
+
+def held_full(s):
+    running = s.running
+    return running is not None and running.full
+
+
+def press_escape():
+    """Esc over the 3D view, through Blender's keymaps where events can be
+    simulated (--enable-event-simulate), else the operator it runs."""
+    window, region = state["window"], state["region"]
+    if getattr(bpy.app, "use_event_simulate", False):
+        x, y = region.x + region.width // 2, region.y + region.height // 2
+        window.event_simulate(type='MOUSEMOVE', value='NOTHING', x=x, y=y)
+        window.event_simulate(type='ESC', value='PRESS', x=x, y=y)
+        window.event_simulate(type='ESC', value='RELEASE', x=x, y=y)
+        return "simulated Esc key"
+    override = {"window": window, "screen": window.screen, "area": state["area"], "region": region}
+    with bpy.context.temp_override(**override):
+        bpy.ops.pointnpr.viewport_cancel()
+    return "operator (no event simulation)"
+
+
+def navigation():
+    """A moving view gets reduced frames, a resting one the full frame; a
+    stale full frame is dropped; Esc and closing the viewport cancel."""
+    scene = bpy.context.scene
+    space = state["area"].spaces.active
+    region = state["region"]
+    scene.pointnpr.navigation_resolution = "4"
+    # Steps come every 50 ms (slower when the machine is loaded): a moving
+    # view never rests this long.
+    scene.pointnpr.refine_delay = 5.0
+    space.region_3d.view_perspective = 'PERSP'
+    yield from wait_for(settled, "the full frame after leaving the camera view")
+    s = session()
+
+    # 1. Moving: reduced frames only, a quarter of the region's size.
+    mark = len(viewport_worker.events)
+    t0 = time.time()
+    while len([e for e in events_since(mark, "drawn") if e[2] == 4]) < 3:
+        if time.time() - t0 > 60.0:
+            raise AssertionError("no reduced frames while orbiting: %s" % events_since(mark))
+        orbit()
+        yield 0.05
+    drawn = events_since(mark, "drawn")
+    log("orbiting: %d frames drawn, scales %s" % (len(drawn), sorted({e[2] for e in drawn})))
+    assert all(e[2] == 4 for e in drawn), "a full frame was drawn while the view moved: %s" % drawn
+    frame = s.frame()
+    assert (frame.width, frame.height) == (-(-region.width // 4), -(-region.height // 4)), (frame.width, frame.height)
+
+    # 2. Resting: the full frame of the resting view follows.
+    yield from wait_for(settled, "the full frame after the view rests")
+    assert s.frame().full and (s.frame().width, s.frame().height) == (region.width, region.height)
+    if not screenshot(state["window"], state["area"]):
+        raise AssertionError("screenshot failed")
+    view = read_view(state["window"], region)
+    assert view.std() > 0.05, "the rested view is empty"
+
+    # 3. Stale: a full frame held in flight while the view moves on is
+    # cancelled and never shown; the newer view's frames are.
+    scene.pointnpr.refine_delay = 0.3
+    viewport_worker.hold = lambda request: request.full
+    mark = len(viewport_worker.events)
+    orbit()
+    yield from wait_for(lambda: held_full(s), "a full frame in flight")
+    stale = s.running.generation
+    orbit()
+    yield from wait_for(lambda: any(e[1] == stale for e in events_since(mark, "dropped")), "the stale frame dropped")
+    viewport_worker.hold = None
+    yield from wait_for(settled, "the full frame of the newer view")
+    shown = [e[1] for e in events_since(mark) if e[0] in ("published", "drawn")]
+    log("stale frame %d: %s" % (stale, [e for e in events_since(mark) if e[1] == stale]))
+    assert stale not in shown, "the stale frame was shown"
+
+    # 4. Esc cancels the frame in flight and the refinement; nothing renders
+    # until the view changes again.
+    viewport_worker.hold = lambda request: request.full
+    mark = len(viewport_worker.events)
+    orbit()
+    yield from wait_for(lambda: held_full(s), "a full frame in flight before Esc")
+    cancelled = s.running.generation
+    how = press_escape()
+    yield from wait_for(lambda: ("dropped", cancelled, 1, "cancelled") in events_since(mark), "Esc to cancel")
+    viewport_worker.hold = None
+    after, draws, t0 = len(viewport_worker.events), engine.stats["viewport_draws"], time.time()
+    yield from wait_for(lambda: engine.stats["viewport_draws"] >= draws + 3 and time.time() - t0 > 1.0,
+                        "redraws after Esc")
+    log("Esc (%s): frame %d cancelled; events since: %s" % (how, cancelled, events_since(after)))
+    assert not events_since(after, "submitted"), "a frame was rendered after Esc without a view change"
+    assert not s.frame().full
+    orbit()
+    yield from wait_for(settled, "frames again after the view moved")
+
+    # 5. Closing the viewport (leaving Rendered shading) frees the engine and
+    # cancels its work.
+    viewport_worker.hold = lambda request: request.full
+    mark = len(viewport_worker.events)
+    orbit()
+    yield from wait_for(lambda: held_full(s), "a full frame in flight before closing")
+    closed = s.running.generation
+    space.shading.type = 'SOLID'
+    yield from wait_for(lambda: ("dropped", closed, 1, "closed") in events_since(mark) and not viewport_worker.sessions(),
+                        "closing the viewport to cancel its frame")
+    viewport_worker.hold = None
+    space.shading.type = 'RENDERED'
+    yield from wait_for(settled, "a new session after reopening")
+
+    # Frames are drawn in request order, whatever was dropped.
+    drawn = [e[1] for e in viewport_worker.events if e[0] == "drawn"]
+    assert drawn == sorted(drawn), drawn
+    log("main-thread time per callback [calls, total ms, max ms]: %s" %
+        {k: [v[0], round(v[1], 1), round(v[2], 1)] for k, v in viewport_worker.timing.items()})
+
+
 # Panel draw() calls are recorded, so a broken panel fails the test.
 panel_calls = {}
 
@@ -355,7 +511,9 @@ def tick():
         if state["phase"] == "wait":
             state["wait_ticks"] += 1
             state["area"].tag_redraw()
-            if engine.stats["viewport_renders"] > state["renders"] and state["wait_ticks"] > 3:
+            # Frames render off the UI thread, reduced first: wait for the
+            # full-resolution frame of this view to be drawn.
+            if engine.stats["viewport_renders"] > state["renders"] and state["wait_ticks"] > 3 and settled():
                 state["phase"] = "shoot"
             return 0.3
         if state["phase"] == "shoot":
@@ -372,6 +530,14 @@ def tick():
             if state["step"] < len(STEPS):
                 state["phase"] = "act"
                 return 0.3
+            state["phase"] = "navigation"
+            state["navigation"] = navigation()
+            return 0.1
+        if state["phase"] == "navigation":
+            try:
+                return next(state["navigation"])
+            except StopIteration:
+                pass
             # Our panels in the Properties editor.
             coll = bpy.data.collections["Red"]
             layer = bpy.context.view_layer.layer_collection.children[coll.name]

@@ -7,14 +7,16 @@ import traceback
 import bpy
 import numpy as np
 
-from . import nodes, sync
+from . import nodes, sync, viewport_worker
 
 ENGINE_ID = "POINTNPR"
 SEGMENT_PASS = "Segment Index"
 
 _renderer = [None]
 # Counters for diagnostics and tests.
-stats = {"final_renders": 0, "viewport_renders": 0, "viewport_draws": 0, "slow_pass_writes": 0}
+# viewport_renders counts the frames drawn (reduced and full).
+stats = {"final_renders": 0, "viewport_renders": 0, "viewport_draws": 0, "slow_pass_writes": 0,
+         "viewport_full_frames": 0, "viewport_reduced_frames": 0}
 
 
 def _core():
@@ -30,6 +32,7 @@ def renderer():
 
 
 def release():
+    viewport_worker.shutdown()
     _renderer[0] = None
     sync.clear_cache()
 
@@ -148,7 +151,7 @@ def point_budget(scene, viewport=False):
 def stats_line(synced, result):
     """The viewport header's line: segments, points, and what the point budget kept."""
     line = "PointNPR: %d segments, %s points" % (len(synced.segment_names), "{:,}".format(synced.num_points))
-    if "point_budget_level" in result.stats:
+    if result is not None and "point_budget_level" in result.stats:
         line += " (%s drawn: point budget)" % "{:,}".format(int(result.stats["point_budget_points"]))
     return line
 
@@ -186,12 +189,12 @@ class _ViewportImage:
         h, w = color.shape[:2]
         flat = np.ascontiguousarray(color, dtype=np.float32).reshape(-1)
         buf = gpu.types.Buffer('FLOAT', flat.size, flat)
-        self.texture = gpu.types.GPUTexture((w, h), format='RGBA16F', data=buf)
+        self.texture = gpu.types.GPUTexture((w, h), format='RGBA32F', data=buf)
         self.size = (w, h)
 
-    def draw(self):
+    def draw(self, w, h):
+        """Over (0, 0)-(w, h): a reduced frame is stretched over the region."""
         from gpu_extras.batch import batch_for_shader
-        w, h = self.size
         shader = _image_shader()
         batch = batch_for_shader(shader, 'TRI_STRIP', {
             "pos": ((0, 0), (w, 0), (0, h), (w, h)),
@@ -288,7 +291,14 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
         stats["final_renders"] += 1
 
     # -- viewport ----------------------------------------------------------
+    # view_draw syncs on the main thread (only after an edit: a moving view
+    # re-uses the synced scene), hands the frame to viewport_worker and
+    # draws the newest finished one; every callback is timed there.
     def view_update(self, context, depsgraph):
+        with viewport_worker.main_thread_timer("view_update"):
+            self._view_update(depsgraph)
+
+    def _view_update(self, depsgraph):
         try:
             first = not getattr(self, "_pointnpr_synced", False)
             for update in depsgraph.updates:
@@ -311,6 +321,42 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
             self._pointnpr_error = str(exc)
 
     def view_draw(self, context, depsgraph):
+        with viewport_worker.main_thread_timer("view_draw"):
+            self._view_draw(context, depsgraph)
+
+    def __del__(self):
+        # The viewport closed or left Rendered shading: cancel its work.
+        try:
+            session = self.__dict__.get("_pointnpr_session")
+        except ReferenceError:
+            return
+        if session is not None:
+            session.close()
+
+    def _session(self):
+        session = getattr(self, "_pointnpr_session", None)
+        if session is None:
+            session = self._pointnpr_session = viewport_worker.Session()
+        return session
+
+    def _synced(self, depsgraph, session):
+        """The synced scene (_SyncedScene), re-synced after an edit."""
+        scene = depsgraph.scene
+        state = (nodes.generation(), scene_frame(scene), tuple(background(scene)))
+        synced = getattr(session, "synced", None)
+        if synced is not None and synced.state == state and not getattr(self, "_pointnpr_dirty", True):
+            return synced
+        self._pointnpr_dirty = False
+        try:
+            session.synced = _SyncedScene(depsgraph, state)
+            self.update_stats("", stats_line(session.synced.result, None))
+        except Exception as exc:
+            traceback.print_exc()
+            session.synced = _SyncedScene(None, state, error=str(exc))
+            self.update_stats("", "PointNPR error: %s" % exc)
+        return session.synced
+
+    def _view_draw(self, context, depsgraph):
         import gpu
         region = context.region
         rv3d = context.region_data
@@ -318,43 +364,110 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
         width, height = region.width, region.height
         if width < 1 or height < 1:
             return
+        session = self._session()
+        synced = self._synced(depsgraph, session)
+        if synced.error is not None:
+            self._pointnpr_error = synced.error
+            self._pointnpr_image = None
+            return
         view = _matrix64(rv3d.view_matrix)
         proj = _matrix64(rv3d.window_matrix)
-        key = (width, height, view.tobytes(), proj.tobytes(), nodes.generation(),
-               scene_frame(scene), tuple(background(scene)))
+        key = (width, height, view.tobytes(), proj.tobytes(), synced.serial)
+        now = time.perf_counter()
+        if key != session.last_key:
+            session.last_key, session.last_change = key, now
+        factor = navigation_factor(scene)
+        delay = refine_delay(scene)
+        resting = factor == 1 or now - session.last_change >= delay
+        scale = 1 if resting else factor
+        frame = session.frame()
+        if (frame is None or frame.key != key or (resting and not frame.full)) and \
+                (key, scale) not in session.requested and session.halted_key != key:
+            camera = _core().Camera.from_matrices(view, proj)   # any size: its aspect is the matrices'
+
+            def request(k):
+                # Ceil: a reduced image covers the region (stretched by < 1 of its pixels).
+                return viewport_worker.Request(renderer(), synced.scene_at(k), camera, -(-width // k),
+                                               -(-height // k), k, key, synced.render_args_at(k))
+            if scale == 1:
+                session.requested = {(key, 1)}
+                session.submit(request(1))
+            else:
+                # The full frame of this view follows when it has rested.
+                session.requested = {(key, scale), (key, 1)}
+                session.submit(request(scale), deferred=request(1), deferred_at=session.last_change + delay)
+        if session.error is not None:
+            self._pointnpr_error = session.error
+            self.update_stats("", "PointNPR error: %s" % session.error)
+        if frame is not None and frame.generation != session.drawn_generation:
+            t0 = time.perf_counter()
+            self._pointnpr_image = _ViewportImage(frame.color)
+            stats["viewport_upload_ms"] = (time.perf_counter() - t0) * 1000.0
+            stats["viewport_renders"] += 1
+            stats["viewport_full_frames" if frame.full else "viewport_reduced_frames"] += 1
+            session.drawn_generation = frame.generation
+            viewport_worker.events.append(("drawn", frame.generation, frame.scale, frame.key == key))
+            self._pointnpr_error = None
+            self.update_stats("", stats_line(synced.result, frame))
         image = getattr(self, "_pointnpr_image", None)
-        if getattr(self, "_pointnpr_dirty", True) or key != getattr(self, "_pointnpr_key", None) \
-                or image is None:
-            try:
-                camera = _core().Camera.from_matrices(view, proj)
-                result, synced = do_render(depsgraph, camera, width, height, trust_cache=True, viewport=True)
-                t0 = time.perf_counter()
-                image = _ViewportImage(result.color)
-                stats["viewport_upload_ms"] = (time.perf_counter() - t0) * 1000.0
-                stats["viewport_renders"] += 1
-                self._pointnpr_image = image
-                self._pointnpr_key = key
-                self._pointnpr_dirty = False
-                self._pointnpr_error = None
-                self.update_stats("", stats_line(synced, result))
-            except Exception as exc:
-                traceback.print_exc()
-                self._pointnpr_image = None
-                self._pointnpr_key = key
-                self._pointnpr_dirty = False
-                self._pointnpr_error = str(exc)
-                self.update_stats("", "PointNPR error: %s" % exc)
-                return
         if image is None:
             return
         gpu.state.blend_set('ALPHA_PREMULT')
         self.bind_display_space_shader(scene)
         try:
-            image.draw()
+            image.draw(width, height)
             stats["viewport_draws"] += 1
         finally:
             self.unbind_display_space_shader()
             gpu.state.blend_set('NONE')
+
+
+def navigation_factor(scene):
+    """1/k of the viewport's resolution while the view moves (Scene.pointnpr)."""
+    value = getattr(getattr(scene, "pointnpr", None), "navigation_resolution", "1")
+    return max(1, int(value))
+
+
+def refine_delay(scene):
+    """Seconds the view rests before the full-quality frame is rendered."""
+    return float(getattr(getattr(scene, "pointnpr", None), "refine_delay", 0.5))
+
+
+class _SyncedScene:
+    """One sync of the scene (main thread) and the core scenes made from it:
+    the full one and, per navigation factor, one with scaled styles."""
+
+    _serial = [0]
+
+    def __init__(self, depsgraph, state, error=None):
+        _SyncedScene._serial[0] += 1
+        self.serial = _SyncedScene._serial[0]
+        self.state = state
+        self.error = error
+        self.result = None
+        self._scaled = {}
+        if depsgraph is None:
+            return
+        scene = depsgraph.scene
+        self.result = sync.build_scene(depsgraph, scene_frame(scene), trust_cache=True)
+        self.render_args = dict(time=scene_time(scene), composite=sync.scene_settings(scene),
+                                background=background(scene), memory_budget_gb=memory_budget_gb(scene))
+        self.point_budget = point_budget(scene, viewport=True)
+
+    def render_args_at(self, scale):
+        # A frame of 1/k the size keeps the full frame's points per pixel
+        # with 1/k^2 of its budget: navigation frames stay light on any scan.
+        budget = self.point_budget if scale == 1 or self.point_budget == 0 else \
+            max(1, self.point_budget // (scale * scale))
+        return dict(self.render_args, point_budget=budget)
+
+    def scene_at(self, scale):
+        if scale == 1:
+            return self.result.scene
+        if scale not in self._scaled:
+            from .. import preview
+            self._scaled[scale] = preview.scaled_scene(self.result.segments, scale)
+        return self._scaled[scale]
 
 
 def register():

@@ -18,13 +18,21 @@ RASTERIZERS = (
     ("gl_points", "GL Points", "Splats drawn as OpenGL points"),
 )
 
+NAVIGATION_RESOLUTIONS = (
+    ("1", "Full", "Render every viewport frame at full resolution"),
+    ("2", "1/2", "Half the viewport's resolution while the view moves"),
+    ("4", "1/4", "A quarter of the viewport's resolution while the view moves"),
+    ("8", "1/8", "An eighth of the viewport's resolution while the view moves"),
+)
+
 _classes = []
 
 
 def _reserved_group_names():
     names = set(dir(bpy.types.PropertyGroup))
     names.update(p.identifier for p in bpy.types.PropertyGroup.bl_rna.properties)
-    names.update(("rasterizer", "memory_budget_gb", "point_budget_millions", "viewport_point_budget_millions"))
+    names.update(("rasterizer", "memory_budget_gb", "point_budget_millions", "viewport_point_budget_millions",
+                  "navigation_resolution", "refine_delay"))
     return names
 
 
@@ -55,6 +63,15 @@ def build_settings_class(schema):
         name="Viewport Point Budget", default=3.0, min=0.0, max=100000.0, step=10, precision=1,
         description="Most points the viewport draws, in millions (0: every point): keeps large "
                     "scans interactive; F12 uses Point Budget")
+    # Viewport settings (blender/viewport_worker.py), not a style's either.
+    annotations["navigation_resolution"] = bpy.props.EnumProperty(
+        name="Navigation Resolution", items=NAVIGATION_RESOLUTIONS, default="4",
+        description="Viewport resolution while the view moves (pixel sizes of the styles scaled to match); "
+                    "the full frame follows once the view rests")
+    annotations["refine_delay"] = bpy.props.FloatProperty(
+        name="Refine Delay", default=0.5, min=0.0, max=10.0, step=10, precision=2, subtype='TIME_ABSOLUTE',
+        unit='TIME_ABSOLUTE',
+        description="Seconds the viewport's view must rest before the full-resolution frame is rendered")
     return type("PointNPRSceneSettings", (bpy.types.PropertyGroup,), {
         "__annotations__": annotations,
         "__doc__": schema.get("doc", "PointNPR scene settings"),

@@ -316,6 +316,7 @@ class SyncResult:
     def __init__(self):
         self.scene = None
         self.segment_names = []   # index = segment index in the render
+        self.segments = []        # (name, pointnpr.Style, instances), as given to Scene.add_segment
         self.warnings = []
         self.num_objects = 0
         self.num_points = 0
@@ -457,6 +458,7 @@ def build_scene(depsgraph, frame, trust_cache=False):
             result.num_objects += 1
             result.num_points += cloud.num_points
         core_scene.add_segment(coll.name, style, instances)
+        result.segments.append((coll.name, style, instances))
         result.segment_names.append(coll.name)
     result.scene = core_scene
     prune_cache(used_keys)

@@ -4,7 +4,7 @@ available for the PointNPR engine."""
 
 import bpy
 
-from . import nodes, sync
+from . import nodes, sync, viewport_worker
 from .engine import ENGINE_ID
 
 
@@ -201,6 +201,8 @@ class RENDER_PT_pointnpr(PointNPRPanel, bpy.types.Panel):
         col.prop(settings, "memory_budget_gb")
         col.prop(settings, "point_budget_millions")
         col.prop(settings, "viewport_point_budget_millions")
+        col.prop(settings, "navigation_resolution")
+        col.prop(settings, "refine_delay")
         col.prop(scene.render, "film_transparent", text="Transparent Film")
         if scene.world is not None:
             col.prop(scene.world, "color", text="Background")
@@ -332,7 +334,28 @@ def remove_engine_from_builtin_panels():
     _added_panels.clear()
 
 
+class POINTNPR_OT_viewport_cancel(bpy.types.Operator):
+    """Cancel the viewport's pending PointNPR frames (Esc in a 3D view); the
+    last frame stays until the view changes"""
+    bl_idname = "pointnpr.viewport_cancel"
+    bl_label = "Cancel Viewport Render"
+
+    @classmethod
+    def poll(cls, context):
+        return any(s.busy() for s in viewport_worker.sessions())
+
+    def invoke(self, context, event):
+        return self.execute(context)
+
+    def execute(self, context):
+        for session in viewport_worker.sessions():
+            session.cancel()
+        # Esc keeps its other meanings in the 3D view.
+        return {'PASS_THROUGH'}
+
+
 _classes = (
+    POINTNPR_OT_viewport_cancel,
     POINTNPR_OT_new_style,
     POINTNPR_OT_add_step,
     POINTNPR_OT_set_mark,
@@ -344,13 +367,29 @@ _classes = (
 )
 
 
+_keymap_items = []
+
+
+def _register_keymap():
+    wm = getattr(bpy.context, "window_manager", None)
+    keyconfig = wm.keyconfigs.addon if wm is not None else None
+    if keyconfig is None:   # blender -b
+        return
+    keymap = keyconfig.keymaps.new(name="3D View", space_type='VIEW_3D')
+    _keymap_items.append((keymap, keymap.keymap_items.new(POINTNPR_OT_viewport_cancel.bl_idname, 'ESC', 'PRESS')))
+
+
 def register():
     for cls in _classes:
         bpy.utils.register_class(cls)
     add_engine_to_builtin_panels()
+    _register_keymap()
 
 
 def unregister():
+    for keymap, item in _keymap_items:
+        keymap.keymap_items.remove(item)
+    _keymap_items.clear()
     remove_engine_from_builtin_panels()
     for cls in reversed(_classes):
         bpy.utils.unregister_class(cls)
