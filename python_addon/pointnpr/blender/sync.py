@@ -138,7 +138,7 @@ def read_colors(obj):
         # Older Blender: 'color' is scene-linear for both colour types.
         attr.data.foreach_get("color", values)
         values = linear_to_srgb(values)
-    rgb = values.reshape(n, 4)[:, :3]
+    rgb = values.reshape(n, 4)[:, :3]  # a view: converted in place below
     if attr.domain == 'CORNER':
         # Face-corner colours (a mesh drawn as points): each vertex the mean
         # of its corners'.
@@ -151,7 +151,11 @@ def read_colors(obj):
             total = np.bincount(vertex, weights=rgb[:, k], minlength=len(obj.data.vertices))
             mean[:, k] = np.where(count > 0, total / np.maximum(count, 1.0), 1.0)
         rgb = mean
-    return np.clip(np.rint(rgb * 255.0), 0, 255).astype(np.uint8)
+    # In place: no float temporaries the size of the cloud besides ``values``.
+    rgb *= 255.0
+    np.rint(rgb, out=rgb)
+    np.clip(rgb, 0, 255, out=rgb)
+    return rgb.astype(np.uint8)
 
 
 def _read_point_values(obj, name, data_types, dtype):
@@ -172,14 +176,15 @@ def read_intensity(obj):
 
 def read_classification(obj):
     values = _read_point_values(obj, "classification", {'INT', 'INT8'}, np.int32)
-    return None if values is None else np.clip(values, 0, 255).astype(np.uint8)
+    return None if values is None else np.clip(values, 0, 255, out=values).astype(np.uint8)
 
 
 def read_point_index(obj):
     """Stable point ids from an integer point attribute named "point_index",
     or None (the core then numbers the points in order)."""
     values = _read_point_values(obj, "point_index", {'INT'}, np.int32)
-    return None if values is None else values.astype(np.uint32)
+    # The same bits as astype(uint32), without a copy.
+    return None if values is None else values.view(np.uint32)
 
 
 def read_normals(obj):
@@ -287,9 +292,10 @@ def cloud_for(obj, attributes, trust_cache=False):
     if trust_cache and entry is not None:
         _stats["hits"] += 1
         return entry.cloud
-    positions = read_positions(obj)
+    positions = read_positions(obj)  # float32, as Blender stores them
     values = {}
-    crc = zlib.crc32(positions.tobytes())
+    # zlib reads the arrays' own memory (tobytes() would copy them).
+    crc = zlib.crc32(positions)
     for attribute in attributes:
         reader = _READERS.get(attribute)
         if reader is None:
@@ -298,12 +304,14 @@ def cloud_for(obj, attributes, trust_cache=False):
         value = reader(obj)
         if value is not None:
             values[attribute] = value
-            crc = zlib.crc32(value.tobytes(), crc)
+            crc = zlib.crc32(np.ascontiguousarray(value), crc)
     key = (tuple(sorted(values)), positions.shape[0], crc)
     if entry is not None and entry.key == key:
         _stats["hits"] += 1
         return entry.cloud
-    cloud = _core().PointCloud(positions.astype(np.float64), **values)
+    # The core reads float32 positions as they are (in double, point by
+    # point); the object's matrix is composed with them in double per chunk.
+    cloud = _core().PointCloud(positions, **values)
     _cloud_cache[cache_key] = _CacheEntry(key, cloud, getattr(obj.data, "name", None))
     _stats["uploads"] += 1
     return cloud
