@@ -231,7 +231,7 @@ class ImportJob(PointObjectJob):
                 if not self._reading.done:
                     return False  # still reading
                 data = self._reading.result()
-                self._reading = None  # it holds the result: the reader's arrays go with _prepare's
+                self._reading.forget_result()  # the reader's arrays go with _prepare's
             else:
                 data = _core().read(self.filepath)
             self._prepare(data)
