@@ -396,9 +396,10 @@ def test_intensity_attribute_is_read_only_when_needed(tmp_path):
 
 def test_sync_reads_float32_vertices_without_a_float64_copy():
     # numpy's arrays are traced by tracemalloc: the sync's temporaries are
-    # Blender's float32 vertices (12 B a point) and one float32 RGBA read of
-    # the colours (16 B); a float64 copy of the positions (24 B) or float
-    # temporaries per colour channel would exceed the bound.
+    # Blender's float32 vertices (12 B a point) and, before them, one float32
+    # RGBA read of the colours (16 B, gone when the vertices are read); a
+    # float64 copy of the positions (24 B), float temporaries per colour
+    # channel or both reads held at once would exceed the bound.
     import tracemalloc
 
     helpers.reset_scene()
@@ -408,7 +409,7 @@ def test_sync_reads_float32_vertices_without_a_float64_copy():
     obj = helpers.add_points("Big", coll, pts, colors=np.tile([[0.2, 0.4, 0.6]], (n, 1)))
     depsgraph = bpy.context.evaluated_depsgraph_get()
     evaluated = obj.evaluated_get(depsgraph)
-    for attributes, bound in (((), 16 * n), (("colors",), 36 * n)):
+    for attributes, bound in (((), 16 * n), (("colors",), 24 * n)):
         sync.clear_cache()
         tracemalloc.start()
         try:

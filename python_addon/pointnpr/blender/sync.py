@@ -310,15 +310,12 @@ def cloud_for(obj, attributes, trust_cache=False, fallbacks=()):
     if trust_cache and entry is not None:
         _stats["hits"] += 1
         return entry.cloud
-    positions = read_positions(obj)  # float32, as Blender stores them
     values = {}
-    # zlib reads the arrays' own memory (tobytes() would copy them).
-    crc = zlib.crc32(positions)
+    crc = 0
     # 'auto' colour's sources first, in its order: once one is found the
     # fallbacks after it are not read.
     colour_found = False
-    for attribute in sorted(attributes, key=lambda a: (a not in AUTO_COLOR_SOURCES, AUTO_COLOR_SOURCES.index(a)
-                                                       if a in AUTO_COLOR_SOURCES else 0, a)):
+    for attribute in sorted(attributes, key=_read_order):
         reader = _READERS.get(attribute)
         if reader is None:
             continue   # an attribute this add-on cannot read: the core's to handle
@@ -329,7 +326,11 @@ def cloud_for(obj, attributes, trust_cache=False, fallbacks=()):
         if value is not None:
             values[attribute] = value
             colour_found = colour_found or attribute in AUTO_COLOR_SOURCES
+            # zlib reads the arrays' own memory (tobytes() would copy them).
             crc = zlib.crc32(np.ascontiguousarray(value), crc)
+    # The positions last: the colours' float temporaries are gone by then.
+    positions = read_positions(obj)  # float32, as Blender stores them
+    crc = zlib.crc32(positions, crc)
     key = (tuple(sorted(values)), positions.shape[0], crc)
     if entry is not None and entry.key == key:
         _stats["hits"] += 1
@@ -340,6 +341,13 @@ def cloud_for(obj, attributes, trust_cache=False, fallbacks=()):
     _cloud_cache[cache_key] = _CacheEntry(key, cloud, getattr(obj.data, "name", None))
     _stats["uploads"] += 1
     return cloud
+
+
+def _read_order(attribute):
+    """'auto' colour's sources first, in its order, then the others by name."""
+    if attribute in AUTO_COLOR_SOURCES:
+        return (0, AUTO_COLOR_SOURCES.index(attribute), "")
+    return (1, 0, attribute)
 
 
 def cloud_key(obj, attributes, fallbacks=()):
