@@ -205,7 +205,7 @@ def main():
                 out = pathlib.Path(tmp) / "result.json"
                 run = subprocess.run(cmd + ["--build", str(build), "--path", str(las), "--out", str(out)],
                                      capture_output=True, text=True)
-                if run.returncode != 0 or not out.exists():
+                if not out.exists():
                     print("| %s | %dx%d tiles | failed (exit %d): %s |" % (label, k, k, run.returncode,
                                                                          run.stderr.strip()[-300:]))
                     continue
@@ -215,6 +215,9 @@ def main():
                 for stage, seconds, rss in res["stages"]:
                     print("| %s | %.1fM | %s | %s | %.2f GB | %.0f B |" % (
                         label, n / 1e6, stage, "%.1f s" % seconds if seconds else "", rss / 1e9, rss / n))
+                if run.returncode != 0:   # after its last stage (its result was written)
+                    print("| %s | %.1fM | exit | exit status %d after the last stage | | |" % (
+                        label, n / 1e6, run.returncode))
                 sys.stdout.flush()
             las.unlink()
 
