@@ -17,7 +17,7 @@ processes, one per (size, host), so each peak is that run's own:
 It reports the time and the process's peak RSS (ru_maxrss, which counts
 file pages mapped while reading too) after each stage, and per point.
 
-    /usr/bin/python3 bench/bench_memory.py [--build build] [--tiles 12 21] [--hosts core blender bpy]
+    /usr/bin/python3 bench/bench_memory.py [--build build] [--tiles 12 21] [--hosts core blender bpy | bpy-4.2 ...]
 
 (12 x 12 tiles = 10.2M points, 21 x 21 = 31.2M, 38 x 38 = 102M.)
 """
@@ -171,11 +171,11 @@ def hosts(requested):
     if "blender" in requested and shutil.which("blender"):
         out.append(("Blender 3.4 (Debian)", ["blender", "-b", "--factory-startup", "--python-exit-code", "1",
                                              "--python", __file__, "--", "--child", "blender"]))
-    if "bpy" in requested:
-        for venv in sorted(ROOT.glob(".venv-bpy-*")):
-            python = venv / "bin" / "python"
-            if python.exists():
-                out.append(("bpy " + venv.name[len(".venv-bpy-"):], [str(python), __file__, "--child", "blender"]))
+    for venv in sorted(ROOT.glob(".venv-bpy-*")):   # "bpy": every one; "bpy-4.2": that one
+        line = venv.name[len(".venv-bpy-"):]
+        python = venv / "bin" / "python"
+        if python.exists() and ("bpy" in requested or "bpy-" + line in requested):
+            out.append(("bpy " + line, [str(python), __file__, "--child", "blender"]))
     return out
 
 
