@@ -380,6 +380,10 @@ void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
   const Layout lay = layout_for(pf);
   Columns c = allocate_columns(out, pf, n);
   bool sixteen = false;
+  // Records read are released block by block (MappedFile::release): the
+  // mapped file never resides whole next to the columns read out of it.
+  const size_t base_offset = static_cast<size_t>(base - d_);
+  auto release = [&](uint64_t b, uint64_t e) { file_.release(base_offset + b * rl, (e - b) * rl); };
   if (lay.rgb >= 0) {
     // The scan stops at the first value above 255 (at once for most 16-bit files).
     const int shift = colour_shift(out, [&] {
@@ -388,6 +392,7 @@ void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
         const uint8_t* r = base + i * rl + lay.rgb;
         maxv = std::max({maxv, load_le<uint16_t>(r), load_le<uint16_t>(r + 2),
                          load_le<uint16_t>(r + 4)});
+        if ((i + 1) % (1 << 16) == 0) release(i + 1 - (1 << 16), i + 1);
       }
       return maxv;
     });
@@ -397,11 +402,12 @@ void LasReader::decode_points(PointData& out, int pf, size_t rl, uint64_t n,
     }
   }
   const DecodeFn decode = kDecoders[pf];
+  const std::vector<ExtraFill> extras = prepare_extras(out, pf, rl);
   for_blocks(n, [&](uint64_t b, uint64_t e) {
     decode(base + b * rl, rl, b, e, scale, offset, sixteen, c);
+    for (const ExtraFill& fill : extras) fill(b, e, base + b * rl);
+    release(b, e);
   });
-  for (const ExtraFill& fill : prepare_extras(out, pf, rl))
-    for_blocks(n, [&](uint64_t b, uint64_t e) { fill(b, e, base + b * rl); });
 }
 
 void LasReader::decode_laz_points(PointData& out, int pf, size_t rl, uint64_t n,

@@ -17,6 +17,11 @@
 
 namespace pointnpr::io {
 
+namespace {
+// Files up to this size are mapped populated (MAP_POPULATE).
+constexpr size_t kPopulateLimit = size_t{64} << 20;
+}  // namespace
+
 MappedFile::MappedFile(const std::string& path) : path_(path) {
 #ifdef POINTNPR_HAVE_MMAP
   // Non-blocking: opening a FIFO without a writer would wait forever; it is
@@ -39,11 +44,13 @@ MappedFile::MappedFile(const std::string& path) : path_(path) {
   }
   size_ = static_cast<size_t>(st.st_size);
   if (size_ > 0) {
-    // The readers go through the whole file: map it populated (one call
-    // instead of a page fault per 4 KB).
+    // The readers go through the whole file: map small ones populated (one
+    // call instead of a page fault per 4 KB). Large ones are faulted in as
+    // they are read (the kernel maps 64 KB around each fault) and released
+    // block by block (release()), so they never reside whole.
     int flags = MAP_PRIVATE;
 #ifdef MAP_POPULATE
-    flags |= MAP_POPULATE;
+    if (size_ <= kPopulateLimit) flags |= MAP_POPULATE;
 #endif
     void* p = ::mmap(nullptr, size_, PROT_READ, flags, fd, 0);
     if (p == MAP_FAILED) {
@@ -67,6 +74,22 @@ MappedFile::MappedFile(const std::string& path) : path_(path) {
     throw ReadError(path, "cannot read file");
   data_ = fallback_.data();
   size_ = fallback_.size();
+#endif
+}
+
+void MappedFile::release(size_t offset, size_t bytes) const {
+#ifdef POINTNPR_HAVE_MMAP
+  if (!map_ || offset >= size_) return;
+  bytes = std::min(bytes, size_ - offset);
+  const uintptr_t page = uintptr_t(::sysconf(_SC_PAGESIZE));
+  const uintptr_t begin = (reinterpret_cast<uintptr_t>(data_) + offset + page - 1) & ~(page - 1);
+  const uintptr_t end = (reinterpret_cast<uintptr_t>(data_) + offset + bytes) & ~(page - 1);
+  // Only whole pages inside the range: a page shared with bytes still to
+  // be read stays (a block decoded in parallel next to this one).
+  if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+#else
+  (void)offset;
+  (void)bytes;
 #endif
 }
 

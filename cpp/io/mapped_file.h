@@ -25,6 +25,15 @@ class MappedFile {
   MappedFile(const MappedFile&) = delete;
   MappedFile& operator=(const MappedFile&) = delete;
 
+  // Tells the kernel that bytes [offset, offset + bytes) have been read and
+  // will not be needed soon: the whole pages inside leave the process's
+  // resident set (a file read again faults them back in from the page
+  // cache, so this is only about memory, never about content). Readers that
+  // decode a large file front to back call it block by block, so a mapped
+  // file does not add its size to the peak memory on top of what is read
+  // out of it. A no-op for bytes owned by the caller and without mmap.
+  void release(size_t offset, size_t bytes) const;
+
   const uint8_t* data() const { return data_; }
   size_t size() const { return size_; }
   const std::string& path() const { return path_; }

@@ -32,11 +32,24 @@ std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::ob
                                        const py::object& intensity, const py::object& classification,
                                        const py::object& point_index, const py::object& normals,
                                        uint32_t chunk_size) {
-  CArray<double> pos = positions.cast<CArray<double>>();
-  if (pos.ndim() != 2 || pos.shape(1) != 3) throw Error("positions must be an (N,3) array");
-  const size_t n = size_t(pos.shape(0));
+  // float32 positions (Blender's vertices) are read as they are; anything
+  // else is converted to float64 (the exact georeferenced coordinates).
+  CArray<double> pos;
+  CArray<float> pos32;
+  const py::array given = py::array::ensure(positions);
+  const bool single = given && given.dtype().is(py::dtype::of<float>());
+  if (single)
+    pos32 = given.cast<CArray<float>>();
+  else
+    pos = positions.cast<CArray<double>>();
+  const py::ssize_t ndim = single ? pos32.ndim() : pos.ndim();
+  if (ndim != 2 || (single ? pos32.shape(1) : pos.shape(1)) != 3) throw Error("positions must be an (N,3) array");
+  const size_t n = size_t(single ? pos32.shape(0) : pos.shape(0));
   PointCloudInput in;
-  in.positions = {pos.data(), n * 3};
+  if (single)
+    in.positions_f32 = {pos32.data(), n * 3};
+  else
+    in.positions = {pos.data(), n * 3};
   CArray<uint8_t> col;
   if (!colors.is_none()) {
     py::array any = py::array::ensure(colors);

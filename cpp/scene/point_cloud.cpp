@@ -5,6 +5,9 @@
 #include <limits>
 #include <numeric>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "core/error.h"
 #include "core/morton.h"
 #include "geometry/analysis.h"
@@ -13,11 +16,66 @@ namespace pointnpr {
 
 namespace {
 std::atomic<uint64_t> g_next_cloud_id{1};
+
+// Point i of the input, float64 or float32, in double.
+struct InputPositions {
+  const double* d = nullptr;
+  const float* f = nullptr;
+  glm::dvec3 operator[](size_t i) const {
+    if (d) return {d[3 * i], d[3 * i + 1], d[3 * i + 2]};
+    return {double(f[3 * i]), double(f[3 * i + 1]), double(f[3 * i + 2])};
+  }
+};
+
+bool is_finite(const glm::dvec3& q) { return std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z); }
+
+// The finite points' indices sorted by (Morton code, index): a total order,
+// so the layout is deterministic. Instead of a (code, index) pair per point
+// (16 bytes) it holds one index (4 bytes): a counting sort on the code's top
+// bits (stable, so indices stay in order within a bucket), then each bucket
+// sorted on its own with codes recomputed, which is the same order.
+std::vector<uint32_t> morton_order(const InputPositions& p, size_t n, size_t finite, const glm::dvec3& lo,
+                                   double scale) {
+  auto code = [&](size_t i) {
+    const glm::dvec3 q = p[i];
+    return morton_code(uint64_t((q.x - lo.x) * scale), uint64_t((q.y - lo.y) * scale),
+                       uint64_t((q.z - lo.z) * scale));
+  };
+  // About 64 points per bucket, at most 2^20 buckets (4 MB of counts).
+  int bits = 0;
+  while (bits < 20 && (size_t(64) << (bits + 1)) <= finite) ++bits;
+  const int shift = 63 - bits;
+  std::vector<uint32_t> start((size_t(1) << bits) + 1, 0);
+  for (size_t i = 0; i < n; ++i)
+    if (is_finite(p[i])) ++start[(code(i) >> shift) + 1];
+  for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+  std::vector<uint32_t> order(finite);
+  {
+    std::vector<uint32_t> next(start.begin(), start.end() - 1);
+    for (size_t i = 0; i < n; ++i)
+      if (is_finite(p[i])) order[next[code(i) >> shift]++] = uint32_t(i);
+  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, start.size() - 1), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<std::pair<uint64_t, uint32_t>> keyed;
+    for (size_t b = r.begin(); b < r.end(); ++b) {
+      const uint32_t first = start[b], count = start[b + 1] - first;
+      if (count < 2) continue;
+      keyed.resize(count);
+      for (uint32_t k = 0; k < count; ++k) keyed[k] = {code(order[first + k]), order[first + k]};
+      std::sort(keyed.begin(), keyed.end());
+      for (uint32_t k = 0; k < count; ++k) order[first + k] = keyed[k].second;
+    }
+  });
+  return order;
+}
 }  // namespace
 
 PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : id_(g_next_cloud_id++) {
-  if (in.positions.size() % 3 != 0) throw Error("positions must be an N x 3 array");
-  size_t n = in.positions.size() / 3;  // then the number of finite points
+  if (!in.positions.empty() && !in.positions_f32.empty())
+    throw Error("positions are given twice (float64 and float32): give one of them");
+  const size_t coordinates = in.positions.empty() ? in.positions_f32.size() : in.positions.size();
+  if (coordinates % 3 != 0) throw Error("positions must be an N x 3 array");
+  size_t n = coordinates / 3;  // then the number of finite points
   if (n > std::numeric_limits<uint32_t>::max() / 2) throw Error("point cloud too large (more than 2^31 points)");
   if (in.color_channels != 3 && in.color_channels != 4) throw Error("colors must have 3 or 4 channels");
   if (!in.colors.empty() && in.colors.size() != n * size_t(in.color_channels))
@@ -29,15 +87,14 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
   if (!in.normals.empty() && in.normals.size() != n * 3) throw Error("normals must be an N x 3 array");
   if (max_chunk_points == 0) throw Error("max_chunk_points must be positive");
 
-  const double* p = in.positions.data();
+  const InputPositions p{in.positions.empty() ? nullptr : in.positions.data(),
+                         in.positions.empty() ? in.positions_f32.data() : nullptr};
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
   // Points with a non-finite coordinate are left out (counted; the host
   // says so once per object); the others keep their ids.
-  std::vector<uint8_t> finite(n, 1);
   for (size_t i = 0; i < n; ++i) {
-    glm::dvec3 q(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
-    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) {
-      finite[i] = 0;
+    const glm::dvec3 q = p[i];
+    if (!is_finite(q)) {
       ++skipped_nonfinite_;
       continue;
     }
@@ -52,18 +109,8 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
   // compact boxes (good culling) and rasterization touches memory coherently.
   const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-12));
   const double scale = double((1u << 21) - 1) / std::max({extent.x, extent.y, extent.z});
-  std::vector<std::pair<uint64_t, uint32_t>> order;
-  order.reserve(n - skipped_nonfinite_);
-  for (size_t i = 0; i < n; ++i) {
-    if (!finite[i]) continue;
-    const uint64_t qx = uint64_t((p[3 * i] - lo.x) * scale);
-    const uint64_t qy = uint64_t((p[3 * i + 1] - lo.y) * scale);
-    const uint64_t qz = uint64_t((p[3 * i + 2] - lo.z) * scale);
-    order.push_back({morton_code(qx, qy, qz), uint32_t(i)});
-  }
+  const std::vector<uint32_t> order = morton_order(p, n, n - skipped_nonfinite_, lo, scale);
   n = order.size();
-  // Sorting by (code, index) is a total order: the layout is deterministic.
-  std::sort(order.begin(), order.end());
 
   local_positions_.resize(n);
   point_index_.resize(n);
@@ -76,8 +123,7 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
     const size_t count = std::min<size_t>(max_chunk_points, n - first);
     glm::dvec3 clo(std::numeric_limits<double>::max()), chi(-std::numeric_limits<double>::max());
     for (size_t k = first; k < first + count; ++k) {
-      const uint32_t i = order[k].second;
-      glm::dvec3 q(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+      const glm::dvec3 q = p[order[k]];
       clo = glm::min(clo, q);
       chi = glm::max(chi, q);
     }
@@ -88,9 +134,8 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
     chunk.local_min = glm::vec3(clo - chunk.origin);
     chunk.local_max = glm::vec3(chi - chunk.origin);
     for (size_t k = first; k < first + count; ++k) {
-      const uint32_t i = order[k].second;
-      glm::dvec3 q(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
-      local_positions_[k] = glm::vec3(q - chunk.origin);
+      const uint32_t i = order[k];
+      local_positions_[k] = glm::vec3(p[i] - chunk.origin);
       point_index_[k] = in.point_index.empty() ? i : in.point_index[i];
       if (!in.colors.empty()) {
         const uint8_t* c = in.colors.data() + size_t(in.color_channels) * i;

@@ -31,6 +31,10 @@ struct PointChunk {
 
 struct PointCloudInput {
   std::span<const double> positions;         // N*3
+  // Or N*3 float32 (Blender's vertices, which are float32 already): read
+  // point by point in double, so no float64 copy of the whole array is
+  // made. At most one of positions and positions_f32 is non-empty.
+  std::span<const float> positions_f32;
   std::span<const uint8_t> colors;            // N*channels, sRGB, or empty
   int color_channels = 3;                     // 3 (RGB) or 4 (RGBA)
   std::span<const float> intensity;           // N or empty
@@ -43,7 +47,8 @@ class PointCloud {
  public:
   // Copies and reorders the input into chunks, leaving out points with a
   // non-finite coordinate (skipped_nonfinite()). Throws Error on
-  // inconsistent sizes.
+  // inconsistent sizes. Besides the arrays it keeps, it needs 4 bytes per
+  // point (the order) while it runs.
   explicit PointCloud(const PointCloudInput& input, uint32_t max_chunk_points = 16384);
 
   uint64_t id() const { return id_; }   // unique per cloud in the process

@@ -80,6 +80,27 @@ def test_import_las_with_attributes(scene):
                           data.attributes["classification"].astype(np.int32))
 
 
+def test_local_positions_in_blocks_are_the_whole_arrays_values_in_order():
+    rng = np.random.default_rng(3)
+    positions = rng.random((10_007, 3)) * [300.0, 200.0, 40.0] + [6.5e5, 6.6e6, 100.0]
+    origin = importer.rounded_centre(positions)
+    whole = (positions - origin).astype(np.float32)
+    for block in (1, 1000, 4096, 10_007, 1 << 20):   # blocks that do and do not divide N
+        local = importer.local_positions(positions, origin, block=block)
+        assert local.dtype == np.float32 and local.flags.c_contiguous
+        assert np.array_equal(local, whole), block
+
+
+def test_imported_vertices_are_the_files_points_in_order_as_float32(scene):
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=CLASSIFIED_LAS) == {'FINISHED'}
+    data = pointnpr.read(CLASSIFIED_LAS)
+    obj = next(o for o in bpy.data.objects if o.type == 'MESH')
+    co = np.empty(len(obj.data.vertices) * 3, dtype=np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    origin = np.array(obj["pointnpr_origin"], dtype=np.float64)
+    assert np.array_equal(co.reshape(-1, 3), (data.positions - origin).astype(np.float32))
+
+
 def test_import_without_recentre(scene):
     bpy.ops.import_scene.pointnpr_cloud(filepath=SAMPLE_LAS, recentre=False)
     obj = next(o for o in bpy.data.objects if o.type == 'MESH')

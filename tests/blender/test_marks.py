@@ -134,11 +134,18 @@ def test_auto_colour_reads_the_colour_attributes_present():
     _scene, tree, obj = _attribute_scene(lambda n: _source(n, "auto"))
     attrs = nodes.make_core_style(nodes.read_style(tree, 1.0)).source_attributes
     assert {"colors", "intensity", "classification"} <= set(attrs)
+    # "auto" draws the first the object has: with colours, the intensity and
+    # classification are not read (nor kept in the core's cloud).
     result = _sync()
-    assert {"colors", "intensity", "classification"} <= set(_reads()) and result.warnings == []
-    # An object with only an intensity is fine for "auto": no warning.
-    obj.data.attributes.remove(obj.data.attributes["classification"])
+    assert _reads() == ["colors"] and result.warnings == []
+    cloud = next(iter(sync._cloud_cache.values())).cloud
+    assert cloud.has("colors") and not cloud.has("intensity") and not cloud.has("classification")
+    # Without colours the next one, the intensity, is read; an object with
+    # only an intensity is fine for "auto": no warning.
     obj.data.color_attributes.remove(obj.data.color_attributes["Col"])
+    _sync()
+    assert _reads() == ["colors", "intensity"]
+    obj.data.attributes.remove(obj.data.attributes["classification"])
     assert _frame_warnings() == []
     # With none of them, auto takes the constant colour: nothing to warn about.
     obj.data.attributes.remove(obj.data.attributes["intensity"])
@@ -157,6 +164,23 @@ def test_missing_attribute_is_one_warning_per_cause():
     warnings = _frame_warnings()
     assert warnings == ["6 objects have no colors for their style's colour source ('Obj', 'Obj.0', 'Obj.1' and 3 "
                         "more); drawn in the constant colour"], warnings
+
+
+def test_auto_colour_with_an_explicit_intensity_reads_both():
+    # An intensity the style uses besides "auto" colour (not a fallback) is
+    # read; the classification, a fallback, is skipped when colours are there.
+    style = pointnpr.Style(rasterize={"color_source": "auto"})
+    assert sync.fallback_attributes(style) == ("colors", "intensity", "classification")
+    assert sync.fallback_attributes(pointnpr.Style(rasterize={"color_source": "rgb"})) == ()
+    _scene, _tree, obj = _attribute_scene(lambda n: _source(n, "auto"))
+    sync.clear_cache()
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    attributes = ("classification", "colors", "intensity")
+    cloud = sync.cloud_for(evaluated, attributes, fallbacks=("colors", "classification"))
+    assert cloud.has("colors") and cloud.has("intensity") and not cloud.has("classification")
+    # Another set of fallbacks is another cloud, not the cached one.
+    everything = sync.cloud_for(evaluated, attributes)
+    assert everything is not cloud and everything.has("classification")
 
 
 def test_cloud_cache_is_keyed_on_the_attribute_set():

@@ -394,6 +394,38 @@ def test_intensity_attribute_is_read_only_when_needed(tmp_path):
     assert ("Ramp", "colors") not in sync.read_log
 
 
+def test_sync_reads_float32_vertices_without_a_float64_copy():
+    # numpy's arrays are traced by tracemalloc: the sync's temporaries are
+    # Blender's float32 vertices (12 B a point) and, before them, one float32
+    # RGBA read of the colours (16 B, gone when the vertices are read); a
+    # float64 copy of the positions (24 B), float temporaries per colour
+    # channel or both reads held at once would exceed the bound.
+    import tracemalloc
+
+    helpers.reset_scene()
+    coll = helpers.new_collection("Big")
+    pts = helpers.grid_points(10.0, 0.02, 0.0)   # 1M points
+    n = len(pts)
+    obj = helpers.add_points("Big", coll, pts, colors=np.tile([[0.2, 0.4, 0.6]], (n, 1)))
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    evaluated = obj.evaluated_get(depsgraph)
+    for attributes, bound in (((), 16 * n), (("colors",), 24 * n)):
+        sync.clear_cache()
+        tracemalloc.start()
+        try:
+            cloud = sync.cloud_for(evaluated, attributes)
+            _size, peak = tracemalloc.get_traced_memory()
+        finally:
+            tracemalloc.stop()
+        assert cloud.num_points == n
+        assert peak < bound, (attributes, peak / n)
+    # The float32 cloud is the cloud of the same values in float64.
+    reference = pointnpr.PointCloud(sync.read_positions(evaluated).astype(np.float64),
+                                    colors=sync.read_colors(evaluated))
+    assert np.array_equal(cloud.point_index, reference.point_index)
+    assert cloud.bounds == reference.bounds and cloud.num_chunks == reference.num_chunks
+
+
 def _red_box(color):
     red = (color[..., 0] > 0.8) & (color[..., 1] < 0.2) & (color[..., 2] < 0.2)
     ys, xs = np.nonzero(red)

@@ -3,6 +3,9 @@
 // each point format feature.
 #include <set>
 
+#include <iterator>
+
+#include "io/mapped_file.h"
 #include "test_io_util.h"
 
 namespace pointnpr {
@@ -535,4 +538,60 @@ TEST(IoDispatch, ExtensionAndSignature) {
 }
 
 }  // namespace
+}  // namespace pointnpr
+
+namespace pointnpr {
+
+namespace {
+size_t resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  size_t size = 0, resident = 0;
+  statm >> size >> resident;
+  return resident * size_t(::sysconf(_SC_PAGESIZE));
+}
+}  // namespace
+
+TEST(IoMappedFile, ReleasedPagesLeaveTheResidentSetAndReadTheSameAgain) {
+  // Larger than the populate limit: mapped lazily, touched here, released.
+  const auto path = test_io::scratch_path() / "release.bin";
+  std::filesystem::create_directories(path.parent_path());
+  const size_t size = size_t{96} << 20;
+  {
+    std::vector<uint8_t> bytes(size);
+    for (size_t i = 0; i < size; ++i) bytes[i] = uint8_t(i * 2654435761u >> 13);
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(size));
+  }
+  io::MappedFile file(path.string());
+  ASSERT_EQ(file.size(), size);
+  uint64_t sum = 0;
+  for (size_t i = 0; i < size; i += 512) sum += file.data()[i];
+  const size_t touched = resident_bytes();
+  file.release(0, size);
+  const size_t released = resident_bytes();
+  EXPECT_GT(touched, released + size * 9 / 10) << "touched " << touched << ", after release " << released;
+  uint64_t again = 0;
+  for (size_t i = 0; i < size; i += 512) again += file.data()[i];
+  EXPECT_EQ(again, sum);
+  for (size_t i : {size_t(0), size_t(4095), size_t(4096), size / 2 + 7, size - 1})
+    EXPECT_EQ(file.data()[i], uint8_t(i * 2654435761u >> 13));
+  std::filesystem::remove(path);
+}
+
+TEST(IoLas, FileReadReleasingItsBlocksGivesTheBytesReadersPoints) {
+  // 110,000 points: two decode blocks, released as they are read; the
+  // in-memory reader (nothing released) is the reference, point by point.
+  const std::string path = data_path("autzen_trim.las");
+  std::ifstream f(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(f)), {});
+  const PointData from_file = read_point_cloud(path);
+  const PointData from_memory = read_las_memory(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
+  ASSERT_EQ(from_file.num_points(), 110000u);
+  EXPECT_EQ(from_file.positions, from_memory.positions);
+  ASSERT_EQ(from_file.attributes.size(), from_memory.attributes.size());
+  for (size_t a = 0; a < from_file.attributes.size(); ++a) {
+    EXPECT_EQ(from_file.attributes[a].name, from_memory.attributes[a].name);
+    EXPECT_TRUE(from_file.attributes[a].values == from_memory.attributes[a].values) << from_file.attributes[a].name;
+  }
+}
+
 }  // namespace pointnpr

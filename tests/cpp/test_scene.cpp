@@ -1,3 +1,4 @@
+#include <cmath>
 #include <limits>
 #include <algorithm>
 #include <gtest/gtest.h>
@@ -6,6 +7,7 @@
 
 #include "core/error.h"
 #include "scene/camera.h"
+#include "core/morton.h"
 #include "scene/point_cloud.h"
 
 using namespace pointnpr;
@@ -149,4 +151,80 @@ TEST(Camera, RejectsInvalidParameters) {
   EXPECT_THROW(Camera::perspective(glm::dmat4(1.0), 50, 36, 24, SensorFit::Auto, 0, 0, 0.1, 10, {0, 10}),
                ParameterError);
   EXPECT_THROW(parse_sensor_fit("SIDEWAYS"), ParameterError);
+}
+
+namespace {
+// The layout the cloud had before its order was sorted in buckets: every
+// finite point's (Morton code, index), sorted.
+std::vector<uint32_t> reference_order(const std::vector<double>& pos) {
+  const size_t n = pos.size() / 3;
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  auto finite = [&](size_t i) {
+    return std::isfinite(pos[3 * i]) && std::isfinite(pos[3 * i + 1]) && std::isfinite(pos[3 * i + 2]);
+  };
+  for (size_t i = 0; i < n; ++i)
+    if (finite(i)) {
+      lo = glm::min(lo, glm::dvec3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]));
+      hi = glm::max(hi, glm::dvec3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]));
+    }
+  const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-12));
+  const double scale = double((1u << 21) - 1) / std::max({extent.x, extent.y, extent.z});
+  std::vector<std::pair<uint64_t, uint32_t>> keyed;
+  for (size_t i = 0; i < n; ++i)
+    if (finite(i))
+      keyed.push_back({morton_code(uint64_t((pos[3 * i] - lo.x) * scale), uint64_t((pos[3 * i + 1] - lo.y) * scale),
+                                   uint64_t((pos[3 * i + 2] - lo.z) * scale)),
+                       uint32_t(i)});
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<uint32_t> order;
+  for (const auto& k : keyed) order.push_back(k.second);
+  return order;
+}
+}  // namespace
+
+TEST(PointCloud, BucketedMortonOrderIsTheFullSortsOrder) {
+  // Sizes below and above the bucket threshold, clustered points (many in
+  // one bucket), exact duplicates (equal codes: ties by index) and
+  // non-finite points, which are left out.
+  for (size_t n : {size_t(1), size_t(100), size_t(5000), size_t(300000)}) {
+    std::vector<double> pos;
+    for (size_t i = 0; i < n; ++i) {
+      const double t = double((i * 2654435761u) % 100003) / 100003.0;
+      if (i % 7 == 0)
+        pos.insert(pos.end(), {1.0, 2.0, 3.0});                      // duplicates
+      else if (i % 5 == 0)
+        pos.insert(pos.end(), {1.0 + t * 1e-3, 2.0, 3.0 + t * 1e-3});  // a tight cluster
+      else
+        pos.insert(pos.end(), {t * 100.0, std::fmod(t * 7919.0, 60.0), t * t * 15.0});
+      if (i % 1013 == 1) pos[pos.size() - 2] = std::numeric_limits<double>::quiet_NaN();
+    }
+    PointCloudInput in;
+    in.positions = pos;
+    PointCloud cloud(in, 4096);
+    EXPECT_EQ(cloud.point_index(), reference_order(pos)) << n << " points";
+  }
+}
+
+TEST(PointCloud, Float32PositionsGiveTheCloudOfTheirFloat64Values) {
+  std::vector<float> pos32;
+  for (int i = 0; i < 40000; ++i)
+    pos32.insert(pos32.end(), {float(i % 211) * 0.37f, float(i % 173) * 0.11f - 5.0f, float(i) * 1e-4f});
+  pos32[3 * 17] = std::numeric_limits<float>::infinity();
+  const std::vector<double> pos64(pos32.begin(), pos32.end());
+  PointCloudInput a, b;
+  a.positions = pos64;
+  b.positions_f32 = pos32;
+  PointCloud from64(a, 1024), from32(b, 1024);
+  EXPECT_EQ(from32.skipped_nonfinite(), 1u);
+  EXPECT_EQ(from32.point_index(), from64.point_index());
+  ASSERT_EQ(from32.chunks().size(), from64.chunks().size());
+  for (size_t c = 0; c < from32.chunks().size(); ++c) EXPECT_EQ(from32.chunks()[c].origin, from64.chunks()[c].origin);
+  EXPECT_EQ(from32.local_positions(), from64.local_positions());
+  EXPECT_EQ(from32.bounds_min(), from64.bounds_min());
+  EXPECT_EQ(from32.bounds_max(), from64.bounds_max());
+
+  PointCloudInput both;
+  both.positions = pos64;
+  both.positions_f32 = pos32;
+  EXPECT_THROW(PointCloud{both}, Error);
 }

@@ -69,6 +69,40 @@ def test_point_cloud_from_numpy(renderer):
     assert float_colors.has("colors")
 
 
+def test_point_cloud_takes_float32_positions_without_a_float64_copy(renderer, camera):
+    import tracemalloc
+
+    rng = np.random.default_rng(7)
+    n = 400_000
+    pos32 = (rng.random((n, 3)) * [4.0, 3.0, 0.5] - [2.0, 1.5, 10.25]).astype(np.float32)
+    colors = rng.integers(0, 256, (n, 3), dtype=np.uint8)
+
+    def traced_peak(positions):
+        tracemalloc.start()   # numpy's arrays are traced; the core's own memory is not
+        try:
+            cloud = pointnpr.PointCloud(positions, colors=colors)
+            return cloud, tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+
+    cloud32, peak32 = traced_peak(pos32)
+    assert peak32 < n   # no copy: a float64 one would be 24 bytes a point
+    _, peak_int = traced_peak(pos32.astype(np.int32))   # converted: the measure sees the copy
+    assert peak_int >= 24 * n
+    cloud64 = pointnpr.PointCloud(pos32.astype(np.float64), colors=colors)
+    assert np.array_equal(cloud32.point_index, cloud64.point_index)
+    assert cloud32.bounds == cloud64.bounds and cloud32.num_chunks == cloud64.num_chunks
+    frames = []
+    for cloud in (cloud32, cloud64):
+        scene = pointnpr.Scene()
+        scene.add_segment("s", pointnpr.Style(rasterize={"point_size": 2}), [cloud])
+        frames.append(renderer.render(scene, camera, 320, 240).color.tobytes())
+    assert frames[0] == frames[1]
+    # Non-contiguous float32 input is accepted too (made contiguous, still float32).
+    strided = np.asfortranarray(pos32)
+    assert np.array_equal(pointnpr.PointCloud(strided).point_index, pointnpr.PointCloud(pos32).point_index)
+
+
 def test_render_result_arrays(renderer, two_planes, camera):
     r = renderer.render(two_planes, camera, 320, 240, background=(0.0, 0.0, 0.0, 0.0))
     assert r.color.shape == (240, 320, 4) and r.color.dtype == np.float32

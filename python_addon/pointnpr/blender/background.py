@@ -53,6 +53,12 @@ class BackgroundCall:
             raise value
         return value
 
+    def forget_result(self):
+        """Drops the reference to a value already taken with result(), so that
+        its memory (a whole scan) can go while this call is still referenced."""
+        if self._outcome is not None and self._outcome[0]:
+            self._outcome = (True, None)
+
     def cancel(self):
         """Asks the core to stop and waits until it has (at its next check:
         milliseconds). Unwatched calls run to their end."""

@@ -54,6 +54,18 @@ def rounded_centre(positions):
     return np.round((lo + hi) * 0.5)
 
 
+def local_positions(positions, origin, block=1 << 20):
+    """float32 ``positions - origin`` (Blender's vertices), computed in double
+    block by block: the same values as ``(positions - origin).astype(float32)``
+    without a float64 copy of the whole array next to the reader's."""
+    positions = np.asarray(positions)
+    out = np.empty(positions.shape, dtype=np.float32)
+    origin = np.asarray(origin, dtype=np.float64)
+    for first in range(0, positions.shape[0], block):
+        np.subtract(positions[first:first + block], origin, out=out[first:first + block], casting='same_kind')
+    return out
+
+
 def _as_uint8_colors(colors):
     colors = np.asarray(colors)
     if colors.dtype == np.uint16:
@@ -69,21 +81,22 @@ def create_point_mesh(name, positions, colors=None, intensity=None, classificati
     n = positions.shape[0]
     mesh = bpy.data.meshes.new(name)
     mesh.vertices.add(n)
+    # float32 in C order is what Blender stores: foreach_set reads it as it is.
     mesh.vertices.foreach_set("co", np.ascontiguousarray(positions, dtype=np.float32).reshape(-1))
     if colors is not None:
         colors = _as_uint8_colors(colors)
+        # One float32 RGBA array, filled in place (no float temporaries per channel).
         rgba = np.ones((n, 4), dtype=np.float32)
-        rgba[:, :3] = colors[:, :3].astype(np.float32) / 255.0
-        if colors.shape[1] > 3:
-            rgba[:, 3] = colors[:, 3].astype(np.float32) / 255.0
+        channels = 4 if colors.shape[1] > 3 else 3
+        np.divide(colors[:, :channels], np.float32(255.0), out=rgba[:, :channels], dtype=np.float32)
         holder = getattr(mesh, "color_attributes", None) or mesh.attributes
         attr = holder.new("Col", 'BYTE_COLOR', 'POINT')
         try:
             attr.data.foreach_set("color_srgb", rgba.reshape(-1))
         except (AttributeError, TypeError):
-            lin = rgba.copy()
-            lin[:, :3] = sync.srgb_to_linear(rgba[:, :3])
-            attr.data.foreach_set("color", lin.reshape(-1))
+            rgba[:, :3] = sync.srgb_to_linear(rgba[:, :3])
+            attr.data.foreach_set("color", rgba.reshape(-1))
+        del rgba
         if hasattr(mesh, "color_attributes"):
             try:
                 mesh.color_attributes.active_color = attr
@@ -218,6 +231,7 @@ class ImportJob(PointObjectJob):
                 if not self._reading.done:
                     return False  # still reading
                 data = self._reading.result()
+                self._reading.forget_result()  # the reader's arrays go with _prepare's
             else:
                 data = _core().read(self.filepath)
             self._prepare(data)
@@ -225,6 +239,10 @@ class ImportJob(PointObjectJob):
         if self._next_group < len(self._groups):
             self._create_group(*self._groups[self._next_group])
             self._next_group += 1
+            if self._next_group == len(self._groups):
+                # Blender holds the points now: free the file's arrays before
+                # the scene (and the first render) needs memory.
+                self._local = self._colors = self._intensity = self._classification = None
             return False
         # Last step: make it visible.
         parent = self.context.view_layer.active_layer_collection.collection \
@@ -234,20 +252,24 @@ class ImportJob(PointObjectJob):
         return True
 
     def _prepare(self, data):
-        self._positions = np.asarray(data.positions, dtype=np.float64)
-        if len(self._positions) == 0:
+        positions = np.asarray(data.positions, dtype=np.float64)
+        if len(positions) == 0:
             # Nothing to add: an empty collection would be residue.
             raise ValueError("the file contains no points; nothing was imported")
         warning = dict(data.metadata).get("warning")
         if warning:
             self.warnings.append(str(warning))
         attrs = dict(data.attributes)
+        # Only what the meshes get is kept; the reader's other columns and its
+        # float64 positions are freed when this returns.
         self._colors = attrs.get("colors")
         self._intensity = attrs.get("intensity")
         classification = attrs.get("classification")
         self._classification = None if classification is None else np.asarray(classification)
-        self._origin = rounded_centre(self._positions) if self.recentre else np.zeros(3)
-        self._local = self._positions - self._origin
+        del attrs, data
+        self._origin = rounded_centre(positions) if self.recentre else np.zeros(3)
+        self._local = local_positions(positions, self._origin)
+        del positions
         self._root = self.track(bpy.data.collections, bpy.data.collections.new(self.stem))
         groups = []
         if self.split and self._classification is not None:

@@ -69,6 +69,22 @@ def source_attributes(core_style):
     return tuple(sorted(set(core_style.source_attributes)))
 
 
+# color_source 'auto' draws the first of these an object has (the core's
+# AutoColor), so the later ones need not be read where an earlier one is.
+AUTO_COLOR_SOURCES = ("colors", "intensity", "classification")
+
+
+def fallback_attributes(core_style):
+    """Of AUTO_COLOR_SOURCES, those ``core_style`` reads only for 'auto'
+    colour (no other use of them): cloud_for skips each where the object has
+    one before it, e.g. a LiDAR scan's intensity and classification when it
+    has colours (8 bytes a point in the core, more while reading)."""
+    names = set(core_style.attributes)
+    if "auto_color" not in names:
+        return ()
+    return tuple(a for a in AUTO_COLOR_SOURCES if a not in names)
+
+
 # ---------------------------------------------------------------------------
 # Geometry -> numpy
 
@@ -138,7 +154,7 @@ def read_colors(obj):
         # Older Blender: 'color' is scene-linear for both colour types.
         attr.data.foreach_get("color", values)
         values = linear_to_srgb(values)
-    rgb = values.reshape(n, 4)[:, :3]
+    rgb = values.reshape(n, 4)[:, :3]  # a view: converted in place below
     if attr.domain == 'CORNER':
         # Face-corner colours (a mesh drawn as points): each vertex the mean
         # of its corners'.
@@ -151,7 +167,11 @@ def read_colors(obj):
             total = np.bincount(vertex, weights=rgb[:, k], minlength=len(obj.data.vertices))
             mean[:, k] = np.where(count > 0, total / np.maximum(count, 1.0), 1.0)
         rgb = mean
-    return np.clip(np.rint(rgb * 255.0), 0, 255).astype(np.uint8)
+    # In place: no float temporaries the size of the cloud besides ``values``.
+    rgb *= 255.0
+    np.rint(rgb, out=rgb)
+    np.clip(rgb, 0, 255, out=rgb)
+    return rgb.astype(np.uint8)
 
 
 def _read_point_values(obj, name, data_types, dtype):
@@ -172,14 +192,15 @@ def read_intensity(obj):
 
 def read_classification(obj):
     values = _read_point_values(obj, "classification", {'INT', 'INT8'}, np.int32)
-    return None if values is None else np.clip(values, 0, 255).astype(np.uint8)
+    return None if values is None else np.clip(values, 0, 255, out=values).astype(np.uint8)
 
 
 def read_point_index(obj):
     """Stable point ids from an integer point attribute named "point_index",
     or None (the core then numbers the points in order)."""
     values = _read_point_values(obj, "point_index", {'INT'}, np.int32)
-    return None if values is None else values.astype(np.uint32)
+    # The same bits as astype(uint32), without a copy.
+    return None if values is None else values.view(np.uint32)
 
 
 def read_normals(obj):
@@ -263,11 +284,12 @@ def prune_cache(used=None):
         del _cloud_cache[key]
 
 
-def cloud_for(obj, attributes, trust_cache=False):
+def cloud_for(obj, attributes, trust_cache=False, fallbacks=()):
     """The pointnpr.PointCloud of evaluated object ``obj``
     with the source attributes the style needs (a tuple of names, see
     source_attributes(); a single name or None is accepted too). Only those
-    attributes are read from the object.
+    attributes are read from the object, and of ``fallbacks`` (see
+    fallback_attributes()) only the first the object has.
 
     The cache key is the object, the set of attribute names, and a CRC32 of
     the coordinates and attribute bytes. With ``trust_cache`` (viewport,
@@ -278,35 +300,59 @@ def cloud_for(obj, attributes, trust_cache=False):
     elif isinstance(attributes, str):
         attributes = (attributes,)
     attributes = tuple(sorted(set(attributes)))
+    fallbacks = tuple(a for a in AUTO_COLOR_SOURCES if a in fallbacks and a in attributes)
     name = obj.name
     # Geometry-nodes output appears as an instance named like its object
     # but of another type: the type is part of the key. Two styles asking
     # for different attributes of one object keep one cloud each.
-    cache_key = (obj.type, name, attributes)
+    cache_key = cloud_key(obj, attributes, fallbacks)
     entry = _cloud_cache.get(cache_key)
     if trust_cache and entry is not None:
         _stats["hits"] += 1
         return entry.cloud
-    positions = read_positions(obj)
     values = {}
-    crc = zlib.crc32(positions.tobytes())
-    for attribute in attributes:
+    crc = 0
+    # 'auto' colour's sources first, in its order: once one is found the
+    # fallbacks after it are not read.
+    colour_found = False
+    for attribute in sorted(attributes, key=_read_order):
         reader = _READERS.get(attribute)
         if reader is None:
             continue   # an attribute this add-on cannot read: the core's to handle
+        if attribute in fallbacks and colour_found:
+            continue
         read_log.append((name, attribute))
         value = reader(obj)
         if value is not None:
             values[attribute] = value
-            crc = zlib.crc32(value.tobytes(), crc)
+            colour_found = colour_found or attribute in AUTO_COLOR_SOURCES
+            # zlib reads the arrays' own memory (tobytes() would copy them).
+            crc = zlib.crc32(np.ascontiguousarray(value), crc)
+    # The positions last: the colours' float temporaries are gone by then.
+    positions = read_positions(obj)  # float32, as Blender stores them
+    crc = zlib.crc32(positions, crc)
     key = (tuple(sorted(values)), positions.shape[0], crc)
     if entry is not None and entry.key == key:
         _stats["hits"] += 1
         return entry.cloud
-    cloud = _core().PointCloud(positions.astype(np.float64), **values)
+    # The core reads float32 positions as they are (in double, point by
+    # point); the object's matrix is composed with them in double per chunk.
+    cloud = _core().PointCloud(positions, **values)
     _cloud_cache[cache_key] = _CacheEntry(key, cloud, getattr(obj.data, "name", None))
     _stats["uploads"] += 1
     return cloud
+
+
+def _read_order(attribute):
+    """'auto' colour's sources first, in its order, then the others by name."""
+    if attribute in AUTO_COLOR_SOURCES:
+        return (0, AUTO_COLOR_SOURCES.index(attribute), "")
+    return (1, 0, attribute)
+
+
+def cloud_key(obj, attributes, fallbacks=()):
+    """The cloud cache's key of ``obj`` read for ``attributes`` (sorted) and ``fallbacks``."""
+    return (obj.type, obj.name, attributes, fallbacks)
 
 
 # ---------------------------------------------------------------------------
@@ -436,8 +482,8 @@ def build_scene(depsgraph, frame, trust_cache=False):
             result.warnings.extend(desc["warnings"])
             _apply_scene_sun(desc, depsgraph, result.warnings, tree)
             core_style = nodes.make_core_style(desc)
-            style_cache[key] = (core_style, source_attributes(core_style))
-        style, attributes = style_cache[key]
+            style_cache[key] = (core_style, source_attributes(core_style), fallback_attributes(core_style))
+        style, attributes, fallbacks = style_cache[key]
         # Objects with faces go as meshes unless the style draws their
         # vertices (meshes = points: read as clouds, as before meshes were).
         as_meshes = style.surface["meshes"] != "points"
@@ -450,8 +496,8 @@ def build_scene(depsgraph, frame, trust_cache=False):
                 instances.append((mesh, matrix, obj.name))
                 result.num_objects += 1
                 continue
-            cloud = cloud_for(obj, attributes, trust_cache=trust_cache)
-            used_keys.add((obj.type, obj.name, attributes))
+            cloud = cloud_for(obj, attributes, trust_cache=trust_cache, fallbacks=fallbacks)
+            used_keys.add(cloud_key(obj, attributes, fallbacks))
             # Named for the core's warnings: it reports each cause once per
             # frame (missing colours, non-finite points) with the objects.
             instances.append((cloud, matrix, obj.name))
