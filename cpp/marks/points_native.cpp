@@ -12,6 +12,7 @@
 // depth uploaded over the clip rectangle into the mark's images.
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -62,7 +63,9 @@ struct ColorChunk {
   uint32_t count = 0;
   uint32_t first = 0;  // the chunk's first point in the cloud's arrays
   ColorSource source = ColorSource::Constant;
-  const PointCloud* cloud = nullptr;
+  const uint32_t* colors = nullptr;  // the cloud's arrays (those of its source)
+  const float* intensity = nullptr;
+  const uint32_t* classification = nullptr;
   float intensity_scale = 1.0f;
   const glm::vec3* normals = nullptr;  // cloud order, or null: unlit
   glm::mat3 normal_matrix{1.0f};
@@ -98,37 +101,90 @@ bool covers(float dx, float dy, float diameter) {
   return dx * dx + dy * dy <= r * r;
 }
 
+// floor and ceil as ints for |v| < 2^31 (the caller bounds v): without
+// SSE4.1, std::floor is a library call, a large part of a splat's cost.
+int floor_int(float v) {
+  const int i = int(v);
+  return i - (float(i) > v);
+}
+int ceil_int(float v) {
+  const int i = int(v);
+  return i + (float(i) < v);
+}
+
+// Specialised on what is constant over a frame: the size mode, the
+// camera's kind, whether the queue orders the points.
+template <bool kWorldSize, bool kOrtho, bool kQueue>
 void scatter_chunk(const ScatterChunk& c, const Frame& f, uint64_t* keys, int stride, uint32_t begin, uint32_t end) {
-  const float lo_x = float(f.clip.min.x), lo_y = float(f.clip.min.y);
-  const float hi_x = float(f.clip.max.x), hi_y = float(f.clip.max.y);
+  const float lo_x = float(f.clip.min.x) - 1.0f, lo_y = float(f.clip.min.y) - 1.0f;
+  const float hi_x = float(f.clip.max.x) + 1.0f, hi_y = float(f.clip.max.y) + 1.0f;
+  uint64_t* rows = keys - size_t(f.clip.min.y) * size_t(stride) - f.clip.min.x;  // by frame pixel
   for (uint32_t i = begin; i < end; ++i) {
-    const uint32_t local = c.order ? c.order[i] : i;
+    const uint32_t local = kQueue ? c.order[i] : i;
     const glm::vec3 p = c.positions[local];
     const float depth = dot_affine(c.depth_row, p);
     if (!(depth >= f.near && depth <= f.far)) continue;
     const float w = dot_affine(c.clip_w, p);
     const float cx = (dot_affine(c.clip_x, p) / w * 0.5f + 0.5f) * f.size.x - f.origin.x;
     const float cy = (dot_affine(c.clip_y, p) / w * 0.5f + 0.5f) * f.size.y - f.origin.y;
-    const float diameter = f.world_size ? std::clamp(f.world_size_units * f.px_per_unit / (f.ortho ? 1.0f : depth),
-                                                     1.0f, kMaxSplatPixels)
-                                        : f.point_size;
+    const float diameter =
+        kWorldSize ? std::clamp(f.world_size_units * f.px_per_unit / (kOrtho ? 1.0f : depth), 1.0f, kMaxSplatPixels)
+                   : f.point_size;
     const float r = 0.5f * diameter;
     // Off the clip rectangle (or not finite): nothing to cover, and no
     // float too large for an int below.
-    if (!(cx + r >= lo_x - 1.0f && cx - r <= hi_x + 1.0f && cy + r >= lo_y - 1.0f && cy - r <= hi_y + 1.0f))
-      continue;
-    const int x0 = std::max(int(std::floor(cx - r)), f.clip.min.x), x1 = std::min(int(std::ceil(cx + r)), f.clip.max.x - 1);
-    const int y0 = std::max(int(std::floor(cy - r)), f.clip.min.y), y1 = std::min(int(std::ceil(cy + r)), f.clip.max.y - 1);
+    if (!(cx + r >= lo_x && cx - r <= hi_x && cy + r >= lo_y && cy - r <= hi_y)) continue;
+    const int x0 = std::max(floor_int(cx - r), f.clip.min.x), x1 = std::min(ceil_int(cx + r), f.clip.max.x - 1);
+    const int y0 = std::max(floor_int(cy - r), f.clip.min.y), y1 = std::min(ceil_int(cy + r), f.clip.max.y - 1);
     uint32_t depth_bits;
     std::memcpy(&depth_bits, &depth, 4);  // positive floats order as their bits
     const uint64_t packed = uint64_t(depth_bits) << 32 | uint64_t(c.key_base + local);
+    if (diameter < 2.0f) {
+      // The square rule is separable: the covered columns once, then rows.
+      int cols[4], ncols = 0;  // a square below 2 px holds at most 2 pixel centres a side
+      for (int x = x0; x <= x1 && ncols < 4; ++x)
+        if (std::abs(float(x) + 0.5f - cx) <= r) cols[ncols++] = x;
+      for (int y = y0; y <= y1; ++y) {
+        if (!(std::abs(float(y) + 0.5f - cy) <= r)) continue;
+        uint64_t* line = rows + size_t(y) * size_t(stride);
+        for (int k = 0; k < ncols; ++k) fetch_min(line[cols[k]], packed);
+      }
+      continue;
+    }
     for (int y = y0; y <= y1; ++y) {
       const float dy = float(y) + 0.5f - cy;
-      uint64_t* line = keys + size_t(y - f.clip.min.y) * size_t(stride) - f.clip.min.x;
+      uint64_t* line = rows + size_t(y) * size_t(stride);
       for (int x = x0; x <= x1; ++x)
         if (covers(float(x) + 0.5f - cx, dy, diameter)) fetch_min(line[x], packed);
     }
   }
+}
+
+using ScatterFn = void (*)(const ScatterChunk&, const Frame&, uint64_t*, int, uint32_t, uint32_t);
+
+ScatterFn scatter_function(bool world_size, bool ortho, bool queue) {
+  static constexpr ScatterFn kTable[8] = {
+      scatter_chunk<false, false, false>, scatter_chunk<false, false, true>, scatter_chunk<false, true, false>,
+      scatter_chunk<false, true, true>,   scatter_chunk<true, false, false>,  scatter_chunk<true, false, true>,
+      scatter_chunk<true, true, false>,   scatter_chunk<true, true, true>};
+  return kTable[(world_size ? 4 : 0) + (ortho ? 2 : 0) + (queue ? 1 : 0)];
+}
+
+// The host images of the last frames, kept so that a frame does not
+// page-fault tens of megabytes in anew (bounded by the largest image, a
+// tile's region at most). Only the GL thread draws.
+struct HostImages {
+  std::vector<uint64_t> keys;
+  std::vector<float> rgba, depth;
+};
+HostImages& host_images(size_t pixels) {
+  thread_local HostImages images;
+  if (images.keys.size() < pixels) {
+    images.keys.resize(pixels);
+    images.rgba.resize(4 * pixels);
+    images.depth.resize(pixels);
+  }
+  return images;
 }
 
 glm::vec4 point_color(const ColorChunk& c, uint32_t local, const SplatSettings& s) {
@@ -136,14 +192,14 @@ glm::vec4 point_color(const ColorChunk& c, uint32_t local, const SplatSettings& 
   glm::vec4 color(glm::vec3(s.constant_color), 1.0f);
   switch (c.source) {
     case ColorSource::Rgb: {
-      const uint32_t v = c.cloud->colors()[index];
+      const uint32_t v = c.colors[index];
       color = {float(v & 0xffu) / 255.0f, float(v >> 8 & 0xffu) / 255.0f, float(v >> 16 & 0xffu) / 255.0f, 1.0f};
       break;
     }
     case ColorSource::Intensity:
-      color = glm::vec4(glm::vec3(std::clamp(c.cloud->intensity()[index] * c.intensity_scale, 0.0f, 1.0f)), 1.0f);
+      color = glm::vec4(glm::vec3(std::clamp(c.intensity[index] * c.intensity_scale, 0.0f, 1.0f)), 1.0f);
       break;
-    case ColorSource::Classification: color = glm::vec4(class_color(c.cloud->classification()[index]), 1.0f); break;
+    case ColorSource::Classification: color = glm::vec4(class_color(c.classification[index]), 1.0f); break;
     default: break;
   }
   if (s.shading) {
@@ -164,7 +220,10 @@ glm::vec4 point_color(const ColorChunk& c, uint32_t local, const SplatSettings& 
 
 void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
   const Rect clip = ctx.clip;
-  if (clip.empty()) return;
+  if (clip.empty()) {
+    if (ctx.coverage) *ctx.coverage = Rect{};
+    return;
+  }
   const Camera& cam = *ctx.camera;
   const glm::ivec2 frame_px = frame_size(ctx.targets);
   Frame f;
@@ -225,19 +284,26 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
     cc.count = v.chunk->count;
     cc.first = v.chunk->first;
     cc.source = resolve_color_source(s.color_source, *v.gpu);
-    cc.cloud = last_cloud;
+    cc.colors = last_cloud->colors().data();
+    cc.intensity = last_cloud->intensity().data();
+    cc.classification = last_cloud->classification().data();
     cc.intensity_scale = v.gpu->intensity_scale;
     cc.normals = last_normals;
     cc.normal_matrix = glm::transpose(glm::inverse(glm::mat3(v.view_from_chunk)));
   }
 
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
   // Scatter. Work items of at most kGrain points, so one big chunk (or
   // many small ones) still spreads over the threads.
   const glm::ivec2 size = clip.size();
   const size_t pixels = size_t(size.x) * size_t(size.y);
-  std::unique_ptr<uint64_t[]> keys(new uint64_t[pixels]);
+  HostImages& host = host_images(pixels);
+  uint64_t* keys = host.keys.data();
+  float* rgba = host.rgba.data();
+  float* depth = host.depth.data();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
-    std::fill(keys.get() + r.begin(), keys.get() + r.end(), kEmpty);
+    std::fill(keys + r.begin(), keys + r.end(), kEmpty);
   });
   constexpr uint32_t kGrain = 8192;
   struct Item {
@@ -247,14 +313,16 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
   for (size_t i = 0; i < scatter.size(); ++i)
     for (uint32_t b = 0; b < scatter[i].count; b += kGrain)
       items.push_back({uint32_t(i), b, std::min(scatter[i].count, b + kGrain)});
+  const ScatterFn scatter_points = scatter_function(f.world_size, f.ortho, !s.queue_counts.empty());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i)
-      scatter_chunk(scatter[items[i].chunk], f, keys.get(), size.x, items[i].begin, items[i].end);
+      scatter_points(scatter[items[i].chunk], f, keys, size.x, items[i].begin, items[i].end);
   });
 
+  const auto t1 = Clock::now();
   // Resolve: a pixel's winner by its key (the chunks are in key order).
-  std::unique_ptr<float[]> rgba(new float[pixels * 4]);
-  std::unique_ptr<float[]> depth(new float[pixels]);
+  // Each row's covered columns [first, last]: the covered bounds, for free.
+  std::vector<glm::ivec2> row_span(size_t(size.y), glm::ivec2(size.x, -1));
   tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
     size_t hint = 0;
     for (int y = rows.begin(); y < rows.end(); ++y)
@@ -273,19 +341,35 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
                                      [](uint32_t k, const ColorChunk& c) { return k < c.key_base; });
           hint = size_t(it - color.begin()) - 1;
         }
+        row_span[size_t(y)] = {std::min(row_span[size_t(y)].x, x), x};
         const glm::vec4 c = point_color(color[hint], key - color[hint].key_base, s);
         std::memcpy(&rgba[4 * p], &c, 16);
         std::memcpy(&depth[p], &depth_bits, 4);
       }
   });
 
+  const auto t2 = Clock::now();
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-  glTextureSubImage2D(ctx.targets.color->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RGBA, GL_FLOAT,
-                      rgba.get());
-  glTextureSubImage2D(ctx.targets.depth->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RED, GL_FLOAT,
-                      depth.get());
+  glTextureSubImage2D(ctx.targets.color->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RGBA, GL_FLOAT, rgba);
+  glTextureSubImage2D(ctx.targets.depth->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RED, GL_FLOAT, depth);
   gl::check_gl("points: native rasterizer upload");
+  if (ctx.coverage) {
+    Rect covered{{size.x, size.y}, {-1, -1}};
+    for (int y = 0; y < size.y; ++y) {
+      const glm::ivec2 span = row_span[size_t(y)];
+      if (span.y < 0) continue;
+      covered.min = glm::min(covered.min, glm::ivec2(span.x, y));
+      covered.max = glm::max(covered.max, glm::ivec2(span.y + 1, y + 1));
+    }
+    *ctx.coverage = covered.empty() ? Rect{} : Rect{covered.min + clip.min, covered.max + clip.min};
+  }
+  if (ctx.stats) {
+    auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+    (*ctx.stats)["native_scatter_ms"] += ms(t0, t1);
+    (*ctx.stats)["native_resolve_ms"] += ms(t1, t2);
+    (*ctx.stats)["native_upload_ms"] += ms(t2, Clock::now());
+  }
 }
 
 }  // namespace pointnpr
