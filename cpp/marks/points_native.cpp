@@ -140,14 +140,20 @@ void scatter_chunk(const ScatterChunk& c, const Frame& f, uint64_t* keys, int st
     std::memcpy(&depth_bits, &depth, 4);  // positive floats order as their bits
     const uint64_t packed = uint64_t(depth_bits) << 32 | uint64_t(c.key_base + local);
     if (diameter < 2.0f) {
-      // The square rule is separable: the covered columns once, then rows.
-      int cols[4], ncols = 0;  // a square below 2 px holds at most 2 pixel centres a side
-      for (int x = x0; x <= x1 && ncols < 4; ++x)
-        if (std::abs(float(x) + 0.5f - cx) <= r) cols[ncols++] = x;
-      for (int y = y0; y <= y1; ++y) {
-        if (!(std::abs(float(y) + 0.5f - cy) <= r)) continue;
+      // The square rule is separable, and below 2 px a side holds at most
+      // two pixel centres: the first covered one (if any) and the next.
+      auto covered_span = [r](int lo, float centre, int& first) {
+        auto in = [&](int v) { return std::abs(float(v) + 0.5f - centre) <= r; };
+        first = in(lo) ? lo : lo + 1;
+        return in(first) ? (in(first + 1) ? 2 : 1) : 0;
+      };
+      int fx, fy;
+      const int nx = covered_span(floor_int(cx - r), cx, fx), ny = covered_span(floor_int(cy - r), cy, fy);
+      const int xa = std::max(fx, x0), xb = std::min(fx + nx - 1, x1);
+      const int ya = std::max(fy, y0), yb = std::min(fy + ny - 1, y1);
+      for (int y = ya; y <= yb; ++y) {
         uint64_t* line = rows + size_t(y) * size_t(stride);
-        for (int k = 0; k < ncols; ++k) fetch_min(line[cols[k]], packed);
+        for (int x = xa; x <= xb; ++x) fetch_min(line[x], packed);
       }
       continue;
     }
