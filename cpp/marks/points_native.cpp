@@ -140,15 +140,20 @@ void scatter_chunk(const ScatterChunk& c, const Frame& f, uint64_t* keys, int st
     std::memcpy(&depth_bits, &depth, 4);  // positive floats order as their bits
     const uint64_t packed = uint64_t(depth_bits) << 32 | uint64_t(c.key_base + local);
     if (diameter < 2.0f) {
-      // The square rule is separable, and below 2 px a side holds at most
-      // two pixel centres: the first covered one (if any) and the next.
-      auto covered_span = [r](int lo, float centre, int& first) {
+      // The square rule is separable, and below 2 px a side covers at most
+      // two of the pixel centres nearest the splat's, m - 1, m, m + 1 (m:
+      // the pixel holding it): test the three, without branches to
+      // mispredict on the common case of just m.
+      auto covered_span = [r](float centre, int& first) {
+        const int m = floor_int(centre);
         auto in = [&](int v) { return std::abs(float(v) + 0.5f - centre) <= r; };
-        first = in(lo) ? lo : lo + 1;
-        return in(first) ? (in(first + 1) ? 2 : 1) : 0;
+        const bool below = in(m - 1), at = in(m), above = in(m + 1);
+        first = below ? m - 1 : (at ? m : m + 1);
+        const int last = above ? m + 1 : (at ? m : m - 1);
+        return last - first + 1;  // <= 0: no centre covered
       };
       int fx, fy;
-      const int nx = covered_span(floor_int(cx - r), cx, fx), ny = covered_span(floor_int(cy - r), cy, fy);
+      const int nx = covered_span(cx, fx), ny = covered_span(cy, fy);
       const int xa = std::max(fx, x0), xb = std::min(fx + nx - 1, x1);
       const int ya = std::max(fy, y0), yb = std::min(fy + ny - 1, y1);
       for (int y = ya; y <= yb; ++y) {
