@@ -19,7 +19,6 @@
 #include <memory>
 
 #include <tbb/blocked_range.h>
-#include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
