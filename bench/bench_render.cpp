@@ -1,5 +1,5 @@
 // Renderer benchmarks on the 342k-point lion scan (data/lion_takanawa.ply):
-//  - rasterizer throughput, compute vs GL_POINTS, same data and view;
+//  - rasterizer throughput, compute vs GL_POINTS vs native, same data and view;
 //  - one 1920x1080 engine frame with three styled segments (cartoon, warp,
 //    plain) composited with depth inpainting, read back to the CPU.
 // Run: build/bench/bench_render --benchmark_min_time=2
@@ -53,8 +53,8 @@ const LionScene& lion() {
   return scene;
 }
 
-// The points mark's two rasterizers.
-enum class RasterizerKind { Compute = 0, GlPoints = 1 };
+// The points mark's rasterizers (the indices of its `rasterizer` values).
+enum class RasterizerKind { Compute = 0, GlPoints = 1, Native = 2 };
 
 RenderSettings frame_settings(const char* mode) {
   RenderSettings s;
@@ -89,6 +89,7 @@ void BM_Rasterize(benchmark::State& state, RasterizerKind kind) {
 }
 BENCHMARK_CAPTURE(BM_Rasterize, compute, RasterizerKind::Compute)->Arg(1)->Arg(3)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Rasterize, gl_points, RasterizerKind::GlPoints)->Arg(1)->Arg(3)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rasterize, native, RasterizerKind::Native)->Arg(1)->Arg(3)->UseManualTime()->Unit(benchmark::kMillisecond);
 
 // A whole engine frame: 3 segments, 3 styles, inpainting, read-back.
 void BM_EngineFrame(benchmark::State& state, RasterizerKind kind) {
@@ -115,6 +116,7 @@ void BM_EngineFrame(benchmark::State& state, RasterizerKind kind) {
 }
 BENCHMARK_CAPTURE(BM_EngineFrame, compute, RasterizerKind::Compute)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_EngineFrame, gl_points, RasterizerKind::GlPoints)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_EngineFrame, native, RasterizerKind::Native)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

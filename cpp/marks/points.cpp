@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
+#include "gl/device.h"
 #include "scene/camera.h"
 
 namespace pointnpr {
@@ -74,10 +75,22 @@ class Points final : public Mark {
     s.normal_k = p.get_int("normal_neighbors");
     if (draws_queue(ctx, p))
       for (const VisibleChunk& v : ctx.chunks) s.queue_counts.push_back(queue_count(v, p));
-    if (p.get_enum_name("rasterizer") == "compute")
+    const std::string rasterizer = resolved_rasterizer(p);
+    if (rasterizer == "native")
+      draw_splats_native(ctx, s);
+    else if (rasterizer == "compute")
       draw_splats_compute(ctx, s);
     else
       draw_splats_gl(ctx, s);
+  }
+
+ private:
+  // auto: the native rasterizer where GL itself runs on the CPU (llvmpipe),
+  // the compute one on a GPU.
+  static std::string resolved_rasterizer(const ParamValues& p) {
+    const std::string r = p.get_enum_name("rasterizer");
+    if (r != "auto") return r;
+    return gl::Device::instance().info().software ? "native" : "compute";
   }
 };
 
@@ -86,8 +99,11 @@ const MarkRegistration registration{{
            "Points",
            "Draws the segment's points as round splats into its own colour and depth images.",
            {
-               enum_param("rasterizer", {"compute", "gl_points"}, 0,
-                          "compute: compute-shader splatting (deterministic ties); gl_points: conventional GL points"),
+               // New values last: stored enum indices of older files keep their meaning.
+               enum_param("rasterizer", {"compute", "gl_points", "native", "auto"}, 3,
+                          "compute: compute-shader splatting (deterministic ties); gl_points: conventional GL "
+                          "points; native: the compute rules on the CPU's threads (the same images); auto: native "
+                          "on a software GL device (llvmpipe), compute on a GPU"),
                enum_param("size_mode", {"pixels", "world"}, 0,
                           "Point size in screen pixels, or in scene units projected by the camera"),
                only_when(float_param("point_size", 2.0, 0.5, 32.0, "px", "Splat diameter in pixels (size_mode = pixels)"),

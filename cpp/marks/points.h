@@ -25,6 +25,12 @@ constexpr float kMaxSplatPixels = 32.0f;
 
 // Compute rasterizer (visibility by atomics, deterministic ties).
 void draw_splats_compute(const MarkContext& ctx, const SplatSettings& s);
+// The compute rasterizer's rules on the CPU's threads (marks/points_native.cpp):
+// the same colour, depth and coverage from the host's copy of the points,
+// uploaded into targets.color / targets.depth over ctx.clip.
+void draw_splats_native(const MarkContext& ctx, const SplatSettings& s);
+// The classification palette of point_attributes.glsl (display sRGB).
+glm::vec3 class_color(uint32_t classification);
 // GL_POINTS with reversed-Z depth into targets.gl_depth; also writes colour
 // and linear depth to targets.color / targets.depth.
 void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s);

@@ -4,25 +4,33 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/error.h"
 #include "geometry/analysis.h"
 #include "geometry/features.h"
 #include "gl/device.h"
 
 namespace pointnpr {
 
+uint32_t pack_normal(glm::vec3 n) {
+  const float len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  if (!std::isfinite(len) || len < 1e-6f) return 0;  // 0: no usable normal
+  uint32_t packed = 0;
+  for (int c = 0; c < 3; ++c) {
+    const float v = std::clamp(n[c] / len, -1.0f, 1.0f);
+    packed |= uint32_t(uint8_t(int8_t(std::lround(v * 127.0f)))) << (8 * c);
+  }
+  return packed;
+}
+
+glm::vec3 unpack_normal(uint32_t packed) {
+  glm::vec3 n;
+  for (int c = 0; c < 3; ++c) n[c] = std::max(float(int8_t(uint8_t(packed >> (8 * c)))) / 127.0f, -1.0f);
+  return n;
+}
+
 std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals) {
   std::vector<uint32_t> out(normals.size());
-  for (size_t i = 0; i < normals.size(); ++i) {
-    const glm::vec3 n = normals[i];
-    const float len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
-    if (!std::isfinite(len) || len < 1e-6f) continue;  // 0: no usable normal
-    uint32_t packed = 0;
-    for (int c = 0; c < 3; ++c) {
-      const float v = std::clamp(n[c] / len, -1.0f, 1.0f);
-      packed |= uint32_t(uint8_t(int8_t(std::lround(v * 127.0f)))) << (8 * c);
-    }
-    out[i] = packed;
-  }
+  for (size_t i = 0; i < normals.size(); ++i) out[i] = pack_normal(normals[i]);
   return out;
 }
 
@@ -46,6 +54,15 @@ std::vector<uint32_t> queue_order(const PointCloud& cloud) {
     for (uint32_t i = 0; i < chunk.count; ++i) order[chunk.first + i] = keyed[i].second;
   }
   return order;
+}
+
+const std::vector<uint32_t>& GpuCloud::host_queue_order() const {
+  if (!queue_order_) {
+    const std::shared_ptr<const PointCloud> cloud = source.lock();
+    if (!cloud) throw Error("the queue order of a cloud that is gone");
+    queue_order_ = std::make_shared<const std::vector<uint32_t>>(queue_order(*cloud));
+  }
+  return *queue_order_;
 }
 
 const gl::Buffer* GpuCloud::find(AttributeKey key) const {
@@ -130,7 +147,10 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
       case AttributeKind::Curvature: buffer = upload(*analysis->curvature(key.k)); break;
       case AttributeKind::LocalResolution: buffer = upload(analysis->local_resolution(key.k)->r); break;
       case AttributeKind::FeatureDegree: buffer = upload(*analysis->feature_degree(key.k, {})); break;
-      case AttributeKind::QueueOrder: buffer = upload(queue_order(*cloud)); break;
+      case AttributeKind::QueueOrder:
+        // Kept on the host where the native rasterizer (software devices) reads it too.
+        buffer = upload(gl::Device::instance().info().software ? g.host_queue_order() : queue_order(*cloud));
+        break;
       case AttributeKind::FeatureLine: {
         const int k = key.k % 100, feature_k = key.k / 100 % 100;
         const float threshold = float(key.k / 10000) * 0.05f;

@@ -23,6 +23,13 @@ struct GpuCloud {
   // The buffer of `key` (the cloud's own normals answer any k), or null when
   // it was not uploaded or the cloud lacks that source attribute.
   const gl::Buffer* find(AttributeKey key) const;
+  // The resolution queue's order (queue_order()) on the host, computed on
+  // first use and kept: the native rasterizer reads it there, the upload
+  // of AttributeKind::QueueOrder takes it from here (sorted once).
+  const std::vector<uint32_t>& host_queue_order() const;
+
+ private:
+  mutable std::shared_ptr<const std::vector<uint32_t>> queue_order_;
 };
 
 class GpuCloudCache {
@@ -45,6 +52,9 @@ class GpuCloudCache {
 // shading and stroke directions, a quarter of the upload). Non-finite or
 // zero normals pack to (0, 0, 0), which shaders read as "no normal".
 std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals);
+uint32_t pack_normal(glm::vec3 normal);
+// As the shaders' unpackSnorm4x8(...).xyz: what a shader reads of a packed normal.
+glm::vec3 unpack_normal(uint32_t packed);
 
 // The continuous resolution queue (seed 001 sections 6.3, 7.2): for each
 // chunk, its points' chunk-local indices ordered by queue_hash(point id ^

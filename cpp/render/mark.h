@@ -12,6 +12,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -117,6 +118,9 @@ struct MarkContext {
   std::map<std::string, double>* stats = nullptr;
   std::vector<std::string>* warnings = nullptr;
   std::vector<CapturedMark>* capture = nullptr;  // null unless asked
+  // A mark that knows the bounds of the pixels it covered (local, empty if
+  // none) may set them here, sparing the renderer a pass over the depth.
+  std::optional<Rect>* coverage = nullptr;
 };
 
 // How far beyond its points a mark may draw: added to the chunks' bounds

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <optional>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -444,9 +445,12 @@ struct Renderer::Impl {
     mark.stats = &result.stats;
     mark.warnings = &result.warnings;
     mark.capture = s.capture_marks ? &result.marks : nullptr;
+    std::optional<Rect> mark_coverage;  // set by marks that know it (native points)
     if (!visible.chunks.empty()) {
       mark.clip = visible.screen;
+      mark.coverage = &mark_coverage;
       seg.style.mark.mark->draw(mark, seg.style.mark.params);
+      mark.coverage = nullptr;
       gl::check_gl(("mark " + seg.style.mark.info->schema.id).c_str());
     }
     if (!mesh_pass.visible.empty()) {
@@ -460,7 +464,8 @@ struct Renderer::Impl {
       seg.style.surface.mark->draw(surface, seg.style.surface.params);
       gl::check_gl("mark mesh_surface");
     }
-    const Rect covered = coverage_bounds(screen);
+    // Where GL drew (or the mark did not say), a pass over the depth finds it.
+    const Rect covered = mark_coverage && mesh_pass.visible.empty() ? *mark_coverage : coverage_bounds(screen);
     glFinish();
     result.stats["mark_ms"] += ms_since(t0);
     if (covered.empty()) return;

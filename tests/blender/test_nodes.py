@@ -143,7 +143,7 @@ def test_scene_settings_follow_composite_schema():
     assert '"rasterizer"' not in inspect.getsource(ui.RENDER_PT_pointnpr.draw)
     points = pointnpr.schema("points", kind="mark")
     rasterizer = next(p for p in points["params"] if p["name"] == "rasterizer")
-    assert rasterizer["items"] == ["compute", "gl_points"] and rasterizer["default"] == "compute"
+    assert rasterizer["items"] == ["compute", "gl_points", "native", "auto"] and rasterizer["default"] == "auto"
 
 
 def test_new_style_chain_and_defaults(scene):
@@ -158,7 +158,7 @@ def test_new_style_chain_and_defaults(scene):
     assert mark_id == "points"
     points_schema = pointnpr.schema("points", kind="mark")
     assert set(values) == {p["name"] for p in points_schema["params"]}
-    assert values["color_source"] == "auto" and values["rasterizer"] == "compute"
+    assert values["color_source"] == "auto" and values["rasterizer"] == "auto"
     # The description is accepted by the core, as the points mark.
     style = nodes.make_core_style(desc)
     assert style.mark[0] == "points"

@@ -295,7 +295,7 @@ def test_animation_render_writes_every_frame(tmp_path):
     assert not np.array_equal(images[0], images[2])
 
 
-@pytest.mark.parametrize("rasterizer", ["compute", "gl_points"])
+@pytest.mark.parametrize("rasterizer", ["compute", "gl_points", "native", "auto"])
 def test_rasterizer_choice(tmp_path, rasterizer):
     """The rasterizer is the Points mark's parameter; the legacy scene
     setting is ignored."""

@@ -72,8 +72,8 @@ inline RenderSettings settings(glm::ivec2 size, const std::string& composite = "
   return s;
 }
 
-// The points mark's two rasterizers.
-enum class RasterizerKind { Compute = 0, GlPoints = 1 };
+// The points mark's rasterizers (the indices of its `rasterizer` values).
+enum class RasterizerKind { Compute = 0, GlPoints = 1, Native = 2, Auto = 3 };
 
 // `scene` with every points mark set to rasterizer `kind`.
 inline Scene with_rasterizer(Scene scene, RasterizerKind kind) {

@@ -187,7 +187,7 @@ TEST(Render, SegmentsOneCentimetreApartAtOneKilometreCompositeInOrder) {
   const Camera cam = front_camera({0, 0, 0}, kSize, 0.01, 5000.0);
   auto front = plane_cloud(-400, 400, -300, 300, -1000.0, 2.0, {255, 0, 0});
   auto back = plane_cloud(-400, 400, -300, 300, -1000.01, 2.0, {0, 0, 255});
-  for (RasterizerKind kind : {RasterizerKind::Compute, RasterizerKind::GlPoints}) {
+  for (RasterizerKind kind : {RasterizerKind::Compute, RasterizerKind::GlPoints, RasterizerKind::Native}) {
     for (const char* mode : {"depth_test", "inpaint"}) {
       for (bool back_last : {true, false}) {
         Scene scene;
@@ -202,7 +202,7 @@ TEST(Render, SegmentsOneCentimetreApartAtOneKilometreCompositeInOrder) {
           wrong += idx >= 0 && idx != front_index;
         }
         EXPECT_GT(covered, size_t(kSize.x * kSize.y) * 9 / 10);
-        EXPECT_EQ(wrong, 0u) << mode << (kind == RasterizerKind::Compute ? " compute" : " gl_points");
+        EXPECT_EQ(wrong, 0u) << mode << " rasterizer " << int(kind);
       }
     }
   }
@@ -286,7 +286,7 @@ TEST(Render, DiffuseShadingUsesNormalsEstimatedOnlyWhenAStyleAsks) {
   const Style flat = style_with({{"point_size", {3}}, {"color_source", {3}}, {"color", {1, 1, 1, 1}}});
   const Style lit = style_with({{"point_size", {3}}, {"color_source", {3}}, {"color", {1, 1, 1, 1}},
                                 {"shading", {1}}, {"shading_strength", {1}}, {"light_elevation", {0}}});
-  for (RasterizerKind kind : {RasterizerKind::Compute, RasterizerKind::GlPoints}) {
+  for (RasterizerKind kind : {RasterizerKind::Compute, RasterizerKind::GlPoints, RasterizerKind::Native}) {
     Renderer renderer;
     auto cloud = sphere_cloud(false);
     Scene scene;

@@ -248,7 +248,7 @@ def _points(renderer, params, c, z):
     return np.asarray(r.color)[..., 3] > 0
 
 
-@pytest.mark.parametrize("rasterizer", ["compute", "gl_points"])
+@pytest.mark.parametrize("rasterizer", ["compute", "gl_points", "native"])
 def test_points_mark_keeps_its_density_on_screen_with_the_queue(renderer, rasterizer):
     pos, _ = wall(1.2, 0.9, 0.005, -4.0)
     c = pointnpr.PointCloud(pos)
@@ -270,13 +270,14 @@ def test_points_mark_keeps_its_density_on_screen_with_the_queue(renderer, raster
 def test_points_mark_rasterizers_draw_the_same_queue_points(renderer):
     pos, _ = wall(1.2, 0.9, 0.005, -4.0)
     c = pointnpr.PointCloud(pos)
-    # 3 px discs: the two rasterizers' coverage rules agree exactly there.
+    # 3 px discs: the rasterizers' coverage rules agree exactly there.
     params = {"point_size": 3.0, "color_source": "constant", "density_mode": "constant_on_screen", "queue_level": 0.02}
     a = _points(renderer, dict(params, rasterizer="compute"), c, 0.0)
     b = _points(renderer, dict(params, rasterizer="gl_points"), c, 0.0)
+    n = _points(renderer, dict(params, rasterizer="native"), c, 0.0)
     full = _points(renderer, dict(params, density_mode="all_points"), c, 0.0)
     assert 1000 < a.sum() < 0.5 * full.sum()
-    assert np.array_equal(a, b)
+    assert np.array_equal(a, b) and np.array_equal(a, n)
 
 
 def test_hatching_mark_keeps_its_stroke_density_on_screen_with_the_queue():

@@ -64,7 +64,7 @@ def test_every_filter_in_one_chain_tiled_is_the_bytes_of_the_whole_frame(rendere
     assert_same_bytes(whole, tiled)
 
 
-@pytest.mark.parametrize("rasterizer", ["compute", "gl_points"])
+@pytest.mark.parametrize("rasterizer", ["compute", "gl_points", "native"])
 def test_points_tiled_are_the_bytes_of_the_whole_frame_for_both_rasterizers(renderer, clouds, rasterizer):
     whole, tiled = render_both(renderer, two_segments(clouds, [], rasterizer), 257, 199, 64)
     assert_same_bytes(whole, tiled)
@@ -157,7 +157,7 @@ def test_every_compositing_and_inpainting_method_tiled_is_the_bytes_of_the_whole
     assert_same_bytes(whole, tiled)
 
 
-@pytest.mark.parametrize("rasterizer", ["compute", "gl_points"])
+@pytest.mark.parametrize("rasterizer", ["compute", "gl_points", "native"])
 def test_many_splats_over_a_large_frame_tiled_are_the_bytes_of_the_whole_frame(renderer, rasterizer):
     # Subpixel rounding that follows the tile's origin (the GL's viewport
     # transform, gl_PointCoord) flips a few dozen edge pixels at this scale.

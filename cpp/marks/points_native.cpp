@@ -1,0 +1,385 @@
+// The points mark's native rasterizer: the compute rasterizer's rules
+// (shaders/points.comp, points.glsl, point_attributes.glsl) on the CPU's
+// threads (TBB), for software GL devices, where llvmpipe's per-pixel
+// atomics of the compute passes cost several times a plain scatter.
+//
+// Two passes. Scatter: every point (of the chunk's resolution queue when it
+// is on) projected as the compute path does and its splat's pixels given
+// min(depth bits << 32 | point key) by an atomic fetch-min, so the winner
+// is the nearest point, ties to the smallest key, whatever order the
+// threads ran in. Resolve: each covered pixel's colour from its winning
+// point alone (one colour per pixel, not per splat pixel), then colour and
+// depth uploaded over the clip rectangle into the mark's images.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "geometry/analysis.h"
+#include "gl/device.h"
+#include "marks/points.h"
+#include "scene/camera.h"
+
+namespace pointnpr {
+
+glm::vec3 class_color(uint32_t c) {
+  // ASPRS LAS classes 0-18 (display sRGB), as point_attributes.glsl's CLASS_COLORS.
+  static constexpr float kColors[19][3] = {
+      {0.60f, 0.60f, 0.60f}, {0.70f, 0.70f, 0.70f}, {0.63f, 0.48f, 0.33f}, {0.56f, 0.80f, 0.45f},
+      {0.36f, 0.68f, 0.30f}, {0.16f, 0.47f, 0.20f}, {0.85f, 0.42f, 0.32f}, {0.90f, 0.10f, 0.60f},
+      {0.90f, 0.85f, 0.20f}, {0.25f, 0.50f, 0.90f}, {0.55f, 0.55f, 0.60f}, {0.35f, 0.35f, 0.38f},
+      {0.80f, 0.80f, 0.80f}, {0.95f, 0.75f, 0.20f}, {0.95f, 0.55f, 0.10f}, {0.70f, 0.30f, 0.90f},
+      {0.50f, 0.90f, 0.90f}, {0.60f, 0.40f, 0.25f}, {0.95f, 0.20f, 0.20f}};
+  if (c >= 19) return glm::vec3(0.5f);
+  return {kColors[c][0], kColors[c][1], kColors[c][2]};
+}
+
+namespace {
+
+constexpr uint64_t kEmpty = ~uint64_t(0);
+
+// One chunk as the scatter sees it: its float rows of the view depth and of
+// the projection (x, y, w), composed in double from the chunk's transform.
+struct ScatterChunk {
+  const glm::vec3* positions = nullptr;  // the chunk's first point
+  const uint32_t* order = nullptr;       // queue order (chunk-local indices), or null: all in index order
+  uint32_t count = 0;
+  uint32_t key_base = 0;
+  glm::vec4 depth_row{0.0f};  // -view z
+  glm::vec4 clip_x{0.0f}, clip_y{0.0f}, clip_w{0.0f};
+};
+
+// What the resolve needs of a chunk to colour its points (point_color()).
+struct ColorChunk {
+  uint32_t key_base = 0;
+  uint32_t count = 0;
+  uint32_t first = 0;  // the chunk's first point in the cloud's arrays
+  ColorSource source = ColorSource::Constant;
+  const uint32_t* colors = nullptr;  // the cloud's arrays (those of its source)
+  const float* intensity = nullptr;
+  const uint32_t* classification = nullptr;
+  float intensity_scale = 1.0f;
+  const glm::vec3* normals = nullptr;  // cloud order, or null: unlit
+  glm::mat3 normal_matrix{1.0f};
+};
+
+// The frame-wide numbers of points.glsl's uniforms.
+struct Frame {
+  glm::vec2 size{0.0f};    // the whole frame's (the projection maps to it)
+  glm::vec2 origin{0.0f};  // the tile's
+  Rect clip;               // tile pixels
+  float near = 0.0f, far = 0.0f;
+  bool ortho = false;
+  bool world_size = false;
+  float point_size = 2.0f, world_size_units = 0.05f, px_per_unit = 1.0f;
+};
+
+glm::vec4 row(const glm::dmat4& m, int r) { return {float(m[0][r]), float(m[1][r]), float(m[2][r]), float(m[3][r])}; }
+
+float dot_affine(const glm::vec4& row, const glm::vec3& p) { return row.x * p.x + row.y * p.y + row.z * p.z + row.w; }
+
+// Per-pixel minimum by compare-and-swap: only ever lowers the value.
+void fetch_min(uint64_t& slot, uint64_t value) {
+  std::atomic_ref<uint64_t> ref(slot);
+  uint64_t current = ref.load(std::memory_order_relaxed);
+  while (value < current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
+  }
+}
+
+// covers() of points.glsl, evaluated in the same float operations.
+bool covers(float dx, float dy, float diameter) {
+  const float r = 0.5f * diameter;
+  if (diameter < 2.0f) return std::abs(dx) <= r && std::abs(dy) <= r;
+  return dx * dx + dy * dy <= r * r;
+}
+
+// floor and ceil as ints for |v| < 2^31 (the caller bounds v): without
+// SSE4.1, std::floor is a library call, a large part of a splat's cost.
+int floor_int(float v) {
+  const int i = int(v);
+  return i - (float(i) > v);
+}
+int ceil_int(float v) {
+  const int i = int(v);
+  return i + (float(i) < v);
+}
+
+// Specialised on what is constant over a frame: the size mode, the
+// camera's kind, whether the queue orders the points.
+template <bool kWorldSize, bool kOrtho, bool kQueue>
+void scatter_chunk(const ScatterChunk& c, const Frame& f, uint64_t* keys, int stride, uint32_t begin, uint32_t end) {
+  const float lo_x = float(f.clip.min.x) - 1.0f, lo_y = float(f.clip.min.y) - 1.0f;
+  const float hi_x = float(f.clip.max.x) + 1.0f, hi_y = float(f.clip.max.y) + 1.0f;
+  uint64_t* rows = keys - size_t(f.clip.min.y) * size_t(stride) - f.clip.min.x;  // by frame pixel
+  for (uint32_t i = begin; i < end; ++i) {
+    const uint32_t local = kQueue ? c.order[i] : i;
+    const glm::vec3 p = c.positions[local];
+    const float depth = dot_affine(c.depth_row, p);
+    if (!(depth >= f.near && depth <= f.far)) continue;
+    const float w = dot_affine(c.clip_w, p);
+    const float cx = (dot_affine(c.clip_x, p) / w * 0.5f + 0.5f) * f.size.x - f.origin.x;
+    const float cy = (dot_affine(c.clip_y, p) / w * 0.5f + 0.5f) * f.size.y - f.origin.y;
+    const float diameter =
+        kWorldSize ? std::clamp(f.world_size_units * f.px_per_unit / (kOrtho ? 1.0f : depth), 1.0f, kMaxSplatPixels)
+                   : f.point_size;
+    const float r = 0.5f * diameter;
+    // Off the clip rectangle (or not finite): nothing to cover, and no
+    // float too large for an int below.
+    if (!(cx + r >= lo_x && cx - r <= hi_x && cy + r >= lo_y && cy - r <= hi_y)) continue;
+    const int x0 = std::max(floor_int(cx - r), f.clip.min.x), x1 = std::min(ceil_int(cx + r), f.clip.max.x - 1);
+    const int y0 = std::max(floor_int(cy - r), f.clip.min.y), y1 = std::min(ceil_int(cy + r), f.clip.max.y - 1);
+    uint32_t depth_bits;
+    std::memcpy(&depth_bits, &depth, 4);  // positive floats order as their bits
+    const uint64_t packed = uint64_t(depth_bits) << 32 | uint64_t(c.key_base + local);
+    if (diameter < 2.0f) {
+      // The square rule is separable, and below 2 px a side covers at most
+      // two of the pixel centres nearest the splat's, m - 1, m, m + 1 (m:
+      // the pixel holding it): test the three, without branches to
+      // mispredict on the common case of just m.
+      auto covered_span = [r](float centre, int& first) {
+        const int m = floor_int(centre);
+        auto in = [&](int v) { return std::abs(float(v) + 0.5f - centre) <= r; };
+        const bool below = in(m - 1), at = in(m), above = in(m + 1);
+        first = below ? m - 1 : (at ? m : m + 1);
+        const int last = above ? m + 1 : (at ? m : m - 1);
+        return last - first + 1;  // <= 0: no centre covered
+      };
+      int fx, fy;
+      const int nx = covered_span(cx, fx), ny = covered_span(cy, fy);
+      const int xa = std::max(fx, x0), xb = std::min(fx + nx - 1, x1);
+      const int ya = std::max(fy, y0), yb = std::min(fy + ny - 1, y1);
+      for (int y = ya; y <= yb; ++y) {
+        uint64_t* line = rows + size_t(y) * size_t(stride);
+        for (int x = xa; x <= xb; ++x) fetch_min(line[x], packed);
+      }
+      continue;
+    }
+    for (int y = y0; y <= y1; ++y) {
+      const float dy = float(y) + 0.5f - cy;
+      uint64_t* line = rows + size_t(y) * size_t(stride);
+      for (int x = x0; x <= x1; ++x)
+        if (covers(float(x) + 0.5f - cx, dy, diameter)) fetch_min(line[x], packed);
+    }
+  }
+}
+
+using ScatterFn = void (*)(const ScatterChunk&, const Frame&, uint64_t*, int, uint32_t, uint32_t);
+
+ScatterFn scatter_function(bool world_size, bool ortho, bool queue) {
+  static constexpr ScatterFn kTable[8] = {
+      scatter_chunk<false, false, false>, scatter_chunk<false, false, true>, scatter_chunk<false, true, false>,
+      scatter_chunk<false, true, true>,   scatter_chunk<true, false, false>,  scatter_chunk<true, false, true>,
+      scatter_chunk<true, true, false>,   scatter_chunk<true, true, true>};
+  return kTable[(world_size ? 4 : 0) + (ortho ? 2 : 0) + (queue ? 1 : 0)];
+}
+
+// The host images of the last frames, kept so that a frame does not
+// page-fault tens of megabytes in anew (bounded by the largest image, a
+// tile's region at most). Only the GL thread draws.
+struct HostImages {
+  std::vector<uint64_t> keys;
+  std::vector<float> rgba, depth;
+};
+HostImages& host_images(size_t pixels) {
+  thread_local HostImages images;
+  if (images.keys.size() < pixels) {
+    images.keys.resize(pixels);
+    images.rgba.resize(4 * pixels);
+    images.depth.resize(pixels);
+  }
+  return images;
+}
+
+glm::vec4 point_color(const ColorChunk& c, uint32_t local, const SplatSettings& s) {
+  const uint32_t index = c.first + local;
+  glm::vec4 color(glm::vec3(s.constant_color), 1.0f);
+  switch (c.source) {
+    case ColorSource::Rgb: {
+      const uint32_t v = c.colors[index];
+      color = {float(v & 0xffu) / 255.0f, float(v >> 8 & 0xffu) / 255.0f, float(v >> 16 & 0xffu) / 255.0f, 1.0f};
+      break;
+    }
+    case ColorSource::Intensity:
+      color = glm::vec4(glm::vec3(std::clamp(c.intensity[index] * c.intensity_scale, 0.0f, 1.0f)), 1.0f);
+      break;
+    case ColorSource::Classification: color = glm::vec4(class_color(c.classification[index]), 1.0f); break;
+    default: break;
+  }
+  if (s.shading) {
+    float lambert = 1.0f;
+    if (c.normals) {
+      // What the GPU paths read: the snorm8 normal, turned into view space.
+      const glm::vec3 n = c.normal_matrix * unpack_normal(pack_normal(c.normals[index]));
+      const float len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+      if (len > 1e-3f) lambert = std::abs(glm::dot(n / len, s.light_dir));  // two-sided
+    }
+    const float k = 1.0f - s.shading_strength * (1.0f - lambert);
+    color = glm::vec4(glm::vec3(color) * k, color.a);
+  }
+  return color;
+}
+
+}  // namespace
+
+void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
+  const Rect clip = ctx.clip;
+  if (clip.empty()) {
+    if (ctx.coverage) *ctx.coverage = Rect{};
+    return;
+  }
+  const Camera& cam = *ctx.camera;
+  const glm::ivec2 frame_px = frame_size(ctx.targets);
+  Frame f;
+  f.size = glm::vec2(frame_px);
+  f.origin = glm::vec2(ctx.targets.origin);
+  f.clip = clip;
+  f.near = float(cam.clip_start);
+  f.far = float(cam.clip_end);
+  f.ortho = cam.orthographic;
+  f.world_size = s.world_size;
+  f.point_size = s.point_size;
+  f.world_size_units = s.world_diameter;
+  f.px_per_unit = float(cam.pixels_per_unit(1.0, frame_px.y));
+
+  // Host data of every chunk; the analyses' normals are held while drawing.
+  std::vector<ScatterChunk> scatter(ctx.chunks.size());
+  std::vector<ColorChunk> color(ctx.chunks.size());
+  std::vector<std::shared_ptr<const PointCloud>> clouds;
+  std::vector<std::shared_ptr<const std::vector<glm::vec3>>> estimated;
+  const PointCloud* last_cloud = nullptr;
+  const glm::vec3* last_normals = nullptr;
+  for (size_t i = 0; i < ctx.chunks.size(); ++i) {
+    const VisibleChunk& v = ctx.chunks[i];
+    std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
+    if (!cloud) throw GLError("points: a visible chunk's cloud is gone");
+    if (cloud.get() != last_cloud) {
+      last_cloud = cloud.get();
+      last_normals = nullptr;
+      if (s.shading) {
+        if (v.gpu->own_normals) {
+          last_normals = cloud->normals().data();
+        } else {
+          estimated.push_back(cloud->analysis().normals({s.normal_k, geometry::Orientation::Consistent, {}}));
+          last_normals = estimated.back()->data();
+        }
+      }
+      clouds.push_back(cloud);
+    }
+    const glm::dmat4 view(v.view_from_chunk);
+    const glm::dmat4 clip_from_chunk = cam.projection * view;
+    ScatterChunk& sc = scatter[i];
+    sc.positions = cloud->local_positions().data() + v.chunk->first;
+    sc.count = v.chunk->count;
+    if (!s.queue_counts.empty()) {
+      sc.order = v.gpu->host_queue_order().data() + v.chunk->first;
+      sc.count = s.queue_counts[i];
+    }
+    sc.key_base = v.key_base;
+    // Depth from the float view transform, as the GPU paths (-v.z).
+    const glm::vec4 z_row(v.view_from_chunk[0][2], v.view_from_chunk[1][2], v.view_from_chunk[2][2],
+                          v.view_from_chunk[3][2]);
+    sc.depth_row = -z_row;
+    sc.clip_x = row(clip_from_chunk, 0);
+    sc.clip_y = row(clip_from_chunk, 1);
+    sc.clip_w = row(clip_from_chunk, 3);
+    ColorChunk& cc = color[i];
+    cc.key_base = v.key_base;
+    cc.count = v.chunk->count;
+    cc.first = v.chunk->first;
+    cc.source = resolve_color_source(s.color_source, *v.gpu);
+    cc.colors = last_cloud->colors().data();
+    cc.intensity = last_cloud->intensity().data();
+    cc.classification = last_cloud->classification().data();
+    cc.intensity_scale = v.gpu->intensity_scale;
+    cc.normals = last_normals;
+    cc.normal_matrix = glm::transpose(glm::inverse(glm::mat3(v.view_from_chunk)));
+  }
+
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  // Scatter. Work items of at most kGrain points, so one big chunk (or
+  // many small ones) still spreads over the threads.
+  const glm::ivec2 size = clip.size();
+  const size_t pixels = size_t(size.x) * size_t(size.y);
+  HostImages& host = host_images(pixels);
+  uint64_t* keys = host.keys.data();
+  float* rgba = host.rgba.data();
+  float* depth = host.depth.data();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+    std::fill(keys + r.begin(), keys + r.end(), kEmpty);
+  });
+  constexpr uint32_t kGrain = 8192;
+  struct Item {
+    uint32_t chunk, begin, end;
+  };
+  std::vector<Item> items;
+  for (size_t i = 0; i < scatter.size(); ++i)
+    for (uint32_t b = 0; b < scatter[i].count; b += kGrain)
+      items.push_back({uint32_t(i), b, std::min(scatter[i].count, b + kGrain)});
+  const ScatterFn scatter_points = scatter_function(f.world_size, f.ortho, !s.queue_counts.empty());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i)
+      scatter_points(scatter[items[i].chunk], f, keys, size.x, items[i].begin, items[i].end);
+  });
+
+  const auto t1 = Clock::now();
+  // Resolve: a pixel's winner by its key (the chunks are in key order).
+  // Each row's covered columns [first, last]: the covered bounds, for free.
+  std::vector<glm::ivec2> row_span(size_t(size.y), glm::ivec2(size.x, -1));
+  tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
+    size_t hint = 0;
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = 0; x < size.x; ++x) {
+        const size_t p = size_t(y) * size_t(size.x) + size_t(x);
+        const uint64_t packed = keys[p];
+        if (packed == kEmpty) {
+          std::fill(&rgba[4 * p], &rgba[4 * p + 4], 0.0f);
+          depth[p] = std::numeric_limits<float>::infinity();
+          continue;
+        }
+        const uint32_t key = uint32_t(packed);
+        const uint32_t depth_bits = uint32_t(packed >> 32);
+        if (key - color[hint].key_base >= color[hint].count) {
+          auto it = std::upper_bound(color.begin(), color.end(), key,
+                                     [](uint32_t k, const ColorChunk& c) { return k < c.key_base; });
+          hint = size_t(it - color.begin()) - 1;
+        }
+        row_span[size_t(y)] = {std::min(row_span[size_t(y)].x, x), x};
+        const glm::vec4 c = point_color(color[hint], key - color[hint].key_base, s);
+        std::memcpy(&rgba[4 * p], &c, 16);
+        std::memcpy(&depth[p], &depth_bits, 4);
+      }
+  });
+
+  const auto t2 = Clock::now();
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  glTextureSubImage2D(ctx.targets.color->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RGBA, GL_FLOAT, rgba);
+  glTextureSubImage2D(ctx.targets.depth->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RED, GL_FLOAT, depth);
+  gl::check_gl("points: native rasterizer upload");
+  if (ctx.coverage) {
+    Rect covered{{size.x, size.y}, {-1, -1}};
+    for (int y = 0; y < size.y; ++y) {
+      const glm::ivec2 span = row_span[size_t(y)];
+      if (span.y < 0) continue;
+      covered.min = glm::min(covered.min, glm::ivec2(span.x, y));
+      covered.max = glm::max(covered.max, glm::ivec2(span.y + 1, y + 1));
+    }
+    *ctx.coverage = covered.empty() ? Rect{} : Rect{covered.min + clip.min, covered.max + clip.min};
+  }
+  if (ctx.stats) {
+    auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+    (*ctx.stats)["native_scatter_ms"] += ms(t0, t1);
+    (*ctx.stats)["native_resolve_ms"] += ms(t1, t2);
+    (*ctx.stats)["native_upload_ms"] += ms(t2, Clock::now());
+  }
+}
+
+}  // namespace pointnpr

@@ -1,0 +1,119 @@
+// The points mark's native rasterizer (marks/points_native.cpp): the
+// compute rasterizer's images, whatever the number of threads.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <tbb/global_control.h>
+
+#include "marks/points.h"
+#include "scene_builders.h"
+
+using namespace pointnpr;
+using namespace pointnpr::test;
+
+namespace {
+
+constexpr glm::ivec2 kSize{320, 240};
+
+Scene two_planes(RasterizerKind kind, double near_size, double far_size) {
+  Scene scene;
+  scene.segments.push_back(segment("a", plane_cloud(-1.2, 0.4, -0.6, 0.6, -5, 0.03, {230, 60, 40}, {}, 0.02),
+                                   style_with({{"point_size", {near_size}}})));
+  scene.segments.push_back(segment("b", plane_cloud(-2, 3, -1.5, 1.5, -10, 0.11, {40, 60, 230}, {}, 0.05),
+                                   style_with({{"point_size", {far_size}}})));
+  return with_rasterizer(scene, kind);
+}
+
+bool same_bytes(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+}  // namespace
+
+TEST(NativeRasterizer, AgreesWithComputeWithinTheirTolerance) {
+  Renderer renderer;
+  const Camera cam = front_camera({0, 0, 0}, kSize);
+  for (const auto& [near_size, far_size] : {std::pair{3.0, 5.0}, {1.0, 1.5}, {2.0, 0.8}}) {
+    const RenderResult c =
+        renderer.render(two_planes(RasterizerKind::Compute, near_size, far_size), cam, settings(kSize, "depth_test"));
+    const RenderResult n =
+        renderer.render(two_planes(RasterizerKind::Native, near_size, far_size), cam, settings(kSize, "depth_test"));
+    size_t either = 0, mismatch = 0;
+    for (size_t i = 0; i < c.segment_index.size(); ++i) {
+      const bool cc = c.color[4 * i + 3] > 0, nc = n.color[4 * i + 3] > 0;
+      either += cc || nc;
+      const bool same = cc == nc && c.segment_index[i] == n.segment_index[i] && c.depth[i] == n.depth[i] &&
+                        std::memcmp(&c.color[4 * i], &n.color[4 * i], 16) == 0;
+      mismatch += !same;
+    }
+    ASSERT_GT(either, 3000u);
+    // The tolerance between compute and gl_points (test_render.cpp): 0.5 %.
+    EXPECT_LE(mismatch * 200, either) << mismatch << " of " << either << " at " << near_size << " px";
+  }
+}
+
+TEST(NativeRasterizer, SameBytesWithOneOrTwoThreads) {
+  const Camera cam = front_camera({0, 0, 0}, kSize);
+  const Scene scene = two_planes(RasterizerKind::Native, 2.5, 1.0);
+  std::vector<RenderResult> results;
+  for (size_t threads : {size_t(1), size_t(2), size_t(1)}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    Renderer renderer;
+    results.push_back(renderer.render(scene, cam, settings(kSize, "inpaint")));
+  }
+  for (size_t i = 1; i < results.size(); ++i) {
+    EXPECT_TRUE(same_bytes(results[0].color, results[i].color));
+    EXPECT_TRUE(same_bytes(results[0].depth, results[i].depth));
+    EXPECT_EQ(results[0].segment_index, results[i].segment_index);
+  }
+  size_t covered = 0;
+  for (int32_t idx : results[0].segment_index) covered += idx >= 0;
+  EXPECT_GT(covered, 5000u);
+}
+
+TEST(NativeRasterizer, CoveredBoundsItReportsAreTheDepthPassOnes) {
+  // The renderer takes the covered bounds from the native rasterizer
+  // instead of its depth pass; filters run within them, so a filter whose
+  // output reaches the image border shows any bound that is too tight.
+  Renderer renderer;
+  const Camera cam = front_camera({0, 0, 0}, kSize);
+  Scene scene;
+  scene.segments.push_back(segment("a", plane_cloud(-1.2, 0.4, -0.6, 0.6, -5, 0.03, {230, 60, 40}, {}, 0.02),
+                                   style_with({{"point_size", {3}}}, {{"cartoon", {}}})));
+  const RenderResult c = renderer.render(with_rasterizer(scene, RasterizerKind::Compute), cam, settings(kSize));
+  const RenderResult n = renderer.render(with_rasterizer(scene, RasterizerKind::Native), cam, settings(kSize));
+  size_t covered = 0, mismatch = 0;
+  for (size_t i = 0; i < c.segment_index.size(); ++i) {
+    covered += c.segment_index[i] >= 0;
+    mismatch += c.segment_index[i] != n.segment_index[i] || std::memcmp(&c.color[4 * i], &n.color[4 * i], 16) != 0;
+  }
+  ASSERT_GT(covered, 10000u);
+  EXPECT_LE(mismatch * 200, covered) << mismatch << " of " << covered;
+}
+
+TEST(NativeRasterizer, ClassPaletteIsTheShaders) {
+  std::ifstream file(std::string(POINTNPR_SHADER_SOURCE_DIR) + "/point_attributes.glsl");
+  ASSERT_TRUE(file);
+  std::stringstream text;
+  text << file.rdbuf();
+  const std::string glsl = text.str();
+  const size_t table = glsl.find("CLASS_COLORS[19] = vec3[](");
+  ASSERT_NE(table, std::string::npos);
+  const std::string body = glsl.substr(table, glsl.find(");", table) - table);
+  // vec3(g) or vec3(r, g, b) entries, in order.
+  const std::regex entry(R"(vec3\(([0-9.]+)(?:,\s*([0-9.]+),\s*([0-9.]+))?\))");
+  uint32_t c = 0;
+  for (auto it = std::sregex_iterator(body.begin() + long(body.find("](") + 2), body.end(), entry);
+       it != std::sregex_iterator(); ++it, ++c) {
+    const std::smatch& m = *it;
+    const glm::vec3 want = m[2].matched ? glm::vec3(std::stof(m[1]), std::stof(m[2]), std::stof(m[3]))
+                                        : glm::vec3(std::stof(m[1]));
+    EXPECT_EQ(class_color(c), want) << "class " << c;
+  }
+  EXPECT_EQ(c, 19u);
+  for (uint32_t other : {19u, 20u, 255u, 100000u}) EXPECT_EQ(class_color(other), glm::vec3(0.5f));
+}
