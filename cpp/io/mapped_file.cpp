@@ -17,7 +17,7 @@
 
 namespace pointnpr::io {
 
-MappedFile::MappedFile(const std::string& path) : path_(path) {
+MappedFile::MappedFile(const std::string& path, Access access) : path_(path) {
 #ifdef POINTNPR_HAVE_MMAP
   // Non-blocking: opening a FIFO without a writer would wait forever; it is
   // refused below like any file that is not a regular one.
@@ -43,7 +43,7 @@ MappedFile::MappedFile(const std::string& path) : path_(path) {
     // instead of a page fault per 4 KB).
     int flags = MAP_PRIVATE;
 #ifdef MAP_POPULATE
-    flags |= MAP_POPULATE;
+    if (access == Access::Sequential) flags |= MAP_POPULATE;
 #endif
     void* p = ::mmap(nullptr, size_, PROT_READ, flags, fd, 0);
     if (p == MAP_FAILED) {
@@ -51,12 +51,13 @@ MappedFile::MappedFile(const std::string& path) : path_(path) {
       ::close(fd);
       throw ReadError(path, std::string("cannot map file into memory: ") + std::strerror(e));
     }
-    ::madvise(p, size_, MADV_SEQUENTIAL);
+    ::madvise(p, size_, access == Access::Sequential ? MADV_SEQUENTIAL : MADV_RANDOM);
     map_ = p;
     data_ = static_cast<const uint8_t*>(p);
   }
   ::close(fd);
 #else
+  (void)access;
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw ReadError(path, "cannot open file");
   std::streamoff n = in.tellg();
@@ -73,6 +74,20 @@ MappedFile::MappedFile(const std::string& path) : path_(path) {
 MappedFile::~MappedFile() {
 #ifdef POINTNPR_HAVE_MMAP
   if (map_) ::munmap(map_, size_);
+#endif
+}
+
+void MappedFile::release(size_t offset, size_t bytes) const {
+#ifdef POINTNPR_HAVE_MMAP
+  if (!map_ || offset >= size_) return;
+  // madvise wants page-aligned starts: release whole pages inside the range only.
+  const size_t page = size_t(::sysconf(_SC_PAGESIZE));
+  const size_t begin = (offset + page - 1) / page * page;
+  const size_t end = std::min(size_, offset + bytes) / page * page;
+  if (end > begin) ::madvise(static_cast<uint8_t*>(map_) + begin, end - begin, MADV_DONTNEED);
+#else
+  (void)offset;
+  (void)bytes;
 #endif
 }
 

@@ -15,8 +15,12 @@ namespace pointnpr::io {
 
 class MappedFile {
  public:
+  // How the readers go through the bytes: all of them once (mapped
+  // populated, read ahead), or a few parts at a time (out-of-core caches:
+  // pages are faulted in as they are touched, so memory follows use).
+  enum class Access { Sequential, OnDemand };
   // Throws ReadError (naming the path) when the file cannot be opened.
-  explicit MappedFile(const std::string& path);
+  explicit MappedFile(const std::string& path, Access access = Access::Sequential);
   // A view of bytes owned by the caller (which must outlive this object);
   // `name` stands for the path in messages and extension checks.
   MappedFile(const std::string& name, const uint8_t* data, size_t size)
@@ -28,6 +32,10 @@ class MappedFile {
   const uint8_t* data() const { return data_; }
   size_t size() const { return size_; }
   const std::string& path() const { return path_; }
+  // Hands the pages of [offset, offset + bytes) back to the kernel (they
+  // are read again from the file when next touched): resident memory of an
+  // on-demand mapping stays bounded by what is in use. No-op without mmap.
+  void release(size_t offset, size_t bytes) const;
 
  private:
   std::string path_;
