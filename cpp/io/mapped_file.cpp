@@ -80,10 +80,11 @@ MappedFile::~MappedFile() {
 void MappedFile::release(size_t offset, size_t bytes) const {
 #ifdef POINTNPR_HAVE_MMAP
   if (!map_ || offset >= size_) return;
-  // madvise wants page-aligned starts: release whole pages inside the range only.
+  // The pages covering the range (madvise wants page-aligned starts); a
+  // neighbour's bytes on a shared page are read again when next touched.
   const size_t page = size_t(::sysconf(_SC_PAGESIZE));
-  const size_t begin = (offset + page - 1) / page * page;
-  const size_t end = std::min(size_, offset + bytes) / page * page;
+  const size_t begin = offset / page * page;
+  const size_t end = std::min(size_, offset + std::min(bytes, size_ - offset));
   if (end > begin) ::madvise(static_cast<uint8_t*>(map_) + begin, end - begin, MADV_DONTNEED);
 #else
   (void)offset;

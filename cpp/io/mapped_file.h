@@ -32,8 +32,8 @@ class MappedFile {
   const uint8_t* data() const { return data_; }
   size_t size() const { return size_; }
   const std::string& path() const { return path_; }
-  // Hands the pages of [offset, offset + bytes) back to the kernel (they
-  // are read again from the file when next touched): resident memory of an
+  // Hands the pages covering [offset, offset + bytes) back to the kernel
+  // (they are read again from the file when next touched): resident memory of an
   // on-demand mapping stays bounded by what is in use. No-op without mmap.
   void release(size_t offset, size_t bytes) const;
 

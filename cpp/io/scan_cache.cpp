@@ -250,6 +250,7 @@ ScanCache::ScanCache(const std::string& path) : file_(path, MappedFile::Access::
     fail("damaged scan cache: its chunks hold " + std::to_string(total) + " points in " +
          std::to_string(offset) + " bytes, the header says " + std::to_string(points_) + " in " +
          std::to_string(file_bytes));
+  file_.release(0, data_offset);  // header and table are copied: nothing of the file stays resident
   verified_ = std::make_unique<std::atomic<uint8_t>[]>(chunk_count);
   for (uint32_t i = 0; i < chunk_count; ++i) verified_[i].store(0);
 }
