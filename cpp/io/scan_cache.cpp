@@ -103,7 +103,7 @@ uint32_t crc32(const uint8_t* p, size_t n, uint32_t crc) {
 
 uint64_t scan_cache_chunk_bytes(uint32_t count, uint32_t flags) {
   const uint64_t n = count;
-  uint64_t bytes = 12 * n + 4 * n;  // positions, point ids
+  uint64_t bytes = 12 * n + 4 * n + 4 * n;  // positions, point ids, layout ranks
   if (flags & uint32_t(Attribute::Color)) bytes += 4 * n;
   if (flags & uint32_t(Attribute::Intensity)) bytes += 4 * n;
   if (flags & uint32_t(Attribute::Classification)) bytes += pad4(n);
@@ -137,6 +137,8 @@ void write_scan_cache(const std::string& path, const PointCloud& cloud) {
     for (uint32_t i = 0; i < n; ++i) store_vec3(w + 12 * i, cloud.local_positions()[ch.first + q[i]]);
     w += 12 * uint64_t(n);
     for (uint32_t i = 0; i < n; ++i) store(w + 4 * i, cloud.point_index()[ch.first + q[i]]);
+    w += 4 * uint64_t(n);
+    for (uint32_t i = 0; i < n; ++i) store(w + 4 * i, q[i]);
     w += 4 * uint64_t(n);
     if (flags & uint32_t(Attribute::Color)) {
       for (uint32_t i = 0; i < n; ++i) store(w + 4 * i, cloud.colors()[ch.first + q[i]]);
@@ -273,6 +275,8 @@ ScanCacheChunkData ScanCache::chunk(size_t i) const {
   v.positions = p;
   p += 12 * n;
   v.point_index = p;
+  p += 4 * n;
+  v.layout_rank = p;
   p += 4 * n;
   if (has(Attribute::Color)) v.colors = p, p += 4 * n;
   if (has(Attribute::Intensity)) v.intensity = p, p += 4 * n;

@@ -53,6 +53,10 @@ struct ScanCacheChunkData {
   uint32_t count = 0;
   const uint8_t* positions = nullptr;       // float x, y, z offsets from the chunk's origin
   const uint8_t* point_index = nullptr;     // uint32 stable ids
+  // uint32: the point's place in the chunk's spatial (Morton) order, the
+  // cloud's own: a frame's points are drawn in that order, so depth ties
+  // go to the same point as in the cloud the cache was written from.
+  const uint8_t* layout_rank = nullptr;
   const uint8_t* colors = nullptr;          // uint32 packed RGBA8, sRGB
   const uint8_t* intensity = nullptr;       // float
   const uint8_t* classification = nullptr;  // uint8

@@ -11,11 +11,13 @@ namespace pointnpr {
 
 namespace {
 
+// Appends element slot[k] of `src` (T values, unaligned) for every k.
 template <class T>
-void copy_prefix(std::vector<T>& out, const uint8_t* src, uint32_t n) {
+void append_picked(std::vector<T>& out, const uint8_t* src, const std::vector<uint32_t>& slots) {
   const size_t at = out.size();
-  out.resize(at + n);
-  std::memcpy(static_cast<void*>(out.data() + at), src, sizeof(T) * n);
+  out.resize(at + slots.size());
+  for (size_t k = 0; k < slots.size(); ++k)
+    std::memcpy(static_cast<void*>(&out[at + k]), src + sizeof(T) * slots[k], sizeof(T));
 }
 
 template <class T>
@@ -86,6 +88,8 @@ std::shared_ptr<const PointCloud> CachedCloud::stream(const std::vector<uint32_t
   if (cache_.has(Attribute::Intensity)) out.intensity.reserve(total);
   if (cache_.has(Attribute::Classification)) out.classification.reserve(total);
   if (cache_.has(Attribute::Normal)) out.normals.reserve(total);
+  constexpr uint32_t kNoSlot = ~0u;
+  std::vector<uint32_t> slot_of_rank, slots;
   for (size_t c = 0; c < chunks.size(); ++c) {
     const uint32_t n = std::min(counts[c], chunks[c].count);
     if (n == 0) continue;
@@ -97,16 +101,28 @@ std::shared_ptr<const PointCloud> CachedCloud::stream(const std::vector<uint32_t
     pc.local_min = chunks[c].local_min;
     pc.local_max = chunks[c].local_max;
     out.chunks.push_back(pc);
-    copy_prefix(out.local_positions, d.positions, n);
-    copy_prefix(out.point_index, d.point_index, n);
-    if (d.colors) copy_prefix(out.colors, d.colors, n);
-    if (d.intensity) copy_prefix(out.intensity, d.intensity, n);
-    if (d.classification) {
-      const size_t at = out.classification.size();
-      out.classification.resize(at + n);
-      for (uint32_t i = 0; i < n; ++i) out.classification[at + i] = d.classification[i];
+    // The prefix in the chunk's spatial order (its layout ranks, a
+    // permutation of 0..count-1: checked, the file may lie), so that a
+    // point's key and the depth ties it wins are those of the cloud in memory.
+    slot_of_rank.assign(chunks[c].count, kNoSlot);
+    for (uint32_t i = 0; i < n; ++i) {
+      uint32_t rank;
+      std::memcpy(&rank, d.layout_rank + 4 * size_t(i), 4);
+      if (rank >= chunks[c].count || slot_of_rank[rank] != kNoSlot)
+        throw ReadError(cache_.path(), "damaged scan cache: chunk " + std::to_string(c) +
+                                           "'s layout ranks are not a permutation", int64_t(chunks[c].offset));
+      slot_of_rank[rank] = i;
     }
-    if (d.normals) copy_prefix(out.normals, d.normals, n);
+    slots.clear();
+    for (uint32_t slot : slot_of_rank)
+      if (slot != kNoSlot) slots.push_back(slot);
+    append_picked(out.local_positions, d.positions, slots);
+    append_picked(out.point_index, d.point_index, slots);
+    if (d.colors) append_picked(out.colors, d.colors, slots);
+    if (d.intensity) append_picked(out.intensity, d.intensity, slots);
+    if (d.classification)
+      for (uint32_t slot : slots) out.classification.push_back(d.classification[slot]);
+    if (d.normals) append_picked(out.normals, d.normals, slots);
   }
   out.bounds_min = cache_.bounds_min();
   out.bounds_max = cache_.bounds_max();

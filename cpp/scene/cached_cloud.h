@@ -37,7 +37,7 @@ class CachedCloud {
   std::vector<uint32_t> counts_for_budget(uint64_t budget) const;
 
   // The first counts[c] points of every chunk c as a cloud (chunks that draw
-  // none left out). The same cloud again while the counts do not change, so
+  // none left out), each chunk's in its spatial order (the cloud's). The same cloud again while the counts do not change, so
   // its GPU buffers are reused; the previous one is let go before the next
   // is built. Throws ReadError when a chunk's checksum does not match.
   std::shared_ptr<const PointCloud> stream(const std::vector<uint32_t>& counts) const;

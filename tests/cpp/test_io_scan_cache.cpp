@@ -117,6 +117,7 @@ TEST(ScanCache, RoundTripIsExactInQueueOrder) {
       const uint32_t k = ch.first + order[ch.first + i];  // the cloud's point at queue position i
       EXPECT_EQ(load<glm::vec3>(d.positions, i), cloud.local_positions()[k]);
       EXPECT_EQ(load<uint32_t>(d.point_index, i), cloud.point_index()[k]);
+      EXPECT_EQ(load<uint32_t>(d.layout_rank, i), order[ch.first + i]);
       EXPECT_EQ(load<uint32_t>(d.colors, i), cloud.colors()[k]);
       EXPECT_EQ(load<float>(d.intensity, i), cloud.intensity()[k]);
       EXPECT_EQ(uint32_t(d.classification[i]), cloud.classification()[k]);
@@ -144,7 +145,7 @@ TEST(ScanCache, CloudWithoutAttributesKeepsOnlyPositionsAndIds) {
   const PointCloud cloud(in);
   const io::ScanCache cache(write_cache(cloud, "bare.pnprcache"));
   EXPECT_EQ(cache.flags(), 0u);
-  EXPECT_EQ(cache.file_bytes(), io::kScanCacheHeaderBytes + io::kScanCacheTableEntryBytes + 3 * 16);
+  EXPECT_EQ(cache.file_bytes(), io::kScanCacheHeaderBytes + io::kScanCacheTableEntryBytes + 3 * 20);
   const io::ScanCacheChunkData d = cache.chunk(0);
   EXPECT_EQ(d.colors, nullptr);
   EXPECT_EQ(d.classification, nullptr);
@@ -217,14 +218,27 @@ TEST(ScanCache, StreamedPrefixesAreTheResolutionQueuesPrefixes) {
   const auto streamed = cached.stream(counts);
   ASSERT_EQ(streamed->size(), 17u + 4000 + 1 + 999);
   ASSERT_EQ(streamed->chunks().size(), 4u);  // the chunk drawing none is left out
+  // Each chunk's first counts[c] of its queue, drawn in the cloud's own (spatial) order.
   size_t k = 0;
   for (size_t c = 0; c < counts.size(); ++c) {
     const PointChunk& ch = cloud.chunks()[c];
-    for (uint32_t i = 0; i < counts[c]; ++i, ++k)
-      ASSERT_EQ(streamed->point_index()[k], cloud.point_index()[ch.first + order[ch.first + i]]);
+    std::vector<uint32_t> ranks(order.begin() + ch.first, order.begin() + ch.first + counts[c]);
+    std::sort(ranks.begin(), ranks.end());
+    for (uint32_t r : ranks) {
+      ASSERT_EQ(streamed->point_index()[k], cloud.point_index()[ch.first + r]);
+      ASSERT_EQ(streamed->local_positions()[k], cloud.local_positions()[ch.first + r]);
+      ++k;
+    }
   }
-  EXPECT_EQ(cached.stream(counts), streamed);  // unchanged counts: the same cloud (no upload)
-  EXPECT_NE(cached.stream({1, 1, 1, 1, 1}), streamed);
+  // The whole of every chunk: the cloud itself, point for point.
+  std::vector<uint32_t> all;
+  for (const PointChunk& ch : cloud.chunks()) all.push_back(ch.count);
+  const auto whole = cached.stream(all);
+  EXPECT_EQ(whole->point_index(), cloud.point_index());
+  EXPECT_EQ(whole->colors(), cloud.colors());
+  EXPECT_EQ(whole->classification(), cloud.classification());
+  EXPECT_NE(whole, streamed);
+  EXPECT_EQ(cached.stream(all), whole);  // unchanged counts: the same cloud (no upload)
 }
 
 TEST(ScanCache, BudgetsSharePointsByWeightAndGrowOnlyAtTheQueuesEnd) {

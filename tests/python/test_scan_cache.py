@@ -83,7 +83,7 @@ def test_a_budget_draws_a_prefix_of_each_visible_chunks_queue_and_renders_as_tho
         chunk_ids = ids[CHUNK * c:CHUNK * (c + 1)]
         keys = lowbias32(chunk_ids ^ np.uint32(0x5eed001))
         order = np.lexsort((np.arange(len(chunk_ids)), keys))
-        expected.append(chunk_ids[order[:n]])
+        expected.append(chunk_ids[np.sort(order[:n])])  # drawn in the chunk's own (spatial) order
     expected = np.concatenate(expected)
     cache.point_budget = budget
     style = pointnpr.Style(rasterize={"point_size": 3})
