@@ -1,22 +1,18 @@
 #include "io/scan_cache.h"
 
 #include <array>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 
 #include "core/error.h"
-#include "render/gpu_cloud.h"  // queue_order: the resolution queue's definition
+#include "io/scan_cache_layout.h"
 
 namespace pointnpr::io {
 
+using namespace scan_cache_layout;
+
 namespace {
 
-// Byte offsets of the header's fields (docs/io.md#scan-cache).
-constexpr size_t kVersionAt = 8, kHeaderBytesAt = 12, kFlagsAt = 16, kChunkCountAt = 20, kPointCountAt = 24,
-                 kBoundsMinAt = 32, kBoundsMaxAt = 56, kTableOffsetAt = 80, kDataOffsetAt = 88, kFileBytesAt = 96,
-                 kTableChecksumAt = 104, kHeaderChecksumAt = 124;
 constexpr uint32_t kKnownFlags = uint32_t(Attribute::Color) | uint32_t(Attribute::Intensity) |
                                  uint32_t(Attribute::Classification) | uint32_t(Attribute::Normal);
 
@@ -32,58 +28,11 @@ std::array<std::array<uint32_t, 256>, 8> make_crc_tables() {
   return t;
 }
 
-uint64_t pad4(uint64_t n) { return (n + 3) & ~uint64_t(3); }
-
-template <class T>
-void store(uint8_t* p, T v) {
-  std::memcpy(p, &v, sizeof(T));
-}
-
-void store_dvec3(uint8_t* p, const glm::dvec3& v) {
-  for (int c = 0; c < 3; ++c) store(p + 8 * c, v[c]);
-}
-void store_vec3(uint8_t* p, const glm::vec3& v) {
-  for (int c = 0; c < 3; ++c) store(p + 4 * c, v[c]);
-}
 glm::dvec3 load_dvec3(const uint8_t* p) {
   return {load_le<double>(p), load_le<double>(p + 8), load_le<double>(p + 16)};
 }
 glm::vec3 load_vec3(const uint8_t* p) { return {load_le<float>(p), load_le<float>(p + 4), load_le<float>(p + 8)}; }
 bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-// A FILE* that is closed (and its file removed) unless commit() renamed it.
-class PartialFile {
- public:
-  PartialFile(const std::string& path) : path_(path), temp_(path + ".partial") {
-    f_ = std::fopen(temp_.c_str(), "wb");
-    if (!f_) fail(std::strerror(errno));
-  }
-  ~PartialFile() {
-    if (f_) std::fclose(f_);
-    if (!committed_) std::remove(temp_.c_str());
-  }
-  void write(const void* data, size_t bytes) {
-    if (bytes && std::fwrite(data, 1, bytes, f_) != bytes) fail(std::strerror(errno));
-  }
-  void seek(long offset) {
-    if (std::fseek(f_, offset, SEEK_SET) != 0) fail(std::strerror(errno));
-  }
-  void commit() {
-    const int rc = std::fclose(f_);
-    f_ = nullptr;
-    if (rc != 0) fail(std::strerror(errno));
-    if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail(std::strerror(errno));
-    committed_ = true;
-  }
-
- private:
-  [[noreturn]] void fail(const char* why) const {
-    throw Error("cannot write the scan cache " + path_ + ": " + why);
-  }
-  std::string path_, temp_;
-  std::FILE* f_ = nullptr;
-  bool committed_ = false;
-};
 
 }  // namespace
 
@@ -111,85 +60,17 @@ uint64_t scan_cache_chunk_bytes(uint32_t count, uint32_t flags) {
   return bytes;
 }
 
-void write_scan_cache(const std::string& path, const PointCloud& cloud) {
-  uint32_t flags = 0;
-  for (Attribute a : {Attribute::Color, Attribute::Intensity, Attribute::Classification, Attribute::Normal})
-    if (cloud.has(a)) flags |= uint32_t(a);
-  for (uint32_t c : cloud.classification())
-    if (c > 255) throw Error("cannot write the scan cache " + path + ": classification " + std::to_string(c) +
-                             " does not fit the cache's 8 bits");
-  const std::vector<PointChunk>& chunks = cloud.chunks();
-  const std::vector<uint32_t> order = queue_order(cloud);
-  const uint64_t table_bytes = kScanCacheTableEntryBytes * chunks.size();
-  const uint64_t data_offset = kScanCacheHeaderBytes + table_bytes;
-
-  PartialFile out(path);
-  std::vector<uint8_t> table(table_bytes, 0);
-  out.write(std::vector<uint8_t>(data_offset, 0).data(), data_offset);  // header and table, filled in at the end
-  std::vector<uint8_t> data;
-  uint64_t offset = data_offset;
-  for (size_t ci = 0; ci < chunks.size(); ++ci) {
-    const PointChunk& ch = chunks[ci];
-    const uint32_t n = ch.count;
-    data.assign(scan_cache_chunk_bytes(n, flags), 0);
-    uint8_t* w = data.data();
-    const uint32_t* q = order.data() + ch.first;  // chunk-local indices in queue order
-    for (uint32_t i = 0; i < n; ++i) store_vec3(w + 12 * i, cloud.local_positions()[ch.first + q[i]]);
-    w += 12 * uint64_t(n);
-    for (uint32_t i = 0; i < n; ++i) store(w + 4 * i, cloud.point_index()[ch.first + q[i]]);
-    w += 4 * uint64_t(n);
-    for (uint32_t i = 0; i < n; ++i) store(w + 4 * i, q[i]);
-    w += 4 * uint64_t(n);
-    if (flags & uint32_t(Attribute::Color)) {
-      for (uint32_t i = 0; i < n; ++i) store(w + 4 * i, cloud.colors()[ch.first + q[i]]);
-      w += 4 * uint64_t(n);
-    }
-    if (flags & uint32_t(Attribute::Intensity)) {
-      for (uint32_t i = 0; i < n; ++i) store(w + 4 * i, cloud.intensity()[ch.first + q[i]]);
-      w += 4 * uint64_t(n);
-    }
-    if (flags & uint32_t(Attribute::Classification)) {
-      for (uint32_t i = 0; i < n; ++i) w[i] = uint8_t(cloud.classification()[ch.first + q[i]]);
-      w += pad4(n);
-    }
-    if (flags & uint32_t(Attribute::Normal))
-      for (uint32_t i = 0; i < n; ++i) store_vec3(w + 12 * i, cloud.normals()[ch.first + q[i]]);
-    uint8_t* e = table.data() + kScanCacheTableEntryBytes * ci;
-    store_dvec3(e, ch.origin);
-    store_vec3(e + 24, ch.local_min);
-    store_vec3(e + 36, ch.local_max);
-    store(e + 48, n);
-    store(e + 52, crc32(data.data(), data.size()));
-    store(e + 56, offset);
-    out.write(data.data(), data.size());
-    offset += data.size();
-  }
-
-  std::array<uint8_t, kScanCacheHeaderBytes> h{};
-  std::memcpy(h.data(), kScanCacheMagic, 8);
-  store(h.data() + kVersionAt, kScanCacheVersion);
-  store(h.data() + kHeaderBytesAt, uint32_t(kScanCacheHeaderBytes));
-  store(h.data() + kFlagsAt, flags);
-  store(h.data() + kChunkCountAt, uint32_t(chunks.size()));
-  store(h.data() + kPointCountAt, uint64_t(cloud.size()));
-  store_dvec3(h.data() + kBoundsMinAt, cloud.bounds_min());
-  store_dvec3(h.data() + kBoundsMaxAt, cloud.bounds_max());
-  store(h.data() + kTableOffsetAt, uint64_t(kScanCacheHeaderBytes));
-  store(h.data() + kDataOffsetAt, data_offset);
-  store(h.data() + kFileBytesAt, offset);
-  store(h.data() + kTableChecksumAt, crc32(table.data(), table.size()));
-  store(h.data() + kHeaderChecksumAt, crc32(h.data(), kHeaderChecksumAt));
-  out.seek(0);
-  out.write(h.data(), h.size());
-  out.write(table.data(), table.size());
-  out.commit();
-}
-
 void ScanCache::fail(const std::string& reason, int64_t offset) const {
   throw ReadError(file_.path(), reason, offset);
 }
 
-ScanCache::ScanCache(const std::string& path) : file_(path, MappedFile::Access::OnDemand) {
+ScanCache::ScanCache(const std::string& path) : file_(path, MappedFile::Access::OnDemand) { validate(); }
+
+ScanCache::ScanCache(const std::string& name, const uint8_t* data, size_t size) : file_(name, data, size) {
+  validate();
+}
+
+void ScanCache::validate() {
   const uint8_t* d = file_.data();
   const uint64_t size = file_.size();
   if (size < 8 || std::memcmp(d, kScanCacheMagic, 8) != 0)
@@ -266,6 +147,17 @@ ScanCacheChunkData ScanCache::chunk(size_t i) const {
     if (crc32(p, bytes) != c.checksum)
       fail("damaged scan cache: chunk " + std::to_string(i) + "'s checksum does not match its points",
            int64_t(c.offset));
+    // The layout ranks must be a permutation (streaming indexes by them):
+    // checked once, with the checksum, against a file that lies consistently.
+    std::vector<uint8_t> seen(c.count, 0);
+    const uint8_t* ranks = p + 16 * uint64_t(c.count);
+    for (uint32_t k = 0; k < c.count; ++k) {
+      const uint32_t r = load_le<uint32_t>(ranks + 4 * uint64_t(k));
+      if (r >= c.count || seen[r])
+        fail("damaged scan cache: chunk " + std::to_string(i) + "'s layout ranks are not a permutation",
+             int64_t(c.offset + 16 * uint64_t(c.count) + 4 * uint64_t(k)));
+      seen[r] = 1;
+    }
     verified_[i].store(1, std::memory_order_release);
     file_.release(c.offset, bytes);  // verifying touched all of it; a frame needs only its prefix
   }

@@ -70,6 +70,8 @@ class ScanCache {
   // ReadError naming the file and what is wrong (not a cache, another
   // version, truncated, damaged).
   explicit ScanCache(const std::string& path);
+  // The same on bytes in memory (fuzzing), which must outlive the cache.
+  ScanCache(const std::string& name, const uint8_t* data, size_t size);
 
   const std::string& path() const { return file_.path(); }
   uint64_t size() const { return points_; }
@@ -80,8 +82,9 @@ class ScanCache {
   const std::vector<ScanCacheChunk>& chunks() const { return chunks_; }
   uint64_t file_bytes() const { return file_.size(); }
 
-  // Chunk `i`'s arrays; its checksum is verified the first time (ReadError
-  // if the bytes were altered), after which its pages are released.
+  // Chunk `i`'s arrays; its checksum and layout ranks are verified the
+  // first time (ReadError if the bytes were altered), after which its pages
+  // are released.
   ScanCacheChunkData chunk(size_t i) const;
   // Gives the mapped pages back to the kernel (resident memory bounded by
   // what a frame copies, not by the file).
@@ -89,6 +92,7 @@ class ScanCache {
 
  private:
   [[noreturn]] void fail(const std::string& reason, int64_t offset = -1) const;
+  void validate();
   MappedFile file_;
   uint64_t points_ = 0;
   uint32_t flags_ = 0;

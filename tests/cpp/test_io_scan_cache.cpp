@@ -199,6 +199,29 @@ TEST(ScanCache, AlteredBytesAreFoundByTheChecksums) {
   EXPECT_NO_THROW(cached.stream({1000, 0, 1000}));
 }
 
+TEST(ScanCache, LayoutRanksThatAreNoPermutationAreRefusedEvenWithValidChecksums) {
+  const PointCloud cloud = make_cloud(make_scan(100, 8), 100);
+  std::string b = bytes_of(write_cache(cloud, "ranks.pnprcache"));
+  auto* d = reinterpret_cast<uint8_t*>(b.data());
+  const size_t chunk = io::kScanCacheHeaderBytes + io::kScanCacheTableEntryBytes;
+  std::memcpy(d + chunk + 16 * 100 + 4 * 7, d + chunk + 16 * 100 + 4 * 3, 4);  // rank 3 twice
+  // A file that lies consistently: every checksum recomputed.
+  const uint32_t chunk_crc = io::crc32(d + chunk, io::scan_cache_chunk_bytes(100, io::ScanCache(
+                                                      write_cache(cloud, "ranks_flags.pnprcache")).flags()));
+  std::memcpy(d + io::kScanCacheHeaderBytes + 52, &chunk_crc, 4);
+  const uint32_t table_crc = io::crc32(d + io::kScanCacheHeaderBytes, io::kScanCacheTableEntryBytes);
+  std::memcpy(d + 104, &table_crc, 4);
+  const uint32_t header_crc = io::crc32(d, 124);
+  std::memcpy(d + 124, &header_crc, 4);
+  const io::ScanCache cache(test_io::write_file("lying.pnprcache", b));
+  try {
+    cache.chunk(0);
+    ADD_FAILURE() << "duplicate layout ranks were accepted";
+  } catch (const ReadError& e) {
+    EXPECT_NE(e.reason().find("layout ranks are not a permutation"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ScanCache, OtherVersionsAndOtherFilesAreRefused) {
   std::string bytes = bytes_of(write_cache(make_cloud(make_scan(500, 4)), "v1.pnprcache"));
   bytes[8] = 2;  // version 2: a newer PointNPR's cache
@@ -299,8 +322,8 @@ TEST(ScanCache, MemoryFollowsTheBudgetNotTheScan) {
       for (size_t c = size_t(frame); c < weights.size(); c += 2) weights[c] = 1.0 + double(c);
       const auto cloud = cached.stream(cached.counts_for(weights, budget));
       EXPECT_LE(cloud->size(), budget);
-      // Positions, ids, colours, intensity, classification, normals: 44 bytes a point, plus the chunk list.
-      EXPECT_LE(cached.stream_bytes(), budget * 44 + cached.cache().chunks().size() * sizeof(PointChunk));
+      // Positions, ids, colours, intensity, classification (uint32), normals: 40 bytes a point, plus the chunk list.
+      EXPECT_LE(cached.stream_bytes(), budget * 40 + cached.cache().chunks().size() * sizeof(PointChunk));
       // The mapping's pages were handed back after the copy (its checksums read whole chunks).
       EXPECT_LT(resident_bytes_of_mapping(path), 64u * 1024) << points << " points, frame " << frame;
     }
