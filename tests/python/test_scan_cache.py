@@ -135,6 +135,18 @@ def test_cached_and_in_memory_clouds_share_a_scene_with_a_transform(renderer, ca
     assert set(np.unique(scenes[1].segment_index)) == {-1, 0, 1}
 
 
+def test_the_gpu_holds_one_frames_stream_whatever_the_views(cached):
+    _cloud, cache, _path, _pos, _colors = cached
+    renderer = pointnpr.Renderer()
+    style = pointnpr.Style(rasterize={"point_size": 2})
+    for budget in (3000, 9000, 27000, 1000):
+        cache.point_budget = budget
+        render(renderer, cache, style)
+        assert cache.stream_points <= budget
+        # The previous frame's cloud is let go, and its GPU buffers with it.
+        assert renderer.cached_clouds() == 1
+
+
 def test_damaged_caches_raise_read_errors_and_the_renderer_keeps_working(renderer, cached, tmp_path):
     cloud, _cache, path, _pos, _colors = cached
     data = path.read_bytes()
