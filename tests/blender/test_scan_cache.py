@@ -105,6 +105,17 @@ def test_split_by_classification_caches_each_class(scene, tmp_path):
     assert len(synced.segment_names) == len(objs) and synced.num_points == len(classes)
 
 
+def test_splitting_a_proxy_is_refused_and_changes_nothing(scene, tmp_path):
+    assert _import(tmp_path) == {'FINISHED'}
+    obj = next(o for o in bpy.data.objects if o.type == 'MESH')
+    bpy.context.view_layer.objects.active = obj
+    obj.select_set(True)
+    before = _snapshot()
+    with pytest.raises(RuntimeError, match="proxy of an out-of-core scan"):
+        bpy.ops.object.pointnpr_segment(method='CONNECTED_COMPONENTS')
+    assert _snapshot() == before
+
+
 # Undo needs a window (ed.undo's poll): a second Blender under Xvfb imports
 # out of core, streams the proxy's cache, and undoes the import.
 UNDO_SCRIPT = r"""
