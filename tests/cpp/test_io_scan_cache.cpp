@@ -89,7 +89,7 @@ T load(const uint8_t* p, size_t i) {
   return v;
 }
 
-TEST(ScanCache, RoundTripIsExactInQueueOrder) {
+TEST(IoScanCache, RoundTripIsExactInQueueOrder) {
   const Scan scan = make_scan(40000, 1);
   const PointCloud cloud = make_cloud(scan, 5000);
   const std::string path = write_cache(cloud, "round_trip.pnprcache");
@@ -138,7 +138,7 @@ TEST(ScanCache, RoundTripIsExactInQueueOrder) {
   EXPECT_EQ(bytes_of(path), bytes_of(again));
 }
 
-TEST(ScanCache, CloudWithoutAttributesKeepsOnlyPositionsAndIds) {
+TEST(IoScanCache, CloudWithoutAttributesKeepsOnlyPositionsAndIds) {
   std::vector<double> p{0, 0, 0, 1, 2, 3, -1, 5, 2};
   PointCloudInput in;
   in.positions = p;
@@ -154,7 +154,7 @@ TEST(ScanCache, CloudWithoutAttributesKeepsOnlyPositionsAndIds) {
   EXPECT_EQ(ids, (std::set<uint32_t>{0, 1, 2}));
 }
 
-TEST(ScanCache, TruncatedCachesAreRefused) {
+TEST(IoScanCache, TruncatedCachesAreRefused) {
   const std::string path = write_cache(make_cloud(make_scan(3000, 2), 1000), "whole.pnprcache");
   const std::string bytes = bytes_of(path);
   for (size_t keep : {size_t(0), size_t(5), size_t(100), size_t(200), bytes.size() / 2, bytes.size() - 1}) {
@@ -169,7 +169,7 @@ TEST(ScanCache, TruncatedCachesAreRefused) {
   EXPECT_NE(open_error(longer).find("5 bytes after its end"), std::string::npos);
 }
 
-TEST(ScanCache, AlteredBytesAreFoundByTheChecksums) {
+TEST(IoScanCache, AlteredBytesAreFoundByTheChecksums) {
   const PointCloud cloud = make_cloud(make_scan(3000, 3), 1000);
   const std::string bytes = bytes_of(write_cache(cloud, "intact.pnprcache"));
   auto altered = [&](size_t at) {
@@ -199,7 +199,7 @@ TEST(ScanCache, AlteredBytesAreFoundByTheChecksums) {
   EXPECT_NO_THROW(cached.stream({1000, 0, 1000}));
 }
 
-TEST(ScanCache, LayoutRanksThatAreNoPermutationAreRefusedEvenWithValidChecksums) {
+TEST(IoScanCache, LayoutRanksThatAreNoPermutationAreRefusedEvenWithValidChecksums) {
   const PointCloud cloud = make_cloud(make_scan(100, 8), 100);
   std::string b = bytes_of(write_cache(cloud, "ranks.pnprcache"));
   auto* d = reinterpret_cast<uint8_t*>(b.data());
@@ -222,7 +222,7 @@ TEST(ScanCache, LayoutRanksThatAreNoPermutationAreRefusedEvenWithValidChecksums)
   }
 }
 
-TEST(ScanCache, OtherVersionsAndOtherFilesAreRefused) {
+TEST(IoScanCache, OtherVersionsAndOtherFilesAreRefused) {
   std::string bytes = bytes_of(write_cache(make_cloud(make_scan(500, 4)), "v1.pnprcache"));
   bytes[8] = 2;  // version 2: a newer PointNPR's cache
   const std::string why = open_error(test_io::write_file("v2.pnprcache", bytes));
@@ -233,7 +233,7 @@ TEST(ScanCache, OtherVersionsAndOtherFilesAreRefused) {
   EXPECT_NE(open_error((scratch_dir() / "missing.pnprcache").string()).find("cannot open"), std::string::npos);
 }
 
-TEST(ScanCache, StreamedPrefixesAreTheResolutionQueuesPrefixes) {
+TEST(IoScanCache, StreamedPrefixesAreTheResolutionQueuesPrefixes) {
   const PointCloud cloud = make_cloud(make_scan(20000, 5), 4000);
   const CachedCloud cached(write_cache(cloud, "prefix.pnprcache"));
   const std::vector<uint32_t> order = queue_order(cloud);
@@ -264,7 +264,7 @@ TEST(ScanCache, StreamedPrefixesAreTheResolutionQueuesPrefixes) {
   EXPECT_EQ(cached.stream(all), whole);  // unchanged counts: the same cloud (no upload)
 }
 
-TEST(ScanCache, BudgetsSharePointsByWeightAndGrowOnlyAtTheQueuesEnd) {
+TEST(IoScanCache, BudgetsSharePointsByWeightAndGrowOnlyAtTheQueuesEnd) {
   const PointCloud cloud = make_cloud(make_scan(50000, 6), 10000);
   const CachedCloud cached(write_cache(cloud, "budget.pnprcache"));
   const std::vector<double> weights{100.0, 0.0, 300.0, 1.0, 100.0};
@@ -308,7 +308,7 @@ uint64_t resident_bytes_of_mapping(const std::string& path) {
   return kb * 1024;
 }
 
-TEST(ScanCache, MemoryFollowsTheBudgetNotTheScan) {
+TEST(IoScanCache, MemoryFollowsTheBudgetNotTheScan) {
   const uint64_t budget = 20000;
   uint64_t small_scan_bytes = 0;
   for (size_t points : {size_t(100000), size_t(400000)}) {
