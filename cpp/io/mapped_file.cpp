@@ -22,7 +22,7 @@ namespace {
 constexpr size_t kPopulateLimit = size_t{64} << 20;
 }  // namespace
 
-MappedFile::MappedFile(const std::string& path) : path_(path) {
+MappedFile::MappedFile(const std::string& path, Access access) : path_(path) {
 #ifdef POINTNPR_HAVE_MMAP
   // Non-blocking: opening a FIFO without a writer would wait forever; it is
   // refused below like any file that is not a regular one.
@@ -50,7 +50,7 @@ MappedFile::MappedFile(const std::string& path) : path_(path) {
     // block by block (release()), so they never reside whole.
     int flags = MAP_PRIVATE;
 #ifdef MAP_POPULATE
-    if (size_ <= kPopulateLimit) flags |= MAP_POPULATE;
+    if (access == Access::Sequential && size_ <= kPopulateLimit) flags |= MAP_POPULATE;
 #endif
     void* p = ::mmap(nullptr, size_, PROT_READ, flags, fd, 0);
     if (p == MAP_FAILED) {
@@ -58,12 +58,13 @@ MappedFile::MappedFile(const std::string& path) : path_(path) {
       ::close(fd);
       throw ReadError(path, std::string("cannot map file into memory: ") + std::strerror(e));
     }
-    ::madvise(p, size_, MADV_SEQUENTIAL);
+    ::madvise(p, size_, access == Access::Sequential ? MADV_SEQUENTIAL : MADV_RANDOM);
     map_ = p;
     data_ = static_cast<const uint8_t*>(p);
   }
   ::close(fd);
 #else
+  (void)access;
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw ReadError(path, "cannot open file");
   std::streamoff n = in.tellg();
@@ -81,12 +82,14 @@ void MappedFile::release(size_t offset, size_t bytes) const {
 #ifdef POINTNPR_HAVE_MMAP
   if (!map_ || offset >= size_) return;
   bytes = std::min(bytes, size_ - offset);
-  const uintptr_t page = uintptr_t(::sysconf(_SC_PAGESIZE));
-  const uintptr_t begin = (reinterpret_cast<uintptr_t>(data_) + offset + page - 1) & ~(page - 1);
-  const uintptr_t end = (reinterpret_cast<uintptr_t>(data_) + offset + bytes) & ~(page - 1);
-  // Only whole pages inside the range: a page shared with bytes still to
-  // be read stays (a block decoded in parallel next to this one).
-  if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+  // Every page the range touches (madvise wants page-aligned starts). A
+  // page shared with bytes still to be read (a block decoded in parallel
+  // next to this one, a neighbouring chunk) is read again from the file
+  // when next touched: a private read-only mapping loses nothing.
+  const size_t page = size_t(::sysconf(_SC_PAGESIZE));
+  const size_t begin = offset / page * page;
+  const size_t end = offset + bytes;
+  if (end > begin) ::madvise(static_cast<uint8_t*>(map_) + begin, end - begin, MADV_DONTNEED);
 #else
   (void)offset;
   (void)bytes;

@@ -15,8 +15,12 @@ namespace pointnpr::io {
 
 class MappedFile {
  public:
+  // How the readers go through the bytes: all of them once (mapped
+  // populated, read ahead), or a few parts at a time (out-of-core caches:
+  // pages are faulted in as they are touched, so memory follows use).
+  enum class Access { Sequential, OnDemand };
   // Throws ReadError (naming the path) when the file cannot be opened.
-  explicit MappedFile(const std::string& path);
+  explicit MappedFile(const std::string& path, Access access = Access::Sequential);
   // A view of bytes owned by the caller (which must outlive this object);
   // `name` stands for the path in messages and extension checks.
   MappedFile(const std::string& name, const uint8_t* data, size_t size)
@@ -31,7 +35,8 @@ class MappedFile {
   // cache, so this is only about memory, never about content). Readers that
   // decode a large file front to back call it block by block, so a mapped
   // file does not add its size to the peak memory on top of what is read
-  // out of it. A no-op for bytes owned by the caller and without mmap.
+  // out of it; an on-demand mapping (a scan cache) stays bounded by what is
+  // in use. A no-op for bytes owned by the caller and without mmap.
   void release(size_t offset, size_t bytes) const;
 
   const uint8_t* data() const { return data_; }

@@ -9,12 +9,11 @@
 #include "python/convert.h"
 #include "marks/mesh_surface.h"
 #include "render/renderer.h"
+#include "scene/cached_cloud.h"
 
 namespace py = pybind11;
 
 namespace pointnpr::python {
-
-namespace {
 
 template <class T>
 using CArray = py::array_t<T, py::array::c_style | py::array::forcecast>;
@@ -27,6 +26,8 @@ glm::dmat4 to_dmat4(const py::object& obj, const char* what) {
     for (int c = 0; c < 4; ++c) m[c][r] = a.at(r, c);  // numpy row-major -> glm column-major
   return m;
 }
+
+namespace {
 
 std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::object& colors,
                                        const py::object& intensity, const py::object& classification,
@@ -180,10 +181,14 @@ std::string type_name(const py::handle& obj) {
 Instance instance_of(const py::object& item, const std::string& segment, size_t k) {
   const std::string where = "segment '" + segment + "', instance " + std::to_string(k) + ": ";
   const std::string expected =
-      "expected a PointCloud or TriangleMesh, or (PointCloud or TriangleMesh, 4x4 matrix[, object name])";
+      "expected a PointCloud, CachedCloud or TriangleMesh, or (one of them, 4x4 matrix[, object name])";
   Instance inst;
   if (py::isinstance<PointCloud>(item)) {
     inst.cloud = item.cast<std::shared_ptr<PointCloud>>();
+    return inst;
+  }
+  if (py::isinstance<CachedCloud>(item)) {
+    inst.cached = item.cast<std::shared_ptr<CachedCloud>>();
     return inst;
   }
   if (py::isinstance<TriangleMesh>(item)) {
@@ -199,6 +204,8 @@ Instance instance_of(const py::object& item, const std::string& segment, size_t 
     inst.mesh = t[0].cast<std::shared_ptr<TriangleMesh>>();
   else if (py::isinstance<PointCloud>(t[0]))
     inst.cloud = t[0].cast<std::shared_ptr<PointCloud>>();
+  else if (py::isinstance<CachedCloud>(t[0]))
+    inst.cached = t[0].cast<std::shared_ptr<CachedCloud>>();
   else
     throw ParameterError(where + expected + ", got " + type_name(t[0]) + " where the cloud or mesh goes");
   try {

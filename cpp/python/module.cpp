@@ -5,5 +5,6 @@ PYBIND11_MODULE(_pointnpr, m) {
   pointnpr::python::bind_core(m);
   pointnpr::python::bind_io(m);
   pointnpr::python::bind_render(m);
+  pointnpr::python::bind_cache(m);
   pointnpr::python::bind_geometry(m);
 }

@@ -19,6 +19,7 @@
 #include "render/gpu_cloud.h"
 #include "render/image_textures.h"
 #include "render/mesh_pass.h"
+#include "render/streamed_cloud.h"
 #include "render/tiling.h"
 
 namespace pointnpr {
@@ -632,7 +633,7 @@ TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vect
   return plan;
 }
 
-RenderResult Renderer::render(const Scene& scene, const Camera& camera, const RenderSettings& s) {
+RenderResult Renderer::render(const Scene& input_scene, const Camera& camera, const RenderSettings& s) {
   if (s.width <= 0 || s.height <= 0 || s.width > kMaxFrameSide || s.height > kMaxFrameSide)
     throw ParameterError("render size must be between 1 and " + std::to_string(kMaxFrameSide) +
                          " pixels per side, got " + std::to_string(s.width) + "x" + std::to_string(s.height));
@@ -644,6 +645,9 @@ RenderResult Renderer::render(const Scene& scene, const Camera& camera, const Re
                          std::to_string(camera.resolution.y) + " but the render is " + std::to_string(s.width) + "x" +
                          std::to_string(s.height) + ": give the camera the render size (its aspect depends on it)");
   std::lock_guard frame_lock(render_mutex_);
+  // Out-of-core scans: the points this view draws, streamed from their caches.
+  Scene streamed;
+  const Scene& scene = with_streamed_clouds(input_scene, camera, {s.width, s.height}, streamed, s.point_budget);
   auto& device = gl::Device::instance();
   const auto t0 = Clock::now();
   RenderResult result;

@@ -15,6 +15,8 @@
 
 namespace pointnpr {
 
+class CachedCloud;  // scene/cached_cloud.h
+
 const Schema& inpaint_schema();
 const Schema& composite_schema();
 
@@ -53,6 +55,9 @@ struct Instance {
   glm::dmat4 world_from_object{1.0};
   std::string name;  // the host's object name, for messages ("" = unnamed)
   std::shared_ptr<const TriangleMesh> mesh;  // last: {cloud, matrix} initialisers stay valid
+  // An out-of-core scan: its points stream from the cache per frame
+  // (render/streamed_cloud.h), in place of `cloud`.
+  std::shared_ptr<const CachedCloud> cached;
 };
 
 struct Segment {

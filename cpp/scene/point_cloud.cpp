@@ -155,6 +155,29 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
   }
 }
 
+PointCloud::PointCloud(PointCloudChunks&& in) : id_(g_next_cloud_id++) {
+  const size_t n = in.local_positions.size();
+  if (n > std::numeric_limits<uint32_t>::max() / 2) throw Error("point cloud too large (more than 2^31 points)");
+  size_t next = 0;
+  for (const PointChunk& c : in.chunks) {
+    if (c.first != next || c.count > n - next) throw Error("chunks must tile the points in order");
+    next += c.count;
+  }
+  if (next != n) throw Error("chunks must tile the points in order");
+  if (in.point_index.size() != n) throw Error("point_index must have one value per point");
+  for (size_t size : {in.colors.size(), in.intensity.size(), in.classification.size(), in.normals.size()})
+    if (size != 0 && size != n) throw Error("chunked attributes must be empty or have one value per point");
+  chunks_ = std::move(in.chunks);
+  local_positions_ = std::move(in.local_positions);
+  colors_ = std::move(in.colors);
+  intensity_ = std::move(in.intensity);
+  classification_ = std::move(in.classification);
+  point_index_ = std::move(in.point_index);
+  normals_ = std::move(in.normals);
+  bounds_min_ = in.bounds_min;
+  bounds_max_ = in.bounds_max;
+}
+
 bool PointCloud::has(Attribute a) const {
   switch (a) {
     case Attribute::Color: return !colors_.empty();

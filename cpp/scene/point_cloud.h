@@ -43,6 +43,20 @@ struct PointCloudInput {
   std::span<const float> normals;             // N*3 or empty
 };
 
+// Points already laid out in chunks (an out-of-core cache's prefixes,
+// scene/cached_cloud.h): arrays chunk after chunk, attributes empty or one
+// value per point, `bounds` those of the whole scan.
+struct PointCloudChunks {
+  std::vector<PointChunk> chunks;
+  std::vector<glm::vec3> local_positions;
+  std::vector<uint32_t> colors;
+  std::vector<float> intensity;
+  std::vector<uint32_t> classification;
+  std::vector<uint32_t> point_index;
+  std::vector<glm::vec3> normals;
+  glm::dvec3 bounds_min{0.0}, bounds_max{0.0};
+};
+
 class PointCloud {
  public:
   // Copies and reorders the input into chunks, leaving out points with a
@@ -50,6 +64,9 @@ class PointCloud {
   // inconsistent sizes. Besides the arrays it keeps, it needs 4 bytes per
   // point (the order) while it runs.
   explicit PointCloud(const PointCloudInput& input, uint32_t max_chunk_points = 16384);
+  // Takes chunked points as they are (no reordering); throws Error when the
+  // chunks do not tile the arrays or an attribute has the wrong size.
+  explicit PointCloud(PointCloudChunks&& chunked);
 
   uint64_t id() const { return id_; }   // unique per cloud in the process
   size_t size() const { return local_positions_.size(); }

@@ -56,9 +56,9 @@ def test_one_warning_per_cause_with_counts_and_the_first_names(renderer):
 
 
 @pytest.mark.parametrize("bad,message", [
-    ([("x", np.eye(4))], r"instance 0: expected a PointCloud or TriangleMesh, or \(PointCloud or TriangleMesh, 4x4 "
+    ([("x", np.eye(4))], r"instance 0: expected a PointCloud, CachedCloud or TriangleMesh, or \(one of them, 4x4 "
                          r"matrix\[, object name\]\), got 'str' where the cloud or mesh goes"),
-    (["x"], r"instance 0: expected a PointCloud .*, got 'str'"),
+    (["x"], r"instance 0: expected a PointCloud.*, got 'str'"),
     ([None], r"got 'NoneType'"),
     ("cloud", r"instances must be a list of PointCloud .*got 'str'"),
 ])

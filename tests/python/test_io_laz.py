@@ -7,6 +7,7 @@ skips, without them.
 """
 import pathlib
 import struct
+import sys
 
 import numpy as np
 import pytest
@@ -14,6 +15,9 @@ import pytest
 import pointnpr
 import laspy  # noqa: E402  (oracle; a missing one must fail the suite)
 import lazrs  # noqa: F401,E402
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "data" / "io"))
+import make_wavepacket_laz  # noqa: E402
 
 DATA = pathlib.Path(__file__).resolve().parents[1] / "data" / "io"
 LAZ = DATA / "laz"
@@ -202,19 +206,7 @@ def test_wave_packet_formats_decode_like_laspy_lazrs(tmp_path, point_format):
     las.gps_time = np.cumsum(rng.exponential(1e-5, n)) + 3e8
     if point_format == 5:
         las.red, las.green, las.blue = (rng.integers(0, 65535, n) for _ in range(3))
-    size = rng.choice([128, 256, 512], n).astype(np.uint32)
-    how = rng.integers(0, 4, n)
-    offset = np.zeros(n, np.uint64)
-    for i in range(1, n):
-        prev = int(offset[i - 1])
-        offset[i] = [prev, prev + int(size[i - 1]), prev + int(rng.integers(-5000, 5000)) % 2**40,
-                     int(rng.integers(0, 2**62))][how[i]]
-    las.wavepacket_index = rng.integers(0, 255, n)
-    las.wavepacket_offset = offset
-    las.wavepacket_size = size
-    las.return_point_wave_location = rng.normal(0, 1000, n).astype(np.float32)
-    for axis in ("x_t", "y_t", "z_t"):
-        las[axis] = rng.normal(0, 1e-3, n).astype(np.float32)
+    offset = make_wavepacket_laz.add_wave_packets(las, rng)
     las.tag = rng.integers(0, 65535, n)
     path = tmp_path / f"wave{point_format}.laz"
     las.write(str(path), laz_backend=laspy.LazBackend.Lazrs)

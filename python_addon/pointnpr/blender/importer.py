@@ -151,6 +151,13 @@ class PointObjectJob:
                 pass
         self._created = []
         self.objects = []
+        for path in getattr(self, "caches_written", ()):
+            for leftover in (path, path + ".partial"):
+                try:
+                    os.remove(leftover)
+                except OSError:
+                    pass
+        self.caches_written = []
 
 
 def end_modal_job(context, timer, progress):
@@ -160,6 +167,36 @@ def end_modal_job(context, timer, progress):
     progress.end()
     if context.workspace is not None:
         context.workspace.status_text_set(None)
+
+
+# Scans above this many points are imported out of core by default: their
+# mesh, sync and GPU copies would take more than ~6 GB (issue 14: ~220 bytes
+# a point in memory).
+OUT_OF_CORE_THRESHOLD = 20_000_000
+PROXY_POINTS = 200_000
+CACHE_EXTENSION = ".pnprcache"
+
+
+class OutOfCore:
+    """Where and when an import writes an out-of-core cache (docs/io.md#scan-cache)."""
+
+    def __init__(self, threshold=OUT_OF_CORE_THRESHOLD, folder="", proxy_points=PROXY_POINTS):
+        self.threshold = int(threshold)
+        self.folder = folder
+        self.proxy_points = int(proxy_points)
+
+    def wants(self, points):
+        return points > self.threshold
+
+    def cache_path(self, scan_path, object_name):
+        """The chosen folder, else the .blend's, else the scan's."""
+        folder = bpy.path.abspath(self.folder) if self.folder else ""
+        if not folder:
+            folder = os.path.dirname(bpy.data.filepath) if bpy.data.filepath else os.path.dirname(
+                os.path.abspath(scan_path))
+        os.makedirs(folder, exist_ok=True)
+        safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in object_name)
+        return os.path.join(folder, safe + CACHE_EXTENSION)
 
 
 class ImportCancelled(Exception):
@@ -174,11 +211,14 @@ class ImportJob(PointObjectJob):
     the last step, so a failure or a cancel, followed by cleanup(), leaves
     the scene and bpy.data exactly as they were."""
 
-    def __init__(self, context, filepath, split_by_classification=False, recentre=True):
+    def __init__(self, context, filepath, split_by_classification=False, recentre=True, out_of_core=None):
         self.context = context
         self.filepath = filepath
         self.split = split_by_classification
         self.recentre = recentre
+        # OutOfCore options, or None: scans above its threshold become proxies of a cache.
+        self.out_of_core = out_of_core
+        self.caches_written = []  # removed again by cleanup()
         self.stem = os.path.splitext(os.path.basename(filepath))[0] or "Point Cloud"
         super().__init__()
         self._reading = None  # BackgroundCall of the reader
@@ -270,6 +310,7 @@ class ImportJob(PointObjectJob):
         self._origin = rounded_centre(positions) if self.recentre else np.zeros(3)
         self._local = local_positions(positions, self._origin)
         del positions
+        self._cached = self.out_of_core is not None and self.out_of_core.wants(len(self._local))
         self._root = self.track(bpy.data.collections, bpy.data.collections.new(self.stem))
         groups = []
         if self.split and self._classification is not None:
@@ -287,21 +328,60 @@ class ImportJob(PointObjectJob):
             self._root.children.link(coll)
             name = "%s %s" % (self.stem, label)
         pick = lambda values: self.pick(values, index)  # noqa: E731
-        obj = self.add_point_object(name, coll, pick(self._local), pick(self._colors),
-                                    pick(self._intensity), pick(self._classification))
+        if self._cached:
+            obj = self._add_cached_object(name, coll, pick(self._local), pick(self._colors),
+                                          pick(self._intensity), pick(self._classification))
+        else:
+            obj = self.add_point_object(name, coll, pick(self._local), pick(self._colors),
+                                        pick(self._intensity), pick(self._classification))
         obj["pointnpr_origin"] = [float(v) for v in self._origin]
+
+    def _add_cached_object(self, name, collection, local, colors, intensity, classification):
+        """Writes the group's points to an out-of-core cache and adds an
+        object whose mesh is a light proxy: a seeded subsample (the first
+        points of every chunk's resolution queue) for the solid viewport,
+        selection and transforms. The render streams the cache
+        (sync.cloud_for reads the object's 'pointnpr_cache')."""
+        core = _core()
+        kwargs = {}
+        if colors is not None:
+            kwargs["colors"] = _as_uint8_colors(colors)
+        if intensity is not None:
+            kwargs["intensity"] = np.ascontiguousarray(intensity, dtype=np.float32)
+        if classification is not None:
+            kwargs["classification"] = np.ascontiguousarray(classification, dtype=np.uint8)
+        # The coordinates a mesh would hold (float32 after recentring): the
+        # cache renders what the same scan imported in memory renders.
+        cloud = core.PointCloud(np.asarray(local, dtype=np.float32), **kwargs)
+        path = self.out_of_core.cache_path(self.filepath, name)
+        self.caches_written.append(path)
+        core.write_scan_cache(path, cloud)
+        del cloud  # the cache holds the points now
+        cached = core.CachedCloud(path)
+        # Point ids are the group's row numbers: the proxy picks its rows by them.
+        proxy = np.asarray(cached.cloud(self.out_of_core.proxy_points).point_index)
+        pick = lambda values: None if values is None else np.asarray(values)[proxy]  # noqa: E731
+        obj = self.add_point_object(name, collection, local[proxy], pick(colors), pick(intensity),
+                                    pick(classification))
+        obj["pointnpr_cache"] = bpy.path.relpath(path) if bpy.data.filepath else path
+        obj["pointnpr_cache_points"] = int(cached.num_points)
+        lo, hi = cached.bounds
+        obj["pointnpr_cache_bounds"] = [float(v) for v in lo + hi]
+        return obj
 
 
 def import_point_cloud(context, filepath, split_by_classification=False, recentre=True,
-                       progress=None, cancelled=None, warnings=None):
+                       progress=None, cancelled=None, warnings=None, out_of_core=None):
     """Read ``filepath`` and add it to the scene; returns the created objects.
 
     ``progress(done, total, stage)`` is called after each step and
     ``cancelled()`` is asked between steps (True: stop, raise ImportCancelled).
     On any failure (pointnpr.ReadError, OSError, ...) or cancel, the scene is
     left exactly as it was, and so it is for a file with no points (ValueError).
-    What the reader let pass with a warning is appended to ``warnings``."""
-    job = ImportJob(context, filepath, split_by_classification, recentre)
+    What the reader let pass with a warning is appended to ``warnings``.
+    ``out_of_core`` (an OutOfCore): groups above its threshold are written
+    to caches and added as light proxies that reference them."""
+    job = ImportJob(context, filepath, split_by_classification, recentre, out_of_core)
     try:
         while True:
             if progress is not None:
@@ -343,8 +423,12 @@ class _WindowProgress:
 
 
 def _report_result(op, objects, recentre, warnings=()):
-    points = sum(len(o.data.vertices) for o in objects)
+    points = sum(int(o.get("pointnpr_cache_points", len(o.data.vertices))) for o in objects)
     op.report({'INFO'}, "Imported %d points into %d object(s)" % (points, len(objects)))
+    cached = [o for o in objects if "pointnpr_cache" in o]
+    if cached:
+        op.report({'INFO'}, "%d object(s) out of core: light proxies of %s" % (
+            len(cached), ", ".join(str(o["pointnpr_cache"]) for o in cached)))
     for warning in warnings:  # what the reader let pass (e.g. extra data after a PLY's last element)
         op.report({'WARNING'}, warning)
     if not recentre and objects:
@@ -354,8 +438,15 @@ def _report_result(op, objects, recentre, warnings=()):
                       "single-precision vertices lose detail at that magnitude" % far)
 
 
+def _out_of_core(op):
+    """The operator's out-of-core options (None when switched off)."""
+    return OutOfCore(op.out_of_core_threshold, op.cache_folder) if op.out_of_core else None
+
+
 def _import_errors():
-    return (getattr(_core(), "ReadError", ValueError), OSError, ValueError, MemoryError)
+    # pointnpr.Error: an out-of-core cache that cannot be written (disk full, no permission).
+    return (getattr(_core(), "ReadError", ValueError), getattr(_core(), "Error", RuntimeError), OSError, ValueError,
+            MemoryError)
 
 
 class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
@@ -369,9 +460,13 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
     filepath: bpy.props.StringProperty(subtype='FILE_PATH', options={'HIDDEN'})
     split_by_classification: bpy.props.BoolProperty(default=False, options={'HIDDEN'})
     recentre: bpy.props.BoolProperty(default=True, options={'HIDDEN'})
+    out_of_core: bpy.props.BoolProperty(default=True, options={'HIDDEN'})
+    out_of_core_threshold: bpy.props.IntProperty(default=OUT_OF_CORE_THRESHOLD, options={'HIDDEN'})
+    cache_folder: bpy.props.StringProperty(default="", options={'HIDDEN'})
 
     def invoke(self, context, event):
-        self._job = ImportJob(context, self.filepath, self.split_by_classification, self.recentre)
+        self._job = ImportJob(context, self.filepath, self.split_by_classification, self.recentre,
+                              _out_of_core(self))
         self._progress = _WindowProgress(context.window_manager)
         self._job.start_reading_in_thread()
         self._timer = context.window_manager.event_timer_add(0.05, window=context.window)
@@ -430,6 +525,20 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
         description="Subtract the rounded bounding box centre (kept as the object's "
                     "'pointnpr_origin' property) so that coordinates keep their precision",
         default=True)
+    out_of_core: bpy.props.BoolProperty(
+        name="Out-of-Core Cache",
+        description="Scans above the threshold are written to an on-disk cache (next to the .blend, or in the "
+                    "cache folder) and imported as a light proxy: renders stream the cache within a point budget",
+        default=True)
+    out_of_core_threshold: bpy.props.IntProperty(
+        name="Threshold",
+        description="Points above which a scan (or a class, when split) is imported out of core",
+        default=OUT_OF_CORE_THRESHOLD, min=0)
+    cache_folder: bpy.props.StringProperty(
+        name="Cache Folder",
+        description="Where out-of-core caches are written (empty: next to the .blend, or to the scan "
+                    "while the .blend is unsaved)",
+        default="", subtype='DIR_PATH')
     background: bpy.props.BoolProperty(
         name="Cancellable",
         description="With a window: read in the background with a progress bar; "
@@ -449,13 +558,16 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
             # which reports its own result.
             started = bpy.ops.import_scene.pointnpr_cloud_job(
                 'INVOKE_DEFAULT', filepath=self.filepath,
-                split_by_classification=self.split_by_classification, recentre=self.recentre)
+                split_by_classification=self.split_by_classification, recentre=self.recentre,
+                out_of_core=self.out_of_core, out_of_core_threshold=self.out_of_core_threshold,
+                cache_folder=self.cache_folder)
             return {'FINISHED'} if started & {'RUNNING_MODAL', 'FINISHED'} else {'CANCELLED'}
         progress = _WindowProgress(context.window_manager)
         warnings = []
         try:
             objects = import_point_cloud(context, self.filepath, self.split_by_classification,
-                                         self.recentre, progress=progress, warnings=warnings)
+                                         self.recentre, progress=progress, warnings=warnings,
+                                         out_of_core=_out_of_core(self))
         except _import_errors() as exc:
             self.report({'ERROR'}, "Cannot import %s: %s" % (os.path.basename(self.filepath), exc))
             return {'CANCELLED'}

@@ -58,6 +58,10 @@ class Labelling:
     def __init__(self, obj, method, octree_level=8, min_points=10, attribute="classification",
                  distance_threshold=0.05, point_color_threshold=6.0, region_color_threshold=5.0,
                  min_cluster_size=10, k=30):
+        if sync.cache_path_of(obj) is not None:
+            # Its vertices are a subsample: split, it would lose the scan (docs/io.md#scan-cache).
+            raise ValueError("object '%s' is the proxy of an out-of-core scan: segment it by importing with "
+                             "Split by Classification (one cache per class)" % obj.name)
         self.method = method
         self.min_points = min_points
         self.attribute = attribute

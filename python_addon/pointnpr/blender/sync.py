@@ -259,6 +259,7 @@ def cache_stats():
 def clear_cache():
     mesh_sync.clear_cache()
     _cloud_cache.clear()
+    _scan_caches.clear()
     _stats["uploads"] = _stats["hits"] = 0
     del read_log[:]
 
@@ -282,6 +283,37 @@ def prune_cache(used=None):
     used_objects = {k[:2] for k in used}
     for key in [k for k in _cloud_cache if k[1] not in names or (k[:2] in used_objects and k not in used)]:
         del _cloud_cache[key]
+
+
+_scan_caches = {}   # absolute path -> (mtime_ns, size, pointnpr.CachedCloud)
+
+
+def cache_path_of(obj):
+    """The out-of-core cache an imported proxy references (its 'pointnpr_cache'), or None."""
+    get = getattr(obj, "get", None)
+    path = get("pointnpr_cache") if get is not None else None
+    return bpy.path.abspath(str(path)) if path else None
+
+
+def cached_cloud_for(obj, path):
+    """The pointnpr.CachedCloud of a proxy object, opened once per file
+    version (reopened when the file changes). A missing or damaged cache
+    raises pointnpr.ReadError naming the object: the render reports it."""
+    import os
+
+    core = _core()
+    try:
+        st = os.stat(path)
+        stamp = (st.st_mtime_ns, st.st_size)
+        entry = _scan_caches.get(path)
+        if entry is None or entry[:2] != stamp:
+            _scan_caches.pop(path, None)
+            entry = stamp + (core.CachedCloud(path),)
+            _scan_caches[path] = entry
+    except (OSError, core.ReadError) as exc:
+        raise core.ReadError("object '%s' renders the out-of-core cache %s, which cannot be used: %s "
+                             "(import the scan again)" % (obj.name, path, getattr(exc, "reason", exc))) from None
+    return entry[2]
 
 
 def cloud_for(obj, attributes, trust_cache=False, fallbacks=()):
@@ -496,8 +528,13 @@ def build_scene(depsgraph, frame, trust_cache=False):
                 instances.append((mesh, matrix, obj.name))
                 result.num_objects += 1
                 continue
-            cloud = cloud_for(obj, attributes, trust_cache=trust_cache, fallbacks=fallbacks)
-            used_keys.add(cloud_key(obj, attributes, fallbacks))
+            cache_path = cache_path_of(obj)
+            if cache_path is not None:
+                # An out-of-core scan: the render streams its cache, not the proxy's vertices.
+                cloud = cached_cloud_for(obj, cache_path)
+            else:
+                cloud = cloud_for(obj, attributes, trust_cache=trust_cache, fallbacks=fallbacks)
+                used_keys.add(cloud_key(obj, attributes, fallbacks))
             # Named for the core's warnings: it reports each cause once per
             # frame (missing colours, non-finite points) with the objects.
             instances.append((cloud, matrix, obj.name))

@@ -1,0 +1,110 @@
+// Python bindings of the out-of-core scan cache (io/scan_cache.h,
+// scene/cached_cloud.h): pointnpr.write_scan_cache and pointnpr.CachedCloud,
+// which Scene.add_segment takes in place of a PointCloud.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "io/scan_cache.h"
+#include "python/bindings.h"
+#include "render/streamed_cloud.h"
+#include "scene/cached_cloud.h"
+
+namespace py = pybind11;
+
+namespace pointnpr::python {
+namespace {
+
+py::array_t<uint32_t> counts_array(const std::vector<uint32_t>& counts) {
+  py::array_t<uint32_t> a(py::ssize_t(counts.size()));
+  std::copy(counts.begin(), counts.end(), a.mutable_data());
+  return a;
+}
+
+std::string path_bytes(const py::object& path) {
+  return py::module_::import("os").attr("fsencode")(path).cast<std::string>();
+}
+
+}  // namespace
+
+// The out-of-core cache (docs/io.md#scan-cache): written from a PointCloud,
+// opened as a CachedCloud that Scene.add_segment takes in place of a cloud.
+void bind_cache(py::module_& m) {
+  m.attr("SCAN_CACHE_VERSION") = io::kScanCacheVersion;
+  m.def(
+      "write_scan_cache",
+      [](py::object path, const PointCloud& cloud) {
+        const std::string p = path_bytes(path);
+        py::gil_scoped_release release;
+        io::write_scan_cache(p, cloud);
+      },
+      py::arg("path"), py::arg("cloud"),
+      "Writes a PointCloud as an out-of-core scan cache (its chunks, each in resolution-queue order, with "
+      "checksums; docs/io.md#scan-cache). Raises pointnpr.Error when it cannot be written (no partial file).");
+
+  py::class_<CachedCloud, std::shared_ptr<CachedCloud>>(m, "CachedCloud",
+      "A scan in an out-of-core cache, memory-mapped: each frame draws, within point_budget, a prefix of the "
+      "resolution queue of every chunk in view, sized by its projected area. Use it in Scene.add_segment in "
+      "place of a PointCloud.")
+      .def(py::init([](py::object path, uint64_t budget) {
+             const std::string p = path_bytes(path);
+             py::gil_scoped_release release;
+             return std::make_shared<CachedCloud>(p, budget);
+           }),
+           py::arg("path"), py::arg("point_budget") = kDefaultStreamBudget,
+           "Opens and validates the cache; raises ReadError (missing, truncated, damaged, another version).")
+      .def_property_readonly("path", [](const CachedCloud& c) { return c.cache().path(); })
+      .def_property_readonly("num_points", [](const CachedCloud& c) { return c.cache().size(); })
+      .def_property_readonly("num_chunks", [](const CachedCloud& c) { return c.cache().chunks().size(); })
+      .def_property_readonly("file_bytes", [](const CachedCloud& c) { return c.cache().file_bytes(); })
+      .def_property_readonly("bounds", [](const CachedCloud& c) {
+        auto lo = c.cache().bounds_min(), hi = c.cache().bounds_max();
+        return py::make_tuple(py::make_tuple(lo.x, lo.y, lo.z), py::make_tuple(hi.x, hi.y, hi.z));
+      })
+      .def("has", [](const CachedCloud& c, const std::string& name) {
+        if (name == "colors") return c.cache().has(Attribute::Color);
+        if (name == "intensity") return c.cache().has(Attribute::Intensity);
+        if (name == "classification") return c.cache().has(Attribute::Classification);
+        if (name == "normals") return c.cache().has(Attribute::Normal);
+        throw ParameterError("unknown attribute '" + name + "' (colors, intensity, classification, normals)");
+      })
+      .def_property("point_budget", &CachedCloud::point_budget, &CachedCloud::set_point_budget,
+                    "Points drawn per frame at most (all the chunks in view together).")
+      .def_property_readonly("chunk_counts", [](const CachedCloud& c) {
+        std::vector<uint32_t> n;
+        for (const auto& ch : c.cache().chunks()) n.push_back(ch.count);
+        return counts_array(n);
+      })
+      .def("counts_for_budget", [](const CachedCloud& c, uint64_t budget) {
+        return counts_array(c.counts_for_budget(budget));
+      }, py::arg("budget"), "Per chunk, the prefix drawn without a view: the same fraction of every chunk.")
+      .def("counts_for_view", [](const CachedCloud& c, const Camera& cam, const py::object& matrix, int width,
+                                 int height, std::optional<uint64_t> budget) {
+        const glm::dmat4 world_from_object = to_dmat4(matrix, "world_from_object");
+        const auto weights = chunk_view_weights(c.cache(), cam.view_from_world * world_from_object, cam,
+                                                {width, height});
+        return counts_array(c.counts_for(weights, budget.value_or(c.point_budget())));
+      }, py::arg("camera"), py::arg("world_from_object"), py::arg("width"), py::arg("height"),
+         py::arg("budget") = py::none(),
+         "Per chunk, the prefix a render of this view draws (what Renderer.render streams).")
+      .def("stream", [](const CachedCloud& c, py::array_t<uint32_t, py::array::c_style | py::array::forcecast> counts) {
+        std::vector<uint32_t> n(counts.data(), counts.data() + counts.size());
+        py::gil_scoped_release release;
+        return std::const_pointer_cast<PointCloud>(c.stream(n));
+      }, py::arg("counts"), "A PointCloud of the first counts[c] points of every chunk c (from the mapping).")
+      .def("cloud", [](const CachedCloud& c, std::optional<uint64_t> budget) {
+        py::gil_scoped_release release;
+        return std::const_pointer_cast<PointCloud>(c.stream(c.counts_for_budget(budget.value_or(c.point_budget()))));
+      }, py::arg("budget") = py::none(), "The cloud of a fixed budget: the same fraction of every chunk's queue.")
+      .def_property_readonly("stream_bytes", &CachedCloud::stream_bytes,
+                             "Heap bytes of the points streamed now (bounded by the budget, not the scan).")
+      .def_property_readonly("stream_points", &CachedCloud::stream_points);
+}
+
+
+}  // namespace pointnpr::python
