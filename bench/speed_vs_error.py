@@ -214,8 +214,9 @@ def study_rasterizer(renderer):
                 de, off = image_error(display_srgb(r), ref)
                 rows.append([name, f"{size:g}", rast, f"{ms:.0f}", f"{cloud.num_points / ms / 1e3:.1f}",
                              f"{de:.3f}", f"{off:.2f}"])
-                series.setdefault(f"{rast}, {name}", []).append((ms, de))
-                labels.setdefault(f"{rast}, {name}", []).append(f"{size:g}px")
+                if rast != "auto":  # the plot: auto is native here, or compute on a GPU
+                    series.setdefault(f"{rast}, {name}", []).append((ms, de))
+                    labels.setdefault(f"{rast}, {name}", []).append(f"{size:g}px")
     table(["cloud", "px", "rasterizer", "frame CPU ms", "M points per CPU s", "mean dE vs compute",
            "% px > 2/255"], rows)
     plot("rasterizer", f"Rasterizers against compute, {W}x{H}", series, labels=labels)
