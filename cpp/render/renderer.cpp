@@ -337,7 +337,9 @@ struct Renderer::Impl {
     for (Culled& c : culled)
       for (VisibleChunk& v : c.chunks) {
         v.budget_count = plan.counts[k++];
-        if (v.budget_count < v.chunk->count && !v.gpu->find({AttributeKind::QueueOrder}))
+        // Every visible cloud: a mark drawing by the queue reads the order
+        // of each of its chunks, cut short or not.
+        if (!v.gpu->find({AttributeKind::QueueOrder}))
           if (const auto cloud = v.gpu->source.lock()) clouds.get(cloud, {{AttributeKind::QueueOrder}});
       }
   }

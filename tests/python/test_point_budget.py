@@ -119,3 +119,17 @@ np.save({out!r}, np.asarray(r.color))
 def test_a_negative_budget_is_refused(renderer, cloud):
     with pytest.raises(ValueError, match="point_budget"):
         renderer.render(scene_of("points", cloud), camera(), W, H, point_budget=-1)
+
+
+@pytest.mark.parametrize("mark,params", [("points", {"rasterizer": "compute"}), ("points", {"rasterizer": "gl_points"}),
+                                         ("points", {"rasterizer": "native"}), ("feature_strokes", {}),
+                                         ("hatching", {})])
+def test_a_segment_of_a_cut_and_an_uncut_cloud_draws_both(renderer, mark, params):
+    # A dense cloud the budget cuts short and a sparse one it leaves whole,
+    # in one segment: the mark draws every chunk by the queue order.
+    dense, sparse = wavy(40000, 7), wavy(300, 8)
+    scene = pointnpr.Scene()
+    scene.add_segment("both", pointnpr.Style(mark=(mark, params)), [dense, sparse])
+    r = renderer.render(scene, camera(), W, H, point_budget=5000)
+    assert "point_budget_level" in r.stats
+    assert 5000 - 300 < r.stats["point_budget_points"] <= 5000
