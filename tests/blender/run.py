@@ -74,5 +74,9 @@ if extension:
     # bpy's own exit crashes (4.2) or hangs (4.5) once any Panel class was
     # registered, add-on or not: it frees the classes after Python is gone.
     # The Blender executable frees them first, so users never see it.
+    # os._exit skips every cleanup: the installed extension (its wheel's
+    # 0.5 GB) would stay in /tmp after each run.
+    import shutil
+    shutil.rmtree(user, ignore_errors=True)
     os._exit(int(code))
 sys.exit(int(code))
