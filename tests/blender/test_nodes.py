@@ -517,10 +517,5 @@ def test_the_style_panel_header_offers_every_preset(scene):
     menu = type("Menu", (), {"layout": Recorder()})()
     ui.POINTNPR_MT_style_presets.draw(menu, bpy.context)
     entries = [(c[1], c[2]["text"], c[3].preset, c[3].target) for c in menu.layout.calls]
+    # What an entry does (the operator with a preset): test_new_style_operator_with_a_preset.
     assert entries == [("pointnpr.new_style", name, name, "COLLECTION") for name in presets.PRESETS]
-    # What an entry does: the preset's style, assigned to the active collection.
-    coll = helpers.new_collection("PresetColl")
-    bpy.context.view_layer.active_layer_collection = bpy.context.view_layer.layer_collection.children["PresetColl"]
-    first = next(iter(presets.PRESETS))
-    assert bpy.ops.pointnpr.new_style(preset=first, target='COLLECTION') == {'FINISHED'}
-    _assert_tree_is_preset(coll.pointnpr_style, presets.PRESETS[first])
