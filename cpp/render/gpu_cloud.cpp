@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/hash.h"
 #include "geometry/analysis.h"
 #include "geometry/features.h"
 #include "gl/device.h"
@@ -34,14 +35,7 @@ std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals) {
   return out;
 }
 
-uint32_t queue_hash(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
+uint32_t queue_hash(uint32_t x) { return hash_u32(x); }
 
 std::vector<uint32_t> queue_order(const PointCloud& cloud) {
   const std::vector<uint32_t>& ids = cloud.point_index();

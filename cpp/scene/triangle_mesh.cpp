@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/hash.h"
 #include "scene/point_cloud.h"
 
 namespace pointnpr {
@@ -21,16 +22,6 @@ uint32_t pack_rgba(const uint8_t* c, int channels) {
 
 glm::vec4 unpack_rgba(uint32_t c) {
   return glm::vec4(float(c & 255u), float((c >> 8) & 255u), float((c >> 16) & 255u), float(c >> 24)) / 255.0f;
-}
-
-// lowbias32 (the hash of the queue order and the shaders' hash_u32).
-uint32_t hash_u32(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
 }
 
 float unit_float(uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f); }  // [0, 1)
