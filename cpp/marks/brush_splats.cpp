@@ -188,27 +188,6 @@ void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p
   glBindVertexArray(0);
 }
 
-// Raster state of the splat passes: the clip rect, reversed Z.
-class RasterState {
- public:
-  RasterState(const MarkContext& ctx) {
-    set_frame_viewport(ctx.targets);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(ctx.clip.min.x, ctx.clip.min.y, ctx.clip.size().x, ctx.clip.size().y);
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-  }
-  ~RasterState() {
-    glDisable(GL_BLEND);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_SCISSOR_TEST);
-    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  }
-  RasterState(const RasterState&) = delete;
-  RasterState& operator=(const RasterState&) = delete;
-};
-
 constexpr size_t kFragmentBytes = 16;  // brush_abuffer.glsl's Fragment
 // Longest list a pixel may have: each list is insertion-sorted by one
 // invocation, so its length bounds the work of a pixel (a cloud seen from
@@ -251,7 +230,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
 
   // 1. Count the fragments of every pixel.
   {
-    const RasterState state(ctx);
+    const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
     const gl::Program& count = splat_program(ctx, p, "PASS_COUNT");
     count.use();
@@ -301,7 +280,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
   const gl::Buffer fragments = gl::make_buffer(std::max<size_t>(total, 1) * kFragmentBytes, nullptr, 0);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, fragments.id());
   {
-    const RasterState state(ctx);
+    const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
     const gl::Program& store = splat_program(ctx, p, "PASS_STORE");
     store.use();
@@ -334,7 +313,7 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
   glClearTexSubImage(splat_depth.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &inf);
   const gl::Framebuffer blend_fbo = make_fbo({&accum, &reveal, &splat_depth}, *ctx.targets.gl_depth);
   {
-    const RasterState state(ctx);
+    const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, blend_fbo.id());
     InkLayer::blend_modes();
     const gl::Program& blend = splat_program(ctx, p, "PASS_BLEND");
@@ -382,7 +361,7 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
   // 1. Depth pass: the nearest brush surface per pixel.
   const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth}, *ctx.targets.gl_depth);
   {
-    const RasterState state(ctx);
+    const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo.id());
     const float zero = 0.0f;
     glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z: 0 is the far end

@@ -137,12 +137,9 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   {
     const gl::Program& d = ctx.shaders->graphics("feature_strokes_depth.vert", "feature_strokes_depth.frag");
     glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
-    set_frame_viewport(ctx.targets);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
+    const MarkRasterState state(ctx.targets, clip);
     const float zero = 0.0f;
     glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_GREATER);
     glEnable(GL_PROGRAM_POINT_SIZE);
@@ -163,10 +160,6 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
       glDrawArrays(GL_POINTS, GLint(v.chunk->first), GLsizei(v.chunk->count));
     }
     glBindVertexArray(0);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_SCISSOR_TEST);
-    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     gl::check_gl("feature strokes visibility pass");
   }

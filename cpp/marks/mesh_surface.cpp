@@ -51,12 +51,9 @@ class MeshSurface final : public Mark {
                        GL_TEXTURE_2D, 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1);
     const gl::Program& prog = ctx.shaders->graphics("mesh_surface.vert", "mesh_surface.frag");
     glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
-    set_frame_viewport(ctx.targets);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
+    const MarkRasterState state(ctx.targets, clip);
     const float zero = 0.0f;
     glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z, as the GL_POINTS path
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_GREATER);
     glDisable(GL_CULL_FACE);  // open meshes show their insides
@@ -98,10 +95,6 @@ class MeshSurface final : public Mark {
       glDrawArrays(GL_TRIANGLES, 0, GLsizei(v.mesh->indices().size()));
     }
     glBindVertexArray(0);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_SCISSOR_TEST);
-    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
 };

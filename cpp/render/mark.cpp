@@ -59,6 +59,22 @@ ParamSpec queue_level_param(double default_level) {
                    "density_mode", {"constant_on_screen"});
 }
 
+MarkRasterState::MarkRasterState(const MarkTargets& targets, const Rect& clip) {
+  set_frame_viewport(targets);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+}
+
+MarkRasterState::~MarkRasterState() {
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_SCISSOR_TEST);
+  glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
 bool queue_enabled(const ParamValues& p) { return p.get_enum_name("density_mode") == "constant_on_screen"; }
 
 bool draws_queue(const VisibleChunk& v, const ParamValues& p) {

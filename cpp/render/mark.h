@@ -90,6 +90,19 @@ inline void set_frame_viewport(const MarkTargets& t) {
   glViewport(-t.origin.x, -t.origin.y, frame.x, frame.y);
 }
 
+// The raster state of a mark's GL passes, for one scope: the frame's
+// viewport (moved by a tile's origin), the scissor on the clip rect and
+// reversed Z's [0, 1] clip depth; restored to the GL defaults the other
+// passes expect (no blending, depth writes on, no depth test or scissor,
+// the default framebuffer) when it ends. The framebuffer is the pass's to bind.
+class MarkRasterState {
+ public:
+  MarkRasterState(const MarkTargets& targets, const Rect& clip);
+  ~MarkRasterState();
+  MarkRasterState(const MarkRasterState&) = delete;
+  MarkRasterState& operator=(const MarkRasterState&) = delete;
+};
+
 // One stroke / splat a mark placed, when the caller asked to see them
 // (tests of coherence and direction, debugging).
 struct CapturedMark {

@@ -33,7 +33,7 @@ def has_faces(obj):
     return obj.type == 'MESH' and data is not None and len(data.polygons) > 0
 
 
-def _linear_to_srgb(x):
+def linear_to_srgb(x):
     x = np.clip(np.asarray(x, dtype=np.float64), 0.0, 1.0)
     return np.where(x <= 0.0031308, x * 12.92, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
 
@@ -68,7 +68,7 @@ def material_base_color(material):
         rgba = tuple(node.inputs["Base Color"].default_value)
     else:
         rgba = tuple(material.diffuse_color)
-    rgb = _linear_to_srgb(rgba[:3])   # Blender's colours are scene-linear
+    rgb = linear_to_srgb(rgba[:3])   # Blender's colours are scene-linear
     return (float(rgb[0]), float(rgb[1]), float(rgb[2]), 1.0)
 
 
@@ -92,7 +92,7 @@ def image_rgba(image):
     image.pixels.foreach_get(px)
     px = px.reshape(h, w, 4)
     if image.is_float:   # float buffers hold scene-linear values
-        px[..., :3] = _linear_to_srgb(px[..., :3])
+        px[..., :3] = linear_to_srgb(px[..., :3])
     return np.clip(np.rint(px * 255.0), 0, 255).astype(np.uint8)
 
 
@@ -128,19 +128,26 @@ def _color_attribute(mesh):
     return None
 
 
-def _read_colors(mesh, loops):
-    """(N, 4) uint8 display sRGB and 'vertex' / 'corner', or (None, None)."""
-    attr = _color_attribute(mesh)
-    if attr is None:
-        return None, None
+def srgb_values(attr):
+    """(N, 4) float32 display sRGB of the colour attribute ``attr`` (meshes
+    and point clouds alike): its 'color_srgb', or on a Blender without it
+    its scene-linear 'color' converted."""
     n = len(attr.data)
     values = np.empty(n * 4, dtype=np.float32)
     try:
         attr.data.foreach_get("color_srgb", values)
     except (AttributeError, TypeError):
         attr.data.foreach_get("color", values)
-        values[:] = _linear_to_srgb(values)
-    values = values.reshape(n, 4)
+        values[:] = linear_to_srgb(values)
+    return values.reshape(n, 4)
+
+
+def _read_colors(mesh, loops):
+    """(N, 4) uint8 display sRGB and 'vertex' / 'corner', or (None, None)."""
+    attr = _color_attribute(mesh)
+    if attr is None:
+        return None, None
+    values = srgb_values(attr)
     if attr.domain == 'CORNER':
         values = values[loops]
     rgba = np.clip(np.rint(values * 255.0), 0, 255).astype(np.uint8)

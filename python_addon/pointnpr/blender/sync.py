@@ -131,11 +131,6 @@ def _first_color_attribute(data):
     return None
 
 
-def linear_to_srgb(x):
-    x = np.clip(x, 0.0, 1.0)
-    return np.where(x <= 0.0031308, x * 12.92, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
-
-
 def srgb_to_linear(x):
     x = np.clip(x, 0.0, 1.0)
     return np.where(x <= 0.04045, x / 12.92, np.power((x + 0.055) / 1.055, 2.4))
@@ -146,15 +141,7 @@ def read_colors(obj):
     attr = _first_color_attribute(obj.data)
     if attr is None:
         return None
-    n = len(attr.data)
-    values = np.empty(n * 4, dtype=np.float32)
-    try:
-        attr.data.foreach_get("color_srgb", values)
-    except (AttributeError, TypeError):
-        # Older Blender: 'color' is scene-linear for both colour types.
-        attr.data.foreach_get("color", values)
-        values = linear_to_srgb(values)
-    rgb = values.reshape(n, 4)[:, :3]  # a view: converted in place below
+    rgb = mesh_sync.srgb_values(attr)[:, :3]  # a view: converted in place below
     if attr.domain == 'CORNER':
         # Face-corner colours (a mesh drawn as points): each vertex the mean
         # of its corners'.
