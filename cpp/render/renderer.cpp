@@ -609,11 +609,10 @@ TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vect
                       total_footprint(seg.style.filters) + seg.style.inpaint.get_int("radius") + 1;
     halo = std::max(halo, reach);
     if (!m.mark->draws_tiles(m.params) && whole.empty()) whole = m.info->schema.id;
-    // Mesh surfaces are GL triangles, whose interpolated attributes depend
-    // on where a tile's window starts (not the same bytes): drawn whole.
-    if (whole.empty() && mesh_mode(seg.style.surface.params) == MeshMode::Surface)
+    const MarkStep& surface = seg.style.surface;
+    if (whole.empty() && mesh_mode(surface.params) == MeshMode::Surface && !surface.mark->draws_tiles(surface.params))
       for (const Instance& inst : seg.instances)
-        if (inst.mesh && inst.mesh->num_triangles() > 0) whole = seg.style.surface.info->schema.id;
+        if (inst.mesh && inst.mesh->num_triangles() > 0) whole = surface.info->schema.id;
   }
   // Captured marks are listed once per frame, so such frames are drawn whole too.
   if (!whole.empty() || s.capture_marks) {

@@ -404,21 +404,68 @@ def test_styles_take_surface_parameters_and_refuse_mesh_surface_as_their_mark():
     assert pointnpr.Style(surface={"color_source": "constant"}).mesh_source_attributes == []
 
 
-def test_mesh_surfaces_draw_the_frame_whole_over_the_memory_budget_and_say_so(renderer):
-    # Interpolated triangle attributes depend on where a tile's window
-    # starts, so frames with mesh surfaces are not tiled (render/tiling.h).
+def wavy_mesh(n, z0, **kwargs):
+    """A wavy grid of n x n quads with random per-corner colours and a random
+    texture: every pixel differs, so any tile seam would show."""
+    rng = np.random.default_rng(7)
+    u, v = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1))
+    x, y = (u - 0.5) * 4.0, (v - 0.5) * 3.0
+    z = z0 + 0.5 * np.sin(3 * x) * np.cos(2 * y)
+    verts = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+    idx = np.arange((n + 1) * (n + 1)).reshape(n + 1, n + 1)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
+    tri = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    uvs = np.column_stack([u.ravel(), v.ravel()]).astype(np.float32)
+    texture = rng.integers(0, 255, (64, 64, 4)).astype(np.uint8)
+    colors = rng.integers(0, 255, (len(tri) * 3, 3)).astype(np.uint8)
+    return pointnpr.TriangleMesh(verts, tri, uvs=uvs, texture=texture, colors=colors, **kwargs)
+
+
+@pytest.mark.parametrize("surface", [
+    {},                                                         # auto: the texture, smooth shading
+    {"color_source": "colors", "shading": "flat"},
+    {"color_source": "base_color", "shading": "smooth", "light_space": "world"},
+    {"color_source": "constant", "shading": "none"},
+])
+@pytest.mark.parametrize("ortho", [False, True])
+def test_mesh_surfaces_tiled_are_the_bytes_of_the_whole_frame(renderer, surface, ortho):
+    # A wavy textured mesh with a point sphere in front and a filtered second
+    # segment; a triangle that reaches behind the camera crosses the frame.
+    mesh = wavy_mesh(24, -6.0, base_color=(0.3, 0.6, 0.9))
+    near_plane = pointnpr.TriangleMesh([[-3, -1, -4], [3, -1, -4], [0, -0.2, 2]], [[0, 1, 2]],
+                                       base_color=(0.9, 0.8, 0.1))
+    pos, normals = sphere_points(20000, (0.8, 0.2, -5.0), 0.7)
+    sphere = pointnpr.PointCloud(pos, normals=normals.astype(np.float32))
+    scene = pointnpr.Scene()
+    scene.add_segment("site", pointnpr.Style(mark=("points", {"point_size": 2.0}), surface=surface,
+                                             inpaint={"radius": 3}),
+                      [sphere, (mesh, np.eye(4), "Wavy"), (near_plane, np.eye(4), "Ramp")])
+    scene.add_segment("toon", pointnpr.Style(surface=surface, filters=[("cartoon", {})]),
+                      [(wavy_mesh(6, -4.5), np.diag([0.3, 0.3, 1.0, 1.0]), "Small")])
+    width, height = 301, 233
+    cam = (pointnpr.Camera.orthographic(np.eye(4), ortho_scale=5.0, width=width, height=height) if ortho
+           else pointnpr.Camera.perspective(np.eye(4), lens=30.0, width=width, height=height))
+    whole = renderer.render(scene, cam, width, height)
+    tiled = renderer.render(scene, cam, width, height, tile_size=64)
+    assert whole.stats["tiles"] == 1 and tiled.stats["tiles"] > 4
+    assert not any("does not draw in tiles" in w for w in tiled.warnings), tiled.warnings
+    color = np.asarray(whole.color)
+    assert color[..., 3].mean() > 0.5  # a picture, not an empty frame
+    if not ortho:
+        assert color[: height // 8, :, 3].mean() > 0.99  # the triangle reaching behind the camera: the lowest rows
+    for name in ("color", "depth", "segment_index"):
+        a, b = np.asarray(getattr(whole, name)), np.asarray(getattr(tiled, name))
+        assert a.tobytes() == b.tobytes(), f"{name}: {int(np.count_nonzero(a != b))} values differ"
+
+
+def test_mesh_surfaces_tile_within_the_memory_budget(renderer):
     cube, _v, _t = box_mesh(CUBE_LO, CUBE_HI, base_color=(0.9, 0.3, 0.2))
     scene = pointnpr.Scene()
     scene.add_segment("cube", pointnpr.Style(), [(cube, np.eye(4), "Cube")])
     whole = renderer.render(scene, camera(), W, H)
-    tight = renderer.render(scene, camera(), W, H, memory_budget_gb=0.001)
-    assert tight.stats["tiles"] == 1
-    assert any("'mesh_surface' mark does not draw in tiles" in w for w in tight.warnings), tight.warnings
-    assert np.array_equal(np.asarray(whole.color), np.asarray(tight.color))
-    # Drawn as points, the same mesh tiles.
-    points = pointnpr.Scene()
-    points.add_segment("cube", pointnpr.Style(surface={"meshes": "points"}), [(cube, np.eye(4), "Cube")])
-    assert renderer.render(points, camera(), W, H, tile_size=64).stats["tiles"] > 1
+    tight = renderer.render(scene, camera(), W, H, memory_budget_gb=0.004)
+    assert tight.stats["tiles"] > 1 and not tight.warnings, tight.warnings
+    assert np.asarray(whole.color).tobytes() == np.asarray(tight.color).tobytes()
 
 
 def test_a_mesh_drawn_as_points_takes_the_mean_of_its_vertices_corner_colours(renderer):
