@@ -200,6 +200,21 @@ def test_stroke_marks_in_odd_tiles_over_the_budget_are_the_bytes_of_the_whole_fr
     assert_same_bytes(whole, budget)
 
 
+@pytest.mark.parametrize("mark,params", [("hatching", {}), ("hatching", {"depth_pass": False, "placement": "irregular"}),
+                                         ("feature_strokes", {"directional": "line_segment"})])
+def test_stroke_marks_under_an_orthographic_camera_tiled_are_the_bytes_of_the_whole_frame(
+        renderer, clouds, wall_patches, mark, params):
+    scene = pointnpr.Scene()
+    scene.add_segment("strokes", pointnpr.Style(mark=(mark, params), filters=[("cartoon", {})]), wall_patches)
+    scene.add_segment("crown", pointnpr.Style(rasterize={"point_size": 2}), [clouds[1]])
+    cam = pointnpr.Camera.orthographic(np.eye(4), 5.0, width=301, height=233)
+    whole = renderer.render(scene, cam, 301, 233)
+    tiled = renderer.render(scene, cam, 301, 233, tile_size=64)
+    assert tiled.stats["tiles"] == 5 * 4 and whole.stats["strokes_drawn"] > 1000
+    assert (np.asarray(whole.color)[..., 3] > 0).mean() > 0.3
+    assert_same_bytes(whole, tiled)
+
+
 def test_long_strokes_turned_toward_a_wide_angle_camera_tiled_are_the_bytes_of_the_whole_frame(renderer):
     # A plane at 45 degrees to the view, strokes along its slope, not cut to
     # the surface: their near halves project longer than their length (cut
