@@ -3,12 +3,16 @@
 // alpha (sum), transmittance (product), depth (min).
 #include "feature_strokes_common.glsl"
 
-in vec2 v_uv;
 flat in vec4 v_color;
 flat in float v_depth;
 flat in uint v_primitive;
 flat in uint v_id;
 flat in float v_aspect;
+flat in vec2 v_center;
+flat in vec2 v_r1;
+flat in vec2 v_size;
+
+uniform ivec2 u_origin;  // the images' frame pixel (0, 0)
 
 uniform int u_texture;  // taper, brush, dry, image
 uniform sampler2D u_texture_image;
@@ -41,6 +45,11 @@ float stroke_alpha(vec2 uv) {
 }
 
 void main() {
+  // Texture coordinates of the frame pixel (not interpolated varyings, whose
+  // rounding follows a tile's origin).
+  vec2 rel = gl_FragCoord.xy + vec2(u_origin) - v_center;
+  vec2 r2 = vec2(-v_r1.y, v_r1.x);
+  vec2 v_uv = vec2(dot(rel, v_r1), dot(rel, r2)) / max(v_size, vec2(1e-6)) + 0.5;
   float k;
   if (v_primitive == 1u) {  // Gaussian splatting kernel (Fig. 4a)
     vec2 q = 2.0 * v_uv - 1.0;
@@ -53,7 +62,7 @@ void main() {
     k = stroke_alpha(v_uv);
   }
   float a = clamp(v_color.a * k, 0.0, 1.0);
-  if (a <= 0.0) discard;
+  if (!(a > 0.0)) discard;
   o_accum = vec4(v_color.rgb * a, a);
   o_reveal = vec4(a);
   o_depth = vec4(v_depth);

@@ -2,11 +2,14 @@
 // the pushed one) for the resolve and the compositing.
 flat in float v_depth;
 flat in float v_diameter;
+flat in vec2 v_center;
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out float o_depth;
 
 void main() {
-  vec2 offset = (gl_PointCoord - 0.5) * v_diameter;
+  // From the pixel centre, not gl_PointCoord (interpolated from the images'
+  // corner, so its rounding would move with a tile's origin).
+  vec2 offset = gl_FragCoord.xy - v_center;
   if (v_diameter >= 2.0 && dot(offset, offset) > 0.25 * v_diameter * v_diameter) discard;
   o_color = vec4(0.0);
   o_depth = v_depth;

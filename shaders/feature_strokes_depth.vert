@@ -3,6 +3,7 @@
 // projected (hole-free), pushed away along the view ray by u_offset local
 // resolutions so strokes on the visible surface pass the depth test.
 #include "point_attributes.glsl"
+#include "exact_window.glsl"
 
 layout(std430, binding = 9) readonly buffer Resolution { float resolution[]; };  // mean distance to 8 neighbours
 
@@ -18,6 +19,7 @@ uniform float u_max_size;
 
 flat out float v_depth;
 flat out float v_diameter;
+flat out vec2 v_center;  // window position in the images (pixels)
 
 void main() {
   uint index = uint(gl_VertexID);
@@ -35,8 +37,11 @@ void main() {
     return;
   }
   vec4 clip = u_projection * v;
-  vec2 ndc = clip.xy / clip.w;
+  // The frame pixel, drawn at the same subpixel place in every tile.
+  precise vec2 frame_px = (clip.xy / clip.w * 0.5 + 0.5) * vec2(u_size);
+  vec2 win = exact_window(frame_px);
+  v_center = win;
   float pushed = depth + u_offset * r;
   float z = u_ortho != 0 ? 1.0 - (pushed - u_near) / (u_far - u_near) : u_near / pushed;
-  gl_Position = vec4(ndc, max(z, 0.0), 1.0);
+  gl_Position = exact_clip(win, max(z, 0.0));
 }

@@ -1,8 +1,13 @@
 // Hatching, pass 2: 12 vertices per point record, two quads (the second
 // only for crossing strokes); records without a stroke make no triangle.
+// Corners are drawn at their exact frame positions and the fragment shader
+// finds each pixel's place on the stroke from its frame pixel (tiles:
+// cpp/render/exact_raster.h).
 #include "hatching_common.glsl"
+#include "exact_window.glsl"
 
 uniform mat4 u_projection;
+uniform ivec2 u_size;          // the frame's (the projection maps to it)
 uniform int u_ortho;
 uniform float u_near;
 uniform float u_far;
@@ -11,13 +16,23 @@ uniform float u_offset_radii;  // move toward the camera by this many depth-disc
 uniform int u_world_units;
 uniform float u_disc_size;     // depth-disc diameter (px or scene units)
 
-out vec2 v_uv;                 // x along the stroke, y across, in [0, 1]
-out float v_depth;             // linear view depth
 flat out vec4 v_color;         // display sRGB, alpha = opacity
 flat out float v_aspect;       // length / width
 flat out uint v_id;
+flat out vec3 v_center;        // view space
+flat out vec3 v_along;         // unit, the line
+flat out vec3 v_across;        // unit, across it
+flat out vec2 v_size;          // length, width (scene units)
+flat out float v_offset;       // toward the camera (scene units)
+flat out vec2 v_center_px;     // the centre's frame pixel
 
 const vec2 CORNERS[6] = vec2[](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), vec2(1, 1), vec2(0, 1));
+
+vec2 frame_pixel(vec3 p) {
+  vec4 clip = u_projection * vec4(p, 1.0);
+  precise vec2 px = (clip.xy / clip.w * 0.5 + 0.5) * vec2(u_size);
+  return px;
+}
 
 void main() {
   uint record = uint(gl_VertexID) / 12u;
@@ -48,21 +63,26 @@ void main() {
   vec3 across = cross(d, view_dir);
   if (dot(across, across) < 1e-8) across = cross(d, n);
   across = normalize(across);
+  // A stroke reaching in front of the near plane would project through the
+  // camera: not drawn (its point lies within half a stroke of the plane).
+  float nearest = depth - 0.5 * len * abs(d.z) - 0.5 * width * abs(across.z);
+  if (!(nearest >= u_near)) {
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+    return;
+  }
   vec3 p = center + d * (corner.x - 0.5) * len + across * (corner.y - 0.5) * width;
-  // The paper's polygon offset, in scene units along the view ray (so the
-  // screen position is unchanged): disc radii at this depth.
+  // The paper's polygon offset, in scene units along the view ray (the
+  // screen position is unchanged; the fragment shader applies it to depth):
+  // disc radii at this depth.
   float disc_radius = 0.5 * (u_world_units != 0 ? u_disc_size : u_disc_size / px_per_unit);
-  float offset = u_offset_radii * disc_radius;
-  if (u_ortho != 0) p.z += offset;
-  else p *= max(1.0 - offset / max(length(p), 1e-20), 0.0);
-  float pd = -p.z;
-  vec4 clip = u_projection * vec4(p, 1.0);
-  // Reversed Z (as the depth pass): near / d for perspective, 1 - (d - near) / (far - near) orthographic.
-  if (u_ortho != 0) gl_Position = vec4(clip.xy / clip.w, 1.0 - (pd - u_near) / (u_far - u_near), 1.0);
-  else gl_Position = vec4(clip.xy, u_near, clip.w);
-  v_uv = corner;
-  v_depth = -(center + d * (corner.x - 0.5) * len).z;  // the surface's depth, not the offset one
+  gl_Position = exact_clip(exact_window(frame_pixel(p)), 0.5);
   v_color = vec4(s.color, alpha);
   v_aspect = len / width;
   v_id = s.point_id * 2u + line;
+  v_center = center;
+  v_along = d;
+  v_across = across;
+  v_size = vec2(len, width);
+  v_offset = u_offset_radii * disc_radius;
+  v_center_px = frame_pixel(center);
 }

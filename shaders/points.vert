@@ -2,13 +2,11 @@
 // Reversed-Z (glClipControl 0..1, GL_GREATER) keeps depth precise far away;
 // linear depth is written to a colour attachment for compositing.
 #include "points.glsl"
-
-// Tiles (cpp/render/tiling.h): the frame pixel on a 1/256 grid, less the
-// tile's origin, placed where a power-of-two viewport's transform is exact
-// (every value a multiple of 1/256 under 2^15): the rasterizer sees the
-// same subpixel centre in every tile, so coverage is the frame's.
-uniform ivec2 u_origin;
-uniform float u_raster_half;  // half the viewport's side (a power of two)
+// Tiles (cpp/render/exact_raster.h): the frame pixel on a 1/256 grid, less
+// the tile's origin, placed where a power-of-two viewport's transform is
+// exact: the rasterizer sees the same subpixel centre in every tile, so
+// coverage is the frame's.
+#include "exact_window.glsl"
 
 flat out vec4 v_color;
 flat out float v_depth;
@@ -26,9 +24,8 @@ void main() {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume
     return;
   }
-  precise vec2 win = round(s.center * 256.0) / 256.0 - vec2(u_origin);
-  precise vec2 ndc = (win - u_raster_half) / u_raster_half;
+  vec2 win = exact_window(s.center);
   v_center = win;
   float z = u_ortho != 0 ? 1.0 - (s.depth - u_near) / (u_far - u_near) : u_near / s.depth;
-  gl_Position = vec4(ndc, z, 1.0);
+  gl_Position = exact_clip(win, z);
 }

@@ -40,6 +40,7 @@
 #include "core/image_io.h"
 #include "geometry/analysis.h"
 #include "gl/device.h"
+#include "render/exact_raster.h"
 #include "render/image_textures.h"
 #include "render/mark.h"
 #include "render/ink_layer.h"
@@ -91,6 +92,12 @@ class FeatureStrokes final : public Mark {
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override;
 
+  // Every primitive and disc is placed and textured from its frame pixel
+  // (render/exact_raster.h) and every choice is per point or per cloud: a
+  // tile is the bytes of the frame. No pass reads neighbouring pixels, so
+  // the extent is the whole reach.
+  bool draws_tiles(const ParamValues&) const override { return true; }
+
   static constexpr float kMaxDiscPixels = 64.0f;
 
  private:
@@ -133,11 +140,16 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   const AttributeKey line_key = feature_line_key(p.get_int("line_neighbors"), k, p.get_float("feature_threshold"));
   const bool use_lines = p.get_enum_name("directional") != "none";
 
+  // Tiles: every vertex at its exact frame position (render/exact_raster.h),
+  // through a viewport wide enough that nothing reaching the images is clipped.
+  const ExactRaster raster = exact_raster(ctx.targets, extent(p).pixels);
+
   // 1. Visibility splatting: every point as an opaque disc into depth.
   {
     const gl::Program& d = ctx.shaders->graphics("feature_strokes_depth.vert", "feature_strokes_depth.frag");
     glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
     const MarkRasterState state(ctx.targets, clip);
+    raster.apply();
     const float zero = 0.0f;
     glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z
     glEnable(GL_DEPTH_TEST);
@@ -153,6 +165,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     glUniform1f(d.location("u_disc_scale"), float(p.get_float("disc_scale")));
     glUniform1f(d.location("u_offset"), float(p.get_float("depth_offset")));
     glUniform1f(d.location("u_max_size"), kMaxDiscPixels);
+    raster.set_uniforms(d);
     for (const VisibleChunk& v : ctx.chunks) {
       bind_chunk(d, v, ColorSource::Constant,
                  {{2, nullptr}, {9, v.gpu->find({AttributeKind::LocalResolution, kResolutionNeighbors})}});
@@ -224,6 +237,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   glUniform1i(expand.location("u_texture"), p.get_enum("stroke_texture"));
   glUniform1i(expand.location("u_texture_image"), 0);
   glBindTextureUnit(0, texture_image ? texture_image->id() : ink.accum.id());
+  raster.set_uniforms(expand);
 
   size_t batch_start = 0;
   while (batch_start < ctx.chunks.size()) {
@@ -260,7 +274,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
 
-    ink.begin(true);
+    ink.begin(true, raster);
     expand.use();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, records.id());
     GLuint vao = 0;

@@ -34,6 +34,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <glm/gtc/type_ptr.hpp>
 #include <mutex>
 
@@ -41,6 +42,7 @@
 #include "core/image_io.h"
 #include "gl/device.h"
 #include "marks/points.h"
+#include "render/exact_raster.h"
 #include "render/ink_layer.h"
 #include "render/image_textures.h"
 #include "scene/camera.h"
@@ -127,7 +129,24 @@ class Hatching final : public Mark {
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override;
 
+  // In pixel units every stroke is placed and textured from its frame pixel
+  // (render/exact_raster.h), cut at stroke_reach() from its centre, and
+  // every choice is per point (the depth range is the frame's): a tile is
+  // the bytes of the frame. No pass reads neighbouring pixels: the extent
+  // is the whole reach. Strokes in scene units have no bound on screen
+  // (close to the camera), so those frames are drawn whole.
+  bool draws_tiles(const ParamValues& p) const override { return p.get_enum_name("units") == "pixels"; }
+
  private:
+  // Pixels from its centre a stroke in pixel units may cover: half the
+  // longest jittered length and half the width (at least the 1.5 px drawn),
+  // plus one for perspective (a stroke turned toward the camera projects
+  // its near half a little longer; farther than this it is cut).
+  static float stroke_reach(const ParamValues& p) {
+    return float(0.5 * (1.0 + p.get_float("length_jitter")) * p.get_float("line_length") +
+                 0.5 * std::max(p.get_float("line_width"), 1.5) + 1.0);
+  }
+
   struct Palette {
     std::filesystem::file_time_type modified;
     std::vector<glm::vec3> colors;
@@ -285,6 +304,14 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   glUniform1i(expand.location("u_clip_to_surface"), depth_pass && p.get_bool("clip_to_surface") ? 1 : 0);
   glUniform1i(expand.location("u_surface_depth"), 1);
   glBindTextureUnit(1, ctx.targets.depth->id());
+  // Tiles: corners at their exact frame positions, each fragment's place on
+  // the stroke from its frame pixel's ray (render/exact_raster.h).
+  glUniform2i(expand.location("u_size"), size.x, size.y);
+  glUniformMatrix4fv(expand.location("u_inv_projection"), 1, GL_FALSE,
+                     glm::value_ptr(glm::mat4(glm::inverse(cam.projection))));
+  glUniform1f(expand.location("u_max_reach"), world_units ? std::numeric_limits<float>::max() : stroke_reach(p));
+  const ExactRaster raster = exact_raster(ctx.targets, extent(p).pixels);
+  raster.set_uniforms(expand);
 
   size_t batch_start = 0;
   while (batch_start < ctx.chunks.size()) {
@@ -327,7 +354,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
 
-    ink.begin(depth_pass);
+    ink.begin(depth_pass, raster);
     expand.use();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, strokes.id());
     GLuint vao = 0;

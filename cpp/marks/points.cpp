@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "gl/device.h"
+#include "render/exact_raster.h"
 #include "scene/camera.h"
 
 namespace pointnpr {
@@ -175,10 +176,10 @@ void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s) {
   const gl::Program& p = ctx.shaders->graphics("points.vert", "points.frag");
   const Rect& clip = ctx.clip;
   glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
-  // A square power-of-two viewport over the images (points.vert: exact).
-  int side = 1;
-  while (side < std::max(ctx.targets.size.x, ctx.targets.size.y)) side *= 2;
-  glViewport(0, 0, side, side);
+  // A square power-of-two viewport over the images and the widest splat's
+  // radius around them (points.vert: exact, render/exact_raster.h).
+  const ExactRaster raster = exact_raster(ctx.targets, 0.5f * kMaxSplatPixels + 1.0f);
+  raster.apply();
   glEnable(GL_SCISSOR_TEST);
   glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
   const float zero = 0.0f;
@@ -189,7 +190,7 @@ void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s) {
   glEnable(GL_PROGRAM_POINT_SIZE);
   p.use();
   set_splat_uniforms(p, ctx, s);
-  glUniform1f(p.location("u_raster_half"), 0.5f * float(side));
+  raster.set_uniforms(p);
   for (size_t c = 0; c < ctx.chunks.size(); ++c) {
     const VisibleChunk& v = ctx.chunks[c];
     bind_splat_chunk(p, v, s);

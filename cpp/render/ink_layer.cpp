@@ -32,10 +32,10 @@ InkLayer::InkLayer(const MarkContext& ctx, const char* what)
     throw GLError(std::string("the ") + what + " framebuffer is incomplete");
 }
 
-void InkLayer::begin(bool depth_test) const {
+void InkLayer::begin(bool depth_test, const ExactRaster& raster) const {
   const Rect& clip = ctx_.clip;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  set_frame_viewport(ctx_.targets);
+  raster.apply();
   glEnable(GL_SCISSOR_TEST);
   glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);

@@ -9,6 +9,7 @@
 // into the segment's colour and depth (shaders/ink_resolve.comp).
 #include <glm/vec4.hpp>
 
+#include "render/exact_raster.h"
 #include "render/mark.h"
 
 namespace pointnpr {
@@ -19,9 +20,11 @@ class InkLayer {
   // frame's GL depth buffer, for depth tests against a depth pass).
   InkLayer(const MarkContext& ctx, const char* what);
 
-  // GL state for drawing ink: its framebuffer, scissor to the clip, reversed-Z
-  // GEQUAL depth test when asked, no depth writes, the three blend modes.
-  void begin(bool depth_test) const;
+  // GL state for drawing ink: its framebuffer, the exact viewport (the
+  // marks draw tiles, render/exact_raster.h), scissor to the clip,
+  // reversed-Z GEQUAL depth test when asked, no depth writes, the three
+  // blend modes.
+  void begin(bool depth_test, const ExactRaster& raster) const;
   void end() const;  // back to GL defaults
   // The three blend modes alone (for marks with their own raster state).
   static void blend_modes();

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import pointnpr
+from pointnpr import presets
 
 FILTERS = [s["id"] for s in pointnpr.schemas() if s["kind"] == "filter"]
 
@@ -15,6 +16,26 @@ def wavy_cloud(n, seed, z0, spread=2.0):
     y = rng.uniform(-0.75 * spread, 0.75 * spread, n)
     z = z0 + 0.4 * np.sin(3 * x) * np.cos(2 * y) + rng.normal(0, 0.01, n)
     return pointnpr.PointCloud(np.column_stack([x, y, z]), colors=rng.integers(0, 255, (n, 3)).astype(np.uint8))
+
+
+def patches(cloud_args, columns, rows):
+    """The wavy cloud cut into columns x rows clouds: chunks with small
+    screen rectangles, so each tile draws only the patches near it and the
+    halo, not the chunks' size, decides what reaches a tile."""
+    n, seed, z0, spread = cloud_args
+    rng = np.random.default_rng(seed)
+    x = rng.uniform(-spread, spread, n)
+    y = rng.uniform(-0.75 * spread, 0.75 * spread, n)
+    z = z0 + 0.4 * np.sin(3 * x) * np.cos(2 * y) + rng.normal(0, 0.01, n)
+    colors = rng.integers(0, 255, (n, 3)).astype(np.uint8)
+    column = np.minimum(((x + spread) / (2 * spread) * columns).astype(int), columns - 1)
+    row = np.minimum(((y + 0.75 * spread) / (1.5 * spread) * rows).astype(int), rows - 1)
+    out = []
+    for i in range(columns):
+        for j in range(rows):
+            m = (column == i) & (row == j)
+            out.append(pointnpr.PointCloud(np.column_stack([x[m], y[m], z[m]]), colors=colors[m]))
+    return out
 
 
 @pytest.fixture(scope="module")
@@ -119,14 +140,114 @@ def test_cancelling_stops_between_tiles_and_the_renderer_renders_on(renderer, cl
 
 
 def test_a_mark_that_cannot_tile_draws_the_frame_whole_and_says_so(renderer, clouds):
+    # Hatching in scene units: its strokes have no bound on screen near the camera.
     scene = pointnpr.Scene()
-    scene.add_segment("hatched", pointnpr.Style(mark=("hatching", {})), [clouds[0]])
+    scene.add_segment("hatched", pointnpr.Style(mark=("hatching", {"units": "world"})), [clouds[0]])
     cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=200, height=150)
     result = renderer.render(scene, cam, 200, 150, memory_budget_gb=0.001)
     assert result.stats["tiles"] == 1
     assert any("'hatching' mark does not draw in tiles" in w for w in result.warnings), result.warnings
     # Within the budget nothing is said.
     assert not any("tiles" in w for w in renderer.render(scene, cam, 200, 150).warnings)
+
+
+# The stroke marks (hatching, feature_strokes): with their defaults and with
+# every preset of theirs, a filter chain after the mark, over a second
+# segment of points they composite with.
+STROKE_STYLES = [("hatching", None), ("feature_strokes", None)] + [
+    (spec["mark"][0], name) for name, spec in presets.PRESETS.items()
+    if spec["mark"][0] in ("hatching", "feature_strokes")]
+
+
+@pytest.fixture(scope="module")
+def wall_patches():
+    return patches((30000, 3, -6.0, 2.0), 6, 4)
+
+
+def stroke_scene(clouds, mark, preset):
+    if preset is None:
+        style = pointnpr.Style(mark=(mark, {}), filters=[("edge_enhance", {}), ("color_grade", {"saturation": 1.3})])
+    else:
+        spec = presets.PRESETS[preset]
+        style = pointnpr.Style(mark=spec["mark"], filters=list(spec["filters"]) + [("xdog", {})])
+    scene = pointnpr.Scene()
+    scene.add_segment("strokes", style, clouds[0])
+    scene.add_segment("crown", pointnpr.Style(rasterize={"point_size": 2}, filters=[("cartoon", {})]), [clouds[1]])
+    return scene
+
+
+@pytest.mark.parametrize("mark,preset", STROKE_STYLES, ids=[p or m for m, p in STROKE_STYLES])
+def test_stroke_marks_tiled_are_the_bytes_of_the_whole_frame(renderer, clouds, wall_patches, mark, preset):
+    scene = stroke_scene((wall_patches, clouds[1]), mark, preset)
+    whole, tiled = render_both(renderer, scene, 301, 233, 64)
+    assert whole.stats["strokes_drawn"] > 1000
+    assert_same_bytes(whole, tiled)
+
+
+@pytest.mark.parametrize("mark", ["hatching", "feature_strokes"])
+def test_stroke_marks_in_odd_tiles_over_the_budget_are_the_bytes_of_the_whole_frame_and_say_nothing(
+        renderer, clouds, wall_patches, mark):
+    scene = stroke_scene((wall_patches, clouds[1]), mark, None)
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=297, height=229)
+    whole = renderer.render(scene, cam, 297, 229)
+    odd = renderer.render(scene, cam, 297, 229, tile_size=97)
+    assert odd.stats["tiles"] == 4 * 3
+    assert_same_bytes(whole, odd)
+    # Chosen by the memory budget: tiles, and no word of drawing the frame whole.
+    budget = renderer.render(scene, cam, 297, 229, memory_budget_gb=0.005)
+    assert budget.stats["tiles"] > 1
+    assert not any("does not draw in tiles" in w for w in budget.warnings), budget.warnings
+    assert_same_bytes(whole, budget)
+
+
+@pytest.mark.parametrize("mark,params", [("hatching", {}), ("hatching", {"depth_pass": False, "placement": "irregular"}),
+                                         ("feature_strokes", {"directional": "line_segment"})])
+def test_stroke_marks_under_an_orthographic_camera_tiled_are_the_bytes_of_the_whole_frame(
+        renderer, clouds, wall_patches, mark, params):
+    scene = pointnpr.Scene()
+    scene.add_segment("strokes", pointnpr.Style(mark=(mark, params), filters=[("cartoon", {})]), wall_patches)
+    scene.add_segment("crown", pointnpr.Style(rasterize={"point_size": 2}), [clouds[1]])
+    cam = pointnpr.Camera.orthographic(np.eye(4), 5.0, width=301, height=233)
+    whole = renderer.render(scene, cam, 301, 233)
+    tiled = renderer.render(scene, cam, 301, 233, tile_size=64)
+    assert tiled.stats["tiles"] == 5 * 4 and whole.stats["strokes_drawn"] > 1000
+    assert (np.asarray(whole.color)[..., 3] > 0).mean() > 0.3
+    assert_same_bytes(whole, tiled)
+
+
+def test_long_strokes_turned_toward_a_wide_angle_camera_tiled_are_the_bytes_of_the_whole_frame(renderer):
+    # A plane at 45 degrees to the view, strokes along its slope, not cut to
+    # the surface: their near halves project longer than their length (cut
+    # at the halo), across many tiles, from patches each tile may not draw.
+    rng = np.random.default_rng(7)
+    n = 20000
+    x, t = rng.uniform(-3, 3, n), rng.uniform(-2.5, 2.5, n)
+    pos = np.column_stack([x, 0.707 * t, -4.0 - 0.707 * t])
+    column, row = np.minimum(((x + 3) // 1).astype(int), 5), np.minimum(((t + 2.5) // 1).astype(int), 4)
+    clouds = [pointnpr.PointCloud(pos[(column == i) & (row == j)]) for i in range(6) for j in range(5)]
+    scene = pointnpr.Scene()
+    scene.add_segment("slope", pointnpr.Style(mark=("hatching", {
+        "line_length": 60.0, "length_jitter": 1.0, "direction_azimuth": 90.0, "direction_elevation": -45.0,
+        "stroke_coverage": 0.0, "density": 0.3, "light_elevation": -90.0, "clip_to_surface": False})), clouds)
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=12.0, clip_start=0.05, width=257, height=201)
+    whole = renderer.render(scene, cam, 257, 201)
+    tiled = renderer.render(scene, cam, 257, 201, tile_size=64)
+    assert tiled.stats["tiles"] > 1 and whole.stats["strokes_drawn"] > 3000
+    assert_same_bytes(whole, tiled)
+
+
+def test_gl_points_just_beyond_the_frame_in_tiles_of_a_power_of_two_are_the_bytes_of_the_whole_frame(renderer):
+    # Splats centred past the frame's right and top edges still cover its
+    # last pixels; a region of 256 pixels there once clipped them away.
+    cloud = wavy_cloud(40000, 8, -6.0, spread=3.5)
+    scene = pointnpr.Scene()
+    scene.add_segment("wide", pointnpr.Style(rasterize={"point_size": 6, "rasterizer": "gl_points"}), [cloud])
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=500, height=400)
+    whole = renderer.render(scene, cam, 500, 400)
+    halo = renderer.render(scene, cam, 500, 400, tile_size=100).stats["tile_halo"]
+    tiled = renderer.render(scene, cam, 500, 400, tile_size=int(256 - 2 * halo))
+    assert tiled.stats["tile_region_width"] == 256 and tiled.stats["tiles"] > 1
+    assert_same_bytes(whole, tiled)
 
 
 def test_one_size_limit_and_frames_beyond_the_gl_limit(renderer, clouds):
