@@ -95,30 +95,46 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
       ctx.warnings->push_back("stipples: resolution_factor lowered to " + std::to_string(factor) +
                               " (hidden-point texture capped at 8M texels)");
   }
-  const glm::ivec2 fine(int(std::ceil(clip_size.x * factor)), int(std::ceil(clip_size.y * factor)));
+  // Fine texels and eye cells are anchored at the frame's corner (frame
+  // pixel x lies in texel floor(x * factor)), so they stay put when the
+  // segment's rectangle moves and are the same in every tile.
+  const glm::ivec2 origin_px = ctx.targets.origin;
+  const glm::ivec2 frame_px = frame_size(ctx.targets);
+  const glm::ivec2 fine_min(glm::floor(glm::vec2(clip.min + origin_px) * float(factor)));
+  const glm::ivec2 fine = glm::ivec2(glm::ceil(glm::vec2(clip.max + origin_px) * float(factor))) - fine_min;
   const size_t fine_n = size_t(fine.x) * size_t(fine.y);
-  const float px_per_unit = float(cam.pixels_per_unit(1.0, ctx.targets.size.y));
+  const float px_per_unit = float(cam.pixels_per_unit(1.0, frame_px.y));
   const float range = float(std::max(ctx.depth_max - ctx.depth_min, 1e-6));
   const float offset = float(p.get_float("depth_offset")) * range;
 
-  // Light frame, view space.
+  // Light frame: its axes and bounds are fixed in the world (a world light's
+  // cells then stay on the same points as the camera moves: the quadtree
+  // decides the same dots in every frame), handed to the shader in view
+  // space: (right, up) . view - origin = (right, up) . world - world origin.
   const glm::dmat3 view_from_world(cam.view_from_world);
+  const glm::dvec3 view_translation(cam.view_from_world[3]);
   const glm::vec3 L = view_light_direction(p, cam);
-  const glm::vec3 up0 = std::abs(L.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
-  const glm::vec3 right = glm::normalize(glm::cross(up0, L));
-  const glm::vec3 up = glm::cross(L, right);
-  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  const glm::dvec3 L_world = glm::normalize(glm::transpose(view_from_world) * glm::dvec3(L));
+  const glm::dvec3 up0 = std::abs(L_world.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+  const glm::dvec3 right_world = glm::normalize(glm::cross(up0, L_world));
+  const glm::dvec3 up_world = glm::cross(L_world, right_world);
+  const glm::vec3 right(view_from_world * right_world), up(view_from_world * up_world);
+  glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
   for (const VisibleChunk& v : ctx.chunks)
     for (int c = 0; c < 8; ++c) {
       const glm::vec3 corner((c & 1) ? v.chunk->local_max.x : v.chunk->local_min.x,
                              (c & 2) ? v.chunk->local_max.y : v.chunk->local_min.y,
                              (c & 4) ? v.chunk->local_max.z : v.chunk->local_min.z);
-      const glm::vec3 view = glm::vec3(v.view_from_chunk * glm::vec4(corner, 1.0f));
-      const glm::vec2 uv(glm::dot(view, right), glm::dot(view, up));
+      const glm::dvec3 world = glm::transpose(view_from_world) *
+                               (glm::dvec3(glm::vec3(v.view_from_chunk * glm::vec4(corner, 1.0f))) - view_translation);
+      const glm::dvec2 uv(glm::dot(world, right_world), glm::dot(world, up_world));
       lo = glm::min(lo, uv), hi = glm::max(hi, uv);
     }
-  const float extent = std::max(std::max(hi.x - lo.x, hi.y - lo.y), 1e-6f) * 1.001f;
-  const glm::vec2 origin = 0.5f * (lo + hi) - 0.5f * extent;
+  const double extent_d = std::max(std::max(hi.x - lo.x, hi.y - lo.y), 1e-6) * 1.001;
+  const glm::dvec2 origin_world = 0.5 * (lo + hi) - 0.5 * extent_d;
+  const float extent = float(extent_d);
+  const glm::vec2 origin(origin_world + glm::dvec2(glm::dot(view_translation, glm::dvec3(right)),
+                                                   glm::dot(view_translation, glm::dvec3(up))));
 
   const bool diffuse = p.get_bool("diffuse");
   double level = p.get_float("level");
@@ -134,7 +150,9 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   const float level_frac = float(level - std::floor(level));
   const bool specular = p.get_bool("specular");
   const float eye_cell = float(p.get_float("specular_cell"));
-  const glm::ivec2 eye_cells = glm::max(glm::ivec2(glm::ceil(glm::vec2(clip_size) / eye_cell)), glm::ivec2(1));
+  const glm::ivec2 eye_min(glm::floor(glm::vec2(clip.min + origin_px) / eye_cell));
+  const glm::ivec2 eye_cells =
+      glm::max(glm::ivec2(glm::ceil(glm::vec2(clip.max + origin_px) / eye_cell)) - eye_min, glm::ivec2(1));
   const double mid_depth = cam.orthographic ? 1.0 : 0.5 * (ctx.depth_min + ctx.depth_max);
   const double cell_world = eye_cell * mid_depth / px_per_unit;
   const int light_cells = std::clamp(int(std::ceil(extent / cell_world)), 1, kMaxLightCells);
@@ -171,7 +189,8 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   auto set_uniforms = [&](const gl::Program& prog) {
     prog.use();
     glUniformMatrix4fv(prog.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
-    glUniform2i(prog.location("u_size"), ctx.targets.size.x, ctx.targets.size.y);
+    glUniform2i(prog.location("u_size"), frame_px.x, frame_px.y);
+    glUniform2i(prog.location("u_origin"), origin_px.x, origin_px.y);
     glUniform1f(prog.location("u_near"), float(cam.clip_start));
     glUniform1f(prog.location("u_far"), float(cam.clip_end));
     glUniform1i(prog.location("u_ortho"), cam.orthographic ? 1 : 0);
@@ -179,6 +198,7 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     glUniform2i(prog.location("u_clip_min"), clip.min.x, clip.min.y);
     glUniform2i(prog.location("u_clip_max"), clip.max.x, clip.max.y);
     glUniform1f(prog.location("u_factor"), float(factor));
+    glUniform2i(prog.location("u_fine_min"), fine_min.x, fine_min.y);
     glUniform2i(prog.location("u_fine_size"), fine.x, fine.y);
     glUniform1f(prog.location("u_offset"), offset);
     glUniform1i(prog.location("u_casters_all"), p.get_enum_name("shadow_casters") == "all" ? 1 : 0);
@@ -195,6 +215,7 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     glUniform1f(prog.location("u_tau"), float(p.get_float("tau")));
     glUniform1f(prog.location("u_spec_ref"), spec_ref);
     glUniform1f(prog.location("u_eye_cell"), eye_cell);
+    glUniform2i(prog.location("u_eye_min"), eye_min.x, eye_min.y);
     glUniform2i(prog.location("u_eye_cells"), eye_cells.x, eye_cells.y);
     glUniform1i(prog.location("u_light_cells"), light_cells);
     glUniform1f(prog.location("u_dot_size"), float(p.get_float("dot_size")));
@@ -305,20 +326,27 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     hp_other = spare;
 
     point_pass("PASS_SPECULAR");
-    // The reference: the upper edge of the bin holding the percentile.
+    // The reference: one bin (2^(1/8)) above the percentile, which is
+    // interpolated within its bin (log2 scale) by the share of the bin's
+    // points below it. Earlier it was the upper edge of the percentile's
+    // bin, which jumped by a bin as the counts moved (and the highlight's
+    // rim with it); this keeps that margin and moves smoothly.
     std::vector<uint32_t> hist(kHistogramBins);
     glGetNamedBufferSubData(histogram.id(), 0, GLsizeiptr(kHistogramBins * 4), hist.data());
     uint64_t total = 0;
     for (uint32_t h : hist) total += h;
     const double want = kSpecularPercentile * double(total);
     uint64_t sum = 0;
-    int bin = kHistogramBins - 1;
-    for (int b = 0; b < kHistogramBins; ++b)
-      if (double(sum += hist[size_t(b)]) >= want) {
-        bin = b;
+    double position = kHistogramBins;
+    for (int b = 0; b < kHistogramBins; ++b) {
+      const uint32_t h = hist[size_t(b)];
+      if (h > 0 && double(sum + h) >= want) {
+        position = double(b) + std::clamp((want - double(sum)) / double(h), 0.0, 1.0);
         break;
       }
-    spec_ref = float(std::exp2(double(bin + 1) / 8.0 - 64.0));
+      sum += h;
+    }
+    spec_ref = float(std::exp2((position + 1.0) / 8.0 - 64.0));
   }
   // 4. Dots.
   uint32_t kept = 0;
