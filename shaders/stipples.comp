@@ -48,6 +48,14 @@ uniform float u_factor;        // fine texels per pixel
 // moves with the camera and with the tile).
 uniform ivec2 u_fine_min;
 uniform ivec2 u_fine_size;
+// Frame texels whose points this window counts for the frame (visible
+// count, light cells, visible casters, the specular histogram): each point
+// in one window's, whichever windows the frame is cut into.
+uniform ivec2 u_owned_min;
+uniform ivec2 u_owned_max;
+uniform int u_project_hp;      // PASS_PROJECT: into the fine texture
+uniform int u_project_quad;    // PASS_PROJECT: every caster into the quadtree
+uniform int u_accumulate;      // PASS_VISIBLE: the frame's counts of the owned points
 uniform float u_offset;        // depth added per spreading step, scene units
 uniform int u_casters_all;     // 1: every point casts into the light quadtree, 0: visible points only
 // Light: orthographic, along u_light_dir (towards the light, view space).
@@ -106,6 +114,10 @@ Pt project(uint index) {
 }
 
 uint fine_index(ivec2 t) { return uint(t.y) * uint(u_fine_size.x) + uint(t.x); }
+bool owned(Pt p) {
+  ivec2 t = p.fine + u_fine_min;
+  return all(greaterThanEqual(t, u_owned_min)) && all(lessThan(t, u_owned_max));
+}
 
 // Not behind the spread surface: within one step of its texel's depth.
 bool hp_visible(Pt p) { return p.inside && p.depth <= uintBitsToFloat(hp[fine_index(p.fine)]) + u_offset; }
@@ -240,23 +252,26 @@ void main() {
   uint index = u_first + (u_queue != 0 ? queue_order[u_first + i] : i);
   Pt p = project(index);
 #if defined(PASS_PROJECT)
-  if (p.inside) atomicMin(hp[fine_index(p.fine)], floatBitsToUint(p.depth));
-  if (u_diffuse != 0 && u_casters_all != 0 && p.depth >= u_near && p.depth <= u_far)
+  if (u_project_hp != 0 && p.inside) atomicMin(hp[fine_index(p.fine)], floatBitsToUint(p.depth));
+  if (u_project_quad != 0 && u_diffuse != 0 && u_casters_all != 0 && p.depth >= u_near && p.depth <= u_far)
     atomicMin(quad[quad_index(light_texel(p.view, u_levels), u_levels)], light_key(p.view));
 #elif defined(PASS_VISIBLE)
   if (!hp_visible(p)) return;
-  atomicAdd(visible_count, 1u);
+  bool frame = u_accumulate != 0 && owned(p);
+  if (owned(p)) atomicAdd(visible_count, 1u);
   atomicMin(hp_out[fine_index(p.fine)], floatBitsToUint(p.depth));  // the visible surface, spread for the paper
-  if (u_diffuse != 0 && u_casters_all == 0)
+  if (frame && u_diffuse != 0 && u_casters_all == 0)
     atomicMin(quad[quad_index(light_texel(p.view, u_levels), u_levels)], light_key(p.view));
   if (u_specular != 0) {
     ivec2 e = eye_cell(p.center);
     atomicAdd(eye_count[uint(e.y) * uint(u_eye_cells.x) + uint(e.x)], 1u);
-    ivec2 l = light_cell(p.view);
-    atomicAdd(light_count[uint(l.y) * uint(u_light_cells) + uint(l.x)], 1u);
+    if (frame) {
+      ivec2 l = light_cell(p.view);
+      atomicAdd(light_count[uint(l.y) * uint(u_light_cells) + uint(l.x)], 1u);
+    }
   }
 #elif defined(PASS_SPECULAR)
-  if (!hp_visible(p)) return;
+  if (!hp_visible(p) || !owned(p)) return;
   // A histogram, not the maximum: a few outliers (cells cut by the
   // silhouette) would set a maximum; a percentile ignores them.
   float s = specular_raw(p);
