@@ -35,15 +35,27 @@ layout(r32f, binding = 1) uniform writeonly image2D u_depth_out;
 #endif
 
 uniform mat4 u_projection;
-uniform ivec2 u_size;
+uniform ivec2 u_size;          // the frame's (positions below are frame pixels; images are local: - u_origin)
 uniform float u_near;
 uniform float u_far;
 uniform int u_ortho;
 uniform float u_px_per_unit;   // pixels per scene unit at view depth 1
-uniform ivec2 u_clip_min;
+uniform ivec2 u_clip_min;      // local pixels
 uniform ivec2 u_clip_max;
 uniform float u_factor;        // fine texels per pixel
+// The fine texture's (0, 0) is the frame's fine texel u_fine_min: texels
+// are anchored at the frame's corner, not at the segment's rectangle (which
+// moves with the camera and with the tile).
+uniform ivec2 u_fine_min;
 uniform ivec2 u_fine_size;
+// Frame texels whose points this window counts for the frame (visible
+// count, light cells, visible casters, the specular histogram): each point
+// in one window's, whichever windows the frame is cut into.
+uniform ivec2 u_owned_min;
+uniform ivec2 u_owned_max;
+uniform int u_project_hp;      // PASS_PROJECT: into the fine texture
+uniform int u_project_quad;    // PASS_PROJECT: every caster into the quadtree
+uniform int u_accumulate;      // PASS_VISIBLE: the frame's counts of the owned points
 uniform float u_offset;        // depth added per spreading step, scene units
 uniform int u_casters_all;     // 1: every point casts into the light quadtree, 0: visible points only
 // Light: orthographic, along u_light_dir (towards the light, view space).
@@ -61,6 +73,7 @@ uniform int u_specular;
 uniform float u_tau;
 uniform float u_spec_ref;      // PASS_DRAW: the segment's high percentile of specular_raw
 uniform float u_eye_cell;      // pixels
+uniform ivec2 u_eye_min;       // the first eye cell (frame-anchored, like the fine texels)
 uniform ivec2 u_eye_cells;
 uniform int u_light_cells;     // per side
 uniform float u_dot_size;
@@ -82,7 +95,7 @@ uint order_key(float f) {
 
 struct Pt {
   vec3 view;
-  vec2 center;  // window pixels
+  vec2 center;  // frame pixels
   float depth;  // linear view depth
   ivec2 fine;   // texel of the fine eye texture
   bool inside;  // in the clip range and the clip rect
@@ -94,13 +107,17 @@ Pt project(uint index) {
   p.depth = -p.view.z;
   vec4 c = u_projection * vec4(p.view, 1.0);
   p.center = (c.xy / c.w * 0.5 + 0.5) * vec2(u_size);
-  p.fine = ivec2(floor((p.center - vec2(u_clip_min)) * u_factor));
+  p.fine = ivec2(floor(p.center * u_factor)) - u_fine_min;
   p.inside = p.depth >= u_near && p.depth <= u_far && c.w > 0.0 && all(greaterThanEqual(p.fine, ivec2(0))) &&
              all(lessThan(p.fine, u_fine_size));
   return p;
 }
 
 uint fine_index(ivec2 t) { return uint(t.y) * uint(u_fine_size.x) + uint(t.x); }
+bool owned(Pt p) {
+  ivec2 t = p.fine + u_fine_min;
+  return all(greaterThanEqual(t, u_owned_min)) && all(lessThan(t, u_owned_max));
+}
 
 // Not behind the spread surface: within one step of its texel's depth.
 bool hp_visible(Pt p) { return p.inside && p.depth <= uintBitsToFloat(hp[fine_index(p.fine)]) + u_offset; }
@@ -121,42 +138,52 @@ uint quad_index(ivec2 t, int level) {
 }
 
 ivec2 eye_cell(vec2 center) {
-  return clamp(ivec2(floor((center - vec2(u_clip_min)) / u_eye_cell)), ivec2(0), u_eye_cells - 1);
+  return clamp(ivec2(floor(center / u_eye_cell)) - u_eye_min, ivec2(0), u_eye_cells - 1);
 }
 ivec2 light_cell(vec3 v) {
   return clamp(ivec2(floor(light_uv(v) * float(u_light_cells))), ivec2(0), ivec2(u_light_cells - 1));
 }
+// Overlap of cell [c, c + 1) with the window [lo, hi) (cell units).
+float overlap(float c, float lo, float hi) { return clamp(min(c + 1.0, hi) - max(c, lo), 0.0, 1.0); }
 
 // Area per point on the eye and light planes around a point (3 x 3 cells):
 // a surface of a points per unit area shows a (n.v) and a (n.l) there, so
 // their sum grows with n.(v + l): largest where the surface faces the
 // half-way direction of eye and light (the highlight). Scene units^2.
 float specular_raw(Pt p) {
-  ivec2 e = eye_cell(p.center);
-  uint points = 0u, covered = 0u;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      ivec2 c = e + ivec2(dx, dy);
+  // Sums over a window 3 cells wide centred on the point, each cell weighted
+  // by its overlap: the sums vary continuously as the point moves over the
+  // cells (a 3 x 3 block of whole cells would jump at every cell edge, and
+  // the highlight's rim with it, as the camera moves).
+  vec2 e = p.center / u_eye_cell - vec2(u_eye_min);
+  float points = 0.0, covered = 0.0;
+  ivec2 e0 = ivec2(floor(e - 1.5));
+  for (int dy = 0; dy <= 3; ++dy)
+    for (int dx = 0; dx <= 3; ++dx) {
+      ivec2 c = e0 + ivec2(dx, dy);
       if (any(lessThan(c, ivec2(0))) || any(greaterThanEqual(c, u_eye_cells))) continue;
+      float w = overlap(float(c.x), e.x - 1.5, e.x + 1.5) * overlap(float(c.y), e.y - 1.5, e.y + 1.5);
       uint i = uint(c.y) * uint(u_eye_cells.x) + uint(c.x);
-      points += eye_count[i];
-      covered += eye_cover[i];
+      points += w * float(eye_count[i]);
+      covered += w * float(eye_cover[i]);
     }
   float w = u_ortho != 0 ? 1.0 : p.depth;
   float px_area = w / u_px_per_unit;
-  float eye_area = float(covered) / (u_factor * u_factor) * px_area * px_area / float(max(points, 1u));
-  ivec2 l = light_cell(p.view);
-  uint lpoints = 0u, occupied = 0u;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      ivec2 c = l + ivec2(dx, dy);
+  float eye_area = covered / (u_factor * u_factor) * px_area * px_area / max(points, 1.0);
+  vec2 l = light_uv(p.view) * float(u_light_cells);
+  float lpoints = 0.0, occupied = 0.0;
+  ivec2 l0 = ivec2(floor(l - 1.5));
+  for (int dy = 0; dy <= 3; ++dy)
+    for (int dx = 0; dx <= 3; ++dx) {
+      ivec2 c = l0 + ivec2(dx, dy);
       if (any(lessThan(c, ivec2(0))) || any(greaterThanEqual(c, ivec2(u_light_cells)))) continue;
+      float w = overlap(float(c.x), l.x - 1.5, l.x + 1.5) * overlap(float(c.y), l.y - 1.5, l.y + 1.5);
       uint n = light_count[uint(c.y) * uint(u_light_cells) + uint(c.x)];
-      lpoints += n;
-      occupied += n > 0u ? 1u : 0u;
+      lpoints += w * float(n);
+      occupied += n > 0u ? w : 0.0;
     }
   float cell = u_light_extent / float(u_light_cells);
-  float light_area = float(occupied) * cell * cell / float(max(lpoints, 1u));
+  float light_area = occupied * cell * cell / max(lpoints, 1.0);
   return eye_area + light_area;
 }
 
@@ -194,7 +221,7 @@ void main() {
   hp_out[fine_index(t)] = all_in ? 0u : 0x7f800000u;
 #else  // PASS_COVER: the surface area per eye cell
   if (!isinf(uintBitsToFloat(hp[fine_index(t)]))) {
-    ivec2 c = eye_cell(vec2(u_clip_min) + (vec2(t) + 0.5) / u_factor);
+    ivec2 c = eye_cell((vec2(t + u_fine_min) + 0.5) / u_factor);
     atomicAdd(eye_cover[uint(c.y) * uint(u_eye_cells.x) + uint(c.x)], 1u);
   }
 #endif
@@ -202,7 +229,7 @@ void main() {
 #elif defined(PASS_RESOLVE)
   ivec2 q;
   if (!rect_pixel(q)) return;
-  ivec2 t = clamp(ivec2(floor((vec2(q - u_clip_min) + 0.5) * u_factor)), ivec2(0), u_fine_size - 1);
+  ivec2 t = clamp(ivec2(floor((vec2(q + u_origin) + 0.5) * u_factor)) - u_fine_min, ivec2(0), u_fine_size - 1);
   float surface = uintBitsToFloat(hp_out[fine_index(t)]);  // the spreading without the step
   bool on_surface = !isinf(surface) && u_paper.a > 0.0;
   uint pix = uint(q.y - u_clip_min.y) * uint(u_clip_max.x - u_clip_min.x) + uint(q.x - u_clip_min.x);
@@ -225,23 +252,26 @@ void main() {
   uint index = u_first + (u_queue != 0 ? queue_order[u_first + i] : i);
   Pt p = project(index);
 #if defined(PASS_PROJECT)
-  if (p.inside) atomicMin(hp[fine_index(p.fine)], floatBitsToUint(p.depth));
-  if (u_diffuse != 0 && u_casters_all != 0 && p.depth >= u_near && p.depth <= u_far)
+  if (u_project_hp != 0 && p.inside) atomicMin(hp[fine_index(p.fine)], floatBitsToUint(p.depth));
+  if (u_project_quad != 0 && u_diffuse != 0 && u_casters_all != 0 && p.depth >= u_near && p.depth <= u_far)
     atomicMin(quad[quad_index(light_texel(p.view, u_levels), u_levels)], light_key(p.view));
 #elif defined(PASS_VISIBLE)
   if (!hp_visible(p)) return;
-  atomicAdd(visible_count, 1u);
+  bool frame = u_accumulate != 0 && owned(p);
+  if (owned(p)) atomicAdd(visible_count, 1u);
   atomicMin(hp_out[fine_index(p.fine)], floatBitsToUint(p.depth));  // the visible surface, spread for the paper
-  if (u_diffuse != 0 && u_casters_all == 0)
+  if (frame && u_diffuse != 0 && u_casters_all == 0)
     atomicMin(quad[quad_index(light_texel(p.view, u_levels), u_levels)], light_key(p.view));
   if (u_specular != 0) {
     ivec2 e = eye_cell(p.center);
     atomicAdd(eye_count[uint(e.y) * uint(u_eye_cells.x) + uint(e.x)], 1u);
-    ivec2 l = light_cell(p.view);
-    atomicAdd(light_count[uint(l.y) * uint(u_light_cells) + uint(l.x)], 1u);
+    if (frame) {
+      ivec2 l = light_cell(p.view);
+      atomicAdd(light_count[uint(l.y) * uint(u_light_cells) + uint(l.x)], 1u);
+    }
   }
 #elif defined(PASS_SPECULAR)
-  if (!hp_visible(p)) return;
+  if (!hp_visible(p) || !owned(p)) return;
   // A histogram, not the maximum: a few outliers (cells cut by the
   // silhouette) would set a maximum; a percentile ignores them.
   float s = specular_raw(p);
@@ -264,15 +294,15 @@ void main() {
   if (u_capture != 0) capture[atomicAdd(captured, 1u)].center_id = vec4(p.view, uintBitsToFloat(id));
   float diameter = max(u_dot_size * (1.0 + u_size_jitter * (2.0 * hash01(id, 3u) - 1.0)), 0.5);
   float r = 0.5 * diameter;
-  ivec2 lo = max(ivec2(floor(p.center - r - 0.5)), u_clip_min);
-  ivec2 hi = min(ivec2(ceil(p.center + r + 0.5)), u_clip_max - 1);
+  ivec2 lo = max(ivec2(floor(p.center - r - 0.5)) - u_origin, u_clip_min);
+  ivec2 hi = min(ivec2(ceil(p.center + r + 0.5)) - u_origin, u_clip_max - 1);
   uint depth_bits = floatBitsToUint(p.depth);
   int width = u_clip_max.x - u_clip_min.x;
   for (int y = lo.y; y <= hi.y; ++y)
     for (int x = lo.x; x <= hi.x; ++x) {
       // Area coverage of a disc (1 px wide antialiased edge, at least a
       // pixel's worth spread over the pixels a small dot touches).
-      float dist = length(vec2(x, y) + 0.5 - p.center);
+      float dist = length(vec2(ivec2(x, y) + u_origin) + 0.5 - p.center);
       float cov = clamp(r + 0.5 - dist, 0.0, 1.0) * min(1.0, diameter * diameter);
       if (cov <= 0.0) continue;
       uint pix = uint(y - u_clip_min.y) * uint(width) + uint(x - u_clip_min.x);

@@ -116,6 +116,13 @@ struct CapturedMark {
   uint32_t kind = 0;          // the mark's class of point (feature_strokes: 0 directional, 1 non-directional, 2 dithering)
 };
 
+// What a mark computes once per frame for all its tiles (stipples: the
+// light-view quadtree, counts over every visible point). CPU memory only:
+// it is freed off the GL thread.
+struct MarkFrameCache {
+  virtual ~MarkFrameCache() = default;
+};
+
 struct MarkContext {
   gl::ShaderLibrary* shaders = nullptr;
   ImageTextures* images = nullptr;
@@ -124,6 +131,12 @@ struct MarkContext {
   std::span<const VisibleChunk> chunks;
   std::span<const VisibleMesh> meshes;  // for mesh_surface; empty for the point marks
   Rect clip;                    // screen bounds of the chunks (+ the mark's extent)
+  // The segment in the whole frame (a tile's `chunks` and `clip` are what
+  // reaches it): every visible chunk, their rectangle in frame pixels, and
+  // a cache that lives for the frame (empty at its first tile).
+  std::span<const VisibleChunk> frame_chunks;
+  Rect frame_clip;
+  std::unique_ptr<MarkFrameCache>* frame_cache = nullptr;
   double depth_min = 0.0;       // view depth range of the visible chunks' bounds
   double depth_max = 1.0;
   double time = 0.0;

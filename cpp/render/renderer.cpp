@@ -260,6 +260,7 @@ struct Renderer::Impl {
     // The segment's meshes drawn as surfaces (their clouds, for meshes drawn
     // as points, are kept alive here: `chunks` points into them).
     MeshPass meshes;
+    mutable std::unique_ptr<MarkFrameCache> mark_cache;  // the mark's, for the frame's tiles
   };
 
   // A segment's meshes and chunks, once per frame, in frame pixels.
@@ -441,6 +442,9 @@ struct Renderer::Impl {
     mark.targets = mark_targets();
     mark.chunks = visible.chunks;
     mark.clip = screen;
+    mark.frame_chunks = in_frame.chunks;
+    mark.frame_clip = in_frame.screen;
+    mark.frame_cache = &in_frame.mark_cache;
     mark.depth_min = visible.depth_min;
     mark.depth_max = std::max(visible.depth_max, visible.depth_min);
     mark.time = s.time;
@@ -462,6 +466,8 @@ struct Renderer::Impl {
       surface.chunks = {};
       surface.meshes = mesh_pass.visible;
       surface.clip = mesh_pass.screen;
+      surface.frame_chunks = {};
+      surface.frame_cache = nullptr;
       surface.depth_min = mesh_pass.depth_min;
       surface.depth_max = std::max(mesh_pass.depth_max, mesh_pass.depth_min);
       seg.style.surface.mark->draw(surface, seg.style.surface.params);
