@@ -15,7 +15,7 @@ import zlib
 import bpy
 import numpy as np
 
-from . import mesh_sync, nodes
+from . import edits, mesh_sync, nodes
 
 
 _COLOR_TYPES = {'BYTE_COLOR', 'FLOAT_COLOR'}
@@ -227,16 +227,20 @@ read_log = []
 # Cloud cache
 
 class _CacheEntry:
-    __slots__ = ("key", "cloud", "data_name")
+    __slots__ = ("key", "cloud", "data_name", "read_at", "signature")
 
-    def __init__(self, key, cloud, data_name):
+    def __init__(self, key, cloud, data_name, read_at, signature):
         self.key = key
         self.cloud = cloud
         self.data_name = data_name
+        self.read_at = read_at      # edits.now() before the object was read
+        self.signature = signature  # unedited_signature() then, or None: never trusted unread
 
 
-_cloud_cache = {}   # (object type, object name) -> _CacheEntry
-_stats = {"uploads": 0, "hits": 0}
+_cloud_cache = {}   # cloud_key() -> _CacheEntry
+# reads: objects whose geometry was read; hits: clouds reused; trusted: of
+# those, reused without reading the object (no edit since it was read).
+_stats = {"uploads": 0, "hits": 0, "trusted": 0, "reads": 0}
 
 
 def cache_stats():
@@ -247,7 +251,7 @@ def clear_cache():
     mesh_sync.clear_cache()
     _cloud_cache.clear()
     _scan_caches.clear()
-    _stats["uploads"] = _stats["hits"] = 0
+    _stats.update(uploads=0, hits=0, trusted=0, reads=0)
     del read_log[:]
 
 
@@ -267,8 +271,21 @@ def prune_cache(used=None):
     names = set(bpy.data.objects.keys())
     used = set(used or ())
     mesh_sync.prune_cache({k[1:] for k in used if k[0] == "TRIANGLES"}, names, {k[1] for k in used})
-    used_objects = {k[:2] for k in used}
-    for key in [k for k in _cloud_cache if k[1] not in names or (k[:2] in used_objects and k not in used)]:
+    modes = {}   # (type, name) -> the evaluation modes of its clouds the build used
+    for k in used:
+        if k[0] != "TRIANGLES":
+            modes.setdefault(k[:2], set()).add(k[4])
+
+    def stale(k):
+        used_modes = modes.get(k[:2])
+        if used_modes is None or k in used:
+            return False
+        # The same evaluation for other attributes, or a cloud of the object
+        # read before it gained (None: had no) modifiers or the reverse; the
+        # other depsgraph's cloud of a modified object stays.
+        return k[4] in used_modes or k[4] is None or None in used_modes
+
+    for key in [k for k in _cloud_cache if k[1] not in names or stale(k)]:
         del _cloud_cache[key]
 
 
@@ -303,17 +320,23 @@ def cached_cloud_for(obj, path):
     return entry[2]
 
 
-def cloud_for(obj, attributes, trust_cache=False, fallbacks=()):
+def cloud_for(obj, attributes, trust_cache=False, fallbacks=(), mode=None):
     """The pointnpr.PointCloud of evaluated object ``obj``
     with the source attributes the style needs (a tuple of names, see
     source_attributes(); a single name or None is accepted too). Only those
     attributes are read from the object, and of ``fallbacks`` (see
-    fallback_attributes()) only the first the object has.
+    fallback_attributes()) only the first the object has. ``mode`` is the
+    depsgraph's evaluation mode ('VIEWPORT', 'RENDER'): an object whose
+    modifiers may evaluate differently in each keeps a cloud per mode.
 
-    The cache key is the object, the set of attribute names, and a CRC32 of
-    the coordinates and attribute bytes. With ``trust_cache`` (viewport,
-    where depsgraph updates invalidate entries) a cached cloud is reused
-    without reading the geometry again."""
+    A cached cloud is reused without reading the object again
+    - with ``trust_cache`` (viewport, where depsgraph updates invalidate
+      entries), or
+    - where the object is plain data (is_plain()) and no edit reached it
+      since it was read (blender/edits.py) and its unedited_signature() is
+      the same: a repeated F12 of a large scan reads nothing.
+    Otherwise the geometry is read and a CRC32 of the coordinates and
+    attribute bytes decides whether the cached cloud still holds."""
     if attributes is None:
         attributes = ()
     elif isinstance(attributes, str):
@@ -321,14 +344,23 @@ def cloud_for(obj, attributes, trust_cache=False, fallbacks=()):
     attributes = tuple(sorted(set(attributes)))
     fallbacks = tuple(a for a in AUTO_COLOR_SOURCES if a in fallbacks and a in attributes)
     name = obj.name
+    plain = is_plain(obj)
     # Geometry-nodes output appears as an instance named like its object
     # but of another type: the type is part of the key. Two styles asking
     # for different attributes of one object keep one cloud each.
-    cache_key = cloud_key(obj, attributes, fallbacks)
+    cache_key = cloud_key(obj, attributes, fallbacks, mode)
     entry = _cloud_cache.get(cache_key)
     if trust_cache and entry is not None:
         _stats["hits"] += 1
         return entry.cloud
+    data_name = getattr(obj.data, "name", None)
+    signature = unedited_signature(obj, attributes) if plain else None
+    if entry is not None and signature is not None and entry.signature == signature and \
+            edits.unchanged_since(entry.read_at, (name, data_name)):
+        _stats["hits"] += 1
+        _stats["trusted"] += 1
+        return entry.cloud
+    read_at = edits.now()
     values = {}
     crc = 0
     # 'auto' colour's sources first, in its order: once one is found the
@@ -348,18 +380,91 @@ def cloud_for(obj, attributes, trust_cache=False, fallbacks=()):
             # zlib reads the arrays' own memory (tobytes() would copy them).
             crc = zlib.crc32(np.ascontiguousarray(value), crc)
     # The positions last: the colours' float temporaries are gone by then.
+    _stats["reads"] += 1
     positions = read_positions(obj)  # float32, as Blender stores them
     crc = zlib.crc32(positions, crc)
     key = (tuple(sorted(values)), positions.shape[0], crc)
     if entry is not None and entry.key == key:
         _stats["hits"] += 1
+        entry.read_at, entry.signature = read_at, signature
         return entry.cloud
     # The core reads float32 positions as they are (in double, point by
     # point); the object's matrix is composed with them in double per chunk.
     cloud = _core().PointCloud(positions, **values)
-    _cloud_cache[cache_key] = _CacheEntry(key, cloud, getattr(obj.data, "name", None))
+    _cloud_cache[cache_key] = _CacheEntry(key, cloud, data_name, read_at, signature)
     _stats["uploads"] += 1
     return cloud
+
+
+def is_plain(obj):
+    """True for an object whose evaluated points are its own data as stored:
+    in Object Mode (edit and sculpt modes keep their changes outside the
+    mesh until they are flushed), without modifiers or particle systems
+    (evaluated per frame and per viewport / render: geometry nodes, hooks,
+    render-only levels), shape keys or animated data, and not an instance.
+    Only such an object's cloud is trusted without reading it (cloud_for):
+    nothing but an edit can change it, and every edit is seen (edits.py)."""
+    original = getattr(obj, "original", None)
+    if original is None or isinstance(obj, _InstanceCopy):
+        return False
+    if getattr(original, "mode", 'OBJECT') != 'OBJECT':
+        return False
+    if len(getattr(original, "modifiers", ())) or len(getattr(original, "particle_systems", ())):
+        return False
+    data = getattr(original, "data", None)
+    if data is None or getattr(data, "is_editmode", False) or getattr(data, "shape_keys", None) is not None:
+        return False
+    animation = getattr(data, "animation_data", None)
+    return animation is None or (animation.action is None and len(animation.drivers) == 0)
+
+
+# Points sampled by unedited_signature(): enough to see a script that
+# rewrote the whole cloud with foreach_set and no update (Blender's own
+# viewport does not see that either), about 3 ms.
+_SIGNATURE_SAMPLES = 1024
+
+
+def unedited_signature(obj, attributes):
+    """What must be the same for a plain object's cloud to be trusted
+    unread: its data-block (address and name), point count, bounds and a
+    strided sample of its positions and of the attributes read — a safety
+    net under the edit tracking, not a proof (an untracked change of a
+    single point between the samples is not seen)."""
+    data = obj.data
+    original = getattr(getattr(obj, "original", obj), "data", None)
+    if obj.type == 'MESH':
+        points, field = data.vertices, "co"
+    elif hasattr(data, "points"):
+        points, field = data.points, "co"
+    else:
+        points, field = data.attributes["position"].data, "vector"
+    n = len(points)
+    samples = sorted(set(np.linspace(0, n - 1, min(n, _SIGNATURE_SAMPLES)).astype(np.int64).tolist())) if n else []
+    values = [tuple(getattr(points[i], field)) for i in samples]
+    for attribute in attributes:
+        attr = _first_color_attribute(data) if attribute == "colors" else \
+            next((a for a in (_point_attributes(data).get(n) for n in _SAMPLED_ATTRIBUTES.get(attribute, ()))
+                  if a is not None), None) if _point_attributes(data) else None
+        if attr is None:
+            values.append((attribute, None))
+            continue
+        field = {'BYTE_COLOR': "color", 'FLOAT_COLOR': "color", 'FLOAT_VECTOR': "vector"}.get(attr.data_type, "value")
+        items = attr.data
+        values.append((attribute, attr.name, attr.data_type, attr.domain, len(items)))
+        if len(items) == n:
+            values.extend(_value_tuple(getattr(items[i], field)) for i in samples)
+    bounds = tuple(tuple(corner) for corner in getattr(obj, "bound_box", ()))
+    return (original.as_pointer() if original is not None else 0, getattr(data, "name", None), n, bounds,
+            hash(tuple(values)))
+
+
+# The point attributes each reader reads (see _READERS).
+_SAMPLED_ATTRIBUTES = {"intensity": ("intensity",), "classification": ("classification",),
+                       "point_index": ("point_index",), "normals": ("normal", "N")}
+
+
+def _value_tuple(value):
+    return tuple(value) if hasattr(value, "__len__") else value
 
 
 def _read_order(attribute):
@@ -369,9 +474,11 @@ def _read_order(attribute):
     return (1, 0, attribute)
 
 
-def cloud_key(obj, attributes, fallbacks=()):
-    """The cloud cache's key of ``obj`` read for ``attributes`` (sorted) and ``fallbacks``."""
-    return (obj.type, obj.name, attributes, fallbacks)
+def cloud_key(obj, attributes, fallbacks=(), mode=None):
+    """The cloud cache's key of ``obj`` read for ``attributes`` (sorted) and
+    ``fallbacks``, in evaluation ``mode`` (None for a plain object: the same
+    points in the viewport and in renders)."""
+    return (obj.type, obj.name, attributes, fallbacks, None if mode is None or is_plain(obj) else mode)
 
 
 # ---------------------------------------------------------------------------
@@ -412,10 +519,14 @@ def visible_instances(depsgraph):
         owner = inst.parent if inst.is_instance and inst.parent is not None else obj
         if obj is None or obj.type not in {'MESH', 'POINTCLOUD'}:
             continue
+        if obj.type == 'MESH' and getattr(obj, "mode", 'OBJECT') == 'EDIT':
+            obj = _EditModeCopy(obj)
+        elif not has_points(obj):
+            continue
+        elif inst.is_instance:
+            obj = _InstanceCopy(obj)
         if not has_points(obj):
             continue
-        if inst.is_instance:
-            obj = _InstanceCopy(obj)
         out.append((obj, _matrix64(inst.matrix_world), owner))
     return out
 
@@ -430,6 +541,18 @@ class _InstanceCopy:
         self.name, self.type, self.data = obj.name, obj.type, obj.data
         # Mesh surfaces read their materials through the slots.
         self.material_slots = [_MaterialSlot(slot.material) for slot in getattr(obj, "material_slots", ())]
+
+
+class _EditModeCopy(_InstanceCopy):
+    """An object in Edit Mode: its evaluated mesh wraps the edit mesh and
+    has no vertex arrays (no vertices through the API); to_mesh() makes the
+    mesh of what is being edited (owned by the evaluated object, freed with
+    it). Never trusted unread (sync.is_plain)."""
+    __slots__ = ()
+
+    def __init__(self, obj):
+        super().__init__(obj)
+        self.data = obj.to_mesh()
 
 
 class _MaterialSlot:
@@ -520,8 +643,8 @@ def build_scene(depsgraph, frame, trust_cache=False):
                 # An out-of-core scan: the render streams its cache, not the proxy's vertices.
                 cloud = cached_cloud_for(obj, cache_path)
             else:
-                cloud = cloud_for(obj, attributes, trust_cache=trust_cache, fallbacks=fallbacks)
-                used_keys.add(cloud_key(obj, attributes, fallbacks))
+                cloud = cloud_for(obj, attributes, trust_cache=trust_cache, fallbacks=fallbacks, mode=depsgraph.mode)
+                used_keys.add(cloud_key(obj, attributes, fallbacks, depsgraph.mode))
             # Named for the core's warnings: it reports each cause once per
             # frame (missing colours, non-finite points) with the objects.
             instances.append((cloud, matrix, obj.name))
