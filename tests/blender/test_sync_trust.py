@@ -276,3 +276,23 @@ def test_the_f12_after_an_undo_renders_the_undone_geometry(tmp_path):
     assert proc.returncode == 0, out[-3000:] + proc.stderr[-3000:]
     # Moved, then undone: the picture of before the edit, as from an empty cache.
     assert "RESULT True True True" in out, out[-3000:] + proc.stderr[-3000:]
+
+
+def test_the_viewport_starting_keeps_what_an_f12_read_unless_it_was_edited(tmp_path):
+    # engine.view_update's first call revalidates every object: geometry may
+    # have changed while another engine was active, but what no edit reached
+    # is kept (no second read of a large scan on entering Rendered shading).
+    _scene, obj = _scan_scene()
+    sync.clear_cache()
+    _f12(tmp_path, "f12")
+    cloud = next(iter(sync._cloud_cache.values())).cloud
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    sync.revalidate(obj.evaluated_get(depsgraph))
+    synced = sync.build_scene(depsgraph, 1.0, trust_cache=True)
+    assert synced.segments[0][2][0][0] is cloud and sync.cache_stats()["reads"] == 1
+    _shift_half(obj)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    sync.revalidate(obj.evaluated_get(depsgraph))
+    assert not sync._cloud_cache
+    synced = sync.build_scene(depsgraph, 1.0, trust_cache=True)
+    assert synced.segments[0][2][0][0] is not cloud and sync.cache_stats()["reads"] == 2

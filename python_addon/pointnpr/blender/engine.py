@@ -311,9 +311,10 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
                 elif isinstance(id_, (bpy.types.Material, bpy.types.Image)):
                     sync.invalidate(id_.name)   # meshes coloured by it (blender/mesh_sync.py)
             if first:
-                # Geometry may have changed while another engine was active.
+                # Geometry may have changed while another engine was active
+                # (what an F12 read and no edit reached since is kept).
                 for obj in depsgraph.objects:
-                    sync.invalidate(obj.name)
+                    sync.revalidate(obj)
             self._pointnpr_synced = True
             self._pointnpr_dirty = True
         except Exception as exc:

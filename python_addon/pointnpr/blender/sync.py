@@ -274,6 +274,21 @@ def invalidate(name):
         del _cloud_cache[key]
 
 
+def revalidate(obj):
+    """Forget the clouds of evaluated object ``obj`` unless they may be
+    trusted unread (a plain object no edit reached since, the same
+    signature: see cloud_for): what the viewport calls when it starts, for
+    geometry edited while another engine was active."""
+    plain = is_plain(obj)
+    for key in [k for k in _cloud_cache if k[1] == obj.name]:
+        entry = _cloud_cache[key]
+        if not (plain and key[0] == obj.type and key[4] is None and entry.signature is not None and
+                entry.signature == unedited_signature(obj, key[2]) and
+                edits.unchanged_since(entry.read_at, (obj.name, entry.data_name))):
+            del _cloud_cache[key]
+    mesh_sync.invalidate(obj.name)
+
+
 def prune_cache(used=None):
     """Drop the clouds of objects that no longer exist (frees their GPU
     memory) and, with ``used`` (the cache keys a scene build used), the
