@@ -15,7 +15,6 @@ copy of build/ with another commit's python_addon/pointnpr in it).
 """
 import argparse
 import json
-import os
 import pathlib
 import subprocess
 import sys

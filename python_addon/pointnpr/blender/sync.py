@@ -604,7 +604,7 @@ class SyncResult:
         (the viewport's worker calls it; build_scene does without defer)."""
         with self._lock:
             if self.scene is None:
-                segments = [(name, style, [(resolved(cloud), matrix, obj_name) for cloud, matrix, obj_name in instances])
+                segments = [(name, style, [(resolved(c), matrix, obj_name) for c, matrix, obj_name in instances])
                             for name, style, instances in self.segments]
                 scene = _core().Scene()
                 for name, style, instances in segments:
