@@ -68,8 +68,10 @@ def child(build, path, frames, out):
         t0 = time.perf_counter()
         bpy.ops.render.render()
         rows.append((time.perf_counter() - t0, sync_s[-1]))
+    sys.path.insert(0, str(ROOT / "bench"))
+    from bench_memory import peak_rss
     json.dump({"points": len(obj.data.vertices), "frames": rows, "blender": bpy.app.version_string,
-               "stats": sync.cache_stats()}, open(out, "w"))
+               "stats": sync.cache_stats(), "peak_rss": peak_rss()}, open(out, "w"))
 
 
 def main():
@@ -90,8 +92,8 @@ def main():
     from bench_memory import write_tiled_las
 
     print("load average at the start: %s" % " ".join(open("/proc/loadavg").read().split()[:3]))
-    print("| build | round | points | F12 | time | of which sync |")
-    print("|---|---|---|---|---|---|")
+    print("| build | round | points | F12 | time | of which sync | peak RSS after the last |")
+    print("|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory(prefix="bench_f12_sync_") as tmp:
         las = pathlib.Path(tmp) / "tiles.las"
         write_tiled_las(args.tiles, las)
@@ -109,8 +111,10 @@ def main():
                 res = json.load(open(out))
                 out.unlink()
                 for i, (total, sync_s) in enumerate(res["frames"]):
-                    print("| %s | %d | %.1fM | %d | %.2f s | %.2f s |" % (build, r + 1, res["points"] / 1e6, i + 1,
-                                                                       total, sync_s))
+                    last = i + 1 == len(res["frames"])
+                    print("| %s | %d | %.1fM | %d | %.2f s | %.2f s | %s |" % (
+                        build, r + 1, res["points"] / 1e6, i + 1, total, sync_s,
+                        "%.2f GB" % (res["peak_rss"] / 1e9) if last else ""))
                 sys.stdout.flush()
     print("load average at the end: %s" % " ".join(open("/proc/loadavg").read().split()[:3]))
 
