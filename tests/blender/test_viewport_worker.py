@@ -215,3 +215,76 @@ def test_navigation_frames_keep_the_full_frames_points_per_pixel():
     assert synced.render_args_at(8)["point_budget"] == 3_000_000 // 64
     synced.point_budget = 0                         # every point, at any resolution
     assert synced.render_args_at(4)["point_budget"] == 0
+
+
+def _scan_in_view():
+    """A cloud with colours in front of a camera, synced from Blender's depsgraph."""
+    import helpers
+    helpers.reset_scene()
+    helpers.add_camera(location=(0.0, 0.0, 10.0), ortho=True)
+    coll = helpers.new_collection("Scan")
+    pts = helpers.grid_points(3.0, 0.1, 0.0)
+    rng = np.random.default_rng(3)
+    helpers.add_points("Scan", coll, pts, colors=rng.random((len(pts), 3)))
+    tree = helpers.constant_style("Colours", helpers.RED, point_size=3.0)
+    tree.nodes["Points"].color_source = "rgb"
+    coll.pointnpr_style = tree
+    return bpy.context.evaluated_depsgraph_get()
+
+
+def test_the_first_viewport_sync_reads_on_the_main_thread_and_builds_its_clouds_on_the_worker(worker, monkeypatch):
+    import threading
+    from pointnpr.blender import engine, sync
+    depsgraph = _scan_in_view()
+    sync.clear_cache()
+    built_on = []
+    resolve = sync.PendingCloud.resolve
+
+    def recorded(self):
+        if self.built() is None:
+            built_on.append(threading.current_thread().name)
+        return resolve(self)
+
+    monkeypatch.setattr(sync.PendingCloud, "resolve", recorded)
+    synced = engine._SyncedScene(depsgraph, state=None)
+    # Read (the object's data can only be read here), not built.
+    assert sync.cache_stats()["reads"] == 1 and built_on == []
+    assert synced.result.scene is None and synced.result.num_points == 61 * 61
+    camera = engine.make_camera(depsgraph, bpy.context.scene.camera, 96, 64)
+    session = worker.Session()
+    req = viewport_worker.Request(engine.renderer(), lambda: synced.scene_at(4), camera, 24, 16, 4, "k",
+                                  synced.render_args_at(4))
+    full = viewport_worker.Request(engine.renderer(), lambda: synced.scene_at(1), camera, 96, 64, 1, "k",
+                                   synced.render_args_at(1))
+    session.submit(req, deferred=full, deferred_at=time.perf_counter())
+    wait_for(lambda: session.frame() is not None and session.frame().full, "the full frame")
+    assert built_on == ["PointNPR viewport"]          # once, on the worker, for both frames
+    # The same picture as a sync that builds its clouds at once, from an empty cache.
+    sync.clear_cache()
+    direct = sync.build_scene(depsgraph, 1.0, trust_cache=True)
+    assert sync.cache_stats()["reads"] == 1 and built_on == ["PointNPR viewport", "MainThread"]
+    expected = engine.renderer().render(direct.scene, camera, 96, 64, **synced.render_args_at(1))
+    assert np.asarray(session.frame().color).tobytes() == np.asarray(expected.color).tobytes()
+    # A later sync of the unchanged object reuses the built cloud: nothing read or built.
+    again = engine._SyncedScene(depsgraph, state=None)
+    assert sync.cache_stats()["reads"] == 1 and len(built_on) == 2
+    assert again.scene_at(1) is not None and len(built_on) == 2
+
+
+def test_a_cloud_that_cannot_be_built_is_the_viewports_error_not_the_ui_threads(worker, monkeypatch):
+    from pointnpr.blender import engine, sync
+    depsgraph = _scan_in_view()
+    sync.clear_cache()
+
+    def refused(self):
+        raise pointnpr.Error("no cloud for you")
+
+    monkeypatch.setattr(sync.PendingCloud, "resolve", refused)
+    synced = engine._SyncedScene(depsgraph, state=None)   # the main thread's part succeeds
+    assert synced.error is None
+    camera = engine.make_camera(depsgraph, bpy.context.scene.camera, 32, 24)
+    session = worker.Session()
+    session.submit(viewport_worker.Request(engine.renderer(), lambda: synced.scene_at(1), camera, 32, 24, 1, "k",
+                                           synced.render_args_at(1)))
+    wait_for(lambda: session.error is not None, "the error")
+    assert "no cloud for you" in session.error and session.frame() is None

@@ -311,9 +311,10 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
                 elif isinstance(id_, (bpy.types.Material, bpy.types.Image)):
                     sync.invalidate(id_.name)   # meshes coloured by it (blender/mesh_sync.py)
             if first:
-                # Geometry may have changed while another engine was active.
+                # Geometry may have changed while another engine was active
+                # (what an F12 read and no edit reached since is kept).
                 for obj in depsgraph.objects:
-                    sync.invalidate(obj.name)
+                    sync.revalidate(obj)
             self._pointnpr_synced = True
             self._pointnpr_dirty = True
         except Exception as exc:
@@ -387,7 +388,8 @@ class PointNPRRenderEngine(bpy.types.RenderEngine):
 
             def request(k):
                 # Ceil: a reduced image covers the region (stretched by < 1 of its pixels).
-                return viewport_worker.Request(renderer(), synced.scene_at(k), camera, -(-width // k),
+                # The scene is made on the worker: building new clouds is its work.
+                return viewport_worker.Request(renderer(), lambda: synced.scene_at(k), camera, -(-width // k),
                                                -(-height // k), k, key, synced.render_args_at(k))
             if scale == 1:
                 session.requested = {(key, 1)}
@@ -434,8 +436,10 @@ def refine_delay(scene):
 
 
 class _SyncedScene:
-    """One sync of the scene (main thread) and the core scenes made from it:
-    the full one and, per navigation factor, one with scaled styles."""
+    """One sync of the scene and the core scenes made from it: the full one
+    and, per navigation factor, one with scaled styles. The main thread
+    reads Blender's data (only it may); the clouds not cached yet are built
+    by scene_at() on the viewport's worker (sync.build_scene's defer)."""
 
     _serial = [0]
 
@@ -449,7 +453,7 @@ class _SyncedScene:
         if depsgraph is None:
             return
         scene = depsgraph.scene
-        self.result = sync.build_scene(depsgraph, scene_frame(scene), trust_cache=True)
+        self.result = sync.build_scene(depsgraph, scene_frame(scene), trust_cache=True, defer=True)
         self.render_args = dict(time=scene_time(scene), composite=sync.scene_settings(scene),
                                 background=background(scene), memory_budget_gb=memory_budget_gb(scene))
         self.point_budget = point_budget(scene, viewport=True)
@@ -462,8 +466,10 @@ class _SyncedScene:
         return dict(self.render_args, point_budget=budget)
 
     def scene_at(self, scale):
+        """The core scene for frames of 1/scale the resolution (the worker's call)."""
+        scene = self.result.finish()
         if scale == 1:
-            return self.result.scene
+            return scene
         if scale not in self._scaled:
             from .. import preview
             self._scaled[scale] = preview.scaled_scene(self.result.segments, scale)

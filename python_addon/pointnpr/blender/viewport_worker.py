@@ -85,7 +85,10 @@ hold = None
 
 
 class Request:
-    """One frame to render: a camera snapshot, a synced scene, a size."""
+    """One frame to render: a camera snapshot, a synced scene, a size.
+    ``scene`` is a pointnpr.Scene or a function the worker calls for it
+    before rendering (the viewport builds new clouds there, off the UI
+    thread)."""
 
     def __init__(self, renderer, scene, camera, width, height, scale, key, render_args):
         self.renderer = renderer
@@ -291,8 +294,12 @@ def _render(session, request):
         return
     t0 = time.perf_counter()
     try:
+        scene = request.scene() if callable(request.scene) else request.scene
+        if request.cancelled is not None:
+            session._finish(request, None, 0.0)
+            return
         result = request.renderer.render(
-            request.scene, request.camera, request.width, request.height,
+            scene, request.camera, request.width, request.height,
             progress=lambda _fraction, _what: request.cancelled is None and not _stopping[0],
             **request.render_args)
     except cancelled_error:
