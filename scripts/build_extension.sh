@@ -9,14 +9,33 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build_wheel.sh
+# The cp313 wheel (Blender 5.1+) where scripts/build.sh built its module
+# (.venv-py313, scripts/install_deps.sh --tests); POINTNPR_REQUIRE_CP313=1
+# (scripts/test.sh, when a 3.13 is here) makes its absence an error.
+cp313=0
+if [[ -x .venv-py313/bin/python && -d build/pointnpr-cp313 ]]; then
+  PYTHON=.venv-py313/bin/python bash scripts/build_wheel.sh
+  cp313=1
+elif [[ "${POINTNPR_REQUIRE_CP313:-0}" == 1 ]]; then
+  echo "build_extension: no cp313 module (build/pointnpr-cp313 from .venv-py313): run scripts/install_deps.sh --tests and scripts/build.sh" >&2
+  exit 1
+fi
 cmake --build build --target pointnpr_package >/dev/null
-/usr/bin/python3 - <<'PY'
-import glob, os, tomllib, zipfile
+CP313=$cp313 /usr/bin/python3 - <<'PY'
+import glob, os, re, tomllib, zipfile
 
 dist = "build/dist"
 source = "python_addon/extension"
-with open(os.path.join(source, "blender_manifest.toml"), "rb") as f:
-    manifest = tomllib.load(f)
+with open(os.path.join(source, "blender_manifest.toml"), encoding="utf-8") as f:
+    manifest_text = f.read()
+if os.environ["CP313"] != "1":
+    # Without the cp313 wheel the extension admits Blender 4.2 to 5.0 only
+    # rather than install in 5.1+ and fail to import there.
+    manifest_text = re.sub(r'^  "[^"]*-cp313-[^"]*",\n', "", manifest_text, flags=re.M)
+    manifest_text = manifest_text.replace('blender_version_min = "4.2.0"\n',
+                                          'blender_version_min = "4.2.0"\nblender_version_max = "5.1.0"\n')
+    print("build_extension: no cp313 wheel: the extension admits Blender 4.2 to 5.0 (Python 3.11) only")
+manifest = tomllib.loads(manifest_text)
 version = manifest["version"]
 # Every wheel the manifest names must be there; the build fails otherwise.
 wheels = {w: os.path.join(dist, os.path.basename(w)) for w in manifest["wheels"]}
@@ -27,7 +46,8 @@ if missing:
 
 extension = os.path.join(dist, f"pointnpr-extension-{version}.zip")
 with zipfile.ZipFile(extension + ".tmp", "w", zipfile.ZIP_DEFLATED) as z:
-    for name in ("blender_manifest.toml", "__init__.py"):
+    z.writestr("blender_manifest.toml", manifest_text)
+    for name in ("__init__.py",):
         z.write(os.path.join(source, name), name)
     for entry, path in wheels.items():  # a wheel is compressed already
         z.write(path, os.path.normpath(entry), compress_type=zipfile.ZIP_STORED)

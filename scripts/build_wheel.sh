@@ -10,8 +10,10 @@
 # module's RPATH at them. libEGL/libGL/libOpenGL stay the system's: they
 # pick the GPU driver. The repair (~1 min, ~125 MB) is skipped when the
 # module and package did not change since the last one.
-#   PYTHON=/path/to/python3.13 scripts/build_wheel.sh    (another ABI, built
-#   by pip in build-cp313/; needs that interpreter's headers)
+#   PYTHON=.venv-py313/bin/python scripts/build_wheel.sh   (the cp313 wheel,
+#   packed from build/pointnpr-cp313: scripts/build.sh builds that module
+#   when .venv-py313 exists; another interpreter is built by pip in
+#   build-<abi>/, which needs its headers and a pybind11 that supports it)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python=${PYTHON:-/usr/bin/python3}
@@ -30,6 +32,9 @@ rm -f "$dist"/raw/pointnpr-*-"$abi"-*.whl
 if [[ "$python" == /usr/bin/python3 && "${POINTNPR_WHEEL_WITH:-}" != pip ]]; then
   cmake --build build --target _pointnpr pointnpr_package >/dev/null
   "$python" scripts/pack_wheel.py build/pointnpr "$dist/raw" >/dev/null
+elif [[ $abi == cp313 && -d build/pointnpr-cp313 && "${POINTNPR_WHEEL_WITH:-}" != pip ]]; then
+  cmake --build build --target _pointnpr_cp313 pointnpr_package_cp313 >/dev/null
+  "$python" scripts/pack_wheel.py build/pointnpr-cp313 "$dist/raw" >/dev/null
 else
   # (pip 23.0 spells -C as --config-settings)
   # build-<abi> sits beside build/, so with ccache (CCACHE_BASEDIR) the

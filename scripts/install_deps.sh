@@ -50,6 +50,37 @@ sys.exit(m.version('bpy') != '$pin' or m.version('numpy') != '1.26.4' or m.versi
   done
 }
 
+# Blender 5.1+ embed Python 3.13: the cp313 module (cpp/CMakeLists.txt,
+# POINTNPR_PYTHON313) needs a 3.13 interpreter, which Debian 12 does not
+# package. When one is here (POINTNPR_PYTHON313, python3.13 on PATH, or
+# pyenv's), .venv-py313 gets pybind11 >= 2.13 (build time only; Debian's
+# 2.10 predates 3.13) and numpy for the wheel's test; scripts/build.sh then
+# builds the cp313 module. Without one, the extension admits Blender 4.2 to
+# 5.0 only (scripts/build_extension.sh says so).
+find_python313() {
+  local candidate
+  for candidate in "${POINTNPR_PYTHON313:-}" "$(command -v python3.13 || true)" \
+                   "$HOME"/.pyenv/versions/3.13*/bin/python3.13; do
+    if [[ -n $candidate && -x $candidate ]] &&
+       "$candidate" -c 'import sys, venv; sys.exit(sys.version_info[:2] != (3, 13))' 2>/dev/null; then
+      echo "$candidate"
+      return
+    fi
+  done
+}
+py313_venv() {
+  local python
+  python=$(find_python313)
+  if [[ -z $python ]]; then
+    echo "install_deps: no Python 3.13 found: the extension will admit Blender 4.2 to 5.0 only (no cp313 wheel)"
+    return
+  fi
+  if [[ ! -x .venv-py313/bin/python ]]; then
+    "$python" -m venv .venv-py313
+  fi
+  .venv-py313/bin/python -m pip install -q pybind11==2.13.6 numpy==2.1.3
+}
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -68,4 +99,5 @@ if [[ "${1:-}" == "--tests" ]]; then
   cd "$(dirname "$0")/.."
   test_venv
   bpy_venvs
+  py313_venv
 fi

@@ -206,8 +206,15 @@ def test_extension_zip_passes_blenders_own_validation():
     assert manifest["id"] == "pointnpr" and manifest["type"] == "add-on"
     assert manifest["blender_version_min"] == "4.2.0" and manifest["platforms"] == ["linux-x64"]
     assert "files" in manifest["permissions"]
-    # One wheel per CPython ABI of the Blenders the manifest admits (3.11 up to 5.0).
+    # One wheel per CPython ABI of the Blenders the manifest admits: 3.11
+    # (4.2 to 5.0) and, where the build had a Python 3.13, 3.13 (5.1 and
+    # later, no upper bound); without it the manifest stops before 5.1.
     assert manifest["wheels"] and all(w[2:] in names for w in manifest["wheels"]), (manifest["wheels"], names)
-    assert {w.split("-")[2] for w in manifest["wheels"]} == {"cp311"}
-    assert manifest["blender_version_max"] == "5.1.0"
+    abis = {w.split("-")[2] for w in manifest["wheels"]}
+    if os.environ.get("POINTNPR_REQUIRE_CP313") == "1":
+        assert abis == {"cp311", "cp313"} and "blender_version_max" not in manifest, manifest
+    elif abis == {"cp311"}:
+        assert manifest["blender_version_max"] == "5.1.0"
+    else:
+        assert abis == {"cp311", "cp313"} and "blender_version_max" not in manifest, manifest
     assert "__init__.py" in names
