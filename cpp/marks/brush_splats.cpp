@@ -87,8 +87,48 @@ class BrushSplats final : public Mark {
     return {0.0, float(p.get_float("max_radius") * std::sqrt(stretch * stretch + 1.0)) + 2.0f};
   }
 
+  // Fragments computed from their frame pixel and placed on a grid that the
+  // tile's origin shifts exactly (brush_splats.vert), the nearest surface an
+  // order-independent minimum: a tile is the frame's bytes. The blur reads
+  // its radius around a pixel (the A-buffer's fallback too).
+  bool draws_tiles(const ParamValues&) const override { return true; }
+  int screen_reach(const ParamValues& p) const override {
+    return p.get_enum_name("blending") == "none" ? 0 : p.get_int("blur_radius");
+  }
+
   void draw(const MarkContext& ctx, const ParamValues& p) const override;
 };
+
+// The viewport the splats are rasterized through: a power-of-two square
+// from (-margin, -margin), so that its transform is exact on the corners'
+// 1/256 grid and no splat reaching the images is clipped by it (clipping
+// would move corners off the grid).
+struct RasterViewport {
+  int margin = 0;
+  int side = 1;
+};
+
+RasterViewport raster_viewport(const MarkContext& ctx, const ParamValues& p, const BrushSplats& mark) {
+  GLint dims[2] = {0, 0};
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);
+  const int largest = std::min(dims[0], dims[1]);
+  const glm::ivec2 size = ctx.targets.size;
+  RasterViewport v;
+  v.margin = 2 * int(std::ceil(mark.extent(p).pixels)) + 2;
+  while (v.side < std::max(size.x, size.y) + 2 * v.margin) v.side *= 2;
+  if (v.side > largest) {  // a frame near the GL's limit: no margin (drawn whole, so nothing to match)
+    v.margin = 0;
+    v.side = 1;
+    while (v.side < std::max(size.x, size.y)) v.side *= 2;
+  }
+  return v;
+}
+
+void set_raster_viewport(const gl::Program& g, const RasterViewport& v) {
+  glViewport(-v.margin, -v.margin, v.side, v.side);
+  glUniform1f(g.location("u_raster_half"), 0.5f * float(v.side));
+  glUniform1f(g.location("u_raster_center"), 0.5f * float(v.side) - float(v.margin));
+}
 
 void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const ParamValues& p) {
   const Camera& cam = *ctx.camera;
@@ -96,7 +136,19 @@ void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const Para
   glUniform1i(g.location("u_ortho"), cam.orthographic ? 1 : 0);
   glUniform1f(g.location("u_near"), float(cam.clip_start));
   glUniform1f(g.location("u_far"), float(cam.clip_end));
-  glUniform1f(g.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, frame_size(ctx.targets).y)));
+  const glm::ivec2 frame = frame_size(ctx.targets);
+  glUniform1f(g.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, frame.y)));
+  // Fragments by their frame pixel: the tile's origin, and the pixel's ray
+  // (its point on the near plane: the projection's inverse after the
+  // pixel's NDC, composed in double).
+  glUniform2f(g.location("u_frame_size"), float(frame.x), float(frame.y));
+  glUniform2i(g.location("u_origin"), ctx.targets.origin.x, ctx.targets.origin.y);
+  glm::dmat4 ndc_from_pixel(0.0);
+  ndc_from_pixel[0][0] = 2.0 / double(frame.x);
+  ndc_from_pixel[1][1] = 2.0 / double(frame.y);
+  ndc_from_pixel[3] = glm::dvec4(-1.0, -1.0, -1.0, 1.0);
+  const glm::mat4 view_from_pixel(glm::inverse(cam.projection) * ndc_from_pixel);
+  glUniformMatrix4fv(g.location("u_view_from_pixel"), 1, GL_FALSE, glm::value_ptr(view_from_pixel));
   const bool resolution = p.get_enum_name("size_mode") == "resolution";
   glUniform1i(g.location("u_size_mode"), resolution ? 0 : 1);
   glUniform1i(g.location("u_eps_mode"), resolution && p.get_enum_name("epsilon_mode") == "user" ? 1 : 0);
@@ -150,7 +202,10 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
   glUniform1ui(g.location("u_count"), queue_count(v, p));
 }
 
-gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const gl::Texture& depth) {
+// The passes' framebuffer: colour attachments, or none (the depth pass and
+// the A-buffer's write images and buffers only) at the images' size. No GL
+// depth: the passes test depth themselves, from their frame pixel.
+gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, glm::ivec2 size) {
   GLuint id = 0;
   glCreateFramebuffers(1, &id);
   gl::Framebuffer fbo(id);
@@ -160,7 +215,8 @@ gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const
     glNamedFramebufferTexture(id, attachment, t->id(), 0);
     bufs.push_back(attachment);
   }
-  glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, depth.id(), 0);
+  glNamedFramebufferParameteri(id, GL_FRAMEBUFFER_DEFAULT_WIDTH, size.x);
+  glNamedFramebufferParameteri(id, GL_FRAMEBUFFER_DEFAULT_HEIGHT, size.y);
   glNamedFramebufferDrawBuffers(id, GLsizei(bufs.size()), bufs.data());
   if (glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw GLError("the brush_splats framebuffer is incomplete");
@@ -194,18 +250,17 @@ constexpr size_t kFragmentBytes = 16;  // brush_abuffer.glsl's Fragment
 // far away would otherwise pile every splat into a few pixels).
 constexpr uint32_t kMaxListLength = 512;
 
-// Splats near the surface: depth test against the depth pass, moved toward
-// the camera by depth_tolerance radii, no depth writes.
-void near_surface_tests(const gl::Program& g, const ParamValues& p) {
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_GEQUAL);
-  glDepthMask(GL_FALSE);
+// Splats near the surface: the fragment shader tests each against the depth
+// pass's nearest depth (image unit 0), moved toward the camera by
+// depth_tolerance radii.
+void near_surface_tests(const MarkContext& ctx, const gl::Program& g, const ParamValues& p) {
+  glBindImageTexture(0, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   glUniform1f(g.location("u_offset_radii"), float(p.get_float("depth_tolerance")));
 }
 
 // Blending (b): returns false (with a warning) where the frame's fragments
 // would not fit the budget; nothing is then allocated for them.
-bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
+bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const RasterViewport& raster) {
   const Rect& clip = ctx.clip;
   // Lists over the clip rect only: 12 bytes of counters a pixel of it.
   const glm::ivec2 rect = clip.size();
@@ -226,7 +281,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
     glUniform2i(g.location("u_list_origin"), clip.min.x, clip.min.y);
     glUniform2i(g.location("u_list_size"), rect.x, rect.y);
   };
-  const gl::Framebuffer fbo = make_fbo({}, *ctx.targets.gl_depth);
+  const gl::Framebuffer fbo = make_fbo({}, ctx.targets.size);
 
   // 1. Count the fragments of every pixel.
   {
@@ -235,7 +290,8 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
     const gl::Program& count = splat_program(ctx, p, "PASS_COUNT");
     count.use();
     set_splat_uniforms(count, ctx, p);
-    near_surface_tests(count, p);
+    set_raster_viewport(count, raster);
+    near_surface_tests(ctx, count, p);
     bind_lists(count);
     draw_all(ctx, count, p);
   }
@@ -285,7 +341,8 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
     const gl::Program& store = splat_program(ctx, p, "PASS_STORE");
     store.use();
     set_splat_uniforms(store, ctx, p);
-    near_surface_tests(store, p);
+    set_raster_viewport(store, raster);
+    near_surface_tests(ctx, store, p);
     bind_lists(store);
     draw_all(ctx, store, p);
   }
@@ -302,7 +359,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
 }
 
 // Blending by weighted average and the blur (a).
-void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
+void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const RasterViewport& raster) {
   const Rect& clip = ctx.clip;
   const gl::Texture& accum = ctx.targets.scratch(GL_RGBA32F, 0);
   const gl::Texture& reveal = ctx.targets.scratch(GL_R32F, 0);
@@ -311,7 +368,7 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
   glClearTexSubImage(accum.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RGBA, GL_FLOAT, zero4);
   glClearTexSubImage(reveal.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &one);
   glClearTexSubImage(splat_depth.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &inf);
-  const gl::Framebuffer blend_fbo = make_fbo({&accum, &reveal, &splat_depth}, *ctx.targets.gl_depth);
+  const gl::Framebuffer blend_fbo = make_fbo({&accum, &reveal, &splat_depth}, ctx.targets.size);
   {
     const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, blend_fbo.id());
@@ -319,7 +376,8 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
     const gl::Program& blend = splat_program(ctx, p, "PASS_BLEND");
     blend.use();
     set_splat_uniforms(blend, ctx, p);
-    near_surface_tests(blend, p);
+    set_raster_viewport(blend, raster);
+    near_surface_tests(ctx, blend, p);
     draw_all(ctx, blend, p);
   }
   gl::check_gl("brush splats");
@@ -358,27 +416,27 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
 }
 
 void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
-  // 1. Depth pass: the nearest brush surface per pixel.
-  const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth}, *ctx.targets.gl_depth);
+  // 1. Depth pass: the nearest brush surface per pixel, an atomic minimum
+  // of the linear depth's bits in the segment's depth image (cleared to
+  // +inf; positive floats order as their bits do).
+  const RasterViewport raster = raster_viewport(ctx, p, *this);
+  const gl::Framebuffer depth_fbo = make_fbo({}, ctx.targets.size);
   {
     const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo.id());
-    const float zero = 0.0f;
-    glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z: 0 is the far end
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-    glDepthMask(GL_TRUE);
     const gl::Program& depth_pass = splat_program(ctx, p, "PASS_DEPTH");
     depth_pass.use();
     set_splat_uniforms(depth_pass, ctx, p);
+    set_raster_viewport(depth_pass, raster);
     glUniform1f(depth_pass.location("u_offset_radii"), 0.0f);
+    glBindImageTexture(0, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
     draw_all(ctx, depth_pass, p);
   }
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 
   // 2. The splats near that surface, blended.
   const std::string blending = p.get_enum_name("blending");
-  if (blending != "a_buffer" || !draw_a_buffer(ctx, p)) draw_blended(ctx, p, blending != "none");
+  if (blending != "a_buffer" || !draw_a_buffer(ctx, p, raster)) draw_blended(ctx, p, blending != "none", raster);
 
   uint64_t drawn = 0;
   for (const VisibleChunk& v : ctx.chunks) drawn += queue_count(v, p);
