@@ -1,27 +1,12 @@
 // brush_splats: one instance per point, a triangle strip of four vertices:
 // a surface-aligned rectangle in the point's tangent frame (2 radius
 // across, 2 radius x stretch along), textured by brush_splats.frag.
-//
-// Tiles (cpp/render/tiling.h): every value a fragment sees comes from its
-// frame pixel and flat per-splat data, never from interpolated varyings
-// (whose rounding follows where a tile's window starts). The corners are
-// placed by their frame pixel on a 1/256 grid, less the tile's origin,
-// through a power-of-two viewport whose transform is exact (multiples of
-// 1/256 under 2^16; points.vert does the same): the rasterizer, in 1/256
-// fixed point, covers the same pixels in every tile.
 #include "brush_common.glsl"
 
-uniform float u_offset_radii;  // PASS_BLEND ...: tested this many radii toward the camera
-uniform vec2 u_frame_size;     // the frame's (the projection maps to it)
-uniform ivec2 u_origin;        // the tile's, in frame pixels
-uniform float u_raster_center; // window = ndc * u_raster_half + u_raster_center (the viewport's)
-uniform float u_raster_half;
+uniform float u_offset_radii;  // PASS_BLEND: moved toward the camera by this many radii
 
-flat out vec3 v_center;        // view space
-flat out vec3 v_u_axis;        // t / (2 radius stretch): u = dot(p - center, this) + 0.5
-flat out vec3 v_v_axis;        // b / (2 radius)
-flat out vec3 v_normal;        // the splat's plane
-flat out float v_offset;       // scene units toward the camera (u_offset_radii radii)
+out vec2 v_uv;                 // texture coordinates in [0, 1]
+out float v_depth;             // linear view depth on the splat's plane
 flat out vec4 v_color;         // display sRGB
 flat out vec3 v_cos;           // cos and sin of theta per column
 flat out vec3 v_sin;
@@ -34,24 +19,22 @@ void main() {
   uint index = splat_point(uint(gl_InstanceID));
   vec2 corner = CORNERS[gl_VertexID];
   BrushSplat s = brush_splat(index);
-  // The whole splat beyond the near plane (the same test at every corner):
-  // positions on the grid need no clipping.
-  float reach_z = (abs(s.t.z) * s.stretch + abs(s.b.z)) * s.radius;
-  if (!s.visible || -s.center.z - reach_z < u_near) {
+  if (!s.visible) {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume: no triangle
     return;
   }
   vec3 p = s.center + (s.t * ((corner.x - 0.5) * s.stretch) + s.b * (corner.y - 0.5)) * (2.0 * s.radius);
+  v_depth = -p.z;
+  // Toward the camera along the view ray (the screen position is kept).
+  float offset = u_offset_radii * s.radius;
+  if (u_ortho != 0) p.z += offset;
+  else p *= max(1.0 - offset / max(length(p), 1e-20), 0.0);
+  float pd = -p.z;
   vec4 clip = u_projection * vec4(p, 1.0);
-  precise vec2 win = (clip.xy / clip.w * 0.5 + 0.5) * u_frame_size;
-  precise vec2 local = round(win * 256.0) / 256.0 - vec2(u_origin);
-  precise vec2 ndc = (local - u_raster_center) / u_raster_half;
-  gl_Position = vec4(ndc, 0.5, 1.0);
-  v_center = s.center;
-  v_u_axis = s.t / (2.0 * s.radius * s.stretch);
-  v_v_axis = s.b / (2.0 * s.radius);
-  v_normal = cross(s.t, s.b);
-  v_offset = u_offset_radii * s.radius;
+  // Reversed Z: near / d for perspective, 1 - (d - near) / (far - near) orthographic.
+  if (u_ortho != 0) gl_Position = vec4(clip.xy / clip.w, 1.0 - (pd - u_near) / (u_far - u_near), 1.0);
+  else gl_Position = vec4(clip.xy, u_near, clip.w);
+  v_uv = corner;
   v_color = source_color(index);
   uint id = point_ids[index];
   vec3 angles = brush_column_angles(id);

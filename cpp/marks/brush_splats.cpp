@@ -87,11 +87,11 @@ class BrushSplats final : public Mark {
     return {0.0, float(p.get_float("max_radius") * std::sqrt(stretch * stretch + 1.0)) + 2.0f};
   }
 
-  // Fragments computed from their frame pixel and placed on a grid that the
-  // tile's origin shifts exactly (brush_splats.vert), the nearest surface an
-  // order-independent minimum: a tile is the frame's bytes. The blur reads
+  // With tile_invariant, fragments are computed from their frame pixel and
+  // placed on a grid that the tile's origin shifts exactly
+  // (brush_splats_tiled.vert): a tile is the frame's bytes. The blur reads
   // its radius around a pixel (the A-buffer's fallback too).
-  bool draws_tiles(const ParamValues&) const override { return true; }
+  bool draws_tiles(const ParamValues& p) const override { return p.get_bool("tile_invariant"); }
   int screen_reach(const ParamValues& p) const override {
     return p.get_enum_name("blending") == "none" ? 0 : p.get_int("blur_radius");
   }
@@ -104,6 +104,7 @@ class BrushSplats final : public Mark {
 // 1/256 grid and no splat reaching the images is clipped by it (clipping
 // would move corners off the grid).
 struct RasterViewport {
+  bool exact = false;  // tile_invariant; else the frame's viewport (MarkRasterState)
   int margin = 0;
   int side = 1;
 };
@@ -114,6 +115,7 @@ RasterViewport raster_viewport(const MarkContext& ctx, const ParamValues& p, con
   const int largest = std::min(dims[0], dims[1]);
   const glm::ivec2 size = ctx.targets.size;
   RasterViewport v;
+  v.exact = p.get_bool("tile_invariant");
   v.margin = 2 * int(std::ceil(mark.extent(p).pixels)) + 2;
   while (v.side < std::max(size.x, size.y) + 2 * v.margin) v.side *= 2;
   if (v.side > largest) {  // a frame near the GL's limit: no margin (drawn whole, so nothing to match)
@@ -125,6 +127,7 @@ RasterViewport raster_viewport(const MarkContext& ctx, const ParamValues& p, con
 }
 
 void set_raster_viewport(const gl::Program& g, const RasterViewport& v) {
+  if (!v.exact) return;
   glViewport(-v.margin, -v.margin, v.side, v.side);
   glUniform1f(g.location("u_raster_half"), 0.5f * float(v.side));
   glUniform1f(g.location("u_raster_center"), 0.5f * float(v.side) - float(v.margin));
@@ -202,10 +205,9 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
   glUniform1ui(g.location("u_count"), queue_count(v, p));
 }
 
-// The passes' framebuffer: colour attachments, or none (the depth pass and
-// the A-buffer's write images and buffers only) at the images' size. No GL
-// depth: the passes test depth themselves, from their frame pixel.
-gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, glm::ivec2 size) {
+// The passes' framebuffer: colour attachments, or none (the A-buffer's
+// passes write buffers only) at the images' size, and the GL depth.
+gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const MarkTargets& targets) {
   GLuint id = 0;
   glCreateFramebuffers(1, &id);
   gl::Framebuffer fbo(id);
@@ -215,8 +217,7 @@ gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, glm::
     glNamedFramebufferTexture(id, attachment, t->id(), 0);
     bufs.push_back(attachment);
   }
-  glNamedFramebufferParameteri(id, GL_FRAMEBUFFER_DEFAULT_WIDTH, size.x);
-  glNamedFramebufferParameteri(id, GL_FRAMEBUFFER_DEFAULT_HEIGHT, size.y);
+  glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, targets.gl_depth->id(), 0);
   glNamedFramebufferDrawBuffers(id, GLsizei(bufs.size()), bufs.data());
   if (glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw GLError("the brush_splats framebuffer is incomplete");
@@ -227,8 +228,11 @@ gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, glm::
 // style can ask for it (layers two, or clusters that make small ones two).
 const gl::Program& splat_program(const MarkContext& ctx, const ParamValues& p, const char* pass) {
   const bool two_layers = p.get_enum_name("layers") == "two" || p.get_bool("clusters");
-  if (two_layers) return ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {pass, "TWO_LAYERS"});
-  return ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {pass});
+  const bool tiled = p.get_bool("tile_invariant");
+  const char* vert = tiled ? "brush_splats_tiled.vert" : "brush_splats.vert";
+  const char* frag = tiled ? "brush_splats_tiled.frag" : "brush_splats.frag";
+  if (two_layers) return ctx.shaders->graphics(vert, frag, {pass, "TWO_LAYERS"});
+  return ctx.shaders->graphics(vert, frag, {pass});
 }
 
 void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p) {
@@ -252,8 +256,12 @@ constexpr uint32_t kMaxListLength = 512;
 
 // Splats near the surface: the fragment shader tests each against the depth
 // pass's nearest depth (image unit 0), moved toward the camera by
-// depth_tolerance radii.
+// depth_tolerance radii, after the GL depth test culled those whose nearest
+// point is behind (no depth writes).
 void near_surface_tests(const MarkContext& ctx, const gl::Program& g, const ParamValues& p) {
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GEQUAL);
+  glDepthMask(GL_FALSE);
   glBindImageTexture(0, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   glUniform1f(g.location("u_offset_radii"), float(p.get_float("depth_tolerance")));
 }
@@ -281,7 +289,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const RasterVie
     glUniform2i(g.location("u_list_origin"), clip.min.x, clip.min.y);
     glUniform2i(g.location("u_list_size"), rect.x, rect.y);
   };
-  const gl::Framebuffer fbo = make_fbo({}, ctx.targets.size);
+  const gl::Framebuffer fbo = make_fbo({}, ctx.targets);
 
   // 1. Count the fragments of every pixel.
   {
@@ -368,7 +376,7 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const
   glClearTexSubImage(accum.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RGBA, GL_FLOAT, zero4);
   glClearTexSubImage(reveal.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &one);
   glClearTexSubImage(splat_depth.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &inf);
-  const gl::Framebuffer blend_fbo = make_fbo({&accum, &reveal, &splat_depth}, ctx.targets.size);
+  const gl::Framebuffer blend_fbo = make_fbo({&accum, &reveal, &splat_depth}, ctx.targets);
   {
     const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, blend_fbo.id());
@@ -416,23 +424,26 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const
 }
 
 void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
-  // 1. Depth pass: the nearest brush surface per pixel, an atomic minimum
-  // of the linear depth's bits in the segment's depth image (cleared to
-  // +inf; positive floats order as their bits do).
+  // 1. Depth pass: the nearest brush surface per pixel (GL depth, reversed
+  // Z, from each fragment's own depth; its linear depth in the segment's).
   const RasterViewport raster = raster_viewport(ctx, p, *this);
-  const gl::Framebuffer depth_fbo = make_fbo({}, ctx.targets.size);
+  const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth}, ctx.targets);
   {
     const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo.id());
+    const float zero = 0.0f;
+    glClearBufferfv(GL_DEPTH, 0, &zero);  // reversed Z: 0 is the far end
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_TRUE);
     const gl::Program& depth_pass = splat_program(ctx, p, "PASS_DEPTH");
     depth_pass.use();
     set_splat_uniforms(depth_pass, ctx, p);
     set_raster_viewport(depth_pass, raster);
     glUniform1f(depth_pass.location("u_offset_radii"), 0.0f);
-    glBindImageTexture(0, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
     draw_all(ctx, depth_pass, p);
   }
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
 
   // 2. The splats near that surface, blended.
   const std::string blending = p.get_enum_name("blending");
@@ -554,6 +565,9 @@ const MarkRegistration registration{{
                                      "Neighbours mix only within this fraction of the depth"),
                          "blending", {"blur", "a_buffer"}),
                int_param("seed", 0, 0, 65535, "", "Varies the brushes' noise (still fixed per point)"),
+               bool_param("tile_invariant", false,
+                          "Draw large frames in tiles, the same bytes as drawn whole: every fragment computed from "
+                          "its frame pixel (about 2.5x the time on a software GL); off, frames are drawn whole"),
                density_mode_param(),
                queue_level_param(0.5),
            }},

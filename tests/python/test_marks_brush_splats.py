@@ -462,6 +462,7 @@ TILE_STYLES.update({name: (p["mark"][1], p["filters"]) for name, p in _presets()
 @pytest.mark.parametrize("name", sorted(TILE_STYLES))
 def test_brush_splats_tiled_are_the_bytes_of_the_whole_frame(renderer, wavy_clouds, name):
     params, filters = TILE_STYLES[name]
+    params = dict(params, tile_invariant=True)
     scene = pointnpr.Scene()
     # Behind: the brush splats with a filter; in front: points with a cartoon,
     # so the compositing of two segments is in the picture too.
@@ -483,3 +484,16 @@ def test_brush_splats_tiled_are_the_bytes_of_the_whole_frame(renderer, wavy_clou
     for field in ("color", "depth", "segment_index"):
         a, b = np.asarray(getattr(whole, field)), np.asarray(getattr(tiled, field))
         assert a.tobytes() == b.tobytes(), f"{field}: {int(np.count_nonzero(a != b))} values differ"
+
+
+def test_brush_splats_without_tile_invariant_draw_the_frame_whole(renderer, wavy_clouds):
+    scene = pointnpr.Scene()
+    scene.add_segment("wall", pointnpr.Style(mark=("brush_splats", {})), [wavy_clouds[0]])
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=200, height=150)
+    result = renderer.render(scene, cam, 200, 150, memory_budget_gb=0.001)
+    assert result.stats["tiles"] == 1
+    assert any("'brush_splats' mark does not draw in tiles" in w for w in result.warnings), result.warnings
+    # With it, the same frame is cut into tiles.
+    scene = pointnpr.Scene()
+    scene.add_segment("wall", pointnpr.Style(mark=("brush_splats", {"tile_invariant": True})), [wavy_clouds[0]])
+    assert renderer.render(scene, cam, 200, 150, memory_budget_gb=0.001).stats["tiles"] > 1
