@@ -5,7 +5,7 @@
 // depth (min): order-independent.
 // PASS_COUNT / PASS_STORE: the A-buffer (brush_abuffer.glsl): fragments
 // counted per pixel, then stored in the pixel's list.
-// variants: PASS_DEPTH | PASS_BLEND | PASS_COUNT | PASS_STORE, TWO_LAYERS
+// variants: PASS_DEPTH | PASS_BLEND | PASS_COUNT | PASS_STORE | PASS_DEPTH TWO_LAYERS | PASS_BLEND TWO_LAYERS | PASS_COUNT TWO_LAYERS | PASS_STORE TWO_LAYERS
 #if defined(PASS_BLEND) || defined(PASS_COUNT) || defined(PASS_STORE)
 // Depth test first (no depth writes in these passes): only fragments near
 // the surface are shaded and enter the blend or the lists.

@@ -9,7 +9,7 @@
 // colour weighted by alpha (sum), transmittance (product), depth (min).
 // PASS_COUNT / PASS_STORE: the A-buffer (brush_abuffer.glsl): fragments
 // counted per pixel, then stored in the pixel's list.
-// variants: PASS_DEPTH | PASS_BLEND | PASS_COUNT | PASS_STORE, TWO_LAYERS
+// variants: PASS_DEPTH | PASS_BLEND | PASS_COUNT | PASS_STORE | PASS_DEPTH TWO_LAYERS | PASS_BLEND TWO_LAYERS | PASS_COUNT TWO_LAYERS | PASS_STORE TWO_LAYERS
 #ifndef PASS_DEPTH
 // The GL depth test culls with a bound (brush_splats_tiled.vert): before shading.
 layout(early_fragment_tests) in;
