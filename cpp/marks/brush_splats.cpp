@@ -28,6 +28,10 @@
 //    nothing is allocated beyond them. The seed's
 //    incremental bubble sort across viewport frames is not done: every
 //    frame sorts completely.
+//  - Tiles (tile_invariant, brush_splats_tiled.*): the same passes with
+//    every fragment computed from its frame pixel, so a large frame drawn
+//    in tiles is the bytes of the frame drawn whole; off by default (about
+//    3x slower on a software GL), and then such frames are drawn whole.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -118,7 +122,7 @@ RasterViewport raster_viewport(const MarkContext& ctx, const ParamValues& p, con
   v.exact = p.get_bool("tile_invariant");
   v.margin = 2 * int(std::ceil(mark.extent(p).pixels)) + 2;
   while (v.side < std::max(size.x, size.y) + 2 * v.margin) v.side *= 2;
-  if (v.side > largest) {  // a frame near the GL's limit: no margin (drawn whole, so nothing to match)
+  if (v.side > largest) {  // images near the GL's limit: no margin (splats crossing the edge may be clipped)
     v.margin = 0;
     v.side = 1;
     while (v.side < std::max(size.x, size.y)) v.side *= 2;
@@ -205,8 +209,8 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
   glUniform1ui(g.location("u_count"), queue_count(v, p));
 }
 
-// The passes' framebuffer: colour attachments, or none (the A-buffer's
-// passes write buffers only) at the images' size, and the GL depth.
+// The passes' framebuffer: colour attachments (none for the A-buffer's
+// passes, which write buffers) and the GL depth.
 gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const MarkTargets& targets) {
   GLuint id = 0;
   glCreateFramebuffers(1, &id);
@@ -254,10 +258,10 @@ constexpr size_t kFragmentBytes = 16;  // brush_abuffer.glsl's Fragment
 // far away would otherwise pile every splat into a few pixels).
 constexpr uint32_t kMaxListLength = 512;
 
-// Splats near the surface: the fragment shader tests each against the depth
-// pass's nearest depth (image unit 0), moved toward the camera by
-// depth_tolerance radii, after the GL depth test culled those whose nearest
-// point is behind (no depth writes).
+// Splats near the surface, moved toward the camera by depth_tolerance radii:
+// the GL depth test against the depth pass (no depth writes); with
+// tile_invariant it only culls (by a bound per splat) and the fragment
+// shader decides against the depth pass's linear depth (image unit 0).
 void near_surface_tests(const MarkContext& ctx, const gl::Program& g, const ParamValues& p) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GEQUAL);
