@@ -328,18 +328,22 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const RasterVie
     (*ctx.stats)["a_buffer_longest_list"] = std::max((*ctx.stats)["a_buffer_longest_list"], double(longest));
   }
   if (total == 0xFFFFFFFFu || needed_mib > budget_mib || longest > kMaxListLength) {
-    if (ctx.warnings) {
-      char text[240];
+    // A frame in tiles counts its lists per tile: said once per frame (for
+    // the first tile over the budget; the others blend by blur as well).
+    const bool tiled = frame_size(ctx.targets) != ctx.targets.size;
+    const char* prefix = longest > kMaxListLength ? "brush_splats: a pixel of the A-buffer" : "brush_splats: the A-buffer";
+    const auto said = [&](const std::string& w) { return w.rfind(prefix, 0) == 0; };
+    if (ctx.warnings && !(tiled && std::any_of(ctx.warnings->begin(), ctx.warnings->end(), said))) {
+      char text[260];
       if (longest > kMaxListLength)
         std::snprintf(text, sizeof(text),
-                      "brush_splats: a pixel of the A-buffer has %u fragments, more than the %u it sorts; "
-                      "blended by blur instead",
-                      longest, kMaxListLength);
+                      "%s has %u fragments, more than the %u it sorts; blended by blur instead%s", prefix,
+                      longest, kMaxListLength, tiled ? " (in the tiles where it does)" : "");
       else
         std::snprintf(text, sizeof(text),
-                      "brush_splats: the A-buffer needs %s%.1f MiB for this frame, over its budget of %.1f MiB; "
-                      "blended by blur instead",
-                      total == 0xFFFFFFFFu ? "more than " : "", needed_mib, budget_mib);
+                      "%s needs %s%.1f MiB for %s, over its budget of %.1f MiB; blended by blur instead%s", prefix,
+                      total == 0xFFFFFFFFu ? "more than " : "", needed_mib, tiled ? "a tile" : "this frame",
+                      budget_mib, tiled ? " (in the tiles over it)" : "");
       ctx.warnings->push_back(text);
     }
     return false;

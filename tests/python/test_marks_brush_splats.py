@@ -497,3 +497,16 @@ def test_brush_splats_without_tile_invariant_draw_the_frame_whole(renderer, wavy
     scene = pointnpr.Scene()
     scene.add_segment("wall", pointnpr.Style(mark=("brush_splats", {"tile_invariant": True})), [wavy_clouds[0]])
     assert renderer.render(scene, cam, 200, 150, memory_budget_gb=0.001).stats["tiles"] > 1
+
+
+def test_an_a_buffer_over_its_budget_in_tiles_warns_once(renderer, wavy_clouds):
+    # The budget holds per tile (each tile's lists cover its own region).
+    scene = pointnpr.Scene()
+    params = {"blending": "a_buffer", "size_scale": 4.0, "depth_tolerance": 4.0, "a_buffer_budget": 1.0,
+              "tile_invariant": True}
+    scene.add_segment("wall", pointnpr.Style(mark=("brush_splats", params)), [wavy_clouds[0]])
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=301, height=233)
+    tiled = renderer.render(scene, cam, 301, 233, tile_size=64)
+    assert tiled.stats["tiles"] > 1
+    budget = [w for w in tiled.warnings if "A-buffer" in w]
+    assert len(budget) == 1 and "for a tile" in budget[0] and "blur" in budget[0], tiled.warnings
