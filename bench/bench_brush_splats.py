@@ -10,6 +10,9 @@
    336, the golden camera) that points and brush splats of the subset
    cover; a bar chart to docs/images/brush_splats_coverage.png.
 
+The tile_invariant row is the same blur drawn by the passes that can tile
+(every fragment from its frame pixel; the frame here is one tile).
+
 The CPU column is the process's CPU time (all of llvmpipe's threads): on
 a machine shared with other work it moves far less than the wall clock.
 
@@ -41,7 +44,9 @@ def render(renderer, style, cloud, w, h, background=(1, 1, 1, 1)):
 
 STYLES = {"points": pointnpr.Style(mark=("points", {"point_size": 2.0})),
           "brush_splats (blur)": pointnpr.Style(mark=("brush_splats", {"blending": "blur"})),
-          "brush_splats (a_buffer)": pointnpr.Style(mark=("brush_splats", {"blending": "a_buffer"}))}
+          "brush_splats (a_buffer)": pointnpr.Style(mark=("brush_splats", {"blending": "a_buffer"})),
+          "brush_splats (blur, tile_invariant)": pointnpr.Style(mark=("brush_splats", {"blending": "blur",
+                                                                                      "tile_invariant": True}))}
 
 
 def timing(data):

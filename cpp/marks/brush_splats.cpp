@@ -28,6 +28,11 @@
 //    nothing is allocated beyond them. The seed's
 //    incremental bubble sort across viewport frames is not done: every
 //    frame sorts completely.
+//  - Tiles (brush_splats_tiled.*): the same passes with every fragment
+//    computed from its frame pixel, so a frame drawn in tiles is the bytes
+//    of the frame drawn whole by this exact path. Frames drawn whole use
+//    the faster interpolating passes (about 3x faster on a software GL)
+//    unless tile_invariant asks for the exact path for every frame.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -87,8 +92,58 @@ class BrushSplats final : public Mark {
     return {0.0, float(p.get_float("max_radius") * std::sqrt(stretch * stretch + 1.0)) + 2.0f};
   }
 
+  // In tiles (and with tile_invariant) fragments are computed from their
+  // frame pixel and placed on a grid that the tile's origin shifts exactly
+  // (brush_splats_tiled.vert): a tile is the bytes of the frame drawn whole
+  // by that path. The blur reads its radius around a pixel (the A-buffer's
+  // fallback too).
+  bool draws_tiles(const ParamValues&) const override { return true; }
+  int screen_reach(const ParamValues& p) const override {
+    return p.get_enum_name("blending") == "none" ? 0 : p.get_int("blur_radius");
+  }
+
   void draw(const MarkContext& ctx, const ParamValues& p) const override;
 };
+
+// Whether the splats take the exact path: every tile of a frame drawn in
+// tiles, and every frame with tile_invariant.
+bool exact_path(const MarkTargets& t, const ParamValues& p) {
+  return p.get_bool("tile_invariant") || t.size != frame_size(t) || t.origin != glm::ivec2(0);
+}
+
+// The viewport the splats are rasterized through: a power-of-two square
+// from (-margin, -margin), so that its transform is exact on the corners'
+// 1/256 grid and no splat reaching the images is clipped by it (clipping
+// would move corners off the grid).
+struct RasterViewport {
+  bool exact = false;  // exact_path(); else the frame's viewport (MarkRasterState)
+  int margin = 0;
+  int side = 1;
+};
+
+RasterViewport raster_viewport(const MarkContext& ctx, const ParamValues& p, const BrushSplats& mark) {
+  GLint dims[2] = {0, 0};
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);
+  const int largest = std::min(dims[0], dims[1]);
+  const glm::ivec2 size = ctx.targets.size;
+  RasterViewport v;
+  v.exact = exact_path(ctx.targets, p);
+  v.margin = 2 * int(std::ceil(mark.extent(p).pixels)) + 2;
+  while (v.side < std::max(size.x, size.y) + 2 * v.margin) v.side *= 2;
+  if (v.side > largest) {  // images near the GL's limit: no margin (splats crossing the edge may be clipped)
+    v.margin = 0;
+    v.side = 1;
+    while (v.side < std::max(size.x, size.y)) v.side *= 2;
+  }
+  return v;
+}
+
+void set_raster_viewport(const gl::Program& g, const RasterViewport& v) {
+  if (!v.exact) return;
+  glViewport(-v.margin, -v.margin, v.side, v.side);
+  glUniform1f(g.location("u_raster_half"), 0.5f * float(v.side));
+  glUniform1f(g.location("u_raster_center"), 0.5f * float(v.side) - float(v.margin));
+}
 
 void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const ParamValues& p) {
   const Camera& cam = *ctx.camera;
@@ -96,7 +151,19 @@ void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const Para
   glUniform1i(g.location("u_ortho"), cam.orthographic ? 1 : 0);
   glUniform1f(g.location("u_near"), float(cam.clip_start));
   glUniform1f(g.location("u_far"), float(cam.clip_end));
-  glUniform1f(g.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, frame_size(ctx.targets).y)));
+  const glm::ivec2 frame = frame_size(ctx.targets);
+  glUniform1f(g.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, frame.y)));
+  // Fragments by their frame pixel: the tile's origin, and the pixel's ray
+  // (its point on the near plane: the projection's inverse after the
+  // pixel's NDC, composed in double).
+  glUniform2f(g.location("u_frame_size"), float(frame.x), float(frame.y));
+  glUniform2i(g.location("u_origin"), ctx.targets.origin.x, ctx.targets.origin.y);
+  glm::dmat4 ndc_from_pixel(0.0);
+  ndc_from_pixel[0][0] = 2.0 / double(frame.x);
+  ndc_from_pixel[1][1] = 2.0 / double(frame.y);
+  ndc_from_pixel[3] = glm::dvec4(-1.0, -1.0, -1.0, 1.0);
+  const glm::mat4 view_from_pixel(glm::inverse(cam.projection) * ndc_from_pixel);
+  glUniformMatrix4fv(g.location("u_view_from_pixel"), 1, GL_FALSE, glm::value_ptr(view_from_pixel));
   const bool resolution = p.get_enum_name("size_mode") == "resolution";
   glUniform1i(g.location("u_size_mode"), resolution ? 0 : 1);
   glUniform1i(g.location("u_eps_mode"), resolution && p.get_enum_name("epsilon_mode") == "user" ? 1 : 0);
@@ -150,7 +217,9 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
   glUniform1ui(g.location("u_count"), queue_count(v, p));
 }
 
-gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const gl::Texture& depth) {
+// The passes' framebuffer: colour attachments (none for the A-buffer's
+// passes, which write buffers) and the GL depth.
+gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const MarkTargets& targets) {
   GLuint id = 0;
   glCreateFramebuffers(1, &id);
   gl::Framebuffer fbo(id);
@@ -160,7 +229,7 @@ gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const
     glNamedFramebufferTexture(id, attachment, t->id(), 0);
     bufs.push_back(attachment);
   }
-  glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, depth.id(), 0);
+  glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, targets.gl_depth->id(), 0);
   glNamedFramebufferDrawBuffers(id, GLsizei(bufs.size()), bufs.data());
   if (glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw GLError("the brush_splats framebuffer is incomplete");
@@ -171,8 +240,11 @@ gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const
 // style can ask for it (layers two, or clusters that make small ones two).
 const gl::Program& splat_program(const MarkContext& ctx, const ParamValues& p, const char* pass) {
   const bool two_layers = p.get_enum_name("layers") == "two" || p.get_bool("clusters");
-  if (two_layers) return ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {pass, "TWO_LAYERS"});
-  return ctx.shaders->graphics("brush_splats.vert", "brush_splats.frag", {pass});
+  const bool tiled = exact_path(ctx.targets, p);
+  const char* vert = tiled ? "brush_splats_tiled.vert" : "brush_splats.vert";
+  const char* frag = tiled ? "brush_splats_tiled.frag" : "brush_splats.frag";
+  if (two_layers) return ctx.shaders->graphics(vert, frag, {pass, "TWO_LAYERS"});
+  return ctx.shaders->graphics(vert, frag, {pass});
 }
 
 void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p) {
@@ -194,18 +266,21 @@ constexpr size_t kFragmentBytes = 16;  // brush_abuffer.glsl's Fragment
 // far away would otherwise pile every splat into a few pixels).
 constexpr uint32_t kMaxListLength = 512;
 
-// Splats near the surface: depth test against the depth pass, moved toward
-// the camera by depth_tolerance radii, no depth writes.
-void near_surface_tests(const gl::Program& g, const ParamValues& p) {
+// Splats near the surface, moved toward the camera by depth_tolerance radii:
+// the GL depth test against the depth pass (no depth writes); with
+// tile_invariant it only culls (by a bound per splat) and the fragment
+// shader decides against the depth pass's linear depth (image unit 0).
+void near_surface_tests(const MarkContext& ctx, const gl::Program& g, const ParamValues& p) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GEQUAL);
   glDepthMask(GL_FALSE);
+  glBindImageTexture(0, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   glUniform1f(g.location("u_offset_radii"), float(p.get_float("depth_tolerance")));
 }
 
 // Blending (b): returns false (with a warning) where the frame's fragments
 // would not fit the budget; nothing is then allocated for them.
-bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
+bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const RasterViewport& raster) {
   const Rect& clip = ctx.clip;
   // Lists over the clip rect only: 12 bytes of counters a pixel of it.
   const glm::ivec2 rect = clip.size();
@@ -226,7 +301,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
     glUniform2i(g.location("u_list_origin"), clip.min.x, clip.min.y);
     glUniform2i(g.location("u_list_size"), rect.x, rect.y);
   };
-  const gl::Framebuffer fbo = make_fbo({}, *ctx.targets.gl_depth);
+  const gl::Framebuffer fbo = make_fbo({}, ctx.targets);
 
   // 1. Count the fragments of every pixel.
   {
@@ -235,7 +310,8 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
     const gl::Program& count = splat_program(ctx, p, "PASS_COUNT");
     count.use();
     set_splat_uniforms(count, ctx, p);
-    near_surface_tests(count, p);
+    set_raster_viewport(count, raster);
+    near_surface_tests(ctx, count, p);
     bind_lists(count);
     draw_all(ctx, count, p);
   }
@@ -260,18 +336,22 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
     (*ctx.stats)["a_buffer_longest_list"] = std::max((*ctx.stats)["a_buffer_longest_list"], double(longest));
   }
   if (total == 0xFFFFFFFFu || needed_mib > budget_mib || longest > kMaxListLength) {
-    if (ctx.warnings) {
-      char text[240];
+    // A frame in tiles counts its lists per tile: said once per frame (for
+    // the first tile over the budget; the others blend by blur as well).
+    const bool tiled = frame_size(ctx.targets) != ctx.targets.size;
+    const char* prefix = longest > kMaxListLength ? "brush_splats: a pixel of the A-buffer" : "brush_splats: the A-buffer";
+    const auto said = [&](const std::string& w) { return w.rfind(prefix, 0) == 0; };
+    if (ctx.warnings && !(tiled && std::any_of(ctx.warnings->begin(), ctx.warnings->end(), said))) {
+      char text[260];
       if (longest > kMaxListLength)
         std::snprintf(text, sizeof(text),
-                      "brush_splats: a pixel of the A-buffer has %u fragments, more than the %u it sorts; "
-                      "blended by blur instead",
-                      longest, kMaxListLength);
+                      "%s has %u fragments, more than the %u it sorts; blended by blur instead%s", prefix,
+                      longest, kMaxListLength, tiled ? " (in the tiles where it does)" : "");
       else
         std::snprintf(text, sizeof(text),
-                      "brush_splats: the A-buffer needs %s%.1f MiB for this frame, over its budget of %.1f MiB; "
-                      "blended by blur instead",
-                      total == 0xFFFFFFFFu ? "more than " : "", needed_mib, budget_mib);
+                      "%s needs %s%.1f MiB for %s, over its budget of %.1f MiB; blended by blur instead%s", prefix,
+                      total == 0xFFFFFFFFu ? "more than " : "", needed_mib, tiled ? "a tile" : "this frame",
+                      budget_mib, tiled ? " (in the tiles over it)" : "");
       ctx.warnings->push_back(text);
     }
     return false;
@@ -285,7 +365,8 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
     const gl::Program& store = splat_program(ctx, p, "PASS_STORE");
     store.use();
     set_splat_uniforms(store, ctx, p);
-    near_surface_tests(store, p);
+    set_raster_viewport(store, raster);
+    near_surface_tests(ctx, store, p);
     bind_lists(store);
     draw_all(ctx, store, p);
   }
@@ -302,7 +383,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p) {
 }
 
 // Blending by weighted average and the blur (a).
-void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
+void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const RasterViewport& raster) {
   const Rect& clip = ctx.clip;
   const gl::Texture& accum = ctx.targets.scratch(GL_RGBA32F, 0);
   const gl::Texture& reveal = ctx.targets.scratch(GL_R32F, 0);
@@ -311,7 +392,7 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
   glClearTexSubImage(accum.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RGBA, GL_FLOAT, zero4);
   glClearTexSubImage(reveal.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &one);
   glClearTexSubImage(splat_depth.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &inf);
-  const gl::Framebuffer blend_fbo = make_fbo({&accum, &reveal, &splat_depth}, *ctx.targets.gl_depth);
+  const gl::Framebuffer blend_fbo = make_fbo({&accum, &reveal, &splat_depth}, ctx.targets);
   {
     const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, blend_fbo.id());
@@ -319,7 +400,8 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
     const gl::Program& blend = splat_program(ctx, p, "PASS_BLEND");
     blend.use();
     set_splat_uniforms(blend, ctx, p);
-    near_surface_tests(blend, p);
+    set_raster_viewport(blend, raster);
+    near_surface_tests(ctx, blend, p);
     draw_all(ctx, blend, p);
   }
   gl::check_gl("brush splats");
@@ -358,8 +440,10 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur) {
 }
 
 void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
-  // 1. Depth pass: the nearest brush surface per pixel.
-  const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth}, *ctx.targets.gl_depth);
+  // 1. Depth pass: the nearest brush surface per pixel (GL depth, reversed
+  // Z, from each fragment's own depth; its linear depth in the segment's).
+  const RasterViewport raster = raster_viewport(ctx, p, *this);
+  const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth}, ctx.targets);
   {
     const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo.id());
@@ -371,6 +455,7 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
     const gl::Program& depth_pass = splat_program(ctx, p, "PASS_DEPTH");
     depth_pass.use();
     set_splat_uniforms(depth_pass, ctx, p);
+    set_raster_viewport(depth_pass, raster);
     glUniform1f(depth_pass.location("u_offset_radii"), 0.0f);
     draw_all(ctx, depth_pass, p);
   }
@@ -378,7 +463,7 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
 
   // 2. The splats near that surface, blended.
   const std::string blending = p.get_enum_name("blending");
-  if (blending != "a_buffer" || !draw_a_buffer(ctx, p)) draw_blended(ctx, p, blending != "none");
+  if (blending != "a_buffer" || !draw_a_buffer(ctx, p, raster)) draw_blended(ctx, p, blending != "none", raster);
 
   uint64_t drawn = 0;
   for (const VisibleChunk& v : ctx.chunks) drawn += queue_count(v, p);
@@ -496,6 +581,10 @@ const MarkRegistration registration{{
                                      "Neighbours mix only within this fraction of the depth"),
                          "blending", {"blur", "a_buffer"}),
                int_param("seed", 0, 0, 65535, "", "Varies the brushes' noise (still fixed per point)"),
+               bool_param("tile_invariant", false,
+                          "Every frame by the exact path that frames drawn in tiles (over the memory budget) take, "
+                          "so any size and budget give the same bytes (about 2.5x the time on a software GL); off, "
+                          "frames drawn whole take the faster interpolating passes"),
                density_mode_param(),
                queue_level_param(0.5),
            }},

@@ -129,13 +129,14 @@ class Hatching final : public Mark {
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override;
 
-  // In pixel units every stroke is placed and textured from its frame pixel
-  // (render/exact_raster.h), cut at stroke_reach() from its centre, and
-  // every choice is per point (the depth range is the frame's): a tile is
-  // the bytes of the frame. No pass reads neighbouring pixels: the extent
-  // is the whole reach. Strokes in scene units have no bound on screen
-  // (close to the camera), so those frames are drawn whole.
-  bool draws_tiles(const ParamValues& p) const override { return p.get_enum_name("units") == "pixels"; }
+  // Every stroke is placed and textured from its frame pixel
+  // (render/exact_raster.h) and every choice is per point (the depth range
+  // is the frame's): a tile is the bytes of the frame. In pixel units a
+  // stroke is cut at stroke_reach() from its centre, its extent; in scene
+  // units the chunks' bounds grown by the stroke's reach in scene units
+  // bound it on screen, so every tile it reaches draws it. No pass reads
+  // neighbouring pixels.
+  bool draws_tiles(const ParamValues&) const override { return true; }
 
  private:
   // Pixels from its centre a stroke in pixel units may cover: half the

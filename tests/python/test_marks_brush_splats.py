@@ -429,3 +429,94 @@ def test_brush_splats_feed_the_filters_and_the_compositing(renderer):
 
     plain, posterized = colours([]), colours([("posterize", {"levels": 2, "space": "rgb", "smoothness": 0.0})])
     assert posterized <= 32 and plain > 3000, (posterized, plain)
+
+
+# ---------------------------------------------------------------------------
+# Tiles (issue 17): a frame with brush splats drawn in tiles is the same
+# bytes as the frame drawn whole.
+
+def _wavy_cloud(n, seed, z0, spread=2.0):
+    rng = np.random.default_rng(seed)
+    x = rng.uniform(-spread, spread, n)
+    y = rng.uniform(-0.75 * spread, 0.75 * spread, n)
+    z = z0 + 0.4 * np.sin(3 * x) * np.cos(2 * y) + rng.normal(0, 0.01, n)
+    return pointnpr.PointCloud(np.column_stack([x, y, z]), colors=rng.integers(0, 255, (n, 3)).astype(np.uint8))
+
+
+@pytest.fixture(scope="module")
+def wavy_clouds():
+    return _wavy_cloud(30000, 3, -6.0), _wavy_cloud(12000, 4, -5.0, spread=1.0)
+
+
+def _presets():
+    from pointnpr import presets
+    return {name: p for name, p in presets.PRESETS.items() if p["mark"][0] == "brush_splats"}
+
+
+TILE_STYLES = {"defaults (blur)": ({}, [("cartoon", {})]),
+               "a_buffer": ({"blending": "a_buffer", "depth_tolerance": 2.0}, [("xdog", {})]),
+               "none, two layers, clusters": ({"blending": "none", "layers": "two", "clusters": True}, [])}
+TILE_STYLES.update({name: (p["mark"][1], p["filters"]) for name, p in _presets().items()})
+
+
+@pytest.mark.parametrize("name", sorted(TILE_STYLES))
+def test_brush_splats_tiled_are_the_bytes_of_the_whole_frame(renderer, wavy_clouds, name):
+    params, filters = TILE_STYLES[name]
+    params = dict(params, tile_invariant=True)
+    scene = pointnpr.Scene()
+    # Behind: the brush splats with a filter; in front: points with a cartoon,
+    # so the compositing of two segments is in the picture too.
+    scene.add_segment("wall", pointnpr.Style(mark=("brush_splats", params), filters=filters, inpaint={"radius": 4}),
+                      [wavy_clouds[0]])
+    scene.add_segment("crown", pointnpr.Style(rasterize={"point_size": 2}, filters=[("cartoon", {})]),
+                      [wavy_clouds[1]])
+    width, height = 301, 233
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=width, height=height)
+    whole = renderer.render(scene, cam, width, height)
+    tiled = renderer.render(scene, cam, width, height, tile_size=64)
+    assert whole.stats["tiles"] == 1 and tiled.stats["tiles"] > 1
+    assert tiled.stats["tile_region_width"] < width and tiled.stats["tile_region_height"] < height
+    assert not any("tiles" in w for w in tiled.warnings), tiled.warnings
+    if params.get("blending") == "a_buffer":
+        assert whole.stats["a_buffer_fragments"] > 0 and not any("A-buffer" in w for w in whole.warnings + tiled.warnings)
+    index = np.asarray(whole.segment_index).reshape(height, width)
+    assert (index == 0).mean() > 0.3 and (index == 1).mean() > 0.05  # both segments in the picture
+    for field in ("color", "depth", "segment_index"):
+        a, b = np.asarray(getattr(whole, field)), np.asarray(getattr(tiled, field))
+        assert a.tobytes() == b.tobytes(), f"{field}: {int(np.count_nonzero(a != b))} values differ"
+
+
+def test_brush_splats_over_the_budget_tile_by_the_exact_path_without_being_asked(renderer, wavy_clouds):
+    # Without tile_invariant a frame that fits is drawn whole by the faster
+    # interpolating passes; one over the memory budget is cut into tiles
+    # drawn by the exact path: the bytes of the whole frame drawn that way.
+    def scene(params):
+        s = pointnpr.Scene()
+        s.add_segment("wall", pointnpr.Style(mark=("brush_splats", params), filters=[("cartoon", {})]),
+                      [wavy_clouds[0]])
+        return s
+
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=200, height=150)
+    tight = renderer.render(scene({}), cam, 200, 150, memory_budget_gb=0.006)
+    assert tight.stats["tiles"] > 1 and not tight.warnings, tight.warnings
+    exact = renderer.render(scene({"tile_invariant": True}), cam, 200, 150)
+    assert exact.stats["tiles"] == 1
+    for name in ("color", "depth", "segment_index"):
+        assert np.asarray(getattr(tight, name)).tobytes() == np.asarray(getattr(exact, name)).tobytes(), name
+    # Drawn whole without the option: the interpolating passes, not the same bytes.
+    fast = renderer.render(scene({}), cam, 200, 150)
+    assert fast.stats["tiles"] == 1
+    assert np.asarray(fast.color).tobytes() != np.asarray(exact.color).tobytes()
+
+
+def test_an_a_buffer_over_its_budget_in_tiles_warns_once(renderer, wavy_clouds):
+    # The budget holds per tile (each tile's lists cover its own region).
+    scene = pointnpr.Scene()
+    params = {"blending": "a_buffer", "size_scale": 4.0, "depth_tolerance": 4.0, "a_buffer_budget": 1.0,
+              "tile_invariant": True}
+    scene.add_segment("wall", pointnpr.Style(mark=("brush_splats", params)), [wavy_clouds[0]])
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=301, height=233)
+    tiled = renderer.render(scene, cam, 301, 233, tile_size=64)
+    assert tiled.stats["tiles"] > 1
+    budget = [w for w in tiled.warnings if "A-buffer" in w]
+    assert len(budget) == 1 and "for a tile" in budget[0] and "blur" in budget[0], tiled.warnings

@@ -139,16 +139,49 @@ def test_cancelling_stops_between_tiles_and_the_renderer_renders_on(renderer, cl
     assert_same_bytes(whole, again)
 
 
-def test_a_mark_that_cannot_tile_draws_the_frame_whole_and_says_so(renderer, clouds):
-    # Hatching in scene units: its strokes have no bound on screen near the camera.
+def test_frames_that_capture_marks_are_drawn_whole(renderer, clouds):
+    # Captured marks are listed once per frame: such frames are not cut.
     scene = pointnpr.Scene()
-    scene.add_segment("hatched", pointnpr.Style(mark=("hatching", {"units": "world"})), [clouds[0]])
+    scene.add_segment("hatched", pointnpr.Style(mark=("hatching", {})), [clouds[0]])
     cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=200, height=150)
-    result = renderer.render(scene, cam, 200, 150, memory_budget_gb=0.001)
-    assert result.stats["tiles"] == 1
-    assert any("'hatching' mark does not draw in tiles" in w for w in result.warnings), result.warnings
-    # Within the budget nothing is said.
-    assert not any("tiles" in w for w in renderer.render(scene, cam, 200, 150).warnings)
+    result = renderer.render(scene, cam, 200, 150, memory_budget_gb=0.001, capture_marks=True)
+    assert result.stats["tiles"] == 1 and len(result.marks["point_id"]) > 100
+    assert renderer.render(scene, cam, 200, 150, memory_budget_gb=0.001).stats["tiles"] > 1
+
+
+@pytest.mark.parametrize("params", [{"units": "world"},
+                                    {"units": "world", "world_length": 0.4, "world_width": 0.02,
+                                     "placement": "irregular"}])
+def test_hatching_in_scene_units_tiled_is_the_bytes_of_the_whole_frame(renderer, clouds, wall_patches, params):
+    # Strokes sized in the scene: each chunk's bounds grown by the stroke's
+    # reach in scene units bound where its strokes fall on screen, so every
+    # tile draws each stroke reaching its region.
+    scene = pointnpr.Scene()
+    scene.add_segment("hatched", pointnpr.Style(mark=("hatching", params), filters=[("cartoon", {})]), wall_patches)
+    scene.add_segment("crown", pointnpr.Style(rasterize={"point_size": 2}), [clouds[1]])
+    whole, tiled = render_both(renderer, scene, 301, 233, 64)
+    assert whole.stats["strokes_drawn"] > 1000
+    assert_same_bytes(whole, tiled)
+
+
+def test_long_strokes_in_scene_units_close_to_a_wide_angle_camera_tiled_are_the_bytes_of_the_whole_frame(renderer):
+    # Half-metre strokes on a slope reaching to 0.3 m from a 12 mm lens:
+    # hundreds of pixels long, across many tiles.
+    rng = np.random.default_rng(7)
+    n = 20000
+    x, t = rng.uniform(-3, 3, n), rng.uniform(-2.5, 2.5, n)
+    pos = np.column_stack([x, 0.707 * t, -4.0 - 0.707 * t])
+    column, row = np.minimum(((x + 3) // 1).astype(int), 5), np.minimum(((t + 2.5) // 1).astype(int), 4)
+    clouds = [pointnpr.PointCloud(pos[(column == i) & (row == j)]) for i in range(6) for j in range(5)]
+    scene = pointnpr.Scene()
+    scene.add_segment("slope", pointnpr.Style(mark=("hatching", {
+        "units": "world", "world_length": 0.5, "length_jitter": 1.0, "direction_azimuth": 90.0,
+        "direction_elevation": -45.0, "stroke_coverage": 0.0, "density": 0.3, "clip_to_surface": False})), clouds)
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=12.0, clip_start=0.05, width=301, height=233)
+    whole = renderer.render(scene, cam, 301, 233)
+    tiled = renderer.render(scene, cam, 301, 233, tile_size=64)
+    assert tiled.stats["tiles"] > 1 and whole.stats["strokes_drawn"] > 100
+    assert_same_bytes(whole, tiled)
 
 
 # The stroke marks (hatching, feature_strokes): with their defaults and with
