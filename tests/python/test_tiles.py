@@ -164,26 +164,6 @@ def test_hatching_in_scene_units_tiled_is_the_bytes_of_the_whole_frame(renderer,
     assert_same_bytes(whole, tiled)
 
 
-def test_long_strokes_in_scene_units_close_to_a_wide_angle_camera_tiled_are_the_bytes_of_the_whole_frame(renderer):
-    # Half-metre strokes on a slope reaching to 0.3 m from a 12 mm lens:
-    # hundreds of pixels long, across many tiles.
-    rng = np.random.default_rng(7)
-    n = 20000
-    x, t = rng.uniform(-3, 3, n), rng.uniform(-2.5, 2.5, n)
-    pos = np.column_stack([x, 0.707 * t, -4.0 - 0.707 * t])
-    column, row = np.minimum(((x + 3) // 1).astype(int), 5), np.minimum(((t + 2.5) // 1).astype(int), 4)
-    clouds = [pointnpr.PointCloud(pos[(column == i) & (row == j)]) for i in range(6) for j in range(5)]
-    scene = pointnpr.Scene()
-    scene.add_segment("slope", pointnpr.Style(mark=("hatching", {
-        "units": "world", "world_length": 0.5, "length_jitter": 1.0, "direction_azimuth": 90.0,
-        "direction_elevation": -45.0, "stroke_coverage": 0.0, "density": 0.3, "clip_to_surface": False})), clouds)
-    cam = pointnpr.Camera.perspective(np.eye(4), lens=12.0, clip_start=0.05, width=301, height=233)
-    whole = renderer.render(scene, cam, 301, 233)
-    tiled = renderer.render(scene, cam, 301, 233, tile_size=64)
-    assert tiled.stats["tiles"] > 1 and whole.stats["strokes_drawn"] > 100
-    assert_same_bytes(whole, tiled)
-
-
 # The stroke marks (hatching, feature_strokes): with their defaults and with
 # every preset of theirs, a filter chain after the mark, over a second
 # segment of points they composite with.
@@ -248,24 +228,34 @@ def test_stroke_marks_under_an_orthographic_camera_tiled_are_the_bytes_of_the_wh
     assert_same_bytes(whole, tiled)
 
 
-def test_long_strokes_turned_toward_a_wide_angle_camera_tiled_are_the_bytes_of_the_whole_frame(renderer):
-    # A plane at 45 degrees to the view, strokes along its slope, not cut to
-    # the surface: their near halves project longer than their length (cut
-    # at the halo), across many tiles, from patches each tile may not draw.
+@pytest.fixture(scope="module")
+def slope_patches():
+    """A plane at 45 degrees to the view, from 1.5 m to 6.5 m, in 6 x 5 patches."""
     rng = np.random.default_rng(7)
     n = 20000
     x, t = rng.uniform(-3, 3, n), rng.uniform(-2.5, 2.5, n)
     pos = np.column_stack([x, 0.707 * t, -4.0 - 0.707 * t])
     column, row = np.minimum(((x + 3) // 1).astype(int), 5), np.minimum(((t + 2.5) // 1).astype(int), 4)
-    clouds = [pointnpr.PointCloud(pos[(column == i) & (row == j)]) for i in range(6) for j in range(5)]
+    return [pointnpr.PointCloud(pos[(column == i) & (row == j)]) for i in range(6) for j in range(5)]
+
+
+@pytest.mark.parametrize("size", [{"line_length": 60.0},                       # pixels: cut at the halo
+                                  {"units": "world", "world_length": 0.5}],   # scene: hundreds of pixels near
+                         ids=["pixels", "scene_units"])
+def test_long_strokes_turned_toward_a_wide_angle_camera_tiled_are_the_bytes_of_the_whole_frame(
+        renderer, slope_patches, size):
+    # Strokes along the slope, not cut to the surface: their near halves
+    # project longer than their length, across many tiles, from patches
+    # each tile may not draw.
     scene = pointnpr.Scene()
-    scene.add_segment("slope", pointnpr.Style(mark=("hatching", {
-        "line_length": 60.0, "length_jitter": 1.0, "direction_azimuth": 90.0, "direction_elevation": -45.0,
-        "stroke_coverage": 0.0, "density": 0.3, "light_elevation": -90.0, "clip_to_surface": False})), clouds)
+    scene.add_segment("slope", pointnpr.Style(mark=("hatching", dict(size, **{
+        "length_jitter": 1.0, "direction_azimuth": 90.0, "direction_elevation": -45.0,
+        "stroke_coverage": 0.0, "density": 0.3, "light_elevation": -90.0, "clip_to_surface": False}))),
+        slope_patches)
     cam = pointnpr.Camera.perspective(np.eye(4), lens=12.0, clip_start=0.05, width=257, height=201)
     whole = renderer.render(scene, cam, 257, 201)
     tiled = renderer.render(scene, cam, 257, 201, tile_size=64)
-    assert tiled.stats["tiles"] > 1 and whole.stats["strokes_drawn"] > 3000
+    assert tiled.stats["tiles"] > 1 and whole.stats["strokes_drawn"] > (100 if "units" in size else 3000)
     assert_same_bytes(whole, tiled)
 
 
