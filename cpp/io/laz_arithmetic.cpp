@@ -22,9 +22,9 @@ void BitModel::update() {
 void SymbolModel::init(uint32_t n) {
   symbols = n;
   last_symbol = n - 1;
-  if (n > 16) {
+  if (n >= kTableFrom) {
     uint32_t table_bits = 3;
-    while (n > (1u << (table_bits + 2))) ++table_bits;
+    while (n > (1u << table_bits)) ++table_bits;
     table_size = 1u << table_bits;
     table_shift = kLengthShift - table_bits;
     decoder_table.assign(table_size + 2, 0);
