@@ -61,10 +61,10 @@ void SymbolModel::update() {
       distribution[k] = (scale * sum) >> (31 - kLengthShift);
       sum += symbol_count[k];
       const uint32_t w = distribution[k] >> table_shift;
-      while (s < w) decoder_table[++s] = k - 1;
+      while (s < w) decoder_table[++s] = static_cast<uint16_t>(k - 1);
     }
     decoder_table[0] = 0;
-    while (s <= table_size) decoder_table[++s] = symbols - 1;
+    while (s <= table_size) decoder_table[++s] = static_cast<uint16_t>(symbols - 1);
   }
   update_cycle = (5 * update_cycle) >> 2;
   const uint32_t max_cycle = (symbols + 6) << 3;

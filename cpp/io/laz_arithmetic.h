@@ -46,7 +46,8 @@ class SymbolModel {
   uint32_t symbols = 0, last_symbol = 0;
   uint32_t table_shift = 0, table_size = 0;
   uint32_t total_count = 0, update_cycle = 0, symbols_until_update = 0;
-  std::vector<uint32_t> distribution, symbol_count, decoder_table;
+  std::vector<uint32_t> distribution, symbol_count;
+  std::vector<uint16_t> decoder_table;  // symbols < 2048: half the cache lines
 };
 
 // Range decoder over [begin, end). Reads past `end` return zero bytes and are
