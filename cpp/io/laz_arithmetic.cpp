@@ -22,9 +22,9 @@ void BitModel::update() {
 void SymbolModel::init(uint32_t n) {
   symbols = n;
   last_symbol = n - 1;
-  if (n > 16) {
+  if (n >= kTableFrom) {
     uint32_t table_bits = 3;
-    while (n > (1u << (table_bits + 2))) ++table_bits;
+    while (n > (1u << table_bits)) ++table_bits;
     table_size = 1u << table_bits;
     table_shift = kLengthShift - table_bits;
     decoder_table.assign(table_size + 2, 0);
@@ -61,10 +61,10 @@ void SymbolModel::update() {
       distribution[k] = (scale * sum) >> (31 - kLengthShift);
       sum += symbol_count[k];
       const uint32_t w = distribution[k] >> table_shift;
-      while (s < w) decoder_table[++s] = k - 1;
+      while (s < w) decoder_table[++s] = static_cast<uint16_t>(k - 1);
     }
     decoder_table[0] = 0;
-    while (s <= table_size) decoder_table[++s] = symbols - 1;
+    while (s <= table_size) decoder_table[++s] = static_cast<uint16_t>(symbols - 1);
   }
   update_cycle = (5 * update_cycle) >> 2;
   const uint32_t max_cycle = (symbols + 6) << 3;
