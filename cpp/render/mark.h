@@ -50,11 +50,12 @@ struct VisibleChunk {
 };
 
 // A mesh that survived culling (the mesh_surface mark's input), with its
-// float view transform composed in double like a chunk's.
+// view transform composed in double (its offsets from the mesh origin
+// are float; the setup applies it in double).
 struct VisibleMesh {
   const GpuMesh* gpu = nullptr;
   const TriangleMesh* mesh = nullptr;
-  glm::mat4 view_from_mesh{1.0f};
+  glm::dmat4 view_from_mesh{1.0};
 };
 
 // The frame's images a mark draws with. `color` and `depth` are the outputs

@@ -45,7 +45,7 @@ MeshPass prepare_meshes(const Segment& seg, const Camera& cam, glm::ivec2 size, 
     const Rect r = box.rect(size, 1.0);
     if (box.all_near || box.all_far || r.empty()) continue;
     const GpuMesh& gpu = cache.get(inst.mesh, needed);
-    out.visible.push_back({&gpu, &mesh, glm::mat4(view_from_mesh)});
+    out.visible.push_back({&gpu, &mesh, view_from_mesh});
     out.screen = out.screen.united(r);
     out.depth_min = std::min(out.depth_min, std::max(box.depth_min, cam.clip_start));
     out.depth_max = std::max(out.depth_max, std::min(box.depth_max, cam.clip_end));
