@@ -22,35 +22,22 @@ import tempfile
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-WIDTH, HEIGHT = 1920, 1080
 
 
 def child(build, path, frames, out):
     import bpy
-    import numpy as np
 
     sys.path.insert(0, str(build))
     import pointnpr
     from pointnpr.blender import sync
 
-    pointnpr.register()
-    scene = bpy.context.scene
-    for obj in list(bpy.data.objects):  # the startup cube would render as a mesh
-        if obj.type != 'CAMERA':
-            bpy.data.objects.remove(obj)
-    scene.render.engine = "POINTNPR"
-    scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
-    scene.render.resolution_percentage = 100
+    sys.path.insert(0, str(ROOT / "bench"))
+    from bench_memory import camera_above, peak_rss, pointnpr_scene
+
+    scene = pointnpr_scene(pointnpr)
     assert bpy.ops.import_scene.pointnpr_cloud(filepath=path) == {'FINISHED'}
     obj = next(o for o in scene.objects if o.type == 'MESH')
-    lo = np.array([min(c[i] for c in obj.bound_box) for i in range(3)])
-    hi = np.array([max(c[i] for c in obj.bound_box) for i in range(3)])
-    cam = scene.camera
-    cam.location = ((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 100.0)
-    cam.rotation_euler = (0.0, 0.0, 0.0)
-    cam.data.type = 'ORTHO'
-    cam.data.ortho_scale = float(max(hi - lo))
-    cam.data.clip_start, cam.data.clip_end = 1.0, 1000.0
+    camera_above(scene, obj)
 
     sync_s = []
     build_scene = sync.build_scene
@@ -68,8 +55,6 @@ def child(build, path, frames, out):
         t0 = time.perf_counter()
         bpy.ops.render.render()
         rows.append((time.perf_counter() - t0, sync_s[-1]))
-    sys.path.insert(0, str(ROOT / "bench"))
-    from bench_memory import peak_rss
     json.dump({"points": len(obj.data.vertices), "frames": rows, "blender": bpy.app.version_string,
                "stats": sync.cache_stats(), "peak_rss": peak_rss()}, open(out, "w"))
 

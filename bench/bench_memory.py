@@ -123,12 +123,10 @@ def child_core(build, path, out):
     json.dump({"points": n, "stages": stages}, open(out, "w"))
 
 
-def child_blender(build, path, out):
+def pointnpr_scene(pointnpr):
+    """Blender's startup scene (in blender -b) emptied but for its camera,
+    rendered by PointNPR at WIDTH x HEIGHT."""
     import bpy
-    import numpy as np
-
-    sys.path.insert(0, str(build))
-    import pointnpr
 
     pointnpr.register()
     scene = bpy.context.scene
@@ -138,13 +136,13 @@ def child_blender(build, path, out):
     scene.render.engine = "POINTNPR"
     scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
     scene.render.resolution_percentage = 100
-    scene.render.filepath = os.path.join(os.path.dirname(out), "frame")
-    stages = [("start", 0.0, peak_rss())]
-    t0 = time.perf_counter()
-    assert bpy.ops.import_scene.pointnpr_cloud(filepath=path) == {'FINISHED'}
-    stages.append(("import", time.perf_counter() - t0, peak_rss()))
-    obj = next(o for o in scene.objects if o.type == 'MESH')
-    n = len(obj.data.vertices)
+    return scene
+
+
+def camera_above(scene, obj):
+    """The scene's camera looking straight down at all of ``obj``, orthographic."""
+    import numpy as np
+
     lo = np.array([min(c[i] for c in obj.bound_box) for i in range(3)])
     hi = np.array([max(c[i] for c in obj.bound_box) for i in range(3)])
     cam = scene.camera
@@ -153,6 +151,24 @@ def child_blender(build, path, out):
     cam.data.type = 'ORTHO'
     cam.data.ortho_scale = float(max(hi - lo))
     cam.data.clip_start, cam.data.clip_end = 1.0, 1000.0
+
+
+def child_blender(build, path, out):
+    import bpy
+    import numpy as np
+
+    sys.path.insert(0, str(build))
+    import pointnpr
+
+    scene = pointnpr_scene(pointnpr)
+    scene.render.filepath = os.path.join(os.path.dirname(out), "frame")
+    stages = [("start", 0.0, peak_rss())]
+    t0 = time.perf_counter()
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=path) == {'FINISHED'}
+    stages.append(("import", time.perf_counter() - t0, peak_rss()))
+    obj = next(o for o in scene.objects if o.type == 'MESH')
+    n = len(obj.data.vertices)
+    camera_above(scene, obj)
     for i in (1, 2):
         t0 = time.perf_counter()
         bpy.ops.render.render()

@@ -10,12 +10,10 @@
 // 1/256 under 2^16; points.vert does the same): the rasterizer, in 1/256
 // fixed point, covers the same pixels in every tile.
 #include "brush_common.glsl"
+#include "exact_window.glsl"
 
 uniform float u_offset_radii;  // PASS_BLEND ...: tested this many radii toward the camera
 uniform vec2 u_frame_size;     // the frame's (the projection maps to it)
-uniform ivec2 u_origin;        // the tile's, in frame pixels
-uniform float u_raster_center; // window = ndc * u_raster_half + u_raster_center (the viewport's)
-uniform float u_raster_half;
 
 flat out vec3 v_center;        // view space
 flat out vec3 v_u_axis;        // t / (2 radius stretch): u = dot(p - center, this) + 0.5
@@ -45,8 +43,7 @@ void main() {
   vec3 p = s.center + (s.t * ((corner.x - 0.5) * s.stretch) + s.b * (corner.y - 0.5)) * (2.0 * s.radius);
   vec4 clip = u_projection * vec4(p, 1.0);
   precise vec2 win = (clip.xy / clip.w * 0.5 + 0.5) * u_frame_size;
-  precise vec2 local = round(win * 256.0) / 256.0 - vec2(u_origin);
-  precise vec2 ndc = (local - u_raster_center) / u_raster_half;
+  vec2 ndc = exact_clip(exact_window(win), 0.0).xy;
   // GL depth: one value per splat, so no interpolation rounds it; the
   // depth pass writes its own per pixel (gl_FragDepth), the later passes
   // cull with this bound of the splat's nearest point (moved toward the

@@ -37,11 +37,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
 #include "gl/device.h"
 #include "marks/points.h"
+#include "render/exact_raster.h"
 #include "render/ink_layer.h"
 #include "scene/camera.h"
 
@@ -111,38 +113,19 @@ bool exact_path(const MarkTargets& t, const ParamValues& p) {
   return p.get_bool("tile_invariant") || t.size != frame_size(t) || t.origin != glm::ivec2(0);
 }
 
-// The viewport the splats are rasterized through: a power-of-two square
-// from (-margin, -margin), so that its transform is exact on the corners'
-// 1/256 grid and no splat reaching the images is clipped by it (clipping
-// would move corners off the grid).
-struct RasterViewport {
-  bool exact = false;  // exact_path(); else the frame's viewport (MarkRasterState)
-  int margin = 0;
-  int side = 1;
-};
-
-RasterViewport raster_viewport(const MarkContext& ctx, const ParamValues& p, const BrushSplats& mark) {
-  GLint dims[2] = {0, 0};
-  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);
-  const int largest = std::min(dims[0], dims[1]);
-  const glm::ivec2 size = ctx.targets.size;
-  RasterViewport v;
-  v.exact = exact_path(ctx.targets, p);
-  v.margin = 2 * int(std::ceil(mark.extent(p).pixels)) + 2;
-  while (v.side < std::max(size.x, size.y) + 2 * v.margin) v.side *= 2;
-  if (v.side > largest) {  // images near the GL's limit: no margin (splats crossing the edge may be clipped)
-    v.margin = 0;
-    v.side = 1;
-    while (v.side < std::max(size.x, size.y)) v.side *= 2;
-  }
-  return v;
+// The exact raster of the splats (render/exact_raster.h) when they take
+// the exact path; a margin of twice the mark's extent, so no splat reaching
+// the images is clipped (clipping would move corners off the grid). Else
+// none: the frame's viewport (MarkRasterState).
+std::optional<ExactRaster> raster_viewport(const MarkContext& ctx, const ParamValues& p, const BrushSplats& mark) {
+  if (!exact_path(ctx.targets, p)) return std::nullopt;
+  return exact_raster(ctx.targets, float(2 * int(std::ceil(mark.extent(p).pixels)) + 1));
 }
 
-void set_raster_viewport(const gl::Program& g, const RasterViewport& v) {
-  if (!v.exact) return;
-  glViewport(-v.margin, -v.margin, v.side, v.side);
-  glUniform1f(g.location("u_raster_half"), 0.5f * float(v.side));
-  glUniform1f(g.location("u_raster_center"), 0.5f * float(v.side) - float(v.margin));
+void set_raster_viewport(const gl::Program& g, const std::optional<ExactRaster>& raster) {
+  if (!raster) return;
+  raster->apply();
+  raster->set_uniforms(g);
 }
 
 void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const ParamValues& p) {
@@ -280,7 +263,7 @@ void near_surface_tests(const MarkContext& ctx, const gl::Program& g, const Para
 
 // Blending (b): returns false (with a warning) where the frame's fragments
 // would not fit the budget; nothing is then allocated for them.
-bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const RasterViewport& raster) {
+bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const std::optional<ExactRaster>& raster) {
   const Rect& clip = ctx.clip;
   // Lists over the clip rect only: 12 bytes of counters a pixel of it.
   const glm::ivec2 rect = clip.size();
@@ -383,7 +366,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const RasterVie
 }
 
 // Blending by weighted average and the blur (a).
-void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const RasterViewport& raster) {
+void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const std::optional<ExactRaster>& raster) {
   const Rect& clip = ctx.clip;
   const gl::Texture& accum = ctx.targets.scratch(GL_RGBA32F, 0);
   const gl::Texture& reveal = ctx.targets.scratch(GL_R32F, 0);
@@ -442,7 +425,7 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const
 void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
   // 1. Depth pass: the nearest brush surface per pixel (GL depth, reversed
   // Z, from each fragment's own depth; its linear depth in the segment's).
-  const RasterViewport raster = raster_viewport(ctx, p, *this);
+  const std::optional<ExactRaster> raster = raster_viewport(ctx, p, *this);
   const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth}, ctx.targets);
   {
     const MarkRasterState state(ctx.targets, ctx.clip);

@@ -36,9 +36,7 @@ void InkLayer::begin(bool depth_test, const ExactRaster& raster) const {
   const Rect& clip = ctx_.clip;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   raster.apply();
-  glEnable(GL_SCISSOR_TEST);
-  glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
-  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  set_mark_clip(clip);
   if (depth_test) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_GEQUAL);  // reversed Z
@@ -57,14 +55,7 @@ void InkLayer::blend_modes() {
   glBlendFunci(2, GL_ONE, GL_ONE);
 }
 
-void InkLayer::end() const {
-  glDisable(GL_BLEND);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_SCISSOR_TEST);
-  glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-}
+void InkLayer::end() const { restore_raster_defaults(); }
 
 void InkLayer::resolve(glm::vec4 paper, bool surface) const {
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);

@@ -59,14 +59,13 @@ ParamSpec queue_level_param(double default_level) {
                    "density_mode", {"constant_on_screen"});
 }
 
-MarkRasterState::MarkRasterState(const MarkTargets& targets, const Rect& clip) {
-  set_frame_viewport(targets);
+void set_mark_clip(const Rect& clip) {
   glEnable(GL_SCISSOR_TEST);
   glScissor(clip.min.x, clip.min.y, clip.size().x, clip.size().y);
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
 }
 
-MarkRasterState::~MarkRasterState() {
+void restore_raster_defaults() {
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
   glDisable(GL_DEPTH_TEST);
@@ -74,6 +73,13 @@ MarkRasterState::~MarkRasterState() {
   glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
+
+MarkRasterState::MarkRasterState(const MarkTargets& targets, const Rect& clip) {
+  set_frame_viewport(targets);
+  set_mark_clip(clip);
+}
+
+MarkRasterState::~MarkRasterState() { restore_raster_defaults(); }
 
 bool queue_enabled(const ParamValues& p) { return p.get_enum_name("density_mode") == "constant_on_screen"; }
 

@@ -96,6 +96,12 @@ inline void set_frame_viewport(const MarkTargets& t) {
 // reversed Z's [0, 1] clip depth; restored to the GL defaults the other
 // passes expect (no blending, depth writes on, no depth test or scissor,
 // the default framebuffer) when it ends. The framebuffer is the pass's to bind.
+// The scissor on a mark's clip rect and reversed Z's [0, 1] clip depth.
+void set_mark_clip(const Rect& clip);
+// The GL defaults the other passes expect: no blending, depth writes on,
+// no depth test or scissor, GL's clip depth, the default framebuffer.
+void restore_raster_defaults();
+
 class MarkRasterState {
  public:
   MarkRasterState(const MarkTargets& targets, const Rect& clip);
