@@ -12,6 +12,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -101,8 +102,22 @@ class LasReader : private io::ReaderBase {
   using ReaderBase::ReaderBase;
 
   PointData read();
+  // The points block after block (readers.h, stream_las).
+  void stream(uint64_t block_points, const ScanBlockSink& sink);
 
  private:
+  // What read() and stream() need of the header, every field validated.
+  struct Header {
+    int vmajor = 0, vminor = 0, pf = 0;
+    uint16_t record_length = 0;
+    uint32_t point_offset = 0, num_vlrs = 0;
+    uint64_t count = 0;
+    uint64_t data_end = 0;  // LAZ: where the compressed bytes end
+    double scale[3] = {1, 1, 1}, offset[3] = {0, 0, 0}, bounds[6] = {};
+    size_t extra_room = 0;
+  };
+  Header parse_header();
+  void add_metadata(PointData& out, const Header& h) const;
 
   void parse_vlr(const std::string& user, uint16_t id, const uint8_t* payload, uint64_t len,
                  size_t at);
@@ -446,7 +461,7 @@ void LasReader::decode_laz_points(PointData& out, int pf, size_t rl, uint64_t n,
   });
 }
 
-PointData LasReader::read() {
+LasReader::Header LasReader::parse_header() {
   if (size_ == 0) fail("file is empty (0 bytes)");
   if (size_ < 4 || std::memcmp(d_, "LASF", 4) != 0) {
     fail("not a LAS file: it does not start with the 'LASF' signature", 0);
@@ -620,23 +635,49 @@ PointData LasReader::read() {
          " bytes per point, but point records only have " + std::to_string(extra_room) +
          " bytes beyond point format " + std::to_string(pf));
 
+  Header h;
+  h.vmajor = vmajor;
+  h.vminor = vminor;
+  h.pf = pf;
+  h.record_length = record_length;
+  h.point_offset = point_offset;
+  h.num_vlrs = num_vlrs;
+  h.count = count;
+  for (int c = 0; c < 3; ++c) h.scale[c] = scale[c], h.offset[c] = offset[c];
+  for (int k = 0; k < 6; ++k) h.bounds[k] = bounds[k];
+  h.extra_room = extra_room;
+  // The compressed bytes end at the first EVLR (LAS 1.4) or the file's end.
+  h.data_end = size_;
+  if (laszip_ && vminor >= 4 && load_le<uint32_t>(d_ + 243) > 0) {
+    const uint64_t evlr_start = load_le<uint64_t>(d_ + 235);
+    if (evlr_start >= point_offset && evlr_start <= size_) h.data_end = evlr_start;
+  }
+  return h;
+}
+
+PointData LasReader::read() {
+  const Header h = parse_header();
   PointData out;
   if (laszip_) {
-    // The compressed bytes end at the first EVLR (LAS 1.4) or the file's end.
-    uint64_t data_end = size_;
-    if (vminor >= 4 && load_le<uint32_t>(d_ + 243) > 0) {
-      const uint64_t evlr_start = load_le<uint64_t>(d_ + 235);
-      if (evlr_start >= point_offset && evlr_start <= size_) data_end = evlr_start;
-    }
     try {
-      decode_laz_points(out, pf, record_length, count, scale, offset, point_offset, data_end);
+      decode_laz_points(out, h.pf, h.record_length, h.count, h.scale, h.offset, h.point_offset, h.data_end);
     } catch (const laz::FormatError& e) {
       fail(e.what(), e.offset);
     }
   } else {
-    decode_points(out, pf, record_length, count, d_ + point_offset, scale, offset);
+    decode_points(out, h.pf, h.record_length, h.count, d_ + h.point_offset, h.scale, h.offset);
   }
+  add_metadata(out, h);
+  return out;
+}
 
+void LasReader::add_metadata(PointData& out, const Header& h) const {
+  const int vmajor = h.vmajor, vminor = h.vminor, pf = h.pf;
+  const uint16_t record_length = h.record_length;
+  const uint32_t num_vlrs = h.num_vlrs;
+  const uint64_t count = h.count;
+  const double *scale = h.scale, *offset = h.offset, *bounds = h.bounds;
+  const size_t extra_room = h.extra_room;
   auto& md = out.metadata;
   md["format"] = std::string("las");
   if (laszip_) {
@@ -665,7 +706,54 @@ PointData LasReader::read() {
   if (extra_room > extra_descriptor_bytes_)
     md["extra_bytes_undescribed"] = static_cast<int64_t>(extra_room - extra_descriptor_bytes_);
   if (pf == 4 || pf == 5 || pf == 9 || pf == 10) md["waveform_ignored"] = int64_t{1};
-  return out;
+}
+
+void LasReader::stream(uint64_t block_points, const ScanBlockSink& sink) {
+  const Header h = parse_header();
+  const Layout lay = layout_for(h.pf);
+  const DecodeFn decode = kDecoders[h.pf];
+  const size_t rl = h.record_length;
+  // One block's columns (the standard fields; extra bytes are not streamed),
+  // decoded from the records at `records` (the block's first).
+  auto deliver = [&](uint64_t first, uint64_t n, const uint8_t* records) {
+    PointData block;
+    Columns c = allocate_columns(block, h.pf, n);
+    std::vector<uint16_t> rgb16;
+    if (lay.rgb >= 0) rgb16.resize(n * 3);
+    for_blocks(n, [&](uint64_t b, uint64_t e) {
+      decode(records + b * rl, rl, b, e, h.scale, h.offset, false, c);
+      if (lay.rgb >= 0)
+        for (uint64_t i = b; i < e; ++i) std::memcpy(&rgb16[3 * i], records + i * rl + lay.rgb, 6);
+    });
+    ScanBlock s;
+    s.first = first;
+    s.count = n;
+    s.positions = block.positions.data();
+    s.rgb16 = rgb16.empty() ? nullptr : rgb16.data();
+    s.intensity = c.intensity;
+    s.classification = c.classification;
+    sink(s);
+  };
+  if (laszip_) {
+    // Chunks decode in parallel; the sink sees one at a time, in any order.
+    std::mutex one_at_a_time;
+    try {
+      laz::decompress(d_, size_, h.point_offset, h.data_end, h.count, rl, *laszip_, [] {},
+                      [&](uint64_t first, const uint8_t* records, uint64_t n) {
+                        std::lock_guard<std::mutex> lock(one_at_a_time);
+                        deliver(first, n, records);
+                      });
+    } catch (const laz::FormatError& e) {
+      fail(e.what(), e.offset);
+    }
+    return;
+  }
+  if (block_points == 0) block_points = 1;
+  for (uint64_t first = 0; first < h.count; first += block_points) {
+    const uint64_t n = std::min(block_points, h.count - first);
+    deliver(first, n, d_ + h.point_offset + first * rl);
+    file_.release(h.point_offset + first * rl, n * rl);
+  }
 }
 
 }  // namespace
@@ -673,6 +761,11 @@ PointData LasReader::read() {
 PointData read_las(const std::string& path) {
   LasReader reader(path);
   return reader.read();
+}
+
+void stream_las(const std::string& path, const ScanBlockSink& sink, uint64_t block_points) {
+  LasReader reader(path);
+  reader.stream(block_points, sink);
 }
 
 PointData read_las_memory(const uint8_t* data, size_t size, const std::string& name) {

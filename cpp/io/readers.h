@@ -3,6 +3,7 @@
 // the file, a reason a user can act on and, where it applies, the byte offset.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "io/point_data.h"
@@ -15,6 +16,23 @@ PointData read_point_cloud(const std::string& path);
 
 // ASPRS LAS 1.0-1.4, point formats 0-10 (waveform packets ignored).
 PointData read_las(const std::string& path);
+// A block of a LAS/LAZ file's points as stream_las hands them over: points
+// [first, first + count) of the file, the arrays valid during the call.
+struct ScanBlock {
+  uint64_t first = 0;
+  size_t count = 0;
+  const double* positions = nullptr;       // x, y, z (raw integer * scale + offset)
+  const uint16_t* rgb16 = nullptr;         // r, g, b as stored (16 bits), or null: no colour
+  const float* intensity = nullptr;        // as read_las gives it
+  const uint8_t* classification = nullptr;
+};
+using ScanBlockSink = std::function<void(const ScanBlock&)>;
+// Reads a LAS or LAZ file block after block without holding it whole: LAS
+// records in blocks of `block_points`, in file order; LAZ chunk by chunk
+// (decoded in parallel), in any order, the sink called by one thread at a
+// time. The same checks and ReadErrors as read_las.
+void stream_las(const std::string& path, const ScanBlockSink& sink, uint64_t block_points = uint64_t{1} << 20);
+
 // Stanford PLY: ascii, binary_little_endian, binary_big_endian; vertices only.
 PointData read_ply(const std::string& path);
 // PCL PCD v0.7 (ascii, binary, binary_compressed); non-finite points dropped.

@@ -5,12 +5,16 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
+#include "core/progress.h"
+#include "io/readers.h"
 #include "io/scan_cache.h"
+#include "io/scan_cache_stream.h"
 #include "python/bindings.h"
 #include "render/streamed_cloud.h"
 #include "scene/cached_cloud.h"
@@ -46,6 +50,56 @@ void bind_cache(py::module_& m) {
       py::arg("path"), py::arg("cloud"),
       "Writes a PointCloud as an out-of-core scan cache (its chunks, each in resolution-queue order, with "
       "checksums; docs/io.md#scan-cache). Raises pointnpr.Error when it cannot be written (no partial file).");
+
+  m.def(
+      "write_scan_caches",
+      [](py::object scan, py::function path_for, std::vector<double> origin, bool split_by_classification,
+         uint64_t memory_bytes, uint32_t chunk_size, const py::object& progress) {
+        if (origin.size() != 3) throw ParameterError("origin must have 3 values");
+        io::StreamedCacheOptions o;
+        o.origin = {origin[0], origin[1], origin[2]};
+        for (int c = 0; c < 3; ++c)
+          if (!std::isfinite(o.origin[c])) throw ParameterError("origin must be finite");
+        o.split_by_classification = split_by_classification;
+        o.memory_bytes = memory_bytes;
+        o.max_chunk_points = chunk_size;
+        const std::string p = path_bytes(scan);
+        Progress* watch = progress.is_none() ? nullptr : progress.cast<Progress*>();
+        std::vector<io::StreamedCache> written;
+        {
+          py::gil_scoped_release release;
+          const ProgressScope scope(watch);
+          written = io::write_scan_caches(
+              [&](const ScanBlockSink& sink) { stream_las(p, sink); },
+              [&](int classification) {
+                py::gil_scoped_acquire gil;
+                return path_bytes(path_for(classification));
+              },
+              o);
+        }
+        py::list out;
+        for (const io::StreamedCache& c : written) {
+          py::dict d;
+          d["classification"] = c.classification;
+          d["path"] = py::module_::import("os").attr("fsdecode")(py::bytes(c.path));
+          d["points"] = c.points;
+          d["rows"] = c.rows;
+          d["runs"] = c.runs;
+          d["refined_buckets"] = c.refined_buckets;
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("scan"), py::arg("path_for"), py::arg("origin") = std::vector<double>{0.0, 0.0, 0.0},
+      py::arg("split_by_classification") = false, py::arg("memory_bytes") = uint64_t{256} << 20,
+      py::arg("chunk_size") = 16384, py::arg("progress") = py::none(),
+      "Writes out-of-core scan caches straight from a LAS or LAZ file, reading it a few times block by block, "
+      "in about memory_bytes of memory whatever the scan's size (docs/io.md#scan-cache). The caches are the "
+      "bytes write_scan_cache writes for PointCloud(float32(positions - origin), colors, intensity, "
+      "classification) of the file (one per class with split_by_classification, point ids the rows of the "
+      "class). path_for(classification) names each cache (-1: not split). Returns a list of dicts "
+      "(classification, path, points, rows, runs, refined_buckets: how the external sort went). Raises ReadError for a bad file, pointnpr.Cancelled when progress "
+      "is cancelled; a failure leaves no cache and no temporary file.");
 
   py::class_<CachedCloud, std::shared_ptr<CachedCloud>>(m, "CachedCloud",
       "A scan in an out-of-core cache, memory-mapped: each frame draws, within point_budget, a prefix of the "

@@ -37,16 +37,17 @@ std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals) {
 
 uint32_t queue_hash(uint32_t x) { return hash_u32(x); }
 
+void chunk_queue_order(const uint32_t* ids, uint32_t count, uint32_t* order) {
+  std::vector<std::pair<uint32_t, uint32_t>> keyed(count);
+  for (uint32_t i = 0; i < count; ++i) keyed[i] = {queue_hash(ids[i] ^ kQueueSeed), i};
+  std::sort(keyed.begin(), keyed.end());  // ties (equal hashes) by index: a total order
+  for (uint32_t i = 0; i < count; ++i) order[i] = keyed[i].second;
+}
+
 std::vector<uint32_t> queue_order(const PointCloud& cloud) {
-  const std::vector<uint32_t>& ids = cloud.point_index();
   std::vector<uint32_t> order(cloud.size());
-  std::vector<std::pair<uint32_t, uint32_t>> keyed;
-  for (const PointChunk& chunk : cloud.chunks()) {
-    keyed.resize(chunk.count);
-    for (uint32_t i = 0; i < chunk.count; ++i) keyed[i] = {queue_hash(ids[chunk.first + i] ^ kQueueSeed), i};
-    std::sort(keyed.begin(), keyed.end());  // ties (equal hashes) by index: a total order
-    for (uint32_t i = 0; i < chunk.count; ++i) order[chunk.first + i] = keyed[i].second;
-  }
+  for (const PointChunk& chunk : cloud.chunks())
+    chunk_queue_order(cloud.point_index().data() + chunk.first, chunk.count, order.data() + chunk.first);
   return order;
 }
 

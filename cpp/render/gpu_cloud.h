@@ -63,5 +63,7 @@ glm::vec3 unpack_normal(uint32_t packed);
 constexpr uint32_t kQueueSeed = 0x5eed001u;
 uint32_t queue_hash(uint32_t x);  // lowbias32, as the shaders' hash_u32
 std::vector<uint32_t> queue_order(const PointCloud& cloud);
+// One chunk's: `order` gets the indices of ids[0, count) in queue order.
+void chunk_queue_order(const uint32_t* ids, uint32_t count, uint32_t* order);
 
 }  // namespace pointnpr

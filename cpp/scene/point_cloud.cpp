@@ -70,6 +70,18 @@ std::vector<uint32_t> morton_order(const InputPositions& p, size_t n, size_t fin
 }
 }  // namespace
 
+PointChunk chunk_around(const glm::dvec3& lo, const glm::dvec3& hi) {
+  PointChunk chunk;
+  chunk.origin = (lo + hi) * 0.5;
+  chunk.local_min = glm::vec3(lo - chunk.origin);
+  chunk.local_max = glm::vec3(hi - chunk.origin);
+  // Float rounding of the offsets can leave a point just outside the box.
+  const glm::vec3 pad(1e-4f);
+  chunk.local_min -= pad * glm::max(glm::vec3(1.0f), glm::abs(chunk.local_min));
+  chunk.local_max += pad * glm::max(glm::vec3(1.0f), glm::abs(chunk.local_max));
+  return chunk;
+}
+
 PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : id_(g_next_cloud_id++) {
   if (!in.positions.empty() && !in.positions_f32.empty())
     throw Error("positions are given twice (float64 and float32): give one of them");
@@ -127,12 +139,9 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
       clo = glm::min(clo, q);
       chi = glm::max(chi, q);
     }
-    PointChunk chunk;
-    chunk.origin = (clo + chi) * 0.5;
+    PointChunk chunk = chunk_around(clo, chi);
     chunk.first = uint32_t(first);
     chunk.count = uint32_t(count);
-    chunk.local_min = glm::vec3(clo - chunk.origin);
-    chunk.local_max = glm::vec3(chi - chunk.origin);
     for (size_t k = first; k < first + count; ++k) {
       const uint32_t i = order[k];
       local_positions_[k] = glm::vec3(p[i] - chunk.origin);
@@ -147,10 +156,6 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : i
       if (!in.normals.empty())
         normals_[k] = glm::vec3(in.normals[3 * i], in.normals[3 * i + 1], in.normals[3 * i + 2]);
     }
-    // Float rounding of the offsets can leave a point just outside the box.
-    const glm::vec3 pad(1e-4f);
-    chunk.local_min -= pad * glm::max(glm::vec3(1.0f), glm::abs(chunk.local_min));
-    chunk.local_max += pad * glm::max(glm::vec3(1.0f), glm::abs(chunk.local_max));
     chunks_.push_back(chunk);
   }
 }

@@ -29,6 +29,10 @@ struct PointChunk {
   glm::vec3 local_max;
 };
 
+// The chunk box of points within [lo, hi]: its origin the centre, float
+// bounds padded for the rounding of the offsets (first and count unset).
+PointChunk chunk_around(const glm::dvec3& lo, const glm::dvec3& hi);
+
 struct PointCloudInput {
   std::span<const double> positions;         // N*3
   // Or N*3 float32 (Blender's vertices, which are float32 already): read
