@@ -102,6 +102,12 @@ class LasReader : private io::ReaderBase {
   using ReaderBase::ReaderBase;
 
   PointData read();
+  // The header's metadata alone (read_las_header).
+  PointData header() {
+    PointData out;
+    add_metadata(out, parse_header());
+    return out;
+  }
   // The points block after block (readers.h, stream_las).
   void stream(uint64_t block_points, const ScanBlockSink& sink);
 
@@ -761,6 +767,11 @@ void LasReader::stream(uint64_t block_points, const ScanBlockSink& sink) {
 PointData read_las(const std::string& path) {
   LasReader reader(path);
   return reader.read();
+}
+
+PointData read_las_header(const std::string& path) {
+  LasReader reader(path);
+  return reader.header();
 }
 
 void stream_las(const std::string& path, const ScanBlockSink& sink, uint64_t block_points) {

@@ -16,6 +16,10 @@ PointData read_point_cloud(const std::string& path);
 
 // ASPRS LAS 1.0-1.4, point formats 0-10 (waveform packets ignored).
 PointData read_las(const std::string& path);
+// A LAS or LAZ file's metadata (read_las's, with point_count) and no points:
+// the header and VLRs are read and checked, the point data is not.
+PointData read_las_header(const std::string& path);
+
 // A block of a LAS/LAZ file's points as stream_las hands them over: points
 // [first, first + count) of the file, the arrays valid during the call.
 struct ScanBlock {

@@ -29,9 +29,10 @@ bool finite(const glm::dvec3& q) { return std::isfinite(q.x) && std::isfinite(q.
 
 // The point as the in-memory import's PointCloud sees it: its float offset
 // from the origin, read back in double.
-glm::dvec3 offset_point(const double* p, const glm::dvec3& origin) {
-  return glm::dvec3(glm::vec3(glm::dvec3(p[0], p[1], p[2]) - origin));
+glm::dvec3 offset_point(const glm::dvec3& p, const glm::dvec3& origin) {
+  return glm::dvec3(glm::vec3(p - origin));
 }
+glm::dvec3 point(const double* p) { return {p[0], p[1], p[2]}; }
 
 // One cache: a class (or all points) and what each pass learns of it.
 struct Group {
@@ -169,10 +170,10 @@ std::vector<StreamedCache> write_scan_caches(const ScanPass& pass,
       Group& g = group_of(b, i);
       ++g.rows;
       if (rows) ++(*rows)[b.classification[i]];
-      const glm::dvec3 q = offset_point(b.positions + 3 * i, o.origin);
+      const glm::dvec3 q = point(b.positions + 3 * i);
       if (!finite(q)) continue;
       ++g.finite;
-      g.lo = glm::min(g.lo, q);
+      g.lo = glm::min(g.lo, q);  // in the file's coordinates until the origin is known
       g.hi = glm::max(g.hi, q);
     }
     scan_points += b.count;
@@ -188,6 +189,22 @@ std::vector<StreamedCache> write_scan_caches(const ScanPass& pass,
       if (g) groups.push_back(g.get());
   } else if (all.rows > 0) {
     groups.push_back(&all);
+  }
+  // The origin, then each group's bounds as offsets from it: rounding an
+  // offset to float is monotonic, so the offsets' bounds are the bounds'.
+  glm::dvec3 origin = o.origin;
+  if (o.recentre) {
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (Group* g : groups)
+      if (g->finite) lo = glm::min(lo, g->lo), hi = glm::max(hi, g->hi);
+    origin = lo.x <= hi.x ? glm::dvec3(std::nearbyint((lo.x + hi.x) * 0.5), std::nearbyint((lo.y + hi.y) * 0.5),
+                                       std::nearbyint((lo.z + hi.z) * 0.5))
+                          : glm::dvec3(0.0);
+  }
+  for (Group* g : groups) {
+    if (g->finite == 0) continue;
+    g->lo = offset_point(g->lo, origin);
+    g->hi = offset_point(g->hi, origin);
   }
   for (Group* g : groups)
     if (g->rows > std::numeric_limits<uint32_t>::max() / 2)
@@ -227,7 +244,7 @@ std::vector<StreamedCache> write_scan_caches(const ScanPass& pass,
     for (size_t i = 0; i < b.count; ++i) {
       Group& g = group_of(b, i);
       const uint64_t id = o.split_by_classification ? next[b.classification[i]]++ : b.first + i;
-      const glm::dvec3 q = offset_point(b.positions + 3 * i, o.origin);
+      const glm::dvec3 q = offset_point(point(b.positions + 3 * i), origin);
       if (finite(q)) fn(g, i, uint32_t(id), q);
     }
   };
@@ -409,7 +426,7 @@ std::vector<StreamedCache> write_scan_caches(const ScanPass& pass,
       }
       if (filled > 0) emit();
       out.finish(g->finite, g->finite ? g->lo : glm::dvec3(0.0), g->finite ? g->hi : glm::dvec3(0.0));
-      written.push_back({g->classification, g->path, g->finite, g->rows, g->run_points.size(), g->heavy.size()});
+      written.push_back({g->classification, g->path, g->finite, g->rows, g->run_points.size(), g->heavy.size(), origin});
     }
   } catch (...) {
     for (const StreamedCache& c : written) std::remove(c.path.c_str());

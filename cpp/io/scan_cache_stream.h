@@ -26,6 +26,9 @@ struct StreamedCacheOptions {
   // Subtracted in double, then rounded to float: the offsets a mesh of the
   // scan holds after recentring.
   glm::dvec3 origin{0.0};
+  // Instead: the centre of the scan's bounds rounded to whole units (as the
+  // importer recentres), found by the first pass.
+  bool recentre = false;
   bool split_by_classification = false;  // one cache per class
   // The sort's runs, its write buffers and one chunk; a run of points
   // that share their first 36 Morton bits (a cell 1/4096 of the scan's
@@ -41,6 +44,7 @@ struct StreamedCache {
   uint64_t rows = 0;        // points of the scan in this group (ids 0 .. rows - 1)
   size_t runs = 0;          // parts the sort ran in
   size_t refined_buckets = 0;  // Morton buckets counted again, finer
+  glm::dvec3 origin{0.0};      // the offsets' origin (options.origin, or the one recentring chose)
 };
 
 // Reads the scan once per call, every block to the sink (stream_las).

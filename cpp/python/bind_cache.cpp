@@ -53,13 +53,17 @@ void bind_cache(py::module_& m) {
 
   m.def(
       "write_scan_caches",
-      [](py::object scan, py::function path_for, std::vector<double> origin, bool split_by_classification,
+      [](py::object scan, py::function path_for, std::optional<std::vector<double>> origin, bool split_by_classification,
          uint64_t memory_bytes, uint32_t chunk_size, const py::object& progress) {
-        if (origin.size() != 3) throw ParameterError("origin must have 3 values");
         io::StreamedCacheOptions o;
-        o.origin = {origin[0], origin[1], origin[2]};
-        for (int c = 0; c < 3; ++c)
-          if (!std::isfinite(o.origin[c])) throw ParameterError("origin must be finite");
+        if (origin) {
+          if (origin->size() != 3) throw ParameterError("origin must have 3 values");
+          o.origin = {(*origin)[0], (*origin)[1], (*origin)[2]};
+          for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(o.origin[c])) throw ParameterError("origin must be finite");
+        } else {
+          o.recentre = true;
+        }
         o.split_by_classification = split_by_classification;
         o.memory_bytes = memory_bytes;
         o.max_chunk_points = chunk_size;
@@ -86,19 +90,21 @@ void bind_cache(py::module_& m) {
           d["rows"] = c.rows;
           d["runs"] = c.runs;
           d["refined_buckets"] = c.refined_buckets;
+          d["origin"] = py::make_tuple(c.origin.x, c.origin.y, c.origin.z);
           out.append(d);
         }
         return out;
       },
-      py::arg("scan"), py::arg("path_for"), py::arg("origin") = std::vector<double>{0.0, 0.0, 0.0},
+      py::arg("scan"), py::arg("path_for"), py::arg("origin") = py::none(),
       py::arg("split_by_classification") = false, py::arg("memory_bytes") = uint64_t{256} << 20,
       py::arg("chunk_size") = 16384, py::arg("progress") = py::none(),
       "Writes out-of-core scan caches straight from a LAS or LAZ file, reading it a few times block by block, "
       "in about memory_bytes of memory whatever the scan's size (docs/io.md#scan-cache). The caches are the "
       "bytes write_scan_cache writes for PointCloud(float32(positions - origin), colors, intensity, "
-      "classification) of the file (one per class with split_by_classification, point ids the rows of the "
+      "classification) of the file (origin None: the centre of its bounds rounded to whole units, as the importer "
+      "recentres) (one per class with split_by_classification, point ids the rows of the "
       "class). path_for(classification) names each cache (-1: not split). Returns a list of dicts "
-      "(classification, path, points, rows, runs, refined_buckets: how the external sort went). Raises ReadError for a bad file, pointnpr.Cancelled when progress "
+      "(classification, path, points, rows, runs and refined_buckets: how the external sort went, origin). Raises ReadError for a bad file, pointnpr.Cancelled when progress "
       "is cancelled; a failure leaves no cache and no temporary file.");
 
   py::class_<CachedCloud, std::shared_ptr<CachedCloud>>(m, "CachedCloud",

@@ -258,6 +258,21 @@ void bind_io(py::module_& m) {
       "(raising Cancelled) once cancelled.");
 
   m.def(
+      "read_header",
+      [](py::object path) {
+        const std::string p = py::module_::import("os").attr("fsencode")(path).cast<std::string>();
+        PointData data;
+        {
+          py::gil_scoped_release release;
+          data = read_las_header(p);
+        }
+        return convert(std::move(data)).metadata;
+      },
+      py::arg("path"),
+      "The metadata of a .las or .laz file (as read(path).metadata: point_count, bounds_min, bounds_max, scale, "
+      "crs, ...) without reading its points. Raises ReadError for a bad header.");
+
+  m.def(
       "write",
       [](py::object path, const PyPointData& data) {
         const std::string p = py::module_::import("os").attr("fsencode")(path).cast<std::string>();

@@ -102,3 +102,17 @@ def test_an_unwritable_folder_raises_and_a_cancel_stops(tmp_path):
     with pytest.raises(pointnpr.Cancelled):
         pointnpr.write_scan_caches(path, lambda c: str(tmp_path / "out.pnprcache"), progress=progress)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scan.las"]
+
+
+def test_recentring_chooses_the_importers_origin_and_the_header_gives_the_count(tmp_path):
+    path = scan_file(tmp_path, n=8000)
+    data = pointnpr.read(path)
+    positions = np.asarray(data.positions)
+    centre = np.round((positions.min(axis=0) + positions.max(axis=0)) * 0.5)  # importer.rounded_centre
+    written = pointnpr.write_scan_caches(path, lambda c: str(tmp_path / "r.pnprcache"), chunk_size=512)
+    assert written[0]["origin"] == tuple(centre)
+    assert pathlib.Path(written[0]["path"]).read_bytes() == in_memory_caches(path, centre, False, 512, tmp_path)[-1]
+    header = pointnpr.read_header(path)
+    assert header["point_count"] == 8000 and header["format"] == "las"
+    # All of read's metadata but what only the points tell (their colours' bits).
+    assert header == {k: v for k, v in dict(data.metadata).items() if k != "color_bits"}
