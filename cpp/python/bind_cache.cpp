@@ -161,6 +161,41 @@ void bind_cache(py::module_& m) {
         py::gil_scoped_release release;
         return std::const_pointer_cast<PointCloud>(c.stream(c.counts_for_budget(budget.value_or(c.point_budget()))));
       }, py::arg("budget") = py::none(), "The cloud of a fixed budget: the same fraction of every chunk's queue.")
+      .def("proxy", [](const CachedCloud& c, uint64_t points) {
+        std::shared_ptr<const PointCloud> cloud;
+        {
+          py::gil_scoped_release release;
+          cloud = c.stream(c.counts_for_budget(points));
+        }
+        const size_t n = cloud->size();
+        py::array_t<float> pos({py::ssize_t(n), py::ssize_t(3)});
+        float* w = pos.mutable_data();
+        for (const PointChunk& ch : cloud->chunks())
+          for (uint32_t i = ch.first; i < ch.first + ch.count; ++i) {
+            const glm::dvec3 q = ch.origin + glm::dvec3(cloud->local_positions()[i]);
+            w[3 * i] = float(q.x), w[3 * i + 1] = float(q.y), w[3 * i + 2] = float(q.z);
+          }
+        py::dict d;
+        d["positions"] = pos;
+        d["point_index"] = py::array_t<uint32_t>(py::ssize_t(n), cloud->point_index().data());
+        if (cloud->has(Attribute::Color)) {
+          py::array_t<uint8_t> col({py::ssize_t(n), py::ssize_t(3)});
+          for (size_t i = 0; i < n; ++i)
+            for (int k = 0; k < 3; ++k) col.mutable_data()[3 * i + k] = uint8_t(cloud->colors()[i] >> (8 * k));
+          d["colors"] = col;
+        }
+        if (cloud->has(Attribute::Intensity))
+          d["intensity"] = py::array_t<float>(py::ssize_t(n), cloud->intensity().data());
+        if (cloud->has(Attribute::Classification)) {
+          py::array_t<uint8_t> cls{py::ssize_t(n)};
+          for (size_t i = 0; i < n; ++i) cls.mutable_data()[i] = uint8_t(cloud->classification()[i]);
+          d["classification"] = cls;
+        }
+        return d;
+      }, py::arg("points"),
+         "A seeded subsample of about `points` points (the same share of every chunk's queue) as arrays: "
+         "positions (float32, the cache's coordinates), point_index, and colors / intensity / classification "
+         "where the cache has them: a light proxy of the scan for Blender's solid viewport.")
       .def_property_readonly("stream_bytes", &CachedCloud::stream_bytes,
                              "Heap bytes of the points streamed now (bounded by the budget, not the scan).")
       .def_property_readonly("stream_points", &CachedCloud::stream_points);

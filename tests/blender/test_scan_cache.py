@@ -201,3 +201,23 @@ def _render_directly():
     core_cam = pointnpr.Camera.orthographic(np.array(cam.matrix_world, dtype=np.float64),
                                             ortho_scale=cam.data.ortho_scale, clip_end=1000.0, width=w, height=h)
     return pointnpr.Renderer().render(synced.scene, core_cam, w, h)
+
+
+@pytest.mark.parametrize("split", [False, True])
+def test_a_scan_streamed_to_caches_is_the_scan_read_whole_then_cached(scene, tmp_path, monkeypatch, split):
+    # LAS/LAZ above the threshold go to caches straight from the file (never held
+    # whole); the caches are the bytes of the path that reads the file first.
+    streamed = importer.import_point_cloud(bpy.context, SAMPLE_LAS, split_by_classification=split,
+                                           out_of_core=importer.OutOfCore(0, str(tmp_path / "streamed")))
+    monkeypatch.setattr(importer.ImportJob, "streams", lambda job: False)
+    whole = importer.import_point_cloud(bpy.context, SAMPLE_LAS, split_by_classification=split,
+                                        out_of_core=importer.OutOfCore(0, str(tmp_path / "whole")))
+    assert len(streamed) == len(whole) == (len(np.unique(pointnpr.read(SAMPLE_LAS).attributes["classification"]))
+                                           if split else 1)
+    for a, b in zip(streamed, whole):
+        assert list(a["pointnpr_origin"]) == list(b["pointnpr_origin"])
+        with open(bpy.path.abspath(a["pointnpr_cache"]), "rb") as fa, open(bpy.path.abspath(b["pointnpr_cache"]),
+                                                                             "rb") as fb:
+            assert fa.read() == fb.read()
+        assert len(a.data.vertices) == len(b.data.vertices)
+    assert not [f for f in os.listdir(tmp_path / "streamed") if not f.endswith(importer.CACHE_EXTENSION)]

@@ -222,6 +222,7 @@ class ImportJob(PointObjectJob):
         self.stem = os.path.splitext(os.path.basename(filepath))[0] or "Point Cloud"
         super().__init__()
         self._reading = None  # BackgroundCall of the reader
+        self._streams = None  # streams(), once decided
         self._groups = None
         self._next_group = 0
         self.done = False
@@ -246,10 +247,38 @@ class ImportJob(PointObjectJob):
             return "creating mesh %d of %d" % (self._next_group + 1, len(self._groups))
         return "adding to the scene" if not self.done else "done"
 
+    def streams(self):
+        """True when the scan goes to caches straight from the file, never
+        held whole (a LAS/LAZ scan above the out-of-core threshold): its
+        header gives the count before anything is read."""
+        if self._streams is None:
+            self._streams = False
+            if self.out_of_core is not None and self.filepath.lower().endswith((".las", ".laz")):
+                header = _core().read_header(self.filepath)
+                self._streams = self.out_of_core.wants(int(header["point_count"]))
+        return self._streams
+
+    def _read(self, progress=None):
+        """The file's points (PointData), or, when it streams, the list of
+        caches written from it (pointnpr.write_scan_caches)."""
+        core = _core()
+        if not self.streams():
+            return core.read(self.filepath, progress=progress)
+
+        def path_for(code):
+            name = self.stem if code < 0 else "%s %s" % (self.stem, class_name(code))
+            path = self.out_of_core.cache_path(self.filepath, name)
+            self.caches_written.append(path)
+            return path
+
+        return core.write_scan_caches(self.filepath, path_for, origin=None if self.recentre else [0.0, 0.0, 0.0],
+                                      split_by_classification=self.split, progress=progress)
+
     def start_reading_in_thread(self):
         from .background import BackgroundCall
 
-        self._reading = BackgroundCall(_core().read, self.filepath, name="pointnpr-read")
+        self.streams()  # the header is read here: a bad one fails at once, on this thread
+        self._reading = BackgroundCall(self._read, name="pointnpr-read")
 
     def cancel_reading(self):
         """Asks a read still running to stop at its next check (LAZ: the next
@@ -273,8 +302,11 @@ class ImportJob(PointObjectJob):
                 data = self._reading.result()
                 self._reading.forget_result()  # the reader's arrays go with _prepare's
             else:
-                data = _core().read(self.filepath)
-            self._prepare(data)
+                data = self._read()
+            if self.streams():
+                self._prepare_streamed(data)
+            else:
+                self._prepare(data)
             return False
         if self._next_group < len(self._groups):
             self._create_group(*self._groups[self._next_group])
@@ -320,6 +352,16 @@ class ImportJob(PointObjectJob):
             groups.append((None, None))
         self._groups = groups
 
+    def _prepare_streamed(self, caches):
+        """Groups of a scan written to caches from the file: one per cache."""
+        if not caches or sum(c["points"] for c in caches) == 0:
+            raise ValueError("the file contains no points; nothing was imported")
+        self._origin = np.asarray(caches[0]["origin"], dtype=np.float64)
+        self._cached = True
+        self._root = self.track(bpy.data.collections, bpy.data.collections.new(self.stem))
+        self._groups = [(None if c["classification"] < 0 else class_name(c["classification"]), c)
+                        for c in caches]
+
     def _create_group(self, label, index):
         if label is None:
             coll, name = self._root, self.stem
@@ -328,7 +370,9 @@ class ImportJob(PointObjectJob):
             self._root.children.link(coll)
             name = "%s %s" % (self.stem, label)
         pick = lambda values: self.pick(values, index)  # noqa: E731
-        if self._cached:
+        if isinstance(index, dict):  # streamed: the cache is written, add its proxy
+            obj = self._add_proxy_object(name, coll, index["path"])
+        elif self._cached:
             obj = self._add_cached_object(name, coll, pick(self._local), pick(self._colors),
                                           pick(self._intensity), pick(self._classification))
         else:
@@ -363,6 +407,19 @@ class ImportJob(PointObjectJob):
         pick = lambda values: None if values is None else np.asarray(values)[proxy]  # noqa: E731
         obj = self.add_point_object(name, collection, local[proxy], pick(colors), pick(intensity),
                                     pick(classification))
+        return self._reference_cache(obj, path, cached)
+
+    def _add_proxy_object(self, name, collection, path):
+        """The light proxy of a cache written straight from the file: the
+        same seeded subsample, read back from the cache."""
+        cached = _core().CachedCloud(path)
+        proxy = cached.proxy(self.out_of_core.proxy_points)
+        obj = self.add_point_object(name, collection, proxy["positions"], proxy.get("colors"),
+                                    proxy.get("intensity"), proxy.get("classification"))
+        return self._reference_cache(obj, path, cached)
+
+    @staticmethod
+    def _reference_cache(obj, path, cached):
         obj["pointnpr_cache"] = bpy.path.relpath(path) if bpy.data.filepath else path
         obj["pointnpr_cache_points"] = int(cached.num_points)
         lo, hi = cached.bounds
