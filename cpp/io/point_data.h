@@ -94,6 +94,19 @@ struct PointData {
     return std::get<std::vector<T>>(a->values);
   }
 
+  // Adds (or replaces) an attribute with the given values (moved, not
+  // copied); values.size() must be num_points() * components.
+  template <class T>
+  void set(const std::string& name, int components, std::vector<T>&& values) {
+    PointAttribute* a = find(name);
+    if (!a) {
+      attributes.push_back(PointAttribute{name, components, std::move(values)});
+      return;
+    }
+    a->components = components;
+    a->values = std::move(values);
+  }
+
   void remove(const std::string& name);
 
   // Removes points whose position is not finite (NaN/inf); returns how many
