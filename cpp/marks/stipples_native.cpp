@@ -21,9 +21,14 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
+#include <optional>
+#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -38,6 +43,7 @@ namespace pointnpr {
 namespace {
 
 constexpr uint32_t kInfBits = 0x7f800000u;
+constexpr uint32_t kOutside = 0xffffffffu;  // a point outside the window's fine texture
 constexpr uint32_t kGrain = 8192;  // points per work item
 constexpr int kRowGrain = 8;       // rows per work item of the image passes
 
@@ -74,9 +80,23 @@ uint32_t order_key(float f) {
   return (b & 0x80000000u) != 0u ? ~b : b | 0x80000000u;
 }
 
+// floor and ceil without a library call (without SSE4.1, std::floor is
+// one, a large part of a point's cost): exact for every float, since from
+// 2^23 on every float is an integer (NaN and infinities pass through).
+inline float floor_f(float v) {
+  if (!(std::abs(v) < 8388608.0f)) return v;
+  const float t = float(int(v));
+  return t > v ? t - 1.0f : t;
+}
+inline float ceil_f(float v) {
+  if (!(std::abs(v) < 8388608.0f)) return v;
+  const float t = float(int(v));
+  return t < v ? t + 1.0f : t;
+}
+
 // floor(v) clamped to [lo, hi], as an int (v may be far outside, or huge).
 int floor_clamped(float v, int lo, int hi) {
-  const float f = std::floor(v);
+  const float f = floor_f(v);
   if (!(f >= float(lo))) return lo;  // also NaN
   if (f > float(hi)) return hi;
   return int(f);
@@ -88,6 +108,7 @@ struct HostChunk {
   const uint32_t* ids = nullptr;         // its stable point ids
   const uint32_t* order = nullptr;       // queue order (chunk-local indices), or null: all in index order
   uint32_t count = 0;
+  uint32_t slot = 0;  // the pass's index of its first point (the per-point arrays')
   glm::mat4 view_from_chunk{1.0f};
 };
 
@@ -109,7 +130,11 @@ struct Pt {
 // tens of megabytes anew (bounded by the largest window and clip). Only the
 // GL thread draws.
 struct HostBuffers {
-  std::vector<uint32_t> hp, tmp, surface, dot_cov, dot_depth;
+  std::vector<uint32_t> hp, tmp, surface, dot_cov, dot_depth, quad, light_count;
+  // Per point of the window's pass: its texel (or kOutside) and depth bits
+  // from the first projection, and its specular measure (owned, visible).
+  std::vector<uint32_t> point_texel, point_depth;
+  std::vector<float> point_spec;
   std::vector<float> rgba, depth;
 };
 HostBuffers& host_buffers() {
@@ -122,18 +147,43 @@ T* sized(std::vector<T>& v, size_t n) {
   return v.data();
 }
 
+// Adds the milliseconds since its start to a statistic when it ends.
+class PassTimer {
+ public:
+  PassTimer(std::map<std::string, double>* stats, const char* name)
+      : stats_(stats), name_(name), start_(std::chrono::steady_clock::now()) { cpu_ = cpu(); }
+  static double cpu() { timespec t; clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t); return t.tv_sec * 1e3 + t.tv_nsec * 1e-6; }
+  ~PassTimer() {
+    if (stats_) {
+      (*stats_)[name_] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+      (*stats_)[std::string("CPU_") + name_] += cpu() - cpu_;
+    }
+  }
+  double cpu_;
+  PassTimer(const PassTimer&) = delete;
+  PassTimer& operator=(const PassTimer&) = delete;
+
+ private:
+  std::map<std::string, double>* stats_;
+  const char* name_;
+  std::chrono::steady_clock::time_point start_;
+};
+
 class NativeStipplePasses final : public StipplePasses {
  public:
   NativeStipplePasses(const MarkContext& ctx, const StippleSetup& s)
       : ctx_(ctx), s_(s), host_(host_buffers()) {
-    quad_.assign(s.quad_n(), 0xffffffffu);
-    light_count_.assign(s.light_n(), 0u);
+    quad_ = sized(host_.quad, s.quad_n());
+    fill(quad_, s.quad_n(), 0xffffffffu);
+    light_count_ = sized(host_.light_count, s.light_n());
+    fill(light_count_, s.light_n(), 0u);
     hist_.assign(kStippleHistogramBins, 0u);
     quad_stride_ = 2u << s.levels;
     for (int k = 0; k < 7; ++k) bin_edges_[k] = from_bits(kStippleBinEdgeBits[k]);
   }
 
   void project_casters(std::span<const VisibleChunk> chunks) override {
+    const PassTimer timer(ctx_.stats, "stipples_native_project_ms");
     prepare(chunks);
     for_points([&](const HostChunk& c, uint32_t begin, uint32_t end) {
       for (uint32_t i = begin; i < end; ++i) {
@@ -145,6 +195,7 @@ class NativeStipplePasses final : public StipplePasses {
 
   void hidden_points(const StippleWindow& w, std::span<const VisibleChunk> chunks, bool for_frame, bool casters,
                      bool surface) override {
+    std::optional<PassTimer> timer(std::in_place, ctx_.stats, "stipples_native_project_ms");
     w_ = w;
     visible_ = 0;
     const size_t n = w.fine_n();
@@ -157,30 +208,42 @@ class NativeStipplePasses final : public StipplePasses {
     fill(hp, n, kInfBits);
     fill(surf, n, kInfBits);
     prepare(chunks);
+    ++window_generation_;
+    window_chunks_ = chunks;
+    uint32_t* point_texel = sized(host_.point_texel, points_);
+    uint32_t* point_depth = sized(host_.point_depth, points_);
     const bool cast_all = casters && s_.diffuse && s_.casters_all;
     for_points([&](const HostChunk& c, uint32_t begin, uint32_t end) {
       for (uint32_t i = begin; i < end; ++i) {
         const Pt p = project(c, local_index(c, i));
-        if (p.inside) fetch_min(hp[fine_index(p.fine)], bits(p.depth));
+        const uint32_t texel = p.inside ? uint32_t(fine_index(p.fine)) : kOutside;
+        point_texel[c.slot + i] = texel;
+        point_depth[c.slot + i] = bits(p.depth);
+        if (p.inside) fetch_min(hp[texel], bits(p.depth));
         if (cast_all && p.in_depth) cast(p);
       }
     });
     // Each texel takes its neighbours' depths, each a step deeper.
+    timer.emplace(ctx_.stats, "stipples_native_spread_ms");
     for (int it = 0; it < s_.iterations; ++it) {
       spread_step(hp, tmp);
       std::memcpy(hp, tmp, n * 4);
     }
     // The visible points: counted, their surface, the frame's counts.
+    timer.emplace(ctx_.stats, "stipples_native_visible_ms");
     std::atomic<uint32_t> visible{0};
     const bool visible_casters = for_frame && s_.diffuse && !s_.casters_all;
+    const bool projects = visible_casters || s_.specular;  // else the texel and depth are all it needs
     for_points([&](const HostChunk& c, uint32_t begin, uint32_t end) {
       uint32_t owned_visible = 0;
       for (uint32_t i = begin; i < end; ++i) {
-        const Pt p = project(c, local_index(c, i));
-        if (!hp_visible(p, hp)) continue;
-        const bool own = owned(p);
+        if (!visible_slot(c.slot + i, hp)) continue;
+        const uint32_t texel = point_texel[c.slot + i];
+        const bool own = owned_texel(texel);
         owned_visible += own ? 1u : 0u;
-        fetch_min(surf[fine_index(p.fine)], bits(p.depth));
+        fetch_min(surf[texel], point_depth[c.slot + i]);
+        if (!projects) continue;
+        const Pt p = project(c, local_index(c, i));
         if (visible_casters && own) cast(p);
         if (s_.specular) {
           fetch_add(eye_count_[eye_index(p.center)], 1u);
@@ -194,6 +257,7 @@ class NativeStipplePasses final : public StipplePasses {
     if (surface) {
       // The surface's depth for the paper: the visible points spread one
       // texel further, without the step (a box minimum).
+      timer.emplace(ctx_.stats, "stipples_native_surface_ms");
       box_min(surf, tmp, s_.iterations + 1);
       std::memcpy(surf, tmp, n * 4);
     }
@@ -203,6 +267,7 @@ class NativeStipplePasses final : public StipplePasses {
   // (each texel covered where every texel within that many, clamped to the
   // window, is), counted by the eye cell of the texel's centre.
   void cover() override {
+    const PassTimer timer(ctx_.stats, "stipples_native_cover_ms");
     const glm::ivec2 size = w_.fine;
     const int k = s_.iterations;
     const uint32_t* hp = host_.hp.data();
@@ -244,6 +309,7 @@ class NativeStipplePasses final : public StipplePasses {
   }
 
   void reduce_quadtree() override {
+    const PassTimer timer(ctx_.stats, "stipples_native_quadtree_ms");
     for (int l = s_.levels - 1; l >= 0; --l) {
       const int side = 1 << l;
       tbb::parallel_for(tbb::blocked_range<int>(0, side, 64), [&](const tbb::blocked_range<int>& rows) {
@@ -258,41 +324,52 @@ class NativeStipplePasses final : public StipplePasses {
   }
 
   void specular_histogram(std::span<const VisibleChunk> chunks) override {
+    const PassTimer timer(ctx_.stats, "stipples_native_specular_ms");
+    const bool cached = same_chunks(chunks);
     prepare(chunks);
     const uint32_t* hp = host_.hp.data();
+    float* point_spec = cached ? sized(host_.point_spec, points_) : nullptr;
     for_points([&](const HostChunk& c, uint32_t begin, uint32_t end) {
       std::vector<uint32_t> local(kStippleHistogramBins, 0u);
       for (uint32_t i = begin; i < end; ++i) {
+        if (cached && !visible_slot(c.slot + i, hp)) continue;
         const Pt p = project(c, local_index(c, i));
         if (!hp_visible(p, hp) || !owned(p)) continue;
-        ++local[size_t(histogram_bin(specular_raw(p)))];
+        const float raw = specular_raw(p);
+        if (point_spec) point_spec[c.slot + i] = raw;
+        ++local[size_t(histogram_bin(raw))];
       }
       for (int b = 0; b < kStippleHistogramBins; ++b)
         if (local[size_t(b)]) fetch_add(hist_[size_t(b)], local[size_t(b)]);
     });
+    spec_generation_ = cached ? window_generation_ : 0;
   }
 
   std::vector<uint32_t> histogram() override { return hist_; }
   void save(StippleFrameState& state) override {
-    state.quad = quad_;
-    state.light_count = light_count_;
+    state.quad.assign(quad_, quad_ + s_.quad_n());
+    state.light_count.assign(light_count_, light_count_ + s_.light_n());
   }
   void load(const StippleFrameState& state) override {
-    quad_ = state.quad;
-    light_count_ = state.light_count;
+    std::copy(state.quad.begin(), state.quad.end(), quad_);
+    std::copy(state.light_count.begin(), state.light_count.end(), light_count_);
   }
   uint32_t visible() override { return visible_; }
 
   uint32_t draw_dots(std::span<const VisibleChunk> chunks, float spec_ref,
                      std::vector<CapturedMark>* capture) override {
+    const PassTimer timer(ctx_.stats, "stipples_native_dots_ms");
     const glm::ivec2 size = s_.clip.size();
     const size_t pixels = size_t(size.x) * size_t(size.y);
     uint32_t* cov = sized(host_.dot_cov, pixels);
     uint32_t* dep = sized(host_.dot_depth, pixels);
     fill(cov, pixels, 0u);
     fill(dep, pixels, kInfBits);
+    const bool cached = same_chunks(chunks);
+    const bool spec_cached = cached && spec_generation_ == window_generation_;
     prepare(chunks);
     const uint32_t* hp = host_.hp.data();
+    const float* point_spec = host_.point_spec.data();
     std::atomic<uint32_t> kept{0};
     std::vector<std::vector<CapturedMark>> captured(capture ? items_.size() : 0);
     const glm::ivec2 origin = s_.origin_px;
@@ -303,6 +380,7 @@ class NativeStipplePasses final : public StipplePasses {
         const HostChunk& c = host_chunks_[item.chunk];
         uint32_t item_kept = 0;
         for (uint32_t i = item.begin; i < item.end; ++i) {
+          if (cached && !visible_slot(c.slot + i, hp)) continue;
           const uint32_t local = local_index(c, i);
           const Pt p = project(c, local);
           if (!hp_visible(p, hp)) continue;
@@ -314,27 +392,35 @@ class NativeStipplePasses final : public StipplePasses {
             if (quad_[quad_index(t, level)] == order_key(-dot3(p.view, s_.light_dir))) continue;
           }
           if (s_.specular && s_.tau > 0.0f) {
-            const float diff = 1.0f - specular_raw(p) / spec_ref;
+            // The histogram's value where it measured this point in this window.
+            const float raw = spec_cached && owned(p) ? point_spec[c.slot + i] : specular_raw(p);
+            const float diff = 1.0f - raw / spec_ref;
             if (diff < s_.tau * hash01(id, 2u)) continue;  // hidden with probability 1 - diff / tau
           }
           ++item_kept;
           if (capture) captured[it].push_back(captured_dot(s_, p.view, id));
           const float diameter = std::max(s_.dot_size * (1.0f + s_.size_jitter * (2.0f * hash01(id, 3u) - 1.0f)), 0.5f);
           const float rad = 0.5f * diameter;
-          const int lo_x = std::max(int(std::floor(p.center.x - rad - 0.5f)) - origin.x, clip_min.x);
-          const int lo_y = std::max(int(std::floor(p.center.y - rad - 0.5f)) - origin.y, clip_min.y);
-          const int hi_x = std::min(int(std::ceil(p.center.x + rad + 0.5f)) - origin.x, clip_max.x - 1);
-          const int hi_y = std::min(int(std::ceil(p.center.y + rad + 0.5f)) - origin.y, clip_max.y - 1);
+          const int lo_x = std::max(int(floor_f(p.center.x - rad - 0.5f)) - origin.x, clip_min.x);
+          const int lo_y = std::max(int(floor_f(p.center.y - rad - 0.5f)) - origin.y, clip_min.y);
+          const int hi_x = std::min(int(ceil_f(p.center.x + rad + 0.5f)) - origin.x, clip_max.x - 1);
+          const int hi_y = std::min(int(ceil_f(p.center.y + rad + 0.5f)) - origin.y, clip_max.y - 1);
           const uint32_t depth_bits = bits(p.depth);
           const float small = std::min(1.0f, diameter * diameter);
+          const float reach = rad + 0.5f;
+          // Beyond this squared distance the coverage is 0 (sqrt is
+          // monotonic and correctly rounded; the margin covers its rounding).
+          const float outside = reach * reach * 1.0001f;
           for (int y = lo_y; y <= hi_y; ++y)
             for (int x = lo_x; x <= hi_x; ++x) {
               // Area coverage of a disc (1 px wide antialiased edge, at least a
               // pixel's worth spread over the pixels a small dot touches).
               const float dx = float(x + origin.x) + 0.5f - p.center.x;
               const float dy = float(y + origin.y) + 0.5f - p.center.y;
-              const float dist = std::sqrt(dx * dx + dy * dy);
-              const float cv = std::clamp(rad + 0.5f - dist, 0.0f, 1.0f) * small;
+              const float d2 = dx * dx + dy * dy;
+              if (d2 > outside) continue;
+              const float dist = std::sqrt(d2);
+              const float cv = std::clamp(reach - dist, 0.0f, 1.0f) * small;
               if (cv <= 0.0f) continue;
               const size_t pix = size_t(y - clip_min.y) * size_t(size.x) + size_t(x - clip_min.x);
               fetch_max(cov[pix], bits(cv));
@@ -351,6 +437,7 @@ class NativeStipplePasses final : public StipplePasses {
 
   // Dots over paper into the segment's colour and depth, uploaded over the clip.
   void resolve() override {
+    std::optional<PassTimer> timer(std::in_place, ctx_.stats, "stipples_native_resolve_ms");
     const Rect clip = s_.clip;
     const glm::ivec2 size = clip.size();
     const size_t pixels = size_t(size.x) * size_t(size.y);
@@ -363,10 +450,10 @@ class NativeStipplePasses final : public StipplePasses {
     // The fine texel of each column's and each row's pixel centre.
     std::vector<int> tx(size_t(size.x)), ty(size_t(size.y));
     for (int x = 0; x < size.x; ++x)
-      tx[size_t(x)] = std::clamp(int(std::floor((float(x + clip.min.x + s_.origin_px.x) + 0.5f) * s_.factor)) -
+      tx[size_t(x)] = std::clamp(int(floor_f((float(x + clip.min.x + s_.origin_px.x) + 0.5f) * s_.factor)) -
                                      w_.fine_min.x, 0, w_.fine.x - 1);
     for (int y = 0; y < size.y; ++y)
-      ty[size_t(y)] = std::clamp(int(std::floor((float(y + clip.min.y + s_.origin_px.y) + 0.5f) * s_.factor)) -
+      ty[size_t(y)] = std::clamp(int(floor_f((float(y + clip.min.y + s_.origin_px.y) + 0.5f) * s_.factor)) -
                                      w_.fine_min.y, 0, w_.fine.y - 1);
     std::vector<glm::ivec2> row_span(size_t(size.y), glm::ivec2(size.x, -1));
     tbb::parallel_for(tbb::blocked_range<int>(0, size.y, kRowGrain), [&](const tbb::blocked_range<int>& rows) {
@@ -394,6 +481,7 @@ class NativeStipplePasses final : public StipplePasses {
         }
       }
     });
+    timer.emplace(ctx_.stats, "stipples_native_upload_ms");
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     glTextureSubImage2D(ctx_.targets.color->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RGBA, GL_FLOAT, rgba);
@@ -420,6 +508,7 @@ class NativeStipplePasses final : public StipplePasses {
 
   // The host data of `chunks` and the work items over their points.
   void prepare(std::span<const VisibleChunk> chunks) {
+    points_ = 0;
     host_chunks_.clear();
     items_.clear();
     clouds_.clear();
@@ -435,6 +524,8 @@ class NativeStipplePasses final : public StipplePasses {
         c.count = queue_count(v, *s_.params);
       }
       c.view_from_chunk = v.view_from_chunk;
+      c.slot = uint32_t(points_);
+      points_ += c.count;
       for (uint32_t b = 0; b < c.count; b += kGrain)
         items_.push_back({uint32_t(host_chunks_.size()), b, std::min(c.count, b + kGrain)});
       host_chunks_.push_back(c);
@@ -451,6 +542,21 @@ class NativeStipplePasses final : public StipplePasses {
 
   static uint32_t local_index(const HostChunk& c, uint32_t i) { return c.order ? c.order[i] : i; }
 
+  // Whether a pass runs over the chunks of the last hidden_points(): then
+  // the per-point arrays hold its points.
+  bool same_chunks(std::span<const VisibleChunk> chunks) const {
+    return chunks.data() == window_chunks_.data() && chunks.size() == window_chunks_.size();
+  }
+  // hp_visible() from the first projection's texel and depth.
+  bool visible_slot(size_t slot, const uint32_t* hp) const {
+    const uint32_t texel = host_.point_texel[slot];
+    return texel != kOutside && from_bits(host_.point_depth[slot]) <= from_bits(hp[texel]) + s_.offset;
+  }
+  bool owned_texel(uint32_t texel) const {
+    const glm::ivec2 t(int(texel % uint32_t(w_.fine.x)), int(texel / uint32_t(w_.fine.x)));
+    return owned_fine(t + w_.fine_min);
+  }
+
   Pt project(const HostChunk& c, uint32_t local) const {
     Pt p;
     p.view = affine(c.view_from_chunk, c.positions[local]);
@@ -461,16 +567,16 @@ class NativeStipplePasses final : public StipplePasses {
     const float cw = m[0][3] * p.view.x + m[1][3] * p.view.y + m[2][3] * p.view.z + m[3][3];
     p.center = {(cx / cw * 0.5f + 0.5f) * float(s_.frame_px.x), (cy / cw * 0.5f + 0.5f) * float(s_.frame_px.y)};
     p.in_depth = p.depth >= s_.near && p.depth <= s_.far;
-    const float fx = std::floor(p.center.x * s_.factor) - float(w_.fine_min.x);
-    const float fy = std::floor(p.center.y * s_.factor) - float(w_.fine_min.y);
+    const float fx = floor_f(p.center.x * s_.factor) - float(w_.fine_min.x);
+    const float fy = floor_f(p.center.y * s_.factor) - float(w_.fine_min.y);
     p.inside = p.in_depth && cw > 0.0f && fx >= 0.0f && fy >= 0.0f && fx < float(w_.fine.x) && fy < float(w_.fine.y);
     p.fine = p.inside ? glm::ivec2(int(fx), int(fy)) : glm::ivec2(0);
     return p;
   }
 
   size_t fine_index(glm::ivec2 t) const { return size_t(t.y) * size_t(w_.fine.x) + size_t(t.x); }
-  bool owned(const Pt& p) const {
-    const glm::ivec2 t = p.fine + w_.fine_min;
+  bool owned(const Pt& p) const { return owned_fine(p.fine + w_.fine_min); }
+  bool owned_fine(glm::ivec2 t) const {
     return t.x >= w_.owned_min.x && t.y >= w_.owned_min.y && t.x < w_.owned_max.x && t.y < w_.owned_max.y;
   }
   // Not behind the spread surface: within one step of its texel's depth.
@@ -498,7 +604,7 @@ class NativeStipplePasses final : public StipplePasses {
 
   // The eye cell (one axis) of a position in frame pixels: floor(pixel / cell) - eye_min, clamped.
   int eye_axis(float pixel, int axis) const {
-    return floor_clamped(std::floor(pixel / s_.eye_cell) - float(w_.eye_min[axis]), 0, w_.eye_cells[axis] - 1);
+    return floor_clamped(floor_f(pixel / s_.eye_cell) - float(w_.eye_min[axis]), 0, w_.eye_cells[axis] - 1);
   }
   size_t eye_index(glm::vec2 center) const {
     return size_t(eye_axis(center.y, 1)) * size_t(w_.eye_cells.x) + size_t(eye_axis(center.x, 0));
@@ -515,12 +621,18 @@ class NativeStipplePasses final : public StipplePasses {
   float specular_raw(const Pt& p) const {
     const glm::vec2 e(p.center.x / s_.eye_cell - float(w_.eye_min.x), p.center.y / s_.eye_cell - float(w_.eye_min.y));
     float points = 0.0f, covered = 0.0f;
-    const glm::ivec2 e0(int(std::floor(e.x - 1.5f)), int(std::floor(e.y - 1.5f)));
+    const glm::ivec2 e0(int(floor_f(e.x - 1.5f)), int(floor_f(e.y - 1.5f)));
+    // Each cell's weight is the product of its overlaps along x and y.
+    float ox[4], oy[4];
+    for (int k = 0; k <= 3; ++k) {
+      ox[k] = overlap(float(e0.x + k), e.x - 1.5f, e.x + 1.5f);
+      oy[k] = overlap(float(e0.y + k), e.y - 1.5f, e.y + 1.5f);
+    }
     for (int dy = 0; dy <= 3; ++dy)
       for (int dx = 0; dx <= 3; ++dx) {
         const glm::ivec2 c = e0 + glm::ivec2(dx, dy);
         if (c.x < 0 || c.y < 0 || c.x >= w_.eye_cells.x || c.y >= w_.eye_cells.y) continue;
-        const float w = overlap(float(c.x), e.x - 1.5f, e.x + 1.5f) * overlap(float(c.y), e.y - 1.5f, e.y + 1.5f);
+        const float w = ox[dx] * oy[dy];
         const size_t i = size_t(c.y) * size_t(w_.eye_cells.x) + size_t(c.x);
         points += w * float(eye_count_[i]);
         covered += w * float(eye_cover_[i]);
@@ -531,12 +643,16 @@ class NativeStipplePasses final : public StipplePasses {
     const glm::vec2 uv = light_uv(p.view);
     const glm::vec2 l = uv * float(s_.light_cells);
     float lpoints = 0.0f, occupied = 0.0f;
-    const glm::ivec2 l0(int(std::floor(l.x - 1.5f)), int(std::floor(l.y - 1.5f)));
+    const glm::ivec2 l0(int(floor_f(l.x - 1.5f)), int(floor_f(l.y - 1.5f)));
+    for (int k = 0; k <= 3; ++k) {
+      ox[k] = overlap(float(l0.x + k), l.x - 1.5f, l.x + 1.5f);
+      oy[k] = overlap(float(l0.y + k), l.y - 1.5f, l.y + 1.5f);
+    }
     for (int dy = 0; dy <= 3; ++dy)
       for (int dx = 0; dx <= 3; ++dx) {
         const glm::ivec2 c = l0 + glm::ivec2(dx, dy);
         if (c.x < 0 || c.y < 0 || c.x >= s_.light_cells || c.y >= s_.light_cells) continue;
-        const float w = overlap(float(c.x), l.x - 1.5f, l.x + 1.5f) * overlap(float(c.y), l.y - 1.5f, l.y + 1.5f);
+        const float w = ox[dx] * oy[dy];
         const uint32_t n = light_count_[size_t(c.y) * size_t(s_.light_cells) + size_t(c.x)];
         lpoints += w * float(n);
         occupied += n > 0u ? w : 0.0f;
@@ -615,7 +731,12 @@ class NativeStipplePasses final : public StipplePasses {
   std::vector<HostChunk> host_chunks_;
   std::vector<Item> items_;
   std::vector<std::shared_ptr<const PointCloud>> clouds_;  // held while their points are read
-  std::vector<uint32_t> quad_, light_count_, hist_, eye_count_, eye_cover_;
+  std::vector<uint32_t> hist_, eye_count_, eye_cover_;
+  uint32_t* quad_ = nullptr;         // host_.quad
+  uint32_t* light_count_ = nullptr;  // host_.light_count
+  size_t points_ = 0;                // of the last prepare()
+  std::span<const VisibleChunk> window_chunks_;
+  uint64_t window_generation_ = 0, spec_generation_ = 0;
   size_t quad_stride_ = 2;
   size_t eye_n_ = 1;
   uint32_t visible_ = 0;
