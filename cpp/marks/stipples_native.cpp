@@ -22,7 +22,6 @@
 #include <atomic>
 #include <bit>
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -151,15 +150,11 @@ T* sized(std::vector<T>& v, size_t n) {
 class PassTimer {
  public:
   PassTimer(std::map<std::string, double>* stats, const char* name)
-      : stats_(stats), name_(name), start_(std::chrono::steady_clock::now()) { cpu_ = cpu(); }
-  static double cpu() { timespec t; clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t); return t.tv_sec * 1e3 + t.tv_nsec * 1e-6; }
+      : stats_(stats), name_(name), start_(std::chrono::steady_clock::now()) {}
   ~PassTimer() {
-    if (stats_) {
+    if (stats_)
       (*stats_)[name_] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
-      (*stats_)[std::string("CPU_") + name_] += cpu() - cpu_;
-    }
   }
-  double cpu_;
   PassTimer(const PassTimer&) = delete;
   PassTimer& operator=(const PassTimer&) = delete;
 
