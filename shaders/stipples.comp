@@ -187,6 +187,21 @@ float specular_raw(Pt p) {
   return eye_area + light_area;
 }
 
+// 8 bins per octave of 2^-64 .. 2^64: the octave from the exponent, the bin
+// within it by the mantissa against 2^(k/8) (float bits, the constants of
+// cpp/marks/stipples.h). Exact, unlike log2 (llvmpipe's approximates it):
+// every device and the native passes bin alike.
+const uint kBinEdges[7] = uint[7](0x3f8b95c2u, 0x3f9837f0u, 0x3fa5fed7u, 0x3fb504f3u, 0x3fc5672au, 0x3fd744fdu,
+                                  0x3feac0c7u);
+int specular_bin(float s) {
+  uint b = floatBitsToUint(max(s, 1e-30));
+  int octave = int(b >> 23) - 127;
+  float mantissa = uintBitsToFloat((b & 0x007fffffu) | 0x3f800000u);
+  int within = 0;
+  for (int k = 0; k < 7; ++k) within += mantissa >= uintBitsToFloat(kBinEdges[k]) ? 1 : 0;
+  return clamp((octave + 64) * 8 + within, 0, 1023);
+}
+
 void main() {
 #if defined(PASS_DILATE) || defined(PASS_ERODE) || defined(PASS_COVER) || defined(PASS_REDUCE)
   ivec2 t = ivec2(gl_GlobalInvocationID.xy);
@@ -274,9 +289,7 @@ void main() {
   if (!hp_visible(p) || !owned(p)) return;
   // A histogram, not the maximum: a few outliers (cells cut by the
   // silhouette) would set a maximum; a percentile ignores them.
-  float s = specular_raw(p);
-  int bin = clamp(int(floor((log2(max(s, 1e-30)) + 64.0) * 8.0)), 0, 1023);
-  atomicAdd(spec_hist[bin], 1u);
+  atomicAdd(spec_hist[specular_bin(specular_raw(p))], 1u);
 #elif defined(PASS_DRAW)
   if (!hp_visible(p)) return;
   uint id = point_ids[index];

@@ -7,6 +7,8 @@ evenly spaced points (Fibonacci) of radius 1 at 5 units, 320 x 240 pixels,
 about 2 px between neighbours on screen. Every decision is deterministic
 (hashes of the point id), so the fractions below are exact for this input;
 their tolerances are margins over the values measured on this machine.
+Every test runs on both implementations of the passes (GL compute shaders
+and the native CPU passes), which make the same decisions.
 """
 import numpy as np
 import pytest
@@ -24,8 +26,19 @@ def ball():
     return pointnpr.PointCloud(pos), pos, normals, to_eye
 
 
+IMPLEMENTATION = ["auto"]
+
+
+@pytest.fixture(params=["gl", "native"], autouse=True)
+def implementation(request):
+    """Every test below on both implementations of the passes."""
+    IMPLEMENTATION[0] = request.param
+    yield request.param
+    IMPLEMENTATION[0] = "auto"
+
+
 def stipples(**params):
-    return pointnpr.Style(mark=("stipples", params))
+    return pointnpr.Style(mark=("stipples", dict(params, implementation=IMPLEMENTATION[0])))
 
 
 def kept_points(renderer, style, c):
@@ -227,3 +240,4 @@ def test_the_resolution_queue_keeps_the_dot_density_on_screen():
             per_pixel[(queued, distance)] = r.stats["stipples_drawn"] / area
     assert 0.75 < per_pixel[(True, 10.0)] / per_pixel[(True, 5.0)] < 1.25, per_pixel
     assert 3.0 < per_pixel[(False, 10.0)] / per_pixel[(False, 5.0)] < 5.0, per_pixel
+

@@ -21,7 +21,13 @@ def clouds():
     return wavy_cloud(100000, 3, -6.0), wavy_cloud(12000, 4, -5.0, spread=1.0)
 
 
-def stipple_scene(clouds, mark_params, filters=(("blur", {}),)):
+@pytest.fixture(params=["gl", "native"])
+def implementation(request):
+    return request.param
+
+
+def stipple_scene(clouds, mark_params, filters=(("blur", {}),), implementation="auto"):
+    mark_params = dict(mark_params, implementation=implementation)
     scene = pointnpr.Scene()
     scene.add_segment("wall", pointnpr.Style(mark=("stipples", mark_params), filters=list(filters),
                                              inpaint={"radius": 4}), [clouds[0]])
@@ -35,9 +41,9 @@ def test_presets_cover_the_stipple_looks():
 
 
 @pytest.mark.parametrize("name", ["defaults"] + STIPPLE_PRESETS)
-def test_stipples_tiled_are_the_bytes_of_the_whole_frame(renderer, clouds, name):
+def test_stipples_tiled_are_the_bytes_of_the_whole_frame(renderer, clouds, name, implementation):
     params = {} if name == "defaults" else dict(presets.PRESETS[name]["mark"][1])
-    whole, tiled = render_both(renderer, stipple_scene(clouds, params), 301, 233, 64)
+    whole, tiled = render_both(renderer, stipple_scene(clouds, params, implementation=implementation), 301, 233, 64)
     assert tiled.stats["tiles"] >= 12
     assert_same_bytes(whole, tiled)
     # Dots were drawn and thinned (not an empty or a saturated picture).
@@ -49,8 +55,9 @@ def test_stipples_tiled_are_the_bytes_of_the_whole_frame(renderer, clouds, name)
     ({"specular": True, "specular_cell": 16.0, "iterations": 5, "resolution_factor": 2.0, "diffuse": False},
      (431, 333)),
 ], ids=["visible casters", "wide cells"])
-def test_frame_wide_choices_tiled_are_the_bytes_of_the_whole_frame(renderer, clouds, params, size):
-    whole, tiled = render_both(renderer, stipple_scene(clouds, params), size[0], size[1], 64)
+def test_frame_wide_choices_tiled_are_the_bytes_of_the_whole_frame(renderer, clouds, params, size, implementation):
+    whole, tiled = render_both(renderer, stipple_scene(clouds, params, implementation=implementation), size[0],
+                               size[1], 64)
     assert_same_bytes(whole, tiled)
     if params.get("specular_cell", 0) > 8:
         assert tiled.stats["tile_halo"] > 50  # the specular cells' reach, not just the dots'
