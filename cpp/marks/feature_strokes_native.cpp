@@ -91,6 +91,23 @@ float smoothstep(float e0, float e1, float x) {
   return t * t * (3.0f - 2.0f * t);
 }
 
+// Without SSE4.1, std::floor, ceil and nearbyint are library calls, a
+// large part of a disc's or a quad's cost: these for |v| < 2^31.
+int floor_int(float v) {
+  const int i = int(v);
+  return i - (float(i) > v);
+}
+int ceil_int(float v) {
+  const int i = int(v);
+  return i + (float(i) < v);
+}
+// To the nearest integer, ties to even (the rounding mode's, as GLSL's
+// round() on llvmpipe), exactly for every float below 2^51.
+int64_t round_even(float v) {
+  constexpr double kShift = 6755399441055744.0;  // 1.5 x 2^52
+  return int64_t((double(v) + kShift) - kShift);
+}
+
 // GLSL's mat4 * vec4(p, 1): the columns summed in order.
 glm::vec4 transform(const glm::mat4& m, const glm::vec3& p) { return m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3]; }
 glm::vec4 transform(const glm::mat4& m, const glm::vec4& p) {
@@ -175,13 +192,13 @@ void scatter_discs(const Chunk& c, const Frame& f, const FeatureStrokeSettings& 
     const float z = std::max(reversed_z(f, pushed), 0.0f);
     if (!(z > 0.0f)) continue;  // the GREATER test against the cleared far end
     // The window position on the 1/256 grid, less the tile's origin (exact).
-    const float wx = std::nearbyint(fx * 256.0f) / 256.0f - float(f.origin.x);
-    const float wy = std::nearbyint(fy * 256.0f) / 256.0f - float(f.origin.y);
+    const float wx = float(round_even(fx * 256.0f)) / 256.0f - float(f.origin.x);
+    const float wy = float(round_even(fy * 256.0f)) / 256.0f - float(f.origin.y);
     const float rad = 0.5f * diameter;
-    const int x0 = std::max(int(std::floor(wx - rad)), f.clip.min.x);
-    const int x1 = std::min(int(std::ceil(wx + rad)), f.clip.max.x - 1);
-    const int y0 = std::max(int(std::floor(wy - rad)), f.clip.min.y);
-    const int y1 = std::min(int(std::ceil(wy + rad)), f.clip.max.y - 1);
+    const int x0 = std::max(floor_int(wx - rad), f.clip.min.x);
+    const int x1 = std::min(ceil_int(wx + rad), f.clip.max.x - 1);
+    const int y0 = std::max(floor_int(wy - rad), f.clip.min.y);
+    const int y1 = std::min(ceil_int(wy + rad), f.clip.max.y - 1);
     uint32_t z_bits;
     std::memcpy(&z_bits, &z, 4);
     const uint64_t packed = uint64_t(~z_bits) << 32 | uint64_t(c.key_base + i);
@@ -306,8 +323,8 @@ bool setup(const Record& rec, const Frame& f, const FeatureStrokeSettings& s, Pr
   for (int k = 0; k < 4; ++k) {
     const glm::vec2 at = center + (2.0f * kCorner[k][0] - 1.0f) * 0.5f * len * r1 +
                          (2.0f * kCorner[k][1] - 1.0f) * 0.5f * width * r2;
-    p.qx[k] = int32_t(std::nearbyint(at.x * 256.0f));
-    p.qy[k] = int32_t(std::nearbyint(at.y * 256.0f));
+    p.qx[k] = int32_t(round_even(at.x * 256.0f));
+    p.qy[k] = int32_t(round_even(at.y * 256.0f));
     min_x = std::min<int64_t>(min_x, p.qx[k]);
     max_x = std::max<int64_t>(max_x, p.qx[k]);
     min_y = std::min<int64_t>(min_y, p.qy[k]);
@@ -330,26 +347,13 @@ bool setup(const Record& rec, const Frame& f, const FeatureStrokeSettings& s, Pr
   return true;
 }
 
-// An edge a -> b of a counter-clockwise triangle (y up): E > 0 inside; on
-// the edge (E == 0) a pixel centre belongs to left edges and bottom ones,
-// llvmpipe's fill convention for its framebuffers, so two triangles sharing
-// an edge cover each of its pixels once.
-struct Edge {
-  int64_t a = 0, b = 0, c = 0;
-  int64_t operator()(int64_t x, int64_t y) const { return a * x + b * y + c; }
-};
-Edge edge(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
-  Edge e;
-  e.a = -(y1 - y0);
-  e.b = x1 - x0;
-  e.c = -(e.a * x0 + e.b * y0);
-  const int64_t dx = x1 - x0, dy = y1 - y0;
-  const bool tie = dy < 0 || (dy == 0 && dx > 0);
-  if (tie) e.c += 1;  // E >= 0 counts as inside (integer values)
-  return e;
-}
+// A triangle's edges a -> b, counter-clockwise (y up), as functions of the
+// frame pixel x on a row: E(x) = A x + K > 0 inside. On an edge (E == 0) a
+// pixel centre belongs to left edges and bottom ones (llvmpipe's fill
+// convention for its framebuffers), so two triangles sharing an edge cover
+// each of its pixels once. Integers on the 1/256 grid: exact.
 struct Triangle {
-  Edge e[3];
+  int64_t a[3] = {}, b[3] = {}, c[3] = {};  // E = a X + b Y + c, X, Y in 1/256 pixels
   bool empty = true;
 };
 Triangle triangle(const Prim& p, int i, int j, int k) {
@@ -361,12 +365,36 @@ Triangle triangle(const Prim& p, int i, int j, int k) {
     std::swap(x[1], x[2]);
     std::swap(y[1], y[2]);
   }
-  for (int n = 0; n < 3; ++n) t.e[n] = edge(x[n], y[n], x[(n + 1) % 3], y[(n + 1) % 3]);
+  for (int n = 0; n < 3; ++n) {
+    const int m = (n + 1) % 3;
+    const int64_t dx = x[m] - x[n], dy = y[m] - y[n];
+    t.a[n] = -dy;
+    t.b[n] = dx;
+    t.c[n] = -(t.a[n] * x[n] + t.b[n] * y[n]);
+    if (dy < 0 || (dy == 0 && dx > 0)) t.c[n] += 1;  // E >= 0 counts (integer values)
+  }
   t.empty = false;
   return t;
 }
-bool inside(const Triangle& t, int64_t x, int64_t y) {
-  return !t.empty && t.e[0](x, y) > 0 && t.e[1](x, y) > 0 && t.e[2](x, y) > 0;
+int64_t floor_div(int64_t n, int64_t d) {  // d > 0
+  const int64_t q = n / d;
+  return q - ((n % d != 0) && (n < 0));
+}
+// The frame pixels [first, last] of row `y` (frame) inside the triangle.
+void triangle_span(const Triangle& t, int64_t y, int64_t& first, int64_t& last) {
+  const int64_t sy = y * 256 + 128;
+  for (int n = 0; n < 3; ++n) {
+    // a (256 x + 128) + b sy + c > 0
+    const int64_t A = 256 * t.a[n], K = 128 * t.a[n] + t.b[n] * sy + t.c[n];
+    if (A > 0) {
+      first = std::max(first, floor_div(-K, A) + 1);
+    } else if (A < 0) {
+      last = std::min(last, -floor_div(-K, -A) - 1);
+    } else if (K <= 0) {
+      last = first - 1;
+      return;
+    }
+  }
 }
 
 // The bilinear, clamped texture of `stroke_texture` image (GL_LINEAR, CLAMP_TO_EDGE).
@@ -425,52 +453,55 @@ struct Ink {
 };
 
 // Pass 2b: primitive p over the pixels of `area` (feature_strokes.frag and
-// the ink layer's blending).
+// the ink layer's blending), row by row over the spans its triangles cover.
 void rasterize(const Prim& p, const Rect& area, const Frame& f, const FeatureStrokeSettings& s,
                const HostTexture& image, const Ink& ink) {
   const glm::ivec2 lo = glm::max(p.lo, area.min), hi = glm::min(p.hi, area.max);
   if (lo.x >= hi.x || lo.y >= hi.y) return;
-  const Triangle t0 = triangle(p, 0, 1, 2), t1 = triangle(p, 0, 2, 3);
+  const Triangle triangles[2] = {triangle(p, 0, 1, 2), triangle(p, 0, 2, 3)};
   const glm::vec2 r2(-p.r1.y, p.r1.x);
+  const float len = std::max(p.size.x, 1e-6f), width = std::max(p.size.y, 1e-6f);
   for (int y = lo.y; y < hi.y; ++y) {
-    const int64_t sy = (int64_t(y) + f.origin.y) * 256 + 128;
     const float rel_y = (float(y) + 0.5f + float(f.origin.y)) - p.center.y;
     const size_t row = size_t(y - ink.min.y) * size_t(ink.stride) - size_t(ink.min.x);
-    for (int x = lo.x; x < hi.x; ++x) {
-      const int64_t sx = (int64_t(x) + f.origin.x) * 256 + 128;
-      if (!inside(t0, sx, sy) && !inside(t1, sx, sy)) continue;
-      const size_t q = row + size_t(x);
-      // GEQUAL against the discs' reversed depth (0 where none).
-      const uint64_t key = ink.keys[q];
-      if (key != kEmpty) {
-        const uint32_t bits = ~uint32_t(key >> 32);
-        float surface;
-        std::memcpy(&surface, &bits, 4);
-        if (!(p.z >= surface)) continue;
+    for (const Triangle& t : triangles) {
+      if (t.empty) continue;
+      int64_t first = int64_t(lo.x) + f.origin.x, last = int64_t(hi.x) - 1 + f.origin.x;  // frame pixels
+      triangle_span(t, int64_t(y) + f.origin.y, first, last);
+      for (int x = int(first - f.origin.x); x <= int(last - f.origin.x); ++x) {
+        const size_t q = row + size_t(x);
+        // GEQUAL against the discs' reversed depth (none: the far end, 0).
+        const uint64_t key = ink.keys[q];
+        if (key != kEmpty) {
+          const uint32_t bits = ~uint32_t(key >> 32);
+          float surface;
+          std::memcpy(&surface, &bits, 4);
+          if (!(p.z >= surface)) continue;
+        }
+        const float rel_x = (float(x) + 0.5f + float(f.origin.x)) - p.center.x;
+        const float u = (rel_x * p.r1.x + rel_y * p.r1.y) / len + 0.5f;
+        const float v = (rel_x * r2.x + rel_y * r2.y) / width + 0.5f;
+        float k;
+        if (p.primitive == 1) {  // Gaussian splatting kernel
+          const float qx = 2.0f * u - 1.0f, qy = 2.0f * v - 1.0f;
+          const float d2 = qx * qx + qy * qy;
+          if (d2 > 1.0f) continue;
+          k = std::exp(-d2 / (2.0f * 0.4f * 0.4f));
+        } else if (p.primitive == 2) {
+          k = 1.0f;
+        } else {
+          k = stroke_alpha(s, image, p, u, v);
+        }
+        const float a = std::clamp(p.color.a * k, 0.0f, 1.0f);
+        if (!(a > 0.0f)) continue;
+        float* acc = ink.accum + 4 * q;
+        acc[0] += p.color.r * a;
+        acc[1] += p.color.g * a;
+        acc[2] += p.color.b * a;
+        acc[3] += a;
+        ink.reveal[q] *= 1.0f - a;
+        ink.depth[q] = std::min(ink.depth[q], p.depth);
       }
-      const float rel_x = (float(x) + 0.5f + float(f.origin.x)) - p.center.x;
-      const float u = (rel_x * p.r1.x + rel_y * p.r1.y) / std::max(p.size.x, 1e-6f) + 0.5f;
-      const float v = (rel_x * r2.x + rel_y * r2.y) / std::max(p.size.y, 1e-6f) + 0.5f;
-      float k;
-      if (p.primitive == 1) {  // Gaussian splatting kernel
-        const float qx = 2.0f * u - 1.0f, qy = 2.0f * v - 1.0f;
-        const float d2 = qx * qx + qy * qy;
-        if (d2 > 1.0f) continue;
-        k = std::exp(-d2 / (2.0f * 0.4f * 0.4f));
-      } else if (p.primitive == 2) {
-        k = 1.0f;
-      } else {
-        k = stroke_alpha(s, image, p, u, v);
-      }
-      const float a = std::clamp(p.color.a * k, 0.0f, 1.0f);
-      if (!(a > 0.0f)) continue;
-      float* acc = ink.accum + 4 * q;
-      acc[0] += p.color.r * a;
-      acc[1] += p.color.g * a;
-      acc[2] += p.color.b * a;
-      acc[3] += a;
-      ink.reveal[q] *= 1.0f - a;
-      ink.depth[q] = std::min(ink.depth[q], p.depth);
     }
   }
 }
