@@ -40,6 +40,7 @@
 #include "core/image_io.h"
 #include "geometry/analysis.h"
 #include "gl/device.h"
+#include "marks/feature_strokes.h"
 #include "render/exact_raster.h"
 #include "render/image_textures.h"
 #include "render/mark.h"
@@ -63,7 +64,7 @@ struct Record {
 static_assert(sizeof(Record) == 64);
 
 constexpr uint32_t kBatchPoints = 1u << 18;  // records per batch (16 MiB)
-constexpr int kResolutionNeighbors = 8;      // local resolution: disc sizes and dithering
+constexpr int kResolutionNeighbors = kStrokeResolutionNeighbors;
 
 class FeatureStrokes final : public Mark {
  public:
@@ -98,10 +99,16 @@ class FeatureStrokes final : public Mark {
   // the extent is the whole reach.
   bool draws_tiles(const ParamValues&) const override { return true; }
 
-  static constexpr float kMaxDiscPixels = 64.0f;
+  // auto: the native passes where GL itself runs on the CPU (llvmpipe).
+  static bool native(const ParamValues& p) {
+    const std::string r = p.get_enum_name("rasterizer");
+    return r == "native" || (r == "auto" && gl::Device::instance().info().software);
+  }
 
  private:
   float median_resolution(const VisibleChunk& v) const;
+  void draw_native(const MarkContext& ctx, const ParamValues& p) const;
+  mutable FeatureLineHostCache lines_;
   mutable std::mutex mutex_;
   mutable std::map<uint64_t, std::pair<std::weak_ptr<const PointCloud>, float>> medians_;
 };
@@ -129,7 +136,52 @@ int primitive_of(const std::string& name) {
   return name == "point_sprite" ? 1 : name == "line_segment" ? 2 : name == "textured_stroke" ? 3 : 0;
 }
 
+void FeatureStrokes::draw_native(const MarkContext& ctx, const ParamValues& p) const {
+  FeatureStrokeSettings s;
+  s.feature_k = p.get_int("feature_neighbors");
+  s.threshold = float(p.get_float("feature_threshold"));
+  s.line_error = float(p.get_float("line_error"));
+  s.use_lines = p.get_enum_name("directional") != "none";
+  s.line_key = feature_line_key(p.get_int("line_neighbors"), s.feature_k, p.get_float("feature_threshold"));
+  s.dither = float(p.get_float("dither"));
+  s.dither_tone = float(p.get_float("dither_tone"));
+  s.seed = uint32_t(p.get_int("seed"));
+  s.primitive[0] = primitive_of(p.get_enum_name("directional"));
+  s.primitive[1] = primitive_of(p.get_enum_name("non_directional"));
+  s.primitive[2] = primitive_of(p.get_enum_name("dithering"));
+  s.directional_length = float(p.get_float("directional_length"));
+  s.other_length = float(p.get_float("other_length"));
+  s.sprite_size = float(p.get_float("sprite_size"));
+  s.stroke_width = float(p.get_float("stroke_width"));
+  s.line_width = float(p.get_float("line_width"));
+  s.point_coloring = p.get_enum_name("coloring") == "point";
+  s.stroke_color = p.get_color("stroke_color");
+  s.color_source = ColorSource(p.get_enum("color_source"));
+  s.opacity = float(p.get_float("opacity"));
+  s.paper = p.get_color("paper_color");
+  s.disc_scale = float(p.get_float("disc_scale"));
+  s.depth_offset = float(p.get_float("depth_offset"));
+  const double angle = glm::radians(p.get_float("screen_angle"));
+  s.screen_dir = glm::vec2(float(std::cos(angle)), float(std::sin(angle)));
+  s.texture = p.get_enum("stroke_texture");
+  if (p.get_enum_name("stroke_texture") == "image") {
+    const std::string& path = p.get_path("texture_image");
+    if (path.empty()) throw ParameterError("feature_strokes: stroke_texture 'image' needs a texture_image");
+    s.texture_image = &ctx.images->get(path, "stroke", ImageTextures::Sampling::Clamped, [](Image i) { return i; });
+  }
+  s.queue = draws_queue(ctx, p);
+  for (const VisibleChunk& v : ctx.chunks) {
+    s.drawn.push_back(queue_count(v, p));
+    s.inv_median_r.push_back(1.0f / median_resolution(v));
+  }
+  draw_feature_strokes_native(ctx, s, lines_);
+}
+
 void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
+  if (native(p)) {
+    draw_native(ctx, p);
+    return;
+  }
   const Camera& cam = *ctx.camera;
   const glm::ivec2 size = frame_size(ctx.targets);  // the projection's
   const float px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
@@ -391,6 +443,10 @@ const MarkRegistration registration{{
                density_mode_param(),
                queue_level_param(0.05),
                int_param("seed", 0, 0, 65535, "", "Varies the dithering choice (still fixed per point)"),
+               enum_param("rasterizer", {"gl", "native", "auto"}, 2,
+                          "gl: the GL passes (discs into depth, instanced quads, blending); native: the same passes "
+                          "on the CPU's threads (the same images but for the kernels' last bits and rare coverage "
+                          "ties); auto: native on a software GL device (llvmpipe), gl on a GPU"),
            }},
     [] { return std::make_unique<FeatureStrokes>(); }}};
 

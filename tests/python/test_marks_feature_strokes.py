@@ -4,7 +4,14 @@ continuous resolution queue (render/mark.h) it draws through.
 Statistical checks state their tolerance: the dithering choice is a
 Bernoulli draw per point (a hash of its id), so a count of n expected draws
 has standard deviation about sqrt(n); tolerances are at least four of those.
+
+The mark's tests run on both of its paths (`rasterizer` gl and native, the
+`path` fixture); the native path's images are the GL path's within a
+stated tolerance (test_the_native_path_draws_the_gl_paths_images).
 """
+import os
+import subprocess
+import sys
 import numpy as np
 import pytest
 
@@ -20,8 +27,21 @@ def camera(z=0.0, width=W, height=H):
     return pointnpr.Camera.perspective(m, lens=50.0, width=width, height=height)
 
 
+PATHS = ["gl", "native"]
+_path = {"rasterizer": "auto"}
+
+
+@pytest.fixture(params=PATHS)
+def path(request):
+    """Runs a test on each of the mark's paths (render() below draws by it)."""
+    _path["rasterizer"] = request.param
+    yield request.param
+    _path["rasterizer"] = "auto"
+
+
 def render(renderer, params, clouds, cam=None, capture=True, background=(1, 1, 1, 1)):
     scene = pointnpr.Scene()
+    params = dict(_path, **params)
     scene.add_segment("s", pointnpr.Style(mark=("feature_strokes", params)), [(c, np.eye(4)) for c in clouds])
     return renderer.render(scene, cam or camera(), W, H, background=background, capture_marks=capture)
 
@@ -58,7 +78,7 @@ def wall(width, height, spacing, z, color=(200, 200, 200)):
 # ---------------------------------------------------------------------------
 # Feature points, directions, dithering
 
-def test_directional_strokes_lie_along_the_box_edges_and_faces_carry_only_dithering(renderer):
+def test_directional_strokes_lie_along_the_box_edges_and_faces_carry_only_dithering(renderer, path):
     local = box()
     R = rotation(0.5, 0.6)
     pos = local @ R.T + np.array([0.0, 0.0, -4.0])
@@ -83,7 +103,7 @@ def test_directional_strokes_lie_along_the_box_edges_and_faces_carry_only_dither
     assert (kind[on_face] == 2).all()
 
 
-def test_dithering_share_follows_the_parameter(renderer):
+def test_dithering_share_follows_the_parameter(renderer, path):
     pos, col = wall(2.0, 1.5, 0.02, -5.0)
     c = pointnpr.PointCloud(pos)
     counts = []
@@ -96,7 +116,7 @@ def test_dithering_share_follows_the_parameter(renderer):
         assert abs(counts[-1] - d * n) < 4 * np.sqrt(d * (1 - d) * n) + 1, (counts[-1], d * n)
 
 
-def test_dithering_is_uniform_in_3d_on_unevenly_sampled_surfaces(renderer):
+def test_dithering_is_uniform_in_3d_on_unevenly_sampled_surfaces(renderer, path):
     # Two walls side by side, sampled 2x apart: as many dithering points per
     # square metre on each.
     a, _ = wall(1.0, 1.0, 0.02, -5.0)
@@ -113,7 +133,7 @@ def test_dithering_is_uniform_in_3d_on_unevenly_sampled_surfaces(renderer):
 # ---------------------------------------------------------------------------
 # Visibility splatting
 
-def test_strokes_are_hidden_behind_nearer_surfaces(renderer):
+def test_strokes_are_hidden_behind_nearer_surfaces(renderer, path):
     far, far_col = wall(2.4, 1.8, 0.02, -6.0, (230, 30, 30))
     near, near_col = wall(0.8, 0.6, 0.02, -4.0, (30, 30, 230))
     c = pointnpr.PointCloud(np.vstack([far, near]), colors=np.vstack([far_col, near_col]))
@@ -148,7 +168,7 @@ def _density(renderer, params, c, z):
     return r.stats["strokes_drawn"] / covered, r.stats["strokes_drawn"]
 
 
-def test_stroke_density_on_screen_stays_constant_with_the_queue_and_quadruples_without():
+def test_stroke_density_on_screen_stays_constant_with_the_queue_and_quadruples_without(path):
     renderer = pointnpr.Renderer()
     pos, _ = wall(1.2, 0.9, 0.005, -4.0)  # 43k points, 3 chunks
     c = pointnpr.PointCloud(pos)
@@ -163,7 +183,7 @@ def test_stroke_density_on_screen_stays_constant_with_the_queue_and_quadruples_w
     assert 3.2 < far_a / near_a < 4.8, far_a / near_a
 
 
-def test_a_moving_camera_adds_and_removes_points_only_at_the_end_of_the_queue(renderer):
+def test_a_moving_camera_adds_and_removes_points_only_at_the_end_of_the_queue(renderer, path):
     pos, _ = wall(1.2, 0.9, 0.01, -4.0)
     c = pointnpr.PointCloud(pos)
     previous, counts = None, []
@@ -182,7 +202,7 @@ def test_a_moving_camera_adds_and_removes_points_only_at_the_end_of_the_queue(re
     assert back == first
 
 
-def test_queue_order_follows_point_ids_not_storage_order(renderer):
+def test_queue_order_follows_point_ids_not_storage_order(renderer, path):
     pos, _ = wall(1.2, 0.9, 0.01, -4.0)
     perm = np.random.default_rng(3).permutation(len(pos))
     a = render(renderer, QUEUE, [pointnpr.PointCloud(pos)])
@@ -190,7 +210,7 @@ def test_queue_order_follows_point_ids_not_storage_order(renderer):
     assert set(np.asarray(a.marks["point_id"]).tolist()) == set(np.asarray(b.marks["point_id"]).tolist())
 
 
-def test_level_and_threshold_animate_smoothly(renderer):
+def test_level_and_threshold_animate_smoothly(renderer, path):
     local = box()
     pos = local @ rotation(0.5, 0.6).T + np.array([0.0, 0.0, -4.0])
     c = pointnpr.PointCloud(pos)
@@ -208,7 +228,7 @@ def test_level_and_threshold_animate_smoothly(renderer):
 # ---------------------------------------------------------------------------
 # Primitives and textures
 
-def test_primitive_none_draws_nothing_of_that_class(renderer):
+def test_primitive_none_draws_nothing_of_that_class(renderer, path):
     pos = box() @ rotation(0.5, 0.6).T + np.array([0.0, 0.0, -4.0])
     c = pointnpr.PointCloud(pos)
     r = render(renderer, {"dithering": "none"}, [c])
@@ -218,7 +238,7 @@ def test_primitive_none_draws_nothing_of_that_class(renderer):
     assert set(np.asarray(r.marks["kind"]).tolist()) == {2}
 
 
-def test_an_image_stroke_texture_sets_the_stroke_alpha(renderer, tmp_path):
+def test_an_image_stroke_texture_sets_the_stroke_alpha(renderer, path, tmp_path):
     pos = box() @ rotation(0.5, 0.6).T + np.array([0.0, 0.0, -4.0])
     c = pointnpr.PointCloud(pos)
     clear = np.zeros((8, 32, 4), np.float32)
@@ -236,6 +256,106 @@ def test_an_image_stroke_texture_sets_the_stroke_alpha(renderer, tmp_path):
     assert (b[..., 3] > 0.5).sum() > 2000
     with pytest.raises(pointnpr.ParameterError):
         render(renderer, {"stroke_texture": "image"}, [c], capture=False)
+
+
+# ---------------------------------------------------------------------------
+# The native path (`auto` on software GL) against the GL passes
+
+def _on_both_paths(renderer, params, clouds, cam):
+    out = []
+    for rasterizer in PATHS:
+        scene = pointnpr.Scene()
+        scene.add_segment("s", pointnpr.Style(mark=("feature_strokes", dict(params, rasterizer=rasterizer))),
+                          [(c, np.eye(4)) for c in clouds])
+        out.append(renderer.render(scene, cam, W, H, background=(1, 1, 1, 0), capture_marks=True))
+    return out
+
+
+def _two_walls():
+    far, far_col = wall(2.4, 1.8, 0.02, -6.0, (230, 30, 30))
+    near, near_col = wall(0.8, 0.6, 0.02, -4.0, (30, 30, 230))
+    return pointnpr.PointCloud(np.vstack([far, near]), colors=np.vstack([far_col, near_col]))
+
+
+NATIVE_CASES = {
+    "defaults": {},
+    "lines": {"directional": "line_segment", "non_directional": "line_segment", "dithering": "line_segment",
+              "dither": 0.4, "line_width": 1.0},
+    "sprites": {"dithering": "point_sprite", "dither": 0.5},
+    "brush": {"stroke_texture": "brush", "dithering": "textured_stroke"},
+    "dry": {"stroke_texture": "dry", "dithering": "textured_stroke", "opacity": 0.6},
+    "image": {"stroke_texture": "image", "non_directional": "textured_stroke", "dithering": "textured_stroke"},
+    "queue": {"density_mode": "constant_on_screen", "queue_level": 0.15, "screen_angle": 20.0},
+    "orthographic": {"directional": "line_segment"},
+    "hidden walls": {"coloring": "point", "dither": 0.3, "dithering": "point_sprite", "paper_color": [1, 1, 1, 0.5]},
+}
+
+
+@pytest.mark.parametrize("case", list(NATIVE_CASES))
+def test_the_native_path_draws_the_gl_paths_images(renderer, case, tmp_path):
+    """The same strokes (ids, classes, counts) and the same images within
+    the tolerance of the kernels' last bits (exp, pow, noise and texture
+    filtering evaluated by the CPU's maths instead of llvmpipe's): colour
+    within 1e-3 and depth within 1e-6 relative, but for at most 0.05 % of
+    the pixels (coverage ties on disc and quad edges)."""
+    params = dict(NATIVE_CASES[case])
+    if case == "image":
+        ramp = np.zeros((8, 32, 4), np.float32)
+        ramp[..., 3] = np.linspace(0.0, 1.0, 32)[None, :]  # black, opaque towards the stroke's end
+        params["texture_image"] = str(tmp_path / "ramp.png")
+        pointnpr.save_image(params["texture_image"], ramp)
+    if case == "hidden walls":
+        clouds, cam = [_two_walls()], camera()
+    else:
+        clouds = [pointnpr.PointCloud(box() @ rotation(0.5, 0.6).T + np.array([0.0, 0.0, -4.0]))]
+        cam = pointnpr.Camera.orthographic(np.eye(4), 3.0, width=W, height=H) if case == "orthographic" else camera()
+    gl, native = _on_both_paths(renderer, params, clouds, cam)
+    for key in ("strokes_drawn", "strokes_directional", "strokes_non_directional", "strokes_dithering", "queue_points"):
+        assert gl.stats[key] == native.stats[key], key
+    assert gl.stats["strokes_drawn"] > 1000
+    for key in ("point_id", "kind"):
+        assert np.array_equal(np.asarray(gl.marks[key]), np.asarray(native.marks[key])), key
+    assert np.allclose(np.asarray(gl.marks["center"]), np.asarray(native.marks["center"]), rtol=0, atol=1e-6)
+    a, b = np.asarray(gl.color), np.asarray(native.color)
+    covered = (a[..., 3] > 0).sum()
+    assert covered > 3000
+    allowed = 0.0005 * a[..., 0].size
+    assert (np.abs(a - b).max(axis=-1) > 1e-3).sum() <= allowed
+    da, db = np.asarray(gl.depth), np.asarray(native.depth)
+    same = (np.isinf(da) & np.isinf(db)) | np.isclose(da, db, rtol=1e-6, atol=0)
+    assert (~same).sum() <= allowed
+
+
+_THREADS_SCRIPT = r"""
+import os, sys, hashlib, numpy as np
+os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})  # one CPU: TBB runs one thread
+sys.path.insert(0, sys.argv[1])
+sys.path.insert(0, sys.argv[2])
+import pointnpr
+import test_marks_feature_strokes as t
+print(t._native_digest(pointnpr.Renderer()))
+"""
+
+
+def _native_digest(renderer):
+    import hashlib
+    pos = box() @ rotation(0.5, 0.6).T + np.array([0.0, 0.0, -4.0])
+    clouds = [pointnpr.PointCloud(pos), _two_walls()]
+    scene = pointnpr.Scene()
+    style = pointnpr.Style(mark=("feature_strokes", {"rasterizer": "native", "dither": 0.5, "coloring": "point",
+                                                     "stroke_texture": "brush", "dithering": "point_sprite"}))
+    scene.add_segment("s", style, [(c, np.eye(4)) for c in clouds])
+    r = renderer.render(scene, camera(), W, H)
+    return hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest()
+
+
+def test_the_native_path_draws_the_same_bytes_with_one_thread_in_another_process(renderer):
+    from conftest import BUILD_DIR
+    assert len(os.sched_getaffinity(0)) > 1  # else this process would run one thread too
+    out = subprocess.run([sys.executable, "-c", _THREADS_SCRIPT, os.path.abspath(BUILD_DIR),
+                          os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
+                         timeout=300)
+    assert out.stdout.strip() == _native_digest(renderer)
 
 
 # ---------------------------------------------------------------------------

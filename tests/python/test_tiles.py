@@ -177,9 +177,9 @@ def wall_patches():
     return patches((30000, 3, -6.0, 2.0), 6, 4)
 
 
-def stroke_scene(clouds, mark, preset):
+def stroke_scene(clouds, mark, preset, params=None):
     if preset is None:
-        style = pointnpr.Style(mark=(mark, {}), filters=[("edge_enhance", {}), ("color_grade", {"saturation": 1.3})])
+        style = pointnpr.Style(mark=(mark, params or {}), filters=[("edge_enhance", {}), ("color_grade", {"saturation": 1.3})])
     else:
         spec = presets.PRESETS[preset]
         style = pointnpr.Style(mark=spec["mark"], filters=list(spec["filters"]) + [("xdog", {})])
@@ -197,10 +197,12 @@ def test_stroke_marks_tiled_are_the_bytes_of_the_whole_frame(renderer, clouds, w
     assert_same_bytes(whole, tiled)
 
 
-@pytest.mark.parametrize("mark", ["hatching", "feature_strokes"])
+# feature_strokes on both of its paths (auto is native on software GL).
+@pytest.mark.parametrize("mark,params", [("hatching", {}), ("feature_strokes", {"rasterizer": "native"}),
+                                         ("feature_strokes", {"rasterizer": "gl"})])
 def test_stroke_marks_in_odd_tiles_over_the_budget_are_the_bytes_of_the_whole_frame_and_say_nothing(
-        renderer, clouds, wall_patches, mark):
-    scene = stroke_scene((wall_patches, clouds[1]), mark, None)
+        renderer, clouds, wall_patches, mark, params):
+    scene = stroke_scene((wall_patches, clouds[1]), mark, None, params)
     cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=297, height=229)
     whole = renderer.render(scene, cam, 297, 229)
     odd = renderer.render(scene, cam, 297, 229, tile_size=97)
@@ -214,7 +216,8 @@ def test_stroke_marks_in_odd_tiles_over_the_budget_are_the_bytes_of_the_whole_fr
 
 
 @pytest.mark.parametrize("mark,params", [("hatching", {}), ("hatching", {"depth_pass": False, "placement": "irregular"}),
-                                         ("feature_strokes", {"directional": "line_segment"})])
+                                         ("feature_strokes", {"directional": "line_segment", "rasterizer": "native"}),
+                                         ("feature_strokes", {"directional": "line_segment", "rasterizer": "gl"})])
 def test_stroke_marks_under_an_orthographic_camera_tiled_are_the_bytes_of_the_whole_frame(
         renderer, clouds, wall_patches, mark, params):
     scene = pointnpr.Scene()

@@ -1,0 +1,820 @@
+// The feature_strokes mark's native path: its GL passes (feature_strokes_
+// depth.vert/.frag, feature_strokes_select.comp, feature_strokes.vert/.frag,
+// ink_resolve.comp) on the CPU's threads (TBB), for software GL devices,
+// where llvmpipe spends most of the mark's time setting up and shading
+// millions of tiny primitives one pass after another.
+//
+//  1. Visibility discs: every point's disc scattered into a per-pixel
+//     atomic minimum of (reversed depth bits inverted << 32 | point key):
+//     the GL's GREATER depth test, ties to the first point drawn.
+//  2. Selection: the queue's first points of each chunk classified as the
+//     compute pass does, kept in queue order (work items of fixed ranges,
+//     concatenated in order).
+//  3. Primitives: each record's screen quad (corners on the 1/256 grid of
+//     render/exact_raster.h, two triangles with a fill rule on exact
+//     integer edge functions), binned by screen tiles in primitive order;
+//     each tile's pixels blend their primitives in that order (colour sum,
+//     transmittance product, depth minimum), the GL's blending order.
+//  4. Resolve: ink over paper and the surface's depth, uploaded.
+// Every value a pixel sees is computed from its frame pixel, so a tile of
+// a frame is that frame's bytes, in any process and with any thread count.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "geometry/analysis.h"
+#include "gl/device.h"
+#include "marks/feature_strokes.h"
+#include "marks/points.h"
+#include "scene/camera.h"
+#include "scene/point_cloud.h"
+
+namespace pointnpr {
+
+std::shared_ptr<const std::vector<uint32_t>> FeatureLineHostCache::get(const VisibleChunk& v, AttributeKey key) {
+  const std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
+  const gl::Buffer* buffer = v.gpu->find(key);
+  if (!cloud || !buffer) return nullptr;
+  std::lock_guard lock(mutex_);
+  for (auto it = entries_.begin(); it != entries_.end();)
+    it = it->second.cloud.expired() ? entries_.erase(it) : std::next(it);
+  Entry& e = entries_[cloud->id()];
+  if (e.lines && e.key == key) return e.lines;
+  auto lines = std::make_shared<std::vector<uint32_t>>(cloud->size());
+  glGetNamedBufferSubData(buffer->id(), 0, GLsizeiptr(lines->size() * sizeof(uint32_t)), lines->data());
+  gl::check_gl("feature strokes: reading the line fits back");
+  e = Entry{cloud, key, lines};
+  return lines;
+}
+
+namespace {
+
+constexpr uint64_t kEmpty = ~uint64_t(0);
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr uint32_t kBatchRecords = 1u << 18;  // as the GL path's batches
+constexpr uint32_t kGrain = 8192;             // points per work item
+
+// shaders/id_hash.glsl
+uint32_t id_hash(uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+float id_rand(uint32_t id, uint32_t salt, uint32_t seed) {
+  return float(id_hash(id ^ id_hash(salt * 0x9e3779b9u + seed * 0x85ebca6bu)) >> 8) * (1.0f / 16777216.0f);
+}
+// GLSL's uint() of a float, negative values wrapped as x86 converts them.
+uint32_t to_uint(float v) { return uint32_t(int64_t(v)); }
+float mix(float a, float b, float t) { return a * (1.0f - t) + b * t; }
+float value_noise(float qx, float qy, uint32_t seed) {
+  const float ix = std::floor(qx), iy = std::floor(qy);
+  const float fx = qx - ix, fy = qy - iy;
+  const float wx = fx * fx * (3.0f - 2.0f * fx), wy = fy * fy * (3.0f - 2.0f * fy);
+  const uint32_t base = id_hash(seed);
+  auto at = [base](float x, float y) {
+    return float(id_hash(base ^ id_hash(to_uint(x) * 73856093u ^ to_uint(y) * 19349663u)) >> 8) / 16777216.0f;
+  };
+  return mix(mix(at(ix, iy), at(ix + 1.0f, iy), wx), mix(at(ix, iy + 1.0f), at(ix + 1.0f, iy + 1.0f), wx), wy);
+}
+float smoothstep(float e0, float e1, float x) {
+  const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+// Without SSE4.1, std::floor, ceil and nearbyint are library calls, a
+// large part of a disc's or a quad's cost: these for |v| < 2^31.
+int floor_int(float v) {
+  const int i = int(v);
+  return i - (float(i) > v);
+}
+int ceil_int(float v) {
+  const int i = int(v);
+  return i + (float(i) < v);
+}
+// To the nearest integer, ties to even (the rounding mode's, as GLSL's
+// round() on llvmpipe), exactly for every float below 2^51.
+int64_t round_even(float v) {
+  constexpr double kShift = 6755399441055744.0;  // 1.5 x 2^52
+  return int64_t((double(v) + kShift) - kShift);
+}
+
+// GLSL's mat4 * vec4(p, 1): the columns summed in order.
+glm::vec4 transform(const glm::mat4& m, const glm::vec3& p) { return m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3]; }
+glm::vec4 transform(const glm::mat4& m, const glm::vec4& p) {
+  return m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3] * p.w;
+}
+
+// One visible chunk's host data (index = first + local into the cloud's arrays).
+struct Chunk {
+  const glm::vec3* positions = nullptr;
+  const uint32_t* ids = nullptr;
+  const float* degree = nullptr;
+  const float* resolution = nullptr;
+  const uint32_t* lines = nullptr;  // or null: no line fit
+  const uint32_t* order = nullptr;  // the queue order (chunk-local), or null
+  ColorSource source = ColorSource::Constant;
+  const uint32_t* colors = nullptr;
+  const float* intensity = nullptr;
+  const uint32_t* classification = nullptr;
+  float intensity_scale = 1.0f;
+  uint32_t first = 0, count = 0, drawn = 0, key_base = 0;
+  float inv_median_r = 1.0f;
+  glm::mat4 view{1.0f};
+};
+
+struct Frame {
+  glm::vec2 size{0.0f};     // the whole frame's
+  glm::ivec2 origin{0, 0};  // the tile's
+  Rect clip;                // tile pixels
+  float near = 0.0f, far = 1.0f;
+  bool ortho = false;
+  float px_per_unit = 1.0f;
+  glm::mat4 projection{1.0f};
+};
+
+// shaders/point_attributes.glsl's source_color().
+glm::vec4 source_color(const Chunk& c, uint32_t index, const glm::vec4& constant) {
+  switch (c.source) {
+    case ColorSource::Rgb: {
+      const uint32_t v = c.colors[index];
+      return {float(v & 0xffu) / 255.0f, float(v >> 8 & 0xffu) / 255.0f, float(v >> 16 & 0xffu) / 255.0f, 1.0f};
+    }
+    case ColorSource::Intensity:
+      return glm::vec4(glm::vec3(std::clamp(c.intensity[index] * c.intensity_scale, 0.0f, 1.0f)), 1.0f);
+    case ColorSource::Classification: return glm::vec4(class_color(c.classification[index]), 1.0f);
+    default: return glm::vec4(glm::vec3(constant), 1.0f);
+  }
+}
+
+float reversed_z(const Frame& f, float depth) {
+  return f.ortho ? 1.0f - (depth - f.near) / (f.far - f.near) : f.near / depth;
+}
+
+// Per-pixel minimum by compare-and-swap: only ever lowers the value.
+void fetch_min(uint64_t& slot, uint64_t value) {
+  std::atomic_ref<uint64_t> ref(slot);
+  uint64_t current = ref.load(std::memory_order_relaxed);
+  while (value < current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
+  }
+}
+
+// Pass 1 (feature_strokes_depth.vert/.frag): points [begin, end) of a chunk.
+void scatter_discs(const Chunk& c, const Frame& f, const FeatureStrokeSettings& s, uint64_t* keys, uint32_t begin,
+                   uint32_t end) {
+  const int stride = f.clip.size().x;
+  const float reach = 0.5f * kMaxDiscPixels + 1.0f;
+  const float lo_x = float(f.clip.min.x + f.origin.x) - reach, hi_x = float(f.clip.max.x + f.origin.x) + reach;
+  const float lo_y = float(f.clip.min.y + f.origin.y) - reach, hi_y = float(f.clip.max.y + f.origin.y) + reach;
+  for (uint32_t i = begin; i < end; ++i) {
+    const uint32_t index = c.first + i;
+    const glm::vec4 v = transform(c.view, c.positions[index]);
+    const float depth = -v.z;
+    if (!(depth >= f.near && depth <= f.far)) continue;
+    float r = c.resolution[index];
+    if (!(r == r) || r < 0.0f) r = 0.0f;
+    const float w = f.ortho ? 1.0f : depth;
+    const float diameter = std::clamp(s.disc_scale * r * f.px_per_unit / std::max(w, 1e-30f), 1.0f, kMaxDiscPixels);
+    const glm::vec4 clip = transform(f.projection, v);
+    const float fx = (clip.x / clip.w * 0.5f + 0.5f) * f.size.x;
+    const float fy = (clip.y / clip.w * 0.5f + 0.5f) * f.size.y;
+    if (!(fx >= lo_x && fx <= hi_x && fy >= lo_y && fy <= hi_y)) continue;  // also NaN
+    const float pushed = depth + s.depth_offset * r;
+    const float z = std::max(reversed_z(f, pushed), 0.0f);
+    if (!(z > 0.0f)) continue;  // the GREATER test against the cleared far end
+    // The window position on the 1/256 grid, less the tile's origin (exact).
+    const float wx = float(round_even(fx * 256.0f)) / 256.0f - float(f.origin.x);
+    const float wy = float(round_even(fy * 256.0f)) / 256.0f - float(f.origin.y);
+    const float rad = 0.5f * diameter;
+    const int x0 = std::max(floor_int(wx - rad), f.clip.min.x);
+    const int x1 = std::min(ceil_int(wx + rad), f.clip.max.x - 1);
+    const int y0 = std::max(floor_int(wy - rad), f.clip.min.y);
+    const int y1 = std::min(ceil_int(wy + rad), f.clip.max.y - 1);
+    uint32_t z_bits;
+    std::memcpy(&z_bits, &z, 4);
+    const uint64_t packed = uint64_t(~z_bits) << 32 | uint64_t(c.key_base + i);
+    const float r2 = 0.25f * diameter * diameter;
+    for (int y = y0; y <= y1; ++y) {
+      const float dy = float(y) + 0.5f - wy;
+      uint64_t* line = keys + size_t(y - f.clip.min.y) * size_t(stride) - f.clip.min.x;
+      for (int x = x0; x <= x1; ++x) {
+        const float dx = float(x) + 0.5f - wx;
+        // The point's square, and the disc from 2 px on (the shader's discard).
+        const bool in = diameter >= 2.0f ? dx * dx + dy * dy <= r2 : std::abs(dx) <= rad && std::abs(dy) <= rad;
+        if (in) fetch_min(line[x], packed);
+      }
+    }
+  }
+}
+
+// GPU record of feature_strokes_common.glsl (what the capture reports).
+struct Record {
+  glm::vec3 center{0.0f};  // view space
+  uint32_t kind = 0;
+  glm::vec3 dir{0.0f};
+  float length = 0.0f;
+  glm::vec4 color{0.0f};
+  uint32_t point_id = 0;
+  uint32_t primitive = 0;
+  float width = 0.0f;
+};
+
+// Pass 2a (feature_strokes_select.comp's place()): queue points [begin, end).
+void select_records(const Chunk& c, const Frame& f, const FeatureStrokeSettings& s, uint32_t begin, uint32_t end,
+            std::vector<Record>& out) {
+  const glm::mat3 rotation(c.view);
+  for (uint32_t j = begin; j < end; ++j) {
+    const uint32_t local = c.order ? c.order[j] : j;
+    const uint32_t index = c.first + local;
+    const uint32_t id = c.ids[index];
+    const glm::vec4 v = transform(c.view, c.positions[index]);
+    const float depth = -v.z;
+    if (!(depth >= f.near && depth <= f.far)) continue;
+    const float fd = c.degree[index];
+    const bool feature = fd == fd && fd > s.threshold;
+    const glm::vec4 color = source_color(c, index, s.stroke_color);
+    uint32_t kind;
+    glm::vec3 dir(0.0f);
+    if (feature) {
+      kind = 1;
+      if (s.use_lines && c.lines) {
+        const uint32_t bits = c.lines[index];
+        const float err = float(bits >> 24) / 255.0f;
+        const glm::vec3 d = unpack_normal(bits);
+        if (glm::dot(d, d) > 0.25f && err < s.line_error) {
+          kind = 0;
+          const glm::vec3 turned = rotation[0] * d.x + rotation[1] * d.y + rotation[2] * d.z;
+          dir = turned / std::sqrt(glm::dot(turned, turned));
+        }
+      }
+    } else {
+      // Range-aware dithering: odds by the point's share of surface.
+      const float r = c.resolution[index];
+      const float rel = r == r ? r * c.inv_median_r : 1.0f;
+      const float lum = c.source != ColorSource::Constant
+                            ? color.r * 0.2126f + color.g * 0.7152f + color.b * 0.0722f
+                            : 0.5f;
+      const float odds = s.dither * rel * rel * mix(1.0f, 2.0f * (1.0f - lum), s.dither_tone);
+      if (id_rand(id, 1u, s.seed) >= odds) continue;
+      kind = 2;
+    }
+    const int prim = s.primitive[kind];
+    if (prim == 0 || s.opacity <= 0.0f) continue;
+    Record rec;
+    rec.length = kind == 0 ? s.directional_length : s.other_length;
+    rec.width = prim == 3 ? s.stroke_width : s.line_width;
+    if (prim == 1) rec.length = rec.width = s.sprite_size;
+    rec.center = glm::vec3(v);
+    rec.kind = kind;
+    rec.dir = dir;
+    rec.color = glm::vec4(glm::clamp(s.point_coloring ? glm::vec3(color) : glm::vec3(s.stroke_color), 0.0f, 1.0f),
+                          s.opacity);
+    rec.point_id = id;
+    rec.primitive = uint32_t(prim);
+    out.push_back(rec);
+  }
+}
+
+// A primitive as the rasterizer sees it (feature_strokes.vert's outputs).
+struct Prim {
+  glm::vec2 center{0.0f};  // frame pixels
+  glm::vec2 r1{1.0f, 0.0f};
+  glm::vec2 size{0.0f};  // length, width
+  glm::vec4 color{0.0f};
+  float depth = 0.0f;  // linear
+  float z = 0.0f;      // reversed, for the depth test
+  uint32_t id = 0, primitive = 0;
+  int32_t qx[4] = {}, qy[4] = {};  // corners, 1/256 frame pixels: (0,0) (1,0) (1,1) (0,1)
+  glm::ivec2 lo{0}, hi{0};          // tile pixels covered at most, [lo, hi)
+};
+
+// feature_strokes.vert: false when nothing of it reaches the clip.
+bool setup(const Record& rec, const Frame& f, const FeatureStrokeSettings& s, Prim& p) {
+  const glm::vec3 c = rec.center;
+  const float depth = -c.z;
+  const glm::vec4 clip = transform(f.projection, glm::vec4(c, 1.0f));
+  const glm::vec2 ndc(clip.x / clip.w, clip.y / clip.w);
+  const glm::vec2 center = (ndc * 0.5f + 0.5f) * f.size;
+  glm::vec2 r1 = s.screen_dir;
+  if (rec.primitive == 1) {
+    r1 = {1.0f, 0.0f};
+  } else if (glm::dot(rec.dir, rec.dir) > 0.5f) {
+    const glm::vec4 tip = transform(f.projection, glm::vec4(c + rec.dir * (f.ortho ? 1e-3f : 1e-3f * depth), 1.0f));
+    const glm::vec2 d = (glm::vec2(tip.x / tip.w, tip.y / tip.w) - ndc) * f.size;
+    if (glm::dot(d, d) > 1e-12f) r1 = d / std::sqrt(glm::dot(d, d));
+  }
+  const glm::vec2 r2(-r1.y, r1.x);
+  const float len = rec.length, width = rec.width;
+  const float reach = len + width + 2.0f;
+  const float lo_x = float(f.clip.min.x + f.origin.x) - reach, hi_x = float(f.clip.max.x + f.origin.x) + reach;
+  const float lo_y = float(f.clip.min.y + f.origin.y) - reach, hi_y = float(f.clip.max.y + f.origin.y) + reach;
+  if (!(center.x >= lo_x && center.x <= hi_x && center.y >= lo_y && center.y <= hi_y)) return false;
+  static constexpr float kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  int64_t min_x = INT64_MAX, min_y = INT64_MAX, max_x = INT64_MIN, max_y = INT64_MIN;
+  for (int k = 0; k < 4; ++k) {
+    const glm::vec2 at = center + (2.0f * kCorner[k][0] - 1.0f) * 0.5f * len * r1 +
+                         (2.0f * kCorner[k][1] - 1.0f) * 0.5f * width * r2;
+    p.qx[k] = int32_t(round_even(at.x * 256.0f));
+    p.qy[k] = int32_t(round_even(at.y * 256.0f));
+    min_x = std::min<int64_t>(min_x, p.qx[k]);
+    max_x = std::max<int64_t>(max_x, p.qx[k]);
+    min_y = std::min<int64_t>(min_y, p.qy[k]);
+    max_y = std::max<int64_t>(max_y, p.qy[k]);
+  }
+  // Pixels whose centre (256 x + 128) can lie within the corners' box.
+  auto first_pixel = [](int64_t q) { return int(((q - 128) + 255 + (int64_t(1) << 40)) / 256 - (int64_t(1) << 32)); };
+  auto last_pixel = [](int64_t q) { return int(((q - 128) + (int64_t(1) << 40)) / 256 - (int64_t(1) << 32)); };
+  p.lo = glm::max(glm::ivec2(first_pixel(min_x), first_pixel(min_y)) - f.origin, f.clip.min);
+  p.hi = glm::min(glm::ivec2(last_pixel(max_x), last_pixel(max_y)) - f.origin + 1, f.clip.max);
+  if (p.lo.x >= p.hi.x || p.lo.y >= p.hi.y) return false;
+  p.center = center;
+  p.r1 = r1;
+  p.size = {len, width};
+  p.color = rec.color;
+  p.depth = depth;
+  p.z = reversed_z(f, depth);
+  p.id = rec.point_id;
+  p.primitive = rec.primitive;
+  return true;
+}
+
+// A triangle's edges a -> b, counter-clockwise (y up), as functions of the
+// frame pixel x on a row: E(x) = A x + K > 0 inside. On an edge (E == 0) a
+// pixel centre belongs to left edges and bottom ones (llvmpipe's fill
+// convention for its framebuffers), so two triangles sharing an edge cover
+// each of its pixels once. Integers on the 1/256 grid: exact.
+struct Triangle {
+  int64_t a[3] = {}, b[3] = {}, c[3] = {};  // E = a X + b Y + c, X, Y in 1/256 pixels
+  bool empty = true;
+};
+Triangle triangle(const Prim& p, int i, int j, int k) {
+  int64_t x[3] = {p.qx[i], p.qx[j], p.qx[k]}, y[3] = {p.qy[i], p.qy[j], p.qy[k]};
+  const int64_t area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+  Triangle t;
+  if (area == 0) return t;
+  if (area < 0) {
+    std::swap(x[1], x[2]);
+    std::swap(y[1], y[2]);
+  }
+  for (int n = 0; n < 3; ++n) {
+    const int m = (n + 1) % 3;
+    const int64_t dx = x[m] - x[n], dy = y[m] - y[n];
+    t.a[n] = -dy;
+    t.b[n] = dx;
+    t.c[n] = -(t.a[n] * x[n] + t.b[n] * y[n]);
+    if (dy < 0 || (dy == 0 && dx > 0)) t.c[n] += 1;  // E >= 0 counts (integer values)
+  }
+  t.empty = false;
+  return t;
+}
+int64_t floor_div(int64_t n, int64_t d) {  // d > 0
+  const int64_t q = n / d;
+  return q - ((n % d != 0) && (n < 0));
+}
+// The frame pixels [first, last] of row `y` (frame) inside the triangle.
+void triangle_span(const Triangle& t, int64_t y, int64_t& first, int64_t& last) {
+  const int64_t sy = y * 256 + 128;
+  for (int n = 0; n < 3; ++n) {
+    // a (256 x + 128) + b sy + c > 0
+    const int64_t A = 256 * t.a[n], K = 128 * t.a[n] + t.b[n] * sy + t.c[n];
+    if (A > 0) {
+      first = std::max(first, floor_div(-K, A) + 1);
+    } else if (A < 0) {
+      last = std::min(last, -floor_div(-K, -A) - 1);
+    } else if (K <= 0) {
+      last = first - 1;
+      return;
+    }
+  }
+}
+
+// The bilinear, clamped texture of `stroke_texture` image (GL_LINEAR, CLAMP_TO_EDGE).
+struct HostTexture {
+  std::vector<float> rgba;
+  int width = 0, height = 0;
+  glm::vec4 texel(int x, int y) const {
+    x = std::clamp(x, 0, width - 1);
+    y = std::clamp(y, 0, height - 1);
+    const float* t = &rgba[4 * (size_t(y) * size_t(width) + size_t(x))];
+    return {t[0], t[1], t[2], t[3]};
+  }
+  glm::vec4 sample(float u, float v) const {
+    const float fx = u * float(width) - 0.5f, fy = v * float(height) - 0.5f;
+    const float x0 = std::floor(fx), y0 = std::floor(fy);
+    const float tx = fx - x0, ty = fy - y0;
+    const int ix = int(std::clamp(x0, -2.0f, float(width))), iy = int(std::clamp(y0, -2.0f, float(height)));
+    const glm::vec4 a = glm::mix(texel(ix, iy), texel(ix + 1, iy), tx);
+    const glm::vec4 b = glm::mix(texel(ix, iy + 1), texel(ix + 1, iy + 1), tx);
+    return glm::mix(a, b, ty);
+  }
+};
+
+// feature_strokes.frag's stroke_alpha().
+float stroke_alpha(const FeatureStrokeSettings& s, const HostTexture& image, const Prim& p, float u, float v) {
+  const float across = std::abs(2.0f * v - 1.0f);
+  if (s.texture == 3) {
+    const glm::vec4 t = image.sample(u, v);
+    return t.a * (1.0f - (t.r * 0.2126f + t.g * 0.7152f + t.b * 0.0722f));
+  }
+  if (s.texture == 1) {  // bristle brush
+    const float bristle = std::floor(v * 7.0f);
+    const uint32_t h = id_hash(p.id * 7u + to_uint(bristle));
+    const float reach = 0.65f + 0.35f * float(h >> 8) / 16777216.0f;
+    const float ink = 0.55f + 0.45f * float(id_hash(h) >> 8) / 16777216.0f;
+    return ink * smoothstep(0.0f, 0.08f, u) * (1.0f - smoothstep(reach - 0.15f, reach, u)) *
+           (1.0f - std::pow(across, 8.0f));
+  }
+  const float taper = smoothstep(0.0f, 0.2f, u) * (1.0f - smoothstep(0.7f, 1.0f, u));
+  if (s.texture == 2) {  // dry brush
+    const float aspect = p.size.x / std::max(p.size.y, 1e-3f);
+    const float g = value_noise(u * aspect * 2.0f, v * 5.0f, p.id);
+    return taper * smoothstep(0.3f, 0.55f, g) * (1.0f - std::pow(across, 4.0f));
+  }
+  return taper * (1.0f - across * across);
+}
+
+// The ink images over the clip (tile pixels, row-major from clip.min).
+struct Ink {
+  float* accum;   // rgb * a, a (sums)
+  float* reveal;  // transmittance (product)
+  float* depth;   // nearest linear depth
+  const uint64_t* keys;
+  int stride;
+  glm::ivec2 min;
+};
+
+// Pass 2b: primitive p over the pixels of `area` (feature_strokes.frag and
+// the ink layer's blending), row by row over the spans its triangles cover.
+void rasterize(const Prim& p, const Rect& area, const Frame& f, const FeatureStrokeSettings& s,
+               const HostTexture& image, const Ink& ink) {
+  const glm::ivec2 lo = glm::max(p.lo, area.min), hi = glm::min(p.hi, area.max);
+  if (lo.x >= hi.x || lo.y >= hi.y) return;
+  const Triangle triangles[2] = {triangle(p, 0, 1, 2), triangle(p, 0, 2, 3)};
+  const glm::vec2 r2(-p.r1.y, p.r1.x);
+  const float len = std::max(p.size.x, 1e-6f), width = std::max(p.size.y, 1e-6f);
+  for (int y = lo.y; y < hi.y; ++y) {
+    const float rel_y = (float(y) + 0.5f + float(f.origin.y)) - p.center.y;
+    const size_t row = size_t(y - ink.min.y) * size_t(ink.stride) - size_t(ink.min.x);
+    for (const Triangle& t : triangles) {
+      if (t.empty) continue;
+      int64_t first = int64_t(lo.x) + f.origin.x, last = int64_t(hi.x) - 1 + f.origin.x;  // frame pixels
+      triangle_span(t, int64_t(y) + f.origin.y, first, last);
+      for (int x = int(first - f.origin.x); x <= int(last - f.origin.x); ++x) {
+        const size_t q = row + size_t(x);
+        // GEQUAL against the discs' reversed depth (none: the far end, 0).
+        const uint64_t key = ink.keys[q];
+        if (key != kEmpty) {
+          const uint32_t bits = ~uint32_t(key >> 32);
+          float surface;
+          std::memcpy(&surface, &bits, 4);
+          if (!(p.z >= surface)) continue;
+        }
+        const float rel_x = (float(x) + 0.5f + float(f.origin.x)) - p.center.x;
+        const float u = (rel_x * p.r1.x + rel_y * p.r1.y) / len + 0.5f;
+        const float v = (rel_x * r2.x + rel_y * r2.y) / width + 0.5f;
+        float k;
+        if (p.primitive == 1) {  // Gaussian splatting kernel
+          const float qx = 2.0f * u - 1.0f, qy = 2.0f * v - 1.0f;
+          const float d2 = qx * qx + qy * qy;
+          if (d2 > 1.0f) continue;
+          k = std::exp(-d2 / (2.0f * 0.4f * 0.4f));
+        } else if (p.primitive == 2) {
+          k = 1.0f;
+        } else {
+          k = stroke_alpha(s, image, p, u, v);
+        }
+        const float a = std::clamp(p.color.a * k, 0.0f, 1.0f);
+        if (!(a > 0.0f)) continue;
+        float* acc = ink.accum + 4 * q;
+        acc[0] += p.color.r * a;
+        acc[1] += p.color.g * a;
+        acc[2] += p.color.b * a;
+        acc[3] += a;
+        ink.reveal[q] *= 1.0f - a;
+        ink.depth[q] = std::min(ink.depth[q], p.depth);
+      }
+    }
+  }
+}
+
+// The host images of the last frames, kept so a frame does not page-fault
+// them in anew (bounded by the largest clip, a tile's region at most).
+// Only the GL thread draws.
+struct HostImages {
+  std::vector<uint64_t> keys;
+  std::vector<float> accum, reveal, depth;
+};
+HostImages& host_images(size_t pixels) {
+  thread_local HostImages images;
+  if (images.keys.size() < pixels) {
+    images.keys.resize(pixels);
+    images.accum.resize(4 * pixels);
+    images.reveal.resize(pixels);
+    images.depth.resize(pixels);
+  }
+  return images;
+}
+
+// Binned pass 2b of one batch of primitives, in their order per pixel.
+void draw_primitives(const std::vector<Prim>& prims, const Frame& f, const FeatureStrokeSettings& s,
+                     const HostTexture& image, const Ink& ink) {
+  if (prims.empty()) return;
+  const glm::ivec2 size = f.clip.size();
+  int side = 32;  // bin side (pixels); at most 16384 bins
+  while (size_t((size.x + side - 1) / side) * size_t((size.y + side - 1) / side) > 16384) side *= 2;
+  const int bins_x = (size.x + side - 1) / side, bins_y = (size.y + side - 1) / side;
+  const size_t bins = size_t(bins_x) * size_t(bins_y);
+  const size_t blocks = std::clamp<size_t>(prims.size() / 2048, 1, 128);
+  const size_t per_block = (prims.size() + blocks - 1) / blocks;
+  auto bin_range = [&](const Prim& p, glm::ivec2& b0, glm::ivec2& b1) {
+    b0 = (p.lo - f.clip.min) / side;
+    b1 = (p.hi - 1 - f.clip.min) / side;
+  };
+  std::vector<uint32_t> counts(blocks * bins, 0);
+  auto for_block = [&](size_t b, auto&& visit) {
+    const size_t end = std::min(prims.size(), (b + 1) * per_block);
+    for (size_t i = b * per_block; i < end; ++i) {
+      glm::ivec2 b0, b1;
+      bin_range(prims[i], b0, b1);
+      for (int by = b0.y; by <= b1.y; ++by)
+        for (int bx = b0.x; bx <= b1.x; ++bx) visit(i, size_t(by) * size_t(bins_x) + size_t(bx));
+    }
+  };
+  tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+    uint32_t* c = &counts[b * bins];
+    for_block(b, [c](size_t, size_t bin) { ++c[bin]; });
+  });
+  // Offsets: bin major, block minor, so each bin's list is in primitive order.
+  std::vector<uint32_t> start(bins + 1, 0);
+  std::vector<uint32_t> offsets(blocks * bins);
+  uint32_t total = 0;
+  for (size_t bin = 0; bin < bins; ++bin) {
+    start[bin] = total;
+    for (size_t b = 0; b < blocks; ++b) {
+      offsets[b * bins + bin] = total;
+      total += counts[b * bins + bin];
+    }
+  }
+  start[bins] = total;
+  std::vector<uint32_t> list(total);
+  tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+    uint32_t* o = &offsets[b * bins];
+    for_block(b, [&](size_t i, size_t bin) { list[o[bin]++] = uint32_t(i); });
+  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, bins, 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t bin = r.begin(); bin < r.end(); ++bin) {
+      const glm::ivec2 b(int(bin % size_t(bins_x)), int(bin / size_t(bins_x)));
+      const Rect area{f.clip.min + b * side, glm::min(f.clip.min + (b + 1) * side, f.clip.max)};
+      for (uint32_t n = start[bin]; n < start[bin + 1]; ++n) rasterize(prims[list[n]], area, f, s, image, ink);
+    }
+  });
+}
+
+}  // namespace
+
+void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSettings& s,
+                                 FeatureLineHostCache& line_cache) {
+  const Rect clip = ctx.clip;
+  const Camera& cam = *ctx.camera;
+  uint32_t counts[3] = {0, 0, 0};
+  double queued = 0.0;
+  for (uint32_t n : s.drawn) queued += double(n);
+  auto report = [&] {
+    if (!ctx.stats) return;
+    (*ctx.stats)["strokes_drawn"] += double(counts[0]) + double(counts[1]) + double(counts[2]);
+    (*ctx.stats)["strokes_directional"] += double(counts[0]);
+    (*ctx.stats)["strokes_non_directional"] += double(counts[1]);
+    (*ctx.stats)["strokes_dithering"] += double(counts[2]);
+    (*ctx.stats)["queue_points"] += queued;
+  };
+  if (clip.empty()) {
+    if (ctx.coverage) *ctx.coverage = Rect{};
+    report();
+    return;
+  }
+  const glm::ivec2 frame_px = frame_size(ctx.targets);
+  Frame f;
+  f.size = glm::vec2(frame_px);
+  f.origin = ctx.targets.origin;
+  f.clip = clip;
+  f.near = float(cam.clip_start);
+  f.far = float(cam.clip_end);
+  f.ortho = cam.orthographic;
+  f.px_per_unit = float(cam.pixels_per_unit(1.0, frame_px.y));
+  f.projection = glm::mat4(cam.projection);
+
+  // Host data of every chunk, held while drawing.
+  std::vector<Chunk> chunks(ctx.chunks.size());
+  std::vector<std::shared_ptr<const void>> held;
+  const PointCloud* last = nullptr;
+  Chunk proto;
+  for (size_t i = 0; i < ctx.chunks.size(); ++i) {
+    const VisibleChunk& v = ctx.chunks[i];
+    std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
+    if (!cloud) throw GLError("feature strokes: a visible chunk's cloud is gone");
+    if (cloud.get() != last) {
+      last = cloud.get();
+      auto degree = cloud->analysis().feature_degree(s.feature_k, {});
+      auto resolution = cloud->analysis().local_resolution(kStrokeResolutionNeighbors);
+      std::shared_ptr<const std::vector<uint32_t>> lines = s.use_lines ? line_cache.get(v, s.line_key) : nullptr;
+      proto = Chunk{};
+      proto.positions = cloud->local_positions().data();
+      proto.ids = cloud->point_index().data();
+      proto.degree = degree->data();
+      proto.resolution = resolution->r.data();
+      proto.lines = lines ? lines->data() : nullptr;
+      proto.order = s.queue ? v.gpu->host_queue_order().data() : nullptr;
+      proto.source = resolve_color_source(s.color_source, *v.gpu);
+      proto.colors = cloud->colors().data();
+      proto.intensity = cloud->intensity().data();
+      proto.classification = cloud->classification().data();
+      proto.intensity_scale = v.gpu->intensity_scale;
+      held.push_back(cloud);
+      held.push_back(degree);
+      held.push_back(resolution);
+      held.push_back(lines);
+    }
+    Chunk& c = chunks[i];
+    c = proto;
+    if (c.order) c.order += v.chunk->first;
+    c.first = v.chunk->first;
+    c.count = v.chunk->count;
+    c.drawn = s.drawn[i];
+    c.key_base = v.key_base;
+    c.inv_median_r = s.inv_median_r[i];
+    c.view = v.view_from_chunk;
+  }
+
+  HostTexture image;
+  if (s.texture == 3 && s.texture_image) {
+    image.width = s.texture_image->size().x;
+    image.height = s.texture_image->size().y;
+    image.rgba.resize(4 * size_t(image.width) * size_t(image.height));
+    glGetTextureImage(s.texture_image->id(), 0, GL_RGBA, GL_FLOAT, GLsizei(image.rgba.size() * sizeof(float)),
+                      image.rgba.data());
+    gl::check_gl("feature strokes: reading the stroke texture back");
+  }
+
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  const glm::ivec2 size = clip.size();
+  const size_t pixels = size_t(size.x) * size_t(size.y);
+  HostImages& host = host_images(pixels);
+  uint64_t* keys = host.keys.data();
+  float* accum = host.accum.data();
+  float* reveal = host.reveal.data();
+  float* ink_depth = host.depth.data();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+    std::fill(keys + r.begin(), keys + r.end(), kEmpty);
+    std::fill(accum + 4 * r.begin(), accum + 4 * r.end(), 0.0f);
+    std::fill(reveal + r.begin(), reveal + r.end(), 1.0f);
+    std::fill(ink_depth + r.begin(), ink_depth + r.end(), kInf);
+  });
+
+  // 1. Visibility discs: every point of every chunk.
+  struct Item {
+    uint32_t chunk, begin, end;
+  };
+  std::vector<Item> items;
+  for (size_t i = 0; i < chunks.size(); ++i)
+    for (uint32_t b = 0; b < chunks[i].count; b += kGrain)
+      items.push_back({uint32_t(i), b, std::min(chunks[i].count, b + kGrain)});
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i)
+      scatter_discs(chunks[items[i].chunk], f, s, keys, items[i].begin, items[i].end);
+  });
+  const auto t1 = Clock::now();
+
+  // 2. Per batch of chunks (as the GL path's): selection, then primitives.
+  const Ink ink{accum, reveal, ink_depth, keys, size.x, clip.min};
+  std::vector<Record> records;
+  std::vector<Prim> prims;
+  double select_ms = 0.0;
+  size_t batch_start = 0;
+  while (batch_start < chunks.size()) {
+    size_t batch_end = batch_start;
+    uint32_t used = 0;
+    while (batch_end < chunks.size() && (batch_end == batch_start || used + chunks[batch_end].drawn <= kBatchRecords))
+      used += chunks[batch_end++].drawn;
+    const auto ts = Clock::now();
+    items.clear();
+    for (size_t i = batch_start; i < batch_end; ++i)
+      for (uint32_t b = 0; b < chunks[i].drawn; b += kGrain)
+        items.push_back({uint32_t(i), b, std::min(chunks[i].drawn, b + kGrain)});
+    std::vector<std::vector<Record>> selected(items.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i)
+        select_records(chunks[items[i].chunk], f, s, items[i].begin, items[i].end, selected[i]);
+    });
+    records.clear();
+    for (const std::vector<Record>& part : selected) records.insert(records.end(), part.begin(), part.end());
+    for (const Record& rec : records) ++counts[rec.kind];
+    if (ctx.capture) {
+      for (const Record& rec : records) {
+        CapturedMark m;
+        m.point_id = rec.point_id;
+        m.center = rec.center;
+        m.direction = rec.dir;
+        m.kind = rec.kind;
+        const float depth = cam.orthographic ? 1.0f : -rec.center.z;
+        m.length = rec.length * depth / f.px_per_unit;
+        m.color = rec.color;
+        ctx.capture->push_back(m);
+      }
+    }
+    // Setup in parallel, kept in record order.
+    prims.resize(records.size());
+    std::vector<uint8_t> alive(records.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, records.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) alive[i] = setup(records[i], f, s, prims[i]) ? 1 : 0;
+    });
+    size_t kept = 0;
+    for (size_t i = 0; i < prims.size(); ++i)
+      if (alive[i]) prims[kept++] = prims[i];
+    prims.resize(kept);
+    select_ms += std::chrono::duration<double, std::milli>(Clock::now() - ts).count();
+    draw_primitives(prims, f, s, image, ink);
+    batch_start = batch_end;
+  }
+  const auto t2 = Clock::now();
+
+  // 3. Resolve (ink_resolve.comp): ink over paper, the surface's depth; the
+  // result in place of the ink (accum becomes the colour, depth the depth).
+  std::vector<glm::ivec2> row_span(size_t(size.y), glm::ivec2(size.x, -1));
+  tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
+    size_t hint = 0;
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = 0; x < size.x; ++x) {
+        const size_t q = size_t(y) * size_t(size.x) + size_t(x);
+        float surface = kInf;
+        if (keys[q] != kEmpty) {
+          // The winning disc's linear depth, recomputed from its point.
+          const uint32_t key = uint32_t(keys[q]);
+          if (key - chunks[hint].key_base >= chunks[hint].count) {
+            auto it = std::upper_bound(chunks.begin(), chunks.end(), key,
+                                       [](uint32_t k, const Chunk& c) { return k < c.key_base; });
+            hint = size_t(it - chunks.begin()) - 1;
+          }
+          const Chunk& c = chunks[hint];
+          surface = -transform(c.view, c.positions[c.first + (key - c.key_base)]).z;
+        }
+        const bool on_surface = !std::isinf(surface);
+        const float ink_a = 1.0f - std::clamp(reveal[q], 0.0f, 1.0f);
+        float* acc = accum + 4 * q;
+        const glm::vec3 ink_rgb = acc[3] > 0.0f ? glm::vec3(acc[0], acc[1], acc[2]) / acc[3] : glm::vec3(0.0f);
+        const float paper = on_surface ? s.paper.a : 0.0f;
+        const float alpha = ink_a + paper * (1.0f - ink_a);
+        const glm::vec3 premultiplied = ink_rgb * ink_a + glm::vec3(s.paper) * paper * (1.0f - ink_a);
+        if (alpha > 0.0f) {
+          const glm::vec3 straight = glm::clamp(premultiplied / alpha, 0.0f, 1.0f);
+          acc[0] = straight.r;
+          acc[1] = straight.g;
+          acc[2] = straight.b;
+          acc[3] = alpha;
+          ink_depth[q] = on_surface ? surface : ink_depth[q];
+          row_span[size_t(y)] = {std::min(row_span[size_t(y)].x, x), x};
+        } else {
+          std::fill(acc, acc + 4, 0.0f);
+          ink_depth[q] = kInf;
+        }
+      }
+  });
+  const auto t3 = Clock::now();
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  glTextureSubImage2D(ctx.targets.color->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RGBA, GL_FLOAT, accum);
+  glTextureSubImage2D(ctx.targets.depth->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RED, GL_FLOAT, ink_depth);
+  gl::check_gl("feature strokes: native upload");
+  if (ctx.coverage) {
+    Rect covered{{size.x, size.y}, {-1, -1}};
+    for (int y = 0; y < size.y; ++y) {
+      const glm::ivec2 span = row_span[size_t(y)];
+      if (span.y < 0) continue;
+      covered.min = glm::min(covered.min, glm::ivec2(span.x, y));
+      covered.max = glm::max(covered.max, glm::ivec2(span.y + 1, y + 1));
+    }
+    *ctx.coverage = covered.empty() ? Rect{} : Rect{covered.min + clip.min, covered.max + clip.min};
+  }
+  report();
+  if (ctx.stats) {
+    auto ms = [](Clock::time_point a, Clock::time_point b) {
+      return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    (*ctx.stats)["native_discs_ms"] += ms(t0, t1);
+    (*ctx.stats)["native_select_ms"] += select_ms;
+    (*ctx.stats)["native_primitives_ms"] += ms(t1, t2) - select_ms;
+    (*ctx.stats)["native_resolve_ms"] += ms(t2, t3);
+    (*ctx.stats)["native_upload_ms"] += ms(t3, Clock::now());
+  }
+}
+
+}  // namespace pointnpr
