@@ -789,7 +789,9 @@ void LasReader::stream(uint64_t block_points, const ScanBlockSink& sink) {
   // decoded from the records at `records` (the block's first).
   auto deliver = [&](uint64_t first, uint64_t n, const uint8_t* records) {
     PointData block;
-    Columns c = allocate_columns(block, h.pf, n);
+    declare_columns(block, h.pf);
+    size_columns(block, n);
+    Columns c = columns_of(block, h.pf);
     std::vector<uint16_t> rgb16;
     if (lay.rgb >= 0) rgb16.resize(n * 3);
     for_blocks(n, [&](uint64_t b, uint64_t e) {
