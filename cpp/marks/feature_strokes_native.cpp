@@ -29,6 +29,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/hash.h"
 #include "geometry/analysis.h"
 #include "gl/device.h"
 #include "marks/feature_strokes.h"
@@ -61,15 +62,8 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kBatchRecords = 1u << 18;  // as the GL path's batches
 constexpr uint32_t kGrain = 8192;             // points per work item
 
-// shaders/id_hash.glsl
-uint32_t id_hash(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
+// shaders/id_hash.glsl (its id_hash is lowbias32, core/hash.h)
+uint32_t id_hash(uint32_t x) { return hash_u32(x); }
 float id_rand(uint32_t id, uint32_t salt, uint32_t seed) {
   return float(id_hash(id ^ id_hash(salt * 0x9e3779b9u + seed * 0x85ebca6bu)) >> 8) * (1.0f / 16777216.0f);
 }
@@ -789,21 +783,7 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
       }
   });
   const auto t3 = Clock::now();
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-  glTextureSubImage2D(ctx.targets.color->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RGBA, GL_FLOAT, accum);
-  glTextureSubImage2D(ctx.targets.depth->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RED, GL_FLOAT, ink_depth);
-  gl::check_gl("feature strokes: native upload");
-  if (ctx.coverage) {
-    Rect covered{{size.x, size.y}, {-1, -1}};
-    for (int y = 0; y < size.y; ++y) {
-      const glm::ivec2 span = row_span[size_t(y)];
-      if (span.y < 0) continue;
-      covered.min = glm::min(covered.min, glm::ivec2(span.x, y));
-      covered.max = glm::max(covered.max, glm::ivec2(span.y + 1, y + 1));
-    }
-    *ctx.coverage = covered.empty() ? Rect{} : Rect{covered.min + clip.min, covered.max + clip.min};
-  }
+  upload_cpu_mark(ctx.targets, clip, accum, ink_depth, row_span, ctx.coverage, "feature strokes");
   report();
   if (ctx.stats) {
     auto ms = [](Clock::time_point a, Clock::time_point b) {

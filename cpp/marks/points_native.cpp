@@ -359,21 +359,7 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
   });
 
   const auto t2 = Clock::now();
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-  glTextureSubImage2D(ctx.targets.color->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RGBA, GL_FLOAT, rgba);
-  glTextureSubImage2D(ctx.targets.depth->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RED, GL_FLOAT, depth);
-  gl::check_gl("points: native rasterizer upload");
-  if (ctx.coverage) {
-    Rect covered{{size.x, size.y}, {-1, -1}};
-    for (int y = 0; y < size.y; ++y) {
-      const glm::ivec2 span = row_span[size_t(y)];
-      if (span.y < 0) continue;
-      covered.min = glm::min(covered.min, glm::ivec2(span.x, y));
-      covered.max = glm::max(covered.max, glm::ivec2(span.y + 1, y + 1));
-    }
-    *ctx.coverage = covered.empty() ? Rect{} : Rect{covered.min + clip.min, covered.max + clip.min};
-  }
+  upload_cpu_mark(ctx.targets, clip, rgba, depth, row_span, ctx.coverage, "points");
   if (ctx.stats) {
     auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
     (*ctx.stats)["native_scatter_ms"] += ms(t0, t1);

@@ -477,21 +477,7 @@ class NativeStipplePasses final : public StipplePasses {
       }
     });
     timer.emplace(ctx_.stats, "stipples_native_upload_ms");
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-    glTextureSubImage2D(ctx_.targets.color->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RGBA, GL_FLOAT, rgba);
-    glTextureSubImage2D(ctx_.targets.depth->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RED, GL_FLOAT, depth);
-    gl::check_gl("stipples: native upload");
-    if (ctx_.coverage) {
-      Rect covered{{size.x, size.y}, {-1, -1}};
-      for (int y = 0; y < size.y; ++y) {
-        const glm::ivec2 span = row_span[size_t(y)];
-        if (span.y < 0) continue;
-        covered.min = glm::min(covered.min, glm::ivec2(span.x, y));
-        covered.max = glm::max(covered.max, glm::ivec2(span.y + 1, y + 1));
-      }
-      *ctx_.coverage = covered.empty() ? Rect{} : Rect{covered.min + clip.min, covered.max + clip.min};
-    }
+    upload_cpu_mark(ctx_.targets, clip, rgba, depth, row_span, ctx_.coverage, "stipples");
   }
 
  private:

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/device.h"
 #include "scene/camera.h"
 
 namespace pointnpr {
@@ -80,6 +81,25 @@ MarkRasterState::MarkRasterState(const MarkTargets& targets, const Rect& clip) {
 }
 
 MarkRasterState::~MarkRasterState() { restore_raster_defaults(); }
+
+void upload_cpu_mark(const MarkTargets& targets, const Rect& clip, const float* rgba, const float* depth,
+                     const std::vector<glm::ivec2>& row_span, std::optional<Rect>* coverage, const char* what) {
+  const glm::ivec2 size = clip.max - clip.min;
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  glTextureSubImage2D(targets.color->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RGBA, GL_FLOAT, rgba);
+  glTextureSubImage2D(targets.depth->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RED, GL_FLOAT, depth);
+  gl::check_gl((std::string(what) + ": native upload").c_str());
+  if (!coverage) return;
+  Rect covered{{size.x, size.y}, {-1, -1}};
+  for (int y = 0; y < size.y; ++y) {
+    const glm::ivec2 span = row_span[size_t(y)];
+    if (span.y < 0) continue;
+    covered.min = glm::min(covered.min, glm::ivec2(span.x, y));
+    covered.max = glm::max(covered.max, glm::ivec2(span.y + 1, y + 1));
+  }
+  *coverage = covered.empty() ? Rect{} : Rect{covered.min + clip.min, covered.max + clip.min};
+}
 
 bool queue_enabled(const ParamValues& p) { return p.get_enum_name("density_mode") == "constant_on_screen"; }
 

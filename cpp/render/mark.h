@@ -102,6 +102,14 @@ void set_mark_clip(const Rect& clip);
 // no depth test or scissor, GL's clip depth, the default framebuffer.
 void restore_raster_defaults();
 
+// A mark drawn on the CPU (the native paths): its RGBA float colour and
+// depth over `clip` (rows of clip's width) uploaded into the targets' images,
+// and the covered bounds, from each row's covered span [x, y] (y < 0: none),
+// given to `coverage` when the renderer asks for them. `what` names the
+// mark in a GL error.
+void upload_cpu_mark(const MarkTargets& targets, const Rect& clip, const float* rgba, const float* depth,
+                     const std::vector<glm::ivec2>& row_span, std::optional<Rect>* coverage, const char* what);
+
 class MarkRasterState {
  public:
   MarkRasterState(const MarkTargets& targets, const Rect& clip);

@@ -58,6 +58,7 @@ const std::vector<std::map<std::string, std::vector<double>>> kCases = {
 
 }  // namespace
 
+// The native passes (cpp/marks/stipples_native.cpp) against the GL passes (cpp/marks/stipples_gl.cpp).
 TEST(StipplesNative, TheGlPassesBytes) {
   Renderer renderer;
   const Camera cam = front_camera({0.2, 0.1, 0}, kSize);
