@@ -305,7 +305,9 @@ void main() {
   }
   atomicAdd(kept_count, 1u);
   if (u_capture != 0) capture[atomicAdd(captured, 1u)].center_id = vec4(p.view, uintBitsToFloat(id));
-  float diameter = max(u_dot_size * (1.0 + u_size_jitter * (2.0 * hash01(id, 3u) - 1.0)), 0.5);
+  // 1 + jitter * (2h - 1), in the form NIR reassociates it to (the native
+  // passes write the same, so both round alike).
+  float diameter = max(u_dot_size * ((1.0 - u_size_jitter) + 2.0 * u_size_jitter * hash01(id, 3u)), 0.5);
   float r = 0.5 * diameter;
   ivec2 lo = max(ivec2(floor(p.center - r - 0.5)) - u_origin, u_clip_min);
   ivec2 hi = min(ivec2(ceil(p.center + r + 0.5)) - u_origin, u_clip_max - 1);

@@ -394,7 +394,10 @@ class NativeStipplePasses final : public StipplePasses {
           }
           ++item_kept;
           if (capture) captured[it].push_back(captured_dot(s_, p.view, id));
-          const float diameter = std::max(s_.dot_size * (1.0f + s_.size_jitter * (2.0f * hash01(id, 3u) - 1.0f)), 0.5f);
+          // 1 + jitter * (2h - 1), written as the GL compiler (NIR) reassociates it,
+          // so both implementations round alike; the shader spells it the same.
+          const float diameter = std::max(
+              s_.dot_size * ((1.0f - s_.size_jitter) + 2.0f * s_.size_jitter * hash01(id, 3u)), 0.5f);
           const float rad = 0.5f * diameter;
           const int lo_x = std::max(int(floor_f(p.center.x - rad - 0.5f)) - origin.x, clip_min.x);
           const int lo_y = std::max(int(floor_f(p.center.y - rad - 0.5f)) - origin.y, clip_min.y);
