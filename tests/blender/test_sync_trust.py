@@ -147,6 +147,29 @@ def test_a_second_f12_without_edits_reads_no_geometry(tmp_path):
     assert sync.cache_stats()["reads"] == 1 and moved != first
 
 
+def test_a_large_cloud_is_not_sampled_where_sampling_would_copy_its_layers(tmp_path, monkeypatch):
+    """Where Blender shares arrays (3.6+), reading a sample of a cloud above
+    _SAMPLE_COPY_LIMIT would copy its whole layers on every F12: it is left
+    out and the edit tracking alone decides; below the limit, and in Blender
+    versions that copy nothing, the sample is read."""
+    _scene, obj = _scan_scene()
+    sampled = []
+    real_sample = sync._sample
+    monkeypatch.setattr(sync, "_sample", lambda *a: sampled.append(a[2]) or real_sample(*a))
+    sync.clear_cache()
+    first = _f12(tmp_path, "first")
+    assert sampled, "a small cloud is sampled"
+    monkeypatch.setattr(sync, "_SAMPLE_COPY_LIMIT", N_SIDE * N_SIDE - 1)   # this cloud is "large" now
+    del sampled[:]
+    sync.clear_cache()
+    assert _f12(tmp_path, "large") == first
+    assert bool(sampled) == (bpy.app.version < (3, 6, 0))
+    assert sync.cache_stats()["reads"] == 1
+    assert _f12(tmp_path, "again") == first and sync.cache_stats()["trusted"] == 1
+    _shift_half(obj)   # an edit with update(): still seen without the sample
+    assert _f12(tmp_path, "edited") != first and sync.cache_stats()["reads"] == 2
+
+
 @pytest.mark.parametrize("name,setup,edit", EDITS, ids=[e[0] for e in EDITS])
 def test_the_f12_after_an_edit_renders_the_new_geometry(tmp_path, name, setup, edit):
     _scene, obj = _scan_scene()
