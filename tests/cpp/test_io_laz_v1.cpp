@@ -3,7 +3,8 @@
 // POINT10 v1 + BYTE v1 point-wise files decode to the records encoded, in
 // every field; POINT10 v1 alone too (its decoder is verified against the
 // real pdal_simple-laszip-compressor-version-1.2r0.laz, which keeps the
-// encoder honest); truncated copies raise ReadError. The two files in
+// encoder honest); truncated copies, and chunked ones with a flipped byte
+// in a stream, raise ReadError. The two files in
 // tests/data/io/laz/pointnpr_v1_*.laz are this encoder's output (checked
 // here byte for byte) and are compared with laspy's reading of their LAS
 // twins, and (chunked POINT10 v1) with lazrs, in tests/python/test_io_laz.py.
@@ -178,6 +179,39 @@ TEST(IoLazV1, TruncatedByteV1FilesRaiseReadError) {
     } catch (const ReadError& e) {
       EXPECT_NE(std::string(e.what()).find("LAZ point data is corrupt"), std::string::npos) << e.what();
     }
+  }
+}
+
+TEST(IoLazV1, FlippedBytesInByteV1ChunksRaiseReadError) {
+  // Chunked, so that a chunk's stream must end where the table says. LAZ
+  // has no checksums: the flips go inside the arithmetic-coded streams, not
+  // the raw first point of a chunk (which would decode to other values).
+  const size_t rl = 20 + kExtra, chunk = 600;
+  const LasSpec spec = v1_spec(2400, kExtra, 10);
+  const std::string b = make_laz_v1(spec, 2, chunk);
+  const std::string records = records_of(spec);
+  uint32_t point_offset;
+  std::memcpy(&point_offset, b.data() + 96, 4);
+  size_t start = point_offset + 8;
+  for (size_t i = 0; i * chunk < spec.points.size(); ++i) {
+    const size_t size =
+        laz_test::encode_stream_v1(reinterpret_cast<const uint8_t*>(records.data()) + i * chunk * rl,
+                                   chunk, rl)
+            .size();
+    for (size_t j = 1; j < 5; ++j) {
+      std::string c = b;
+      const size_t pos = start + rl + (size - rl) * j / 5;
+      c[pos] = static_cast<char>(c[pos] ^ 0x21);
+      SCOPED_TRACE(pos);
+      try {
+        read_mem(c, "flip.laz");
+        ADD_FAILURE() << "a flipped byte at " << pos << " went unnoticed";
+      } catch (const ReadError& e) {
+        EXPECT_NE(std::string(e.what()).find("LAZ chunk " + std::to_string(i)), std::string::npos)
+            << e.what();
+      }
+    }
+    start += size;
   }
 }
 
