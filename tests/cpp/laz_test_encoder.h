@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "io/laz_items.h"
+
 namespace pointnpr::laz_test {
 
 struct EncBitModel {
@@ -182,12 +184,7 @@ class IntegerCompressor {
   std::vector<EncSymbolModel> corr_;
 };
 
-template <class T>
-T le(const uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  return v;
-}
+using laz::get;  // little-endian fields of a record
 
 inline int32_t median3(const int32_t d[3]) {
   const int32_t lo = std::min(d[0], d[1]), hi = std::max(d[0], d[1]);
@@ -200,26 +197,26 @@ class Point10V1Encoder {
  public:
   explicit Point10V1Encoder(const uint8_t* first) { std::memcpy(last_, first, 20); }
   void write(Encoder& enc, const uint8_t* p) {
-    const int32_t dx = static_cast<int32_t>(le<uint32_t>(p) - le<uint32_t>(last_));
-    const int32_t dy = static_cast<int32_t>(le<uint32_t>(p + 4) - le<uint32_t>(last_ + 4));
+    const int32_t dx = static_cast<int32_t>(get<uint32_t>(p) - get<uint32_t>(last_));
+    const int32_t dy = static_cast<int32_t>(get<uint32_t>(p + 4) - get<uint32_t>(last_ + 4));
     dx_.compress(enc, median3(last_dx_), dx, 0);
     uint32_t k = dx_.k();
     dy_.compress(enc, median3(last_dy_), dy, std::min(k, 19u));
     k = (k + dy_.k()) / 2;
-    z_.compress(enc, le<int32_t>(last_ + 8), le<int32_t>(p + 8), std::min(k, 19u));
-    const uint32_t changed = (le<uint16_t>(p + 12) != le<uint16_t>(last_ + 12)) << 5 |
+    z_.compress(enc, get<int32_t>(last_ + 8), get<int32_t>(p + 8), std::min(k, 19u));
+    const uint32_t changed = (get<uint16_t>(p + 12) != get<uint16_t>(last_ + 12)) << 5 |
                              (p[14] != last_[14]) << 4 | (p[15] != last_[15]) << 3 |
                              (p[16] != last_[16]) << 2 | (p[17] != last_[17]) << 1 |
-                             (le<uint16_t>(p + 18) != le<uint16_t>(last_ + 18));
+                             (get<uint16_t>(p + 18) != get<uint16_t>(last_ + 18));
     enc.symbol(changed_, changed);
-    if (changed & 32) intensity_.compress(enc, le<uint16_t>(last_ + 12), le<uint16_t>(p + 12), 0);
+    if (changed & 32) intensity_.compress(enc, get<uint16_t>(last_ + 12), get<uint16_t>(p + 12), 0);
     if (changed & 16) enc.symbol(byte_model(bit_byte_, last_[14]), p[14]);
     if (changed & 8) enc.symbol(byte_model(classification_, last_[15]), p[15]);
     if (changed & 4)
       scan_angle_.compress(enc, static_cast<int8_t>(last_[16]), static_cast<int8_t>(p[16]),
                            k < 3 ? 1 : 0);
     if (changed & 2) enc.symbol(byte_model(user_data_, last_[17]), p[17]);
-    if (changed & 1) point_source_.compress(enc, le<uint16_t>(last_ + 18), le<uint16_t>(p + 18), 0);
+    if (changed & 1) point_source_.compress(enc, get<uint16_t>(last_ + 18), get<uint16_t>(p + 18), 0);
     last_dx_[incr_] = dx;
     last_dy_[incr_] = dy;
     incr_ = (incr_ + 1) % 3;
