@@ -240,4 +240,17 @@ class Rgb12V1 {
   IntegerDecompressor ic_rgb_;
 };
 
+// Extra bytes of LASzip 1.x: each byte is an 8-bit integer coded against
+// the same byte of the last point, one integer context per byte.
+class BytesV1 {
+ public:
+  explicit BytesV1(uint32_t count);
+  void init(const uint8_t* first);
+  void read(Decoder& dec, uint8_t* item);
+
+ private:
+  std::vector<uint8_t> last_;
+  IntegerDecompressor ic_byte_;
+};
+
 }  // namespace pointnpr::laz

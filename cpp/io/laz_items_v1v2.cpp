@@ -448,6 +448,24 @@ void BytesV2::read(Decoder& dec, uint8_t* item) {
   }
 }
 
+// ------------------------------------------------------------------ BYTE v1
+
+BytesV1::BytesV1(uint32_t count) : last_(count) { ic_byte_.setup(8, count); }
+
+void BytesV1::init(const uint8_t* first) {
+  ic_byte_.init();
+  std::memcpy(last_.data(), first, last_.size());
+}
+
+void BytesV1::read(Decoder& dec, uint8_t* item) {
+  for (size_t i = 0; i < last_.size(); ++i) {
+    // The 8-bit corrector range wraps the value into 0..255.
+    last_[i] = static_cast<uint8_t>(
+        ic_byte_.decompress(dec, last_[i], static_cast<uint32_t>(i)));
+    item[i] = last_[i];
+  }
+}
+
 // ------------------------------------------------------------ WAVEPACKET13
 
 WavePacket13::WavePacket13() {
@@ -590,13 +608,8 @@ std::unique_ptr<ChunkDecoder> make_pointwise_decoder(const LaszipVlr& vlr, size_
       throw FormatError("LAZ items mix versions " + std::to_string(v) + " and " +
                             std::to_string(it.version),
                         -1);
-  if (v == 1) {
-    for (const Item& it : vlr.items)
-      if (it.type == kByte)
-        throw FormatError("LAZ item BYTE version 1 (extra bytes of LASzip 1.x) is not supported",
-                          -1);
-    return std::make_unique<PointwiseDecoder<Point10V1, GpsTime11V1, Rgb12V1, BytesV2>>(vlr, rl);
-  }
+  if (v == 1)
+    return std::make_unique<PointwiseDecoder<Point10V1, GpsTime11V1, Rgb12V1, BytesV1>>(vlr, rl);
   return std::make_unique<PointwiseDecoder<Point10V2, GpsTime11V2, Rgb12V2, BytesV2>>(vlr, rl);
 }
 

@@ -22,8 +22,13 @@ import make_wavepacket_laz  # noqa: E402
 DATA = pathlib.Path(__file__).resolve().parents[1] / "data" / "io"
 LAZ = DATA / "laz"
 # lazrs cannot read the early point-wise compressor (no chunks); that file
-# holds the same points as pdal_laszip-generated.laz.
-ORACLE_TWIN = {"pdal_simple-laszip-compressor-version-1.2r0.laz": "pdal_laszip-generated.laz"}
+# holds the same points as pdal_laszip-generated.laz. pointnpr_v1_bytes.laz
+# (LASzip 1.x POINT10 v1 + BYTE v1, written by tests/cpp/laz_test_encoder.h)
+# is compared with laspy's reading of its uncompressed twin: lazrs reads
+# BYTE v1 as v2, which LASzip's v1 is not. The encoder's POINT10 v1 in
+# chunks (pointnpr_v1_chunked.laz) is read by lazrs itself below.
+ORACLE_TWIN = {"pdal_simple-laszip-compressor-version-1.2r0.laz": "pdal_laszip-generated.laz",
+               "pointnpr_v1_bytes.laz": "pointnpr_v1_bytes.las"}
 FILES = sorted(p.name for p in LAZ.glob("*.laz"))
 
 
@@ -71,6 +76,23 @@ def test_laz_decodes_exactly_like_laspy_lazrs(name):
     for dim in extra:
         np.testing.assert_array_equal(np.asarray(a[dim]).reshape(len(las.points), -1),
                                       np.asarray(las[dim]).reshape(len(las.points), -1))
+
+
+def test_test_encoders_v1_files_equal_their_las_twins():
+    # The LAS twins are read by laspy, not by the LAZ decoder: every record
+    # byte, the extra bytes included, is what the test-side encoder coded.
+    for name in ("pointnpr_v1_bytes", "pointnpr_v1_chunked"):
+        las = laspy.read(str(LAZ / (name + ".las")))
+        data = pointnpr.read(str(LAZ / (name + ".laz")))
+        assert data.num_points == len(las.points) == 1500
+        if name == "pointnpr_v1_bytes":
+            assert data.metadata["laszip_compressor"] == 1
+            for i in range(7):
+                np.testing.assert_array_equal(data.attributes["b%d" % i], las["b%d" % i])
+            assert set(np.unique(las["b2"])) == {0, 255}  # the widest wrap-around is covered
+        else:
+            lazrs = laspy.read(str(LAZ / (name + ".laz")), laz_backend=laspy.LazBackend.Lazrs)
+            np.testing.assert_array_equal(np.asarray(lazrs.points.array), np.asarray(las.points.array))
 
 
 def test_autzen_laz_equals_its_las_twin():
