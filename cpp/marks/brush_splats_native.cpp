@@ -89,8 +89,9 @@ struct Settings {
   float cx[9] = {}, cy[9] = {};
   int column[9] = {};
   float amplitude = 1.0f, inv_sx = 1.0f, inv_sy = 1.0f, reach = 1.0f, inv_reach = 1.0f;
+  bool sqrt_index = false;  // the table over sqrt(q / reach) (lambda < 1: steep at 0), else over q / reach
   float layer_scale = 1.0f, layer_cos = 1.0f, layer_sin = 0.0f, layer_tint = 0.0f;
-  std::vector<float> table;  // exp(-q^lambda / 2) at q = reach (i / kTable)^2, i = 0..kTable (+ 1 pad)
+  std::vector<float> table;  // exp(-q^lambda / 2) at q = reach t (t^2 with sqrt_index), t = i / kTable (+ 1 pad)
 };
 
 // One visible chunk's host data (index = first + local into the cloud's arrays).
@@ -120,6 +121,7 @@ struct Splat {
   float cs[3] = {}, sn[3] = {};
   bool two = false;
   glm::ivec2 lo{0}, hi{0};  // local pixels the quad can cover, [lo, hi)
+  float wx[4] = {}, wy[4] = {};  // the quad's corners on screen (frame pixels), in order around it
 };
 
 // Householder, Eberly, square plate, covariance (brush_common.glsl).
@@ -193,11 +195,14 @@ bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
   if (-center.z - reach_z < s.near) return false;
   // The box of the quad's corners on screen (frame pixels), less the origin.
   float min_x = kInf, min_y = kInf, max_x = -kInf, max_y = -kInf;
+  static constexpr float kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   for (int k = 0; k < 4; ++k) {
-    const float ux = float(k & 1), uy = float(k >> 1);
+    const float ux = kCorner[k][0], uy = kCorner[k][1];
     const glm::vec3 p = center + (tv * ((ux - 0.5f) * stretch) + bv * (uy - 0.5f)) * (2.0f * radius);
     const glm::vec4 clip = transform(s.projection, p);
     const float wx = (clip.x / clip.w * 0.5f + 0.5f) * s.frame.x, wy = (clip.y / clip.w * 0.5f + 0.5f) * s.frame.y;
+    out.wx[k] = wx;
+    out.wy[k] = wy;
     min_x = std::min(min_x, wx);
     max_x = std::max(max_x, wx);
     min_y = std::min(min_y, wy);
@@ -229,28 +234,29 @@ bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
   return true;
 }
 
-// One layer of a splat's brush: the column angles and the grid's centres
-// turned by them (R c), so a fragment turns its uv once per column.
+// One layer of a splat's brush, per Gaussian (12 lanes, the last ones
+// never reached): its column's angle and its centre turned by it (R c),
+// so a fragment's q of every Gaussian is a few products without branches.
+constexpr int kLanes12 = 12;
 struct Layer {
-  float cs[3], sn[3];
-  float rcx[9], rcy[9];
+  float cs[kLanes12], sn[kLanes12];
+  float rcx[kLanes12], rcy[kLanes12];
 };
 Layer layer(const Settings& s, const float* cs, const float* sn) {
   Layer l;
-  for (int c = 0; c < 3; ++c) {
-    l.cs[c] = cs[c];
-    l.sn[c] = sn[c];
-  }
-  for (int k = 0; k < s.gaussians; ++k) {
-    const int c = s.column[k];
-    l.rcx[k] = cs[c] * s.cx[k] - sn[c] * s.cy[k];
-    l.rcy[k] = sn[c] * s.cx[k] + cs[c] * s.cy[k];
+  for (int k = 0; k < kLanes12; ++k) {
+    const int c = k < s.gaussians ? s.column[k] : 0;
+    l.cs[k] = cs[c];
+    l.sn[k] = sn[c];
+    l.rcx[k] = k < s.gaussians ? cs[c] * s.cx[k] - sn[c] * s.cy[k] : 1e30f;
+    l.rcy[k] = k < s.gaussians ? sn[c] * s.cx[k] + cs[c] * s.cy[k] : 1e30f;
   }
   return l;
 }
 
 float falloff(const Settings& s, float q) {  // exp(-q^lambda / 2), 0 <= q <= reach
-  const float at = std::sqrt(q * s.inv_reach) * float(kTable);
+  const float t = q * s.inv_reach;
+  const float at = (s.sqrt_index ? std::sqrt(t) : t) * float(kTable);
   const int i = int(at);
   const float f = at - float(i);
   const float a = s.table[size_t(i)], b = s.table[size_t(i) + 1];
@@ -260,19 +266,16 @@ float falloff(const Settings& s, float q) {  // exp(-q^lambda / 2), 0 <= q <= re
 // brush_alpha() of brush_texture.glsl; with `stop`, returns as soon as the
 // clamped alpha reaches it (the partial sums only grow).
 float brush_alpha(const Settings& s, const Layer& l, float u, float v, float stop) {
-  float ru[3], rv[3];
-  for (int c = 0; c < 3; ++c) {
-    ru[c] = l.cs[c] * u - l.sn[c] * v;
-    rv[c] = l.sn[c] * u + l.cs[c] * v;
+  float qx[kLanes12], qy[kLanes12];
+  for (int k = 0; k < kLanes12; ++k) {
+    qx[k] = std::abs(l.cs[k] * u - l.sn[k] * v - l.rcx[k]) * s.inv_sx;
+    qy[k] = std::abs(l.sn[k] * u + l.cs[k] * v - l.rcy[k]) * s.inv_sy;
   }
   float sum = 0.0f;
   for (int k = 0; k < s.gaussians; ++k) {
-    const int c = s.column[k];
-    const float qx = std::abs(ru[c] - l.rcx[k]) * s.inv_sx;
-    if (!(qx <= s.reach)) continue;
-    const float qy = std::abs(rv[c] - l.rcy[k]) * s.inv_sy;
-    if (!(qy <= s.reach)) continue;
-    sum += falloff(s, qx) * falloff(s, qy);
+    // Either axis beyond the reach: nothing (also NaN).
+    if (!(qx[k] <= s.reach && qy[k] <= s.reach)) continue;
+    sum += falloff(s, qx[k]) * falloff(s, qy[k]);
     if (s.amplitude * sum >= stop) break;
   }
   return std::clamp(s.amplitude * sum, 0.0f, 1.0f);
@@ -302,59 +305,124 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
     }
     second = layer(s, cs, sn);
   }
+  // A fragment on the quad: its uv, depth and (blend) the length of its
+  // point's view vector, asked only when needed.
+  auto fragment = [&](size_t q, float u, float v, float depth, auto&& length) {
+    if (kDepth) {
+      if (!(depth < im.surface[q])) return;  // cannot be nearer: no brush
+      const float a = brush_alpha(s, first, u, v, kBrushCut);
+      bool covers = a >= kBrushCut;
+      if (!covers && sp.two) {
+        const float u2 = (u - 0.5f) / s.layer_scale + 0.5f, v2 = (v - 0.5f) / s.layer_scale + 0.5f;
+        const float a2 = brush_alpha(s, second, u2, v2, kBrushCut);
+        // Neither layer reached the cut alone: both sums are whole.
+        covers = a2 >= kBrushCut || a2 + a * (1.0f - a2) >= kBrushCut;
+      }
+      if (covers) im.surface[q] = depth;
+      return;
+    }
+    // Near the surface: moved toward the camera by the offset along its ray
+    // (at most to the camera), not behind it. The move is at most the
+    // offset: only fragments between depth - offset and depth need it.
+    const float surface = im.surface[q];
+    if (!(depth <= surface)) {
+      if (!(depth - sp.offset <= surface)) return;
+      const float moved = kOrtho ? depth - sp.offset
+                                 : depth * std::max(1.0f - sp.offset / std::max(length(), depth), 0.0f);
+      if (!(moved <= surface)) return;
+    }
+    float a = brush_alpha(s, first, u, v, kInf);
+    glm::vec3 rgb = sp.rgb;
+    if (sp.two) {
+      const float u2 = (u - 0.5f) / s.layer_scale + 0.5f, v2 = (v - 0.5f) / s.layer_scale + 0.5f;
+      const float a2 = brush_alpha(s, second, u2, v2, kInf);
+      const glm::vec3 rgb2 = s.layer_tint >= 0.0f ? rgb * (1.0f - s.layer_tint) + glm::vec3(s.layer_tint)
+                                                  : rgb * (1.0f + s.layer_tint);
+      const float total = a2 + a * (1.0f - a2);
+      rgb = total > 0.0f ? (rgb2 * a2 + rgb * a * (1.0f - a2)) / total : rgb;
+      a = total;
+    }
+    if (!(a >= kBrushCut)) return;
+    float* acc = im.accum + 4 * q;
+    acc[0] += rgb.r * a;
+    acc[1] += rgb.g * a;
+    acc[2] += rgb.b * a;
+    acc[3] += a;
+    im.reveal[q] *= 1.0f - a;
+  };
   const float plane = glm::dot(sp.center, sp.normal);
   const glm::vec4 col_x = s.view_from_pixel[0], col_y = s.view_from_pixel[1], col_w = s.view_from_pixel[3];
+  // Perspective: the pixel's ray h (homogeneous, linear in the frame pixel)
+  // meets the plane at p = h.xyz t, t = plane / dot(h.xyz, n) (h.w cancels):
+  // the ray's dot products with n, the axes and z are linear along a row.
+  const glm::vec3 hx(col_x);
+  const float dx = glm::dot(hx, sp.normal), ux = glm::dot(hx, sp.u_axis), vx = glm::dot(hx, sp.v_axis);
+  const float cu = 0.5f - glm::dot(sp.center, sp.u_axis), cv = 0.5f - glm::dot(sp.center, sp.v_axis);
+  const float near_d = sp.depth_range.x, far_d = sp.depth_range.y;
   for (int y = lo.y; y < hi.y; ++y) {
-    const glm::vec4 row = col_y * (float(y + s.origin.y) + 0.5f) + col_w;
-    const size_t line = size_t(y - im.min.y) * size_t(im.stride) - size_t(im.min.x);
-    for (int x = lo.x; x < hi.x; ++x) {
-      // plane_point(): the frame pixel's ray met with the splat's plane.
-      const glm::vec4 h = col_x * (float(x + s.origin.x) + 0.5f) + row;
-      const glm::vec3 on_ray = glm::vec3(h) / h.w;
-      glm::vec3 p;
-      if (kOrtho) p = {on_ray.x, on_ray.y, on_ray.z + glm::dot(sp.center - on_ray, sp.normal) / sp.normal.z};
-      else p = on_ray * (plane / glm::dot(on_ray, sp.normal));
-      if (!(std::abs(p.z) < 3.0e38f)) continue;  // the plane seen edge on
-      const glm::vec3 rel = p - sp.center;
-      const float u = glm::dot(rel, sp.u_axis) + 0.5f, v = glm::dot(rel, sp.v_axis) + 0.5f;
-      if (!(u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f)) continue;  // off the quad
-      const float depth = std::clamp(-p.z, sp.depth_range.x, sp.depth_range.y);
-      const size_t q = line + size_t(x);
-      if (kDepth) {
-        if (!(depth < im.surface[q])) continue;  // cannot be nearer: no brush
-        const float a = brush_alpha(s, first, u, v, kBrushCut);
-        bool covers = a >= kBrushCut;
-        if (!covers && sp.two) {
-          const float u2 = (u - 0.5f) / s.layer_scale + 0.5f, v2 = (v - 0.5f) / s.layer_scale + 0.5f;
-          const float a2 = brush_alpha(s, second, u2, v2, kBrushCut);
-          // Neither layer reached the cut alone: both sums are whole.
-          covers = a2 >= kBrushCut || a2 + a * (1.0f - a2) >= kBrushCut;
-        }
-        if (covers) im.surface[q] = depth;
+    // The row's span of the quad (its edges met with the row through the
+    // pixel centres), a pixel wider each side: the uv test decides.
+    const float yc = float(y + s.origin.y) + 0.5f;
+    float x_min = kInf, x_max = -kInf;
+    for (int e = 0; e < 4; ++e) {
+      const float xa = sp.wx[e], ya = sp.wy[e], xb = sp.wx[(e + 1) & 3], yb = sp.wy[(e + 1) & 3];
+      if ((ya - yc) * (yb - yc) > 0.0f) continue;
+      if (ya == yb) {
+        x_min = std::min(x_min, std::min(xa, xb));
+        x_max = std::max(x_max, std::max(xa, xb));
         continue;
       }
-      // Near the surface: moved toward the camera by the offset, not behind it.
-      const float moved = kOrtho ? depth - sp.offset
-                                 : depth * std::max(1.0f - sp.offset / std::max(std::sqrt(glm::dot(p, p)), depth), 0.0f);
-      if (!(moved <= im.surface[q])) continue;
-      float a = brush_alpha(s, first, u, v, kInf);
-      glm::vec3 rgb = sp.rgb;
-      if (sp.two) {
-        const float u2 = (u - 0.5f) / s.layer_scale + 0.5f, v2 = (v - 0.5f) / s.layer_scale + 0.5f;
-        const float a2 = brush_alpha(s, second, u2, v2, kInf);
-        const glm::vec3 rgb2 = s.layer_tint >= 0.0f ? rgb * (1.0f - s.layer_tint) + glm::vec3(s.layer_tint)
-                                                    : rgb * (1.0f + s.layer_tint);
-        const float total = a2 + a * (1.0f - a2);
-        rgb = total > 0.0f ? (rgb2 * a2 + rgb * a * (1.0f - a2)) / total : rgb;
-        a = total;
+      const float xc = xa + (yc - ya) * (xb - xa) / (yb - ya);
+      x_min = std::min(x_min, xc);
+      x_max = std::max(x_max, xc);
+    }
+    if (!(x_min <= x_max)) continue;
+    const int x0 = std::max(lo.x, floor_int(x_min - 0.5f) - s.origin.x);
+    const int x1 = std::min(hi.x, floor_int(x_max - 0.5f) + 2 - s.origin.x);
+    const glm::vec4 row = col_y * yc + col_w;
+    const glm::vec3 hr(row);
+    const size_t line = size_t(y - im.min.y) * size_t(im.stride) - size_t(im.min.x);
+    if (kOrtho) {
+      for (int x = x0; x < x1; ++x) {
+        // plane_point(): along -z through the pixel.
+        const glm::vec4 h = col_x * (float(x + s.origin.x) + 0.5f) + row;
+        const glm::vec3 on_ray = glm::vec3(h) / h.w;
+        const glm::vec3 p(on_ray.x, on_ray.y, on_ray.z + glm::dot(sp.center - on_ray, sp.normal) / sp.normal.z);
+        if (!(std::abs(p.z) < 3.0e38f)) continue;  // the plane seen edge on
+        const glm::vec3 rel = p - sp.center;
+        const float u = glm::dot(rel, sp.u_axis) + 0.5f, v = glm::dot(rel, sp.v_axis) + 0.5f;
+        if (!(u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f)) continue;  // off the quad
+        fragment(line + size_t(x), u, v, std::clamp(-p.z, near_d, far_d), [] { return 0.0f; });
       }
-      if (!(a >= kBrushCut)) continue;
-      float* acc = im.accum + 4 * q;
-      acc[0] += rgb.r * a;
-      acc[1] += rgb.g * a;
-      acc[2] += rgb.b * a;
-      acc[3] += a;
-      im.reveal[q] *= 1.0f - a;
+      continue;
+    }
+    const float d0 = glm::dot(hr, sp.normal), u0 = glm::dot(hr, sp.u_axis), v0 = glm::dot(hr, sp.v_axis);
+    // Eight pixels at a time without branches (the compiler's vectors),
+    // then the fragments on the quad one by one.
+    constexpr int kLanes = 8;
+    for (int xs = x0; xs < x1; xs += kLanes) {
+      float us[kLanes], vs[kLanes], ds[kLanes], ts[kLanes];
+      int on[kLanes];
+      for (int i = 0; i < kLanes; ++i) {
+        const float xc = float(xs + i + s.origin.x) + 0.5f;
+        const float t = plane / (d0 + xc * dx);
+        const float pz = t * (hr.z + xc * hx.z);
+        const float u = t * (u0 + xc * ux) + cu, v = t * (v0 + xc * vx) + cv;
+        us[i] = u;
+        vs[i] = v;
+        ts[i] = t;
+        ds[i] = std::min(std::max(-pz, near_d), far_d);
+        // Off the quad, or the plane seen edge on (not finite): nothing.
+        on[i] = (std::abs(pz) < 3.0e38f) & (u >= 0.0f) & (u <= 1.0f) & (v >= 0.0f) & (v <= 1.0f);
+      }
+      const int n = std::min(kLanes, x1 - xs);
+      for (int i = 0; i < n; ++i) {
+        if (!on[i]) continue;
+        fragment(line + size_t(xs + i), us[i], vs[i], ds[i], [&] {
+          const glm::vec3 p = (hx * (float(xs + i + s.origin.x) + 0.5f) + hr) * ts[i];  // h t
+          return std::sqrt(glm::dot(p, p));
+        });
+      }
     }
   }
 }
@@ -435,9 +503,10 @@ Settings settings(const MarkContext& ctx, const ParamValues& p) {
   s.layer_tint = float(p.get_float("layer_tint"));
   const double lambda = p.get_float("lambda");
   s.table.resize(kTable + 2);
+  s.sqrt_index = lambda < 1.0;
   for (int i = 0; i <= kTable; ++i) {
     const double t = double(i) / kTable;
-    s.table[size_t(i)] = float(std::exp(-0.5 * std::pow(double(s.reach) * t * t, lambda)));
+    s.table[size_t(i)] = float(std::exp(-0.5 * std::pow(double(s.reach) * (s.sqrt_index ? t * t : t), lambda)));
   }
   s.table[kTable + 1] = s.table[kTable];
   return s;
@@ -606,6 +675,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         const Item& it = items[n];
         const Chunk& c = chunks[it.chunk];
         Splat sp;
+        parts[n].reserve(it.end - it.begin);
         for (uint32_t j = it.begin; j < it.end; ++j)
           if (setup(c, s, c.first + (c.order ? c.order[j] : j), sp)) parts[n].push_back(sp);
       }
@@ -622,9 +692,33 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       return true;
     };
     for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
-      for (size_t j = 0; j < n; ++j) {
-        if (s.ortho) rasterize<kDepth, true>(splats[list[j]], s, area, im);
-        else rasterize<kDepth, false>(splats[list[j]], s, area, im);
+      std::vector<uint32_t> order(list, list + n);
+      if (kDepth) {
+        // The nearest depth does not depend on the order: near splats first
+        // leave most later fragments behind it, unshaded.
+        std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+          const float da = splats[a].depth_range.x, db = splats[b].depth_range.x;
+          return da < db || (da == db && a < b);
+        });
+      }
+      // Depth pass: the bin's farthest surface so far, every few splats;
+      // a splat wholly behind it has no fragment that could be nearer.
+      float bin_far = kInf;
+      size_t since = 0;
+      for (uint32_t i : order) {
+        if (kDepth) {
+          if (++since == 32) {
+            since = 0;
+            bin_far = -kInf;
+            for (int y = area.min.y; y < area.max.y; ++y) {
+              const float* line = im.surface + size_t(y - im.min.y) * size_t(im.stride) - size_t(im.min.x);
+              for (int x = area.min.x; x < area.max.x; ++x) bin_far = std::max(bin_far, line[x]);
+            }
+          }
+          if (splats[i].depth_range.x >= bin_far) break;  // and every later one (sorted)
+        }
+        if (s.ortho) rasterize<kDepth, true>(splats[i], s, area, im);
+        else rasterize<kDepth, false>(splats[i], s, area, im);
       }
     });
   };
