@@ -305,8 +305,8 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
     }
     second = layer(s, cs, sn);
   }
-  // A fragment on the quad: its uv, depth and (blend) the length of its
-  // point's view vector, asked only when needed.
+  // A fragment on the quad: its uv, depth and (blend) the squared length
+  // of its point's view vector, asked only when needed.
   auto fragment = [&](size_t q, float u, float v, float depth, auto&& length) {
     if (kDepth) {
       if (!(depth < im.surface[q])) return;  // cannot be nearer: no brush
@@ -327,15 +327,19 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
     const float surface = im.surface[q];
     if (!(depth <= surface)) {
       if (!(depth - sp.offset <= surface)) return;
-      const float moved = kOrtho ? depth - sp.offset
-                                 : depth * std::max(1.0f - sp.offset / std::max(length(), depth), 0.0f);
-      if (!(moved <= surface)) return;
+      if (!kOrtho) {
+        // depth (1 - offset / max(|p|, depth)) <= surface, as |p| (depth -
+        // surface) <= depth offset (depth <= |p| holds): squared, no root.
+        const float behind = depth - surface, reach = depth * sp.offset;
+        if (!(length() * behind * behind <= reach * reach)) return;
+      }
     }
-    float a = brush_alpha(s, first, u, v, kInf);
+    // Alphas clamp at 1: a sum that reaches it is whole.
+    float a = brush_alpha(s, first, u, v, 1.0f);
     glm::vec3 rgb = sp.rgb;
     if (sp.two) {
       const float u2 = (u - 0.5f) / s.layer_scale + 0.5f, v2 = (v - 0.5f) / s.layer_scale + 0.5f;
-      const float a2 = brush_alpha(s, second, u2, v2, kInf);
+      const float a2 = brush_alpha(s, second, u2, v2, 1.0f);
       const glm::vec3 rgb2 = s.layer_tint >= 0.0f ? rgb * (1.0f - s.layer_tint) + glm::vec3(s.layer_tint)
                                                   : rgb * (1.0f + s.layer_tint);
       const float total = a2 + a * (1.0f - a2);
@@ -420,7 +424,7 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
         if (!on[i]) continue;
         fragment(line + size_t(xs + i), us[i], vs[i], ds[i], [&] {
           const glm::vec3 p = (hx * (float(xs + i + s.origin.x) + 0.5f) + hr) * ts[i];  // h t
-          return std::sqrt(glm::dot(p, p));
+          return glm::dot(p, p);
         });
       }
     }
@@ -432,6 +436,7 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
 // Only the GL thread draws.
 struct HostImages {
   std::vector<float> surface, accum, reveal, sums, color;
+  std::vector<Splat> splats;  // a batch's (at most kBatch)
 };
 HostImages& host_images(size_t pixels) {
   thread_local HostImages images;
@@ -661,7 +666,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     batches.push_back({b, e});
     b = e;
   }
-  std::vector<Splat> splats;
+  std::vector<Splat>& splats = host.splats;
   double setup_ms = 0.0;
   auto set_up = [&](size_t b, size_t e) {
     const auto ts = Clock::now();
@@ -669,19 +674,19 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     for (size_t i = b; i < e; ++i)
       for (uint32_t j = 0; j < chunks[i].count; j += kGrain)
         items.push_back({uint32_t(i), j, std::min(chunks[i].count, j + kGrain)});
-    std::vector<std::vector<Splat>> parts(items.size());
+    // Each point's slot in point order; one not drawn covers nothing.
+    std::vector<size_t> slot(items.size() + 1, 0);
+    for (size_t n = 0; n < items.size(); ++n) slot[n + 1] = slot[n] + (items[n].end - items[n].begin);
+    splats.resize(slot.back());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t n = r.begin(); n < r.end(); ++n) {
         const Item& it = items[n];
         const Chunk& c = chunks[it.chunk];
-        Splat sp;
-        parts[n].reserve(it.end - it.begin);
-        for (uint32_t j = it.begin; j < it.end; ++j)
-          if (setup(c, s, c.first + (c.order ? c.order[j] : j), sp)) parts[n].push_back(sp);
+        Splat* out = splats.data() + slot[n];
+        for (uint32_t j = it.begin; j < it.end; ++j, ++out)
+          if (!setup(c, s, c.first + (c.order ? c.order[j] : j), *out)) out->lo = out->hi = glm::ivec2(0);
       }
     });
-    splats.clear();
-    for (const std::vector<Splat>& part : parts) splats.insert(splats.end(), part.begin(), part.end());
     setup_ms += std::chrono::duration<double, std::milli>(Clock::now() - ts).count();
   };
   auto pass = [&](auto depth_pass) {
@@ -689,7 +694,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     auto bounds = [&](size_t i, glm::ivec2& lo, glm::ivec2& hi) {
       lo = splats[i].lo;
       hi = splats[i].hi;
-      return true;
+      return lo.x < hi.x && lo.y < hi.y;
     };
     for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
       std::vector<uint32_t> order(list, list + n);

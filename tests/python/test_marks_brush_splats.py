@@ -459,10 +459,13 @@ TILE_STYLES = {"defaults (blur)": ({}, [("cartoon", {})]),
 TILE_STYLES.update({name: (p["mark"][1], p["filters"]) for name, p in _presets().items()})
 
 
+@pytest.mark.parametrize("rasterizer", ["gl", "native"])
 @pytest.mark.parametrize("name", sorted(TILE_STYLES))
-def test_brush_splats_tiled_are_the_bytes_of_the_whole_frame(renderer, wavy_clouds, name):
+def test_brush_splats_tiled_are_the_bytes_of_the_whole_frame(renderer, wavy_clouds, name, rasterizer):
+    # Both paths (the native one is always the exact path's rules; its
+    # A-buffer is the GL's).
     params, filters = TILE_STYLES[name]
-    params = dict(params, tile_invariant=True)
+    params = dict(params, tile_invariant=True, rasterizer=rasterizer)
     scene = pointnpr.Scene()
     # Behind: the brush splats with a filter; in front: points with a cartoon,
     # so the compositing of two segments is in the picture too.
@@ -490,7 +493,9 @@ def test_brush_splats_over_the_budget_tile_by_the_exact_path_without_being_asked
     # Without tile_invariant a frame that fits is drawn whole by the faster
     # interpolating passes; one over the memory budget is cut into tiles
     # drawn by the exact path: the bytes of the whole frame drawn that way.
+    # (The GL passes: the native path is the exact path's rules always.)
     def scene(params):
+        params = dict(params, rasterizer="gl")
         s = pointnpr.Scene()
         s.add_segment("wall", pointnpr.Style(mark=("brush_splats", params), filters=[("cartoon", {})]),
                       [wavy_clouds[0]])
