@@ -295,21 +295,28 @@ template <bool kDepth, bool kOrtho>
 void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Images& im) {
   const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
   if (lo.x >= hi.x || lo.y >= hi.y) return;
-  const Layer first = layer(s, sp.cs, sp.sn);
-  Layer second = first;
-  if (sp.two) {
+  // The layers at the first fragment that needs the brush (most of a
+  // depth pass's splats have none: they lie behind).
+  Layer first, second;
+  bool layers_ready = false;
+  auto prepare = [&] {
+    if (layers_ready) return;
+    layers_ready = true;
+    first = layer(s, sp.cs, sp.sn);
+    if (!sp.two) return;
     float cs[3], sn[3];  // turned by the layer angle: cos(t + l), sin(t + l)
     for (int c = 0; c < 3; ++c) {
       cs[c] = sp.cs[c] * s.layer_cos - sp.sn[c] * s.layer_sin;
       sn[c] = sp.sn[c] * s.layer_cos + sp.cs[c] * s.layer_sin;
     }
     second = layer(s, cs, sn);
-  }
+  };
   // A fragment on the quad: its uv, depth and (blend) the squared length
   // of its point's view vector, asked only when needed.
   auto fragment = [&](size_t q, float u, float v, float depth, auto&& length) {
     if (kDepth) {
       if (!(depth < im.surface[q])) return;  // cannot be nearer: no brush
+      prepare();
       const float a = brush_alpha(s, first, u, v, kBrushCut);
       bool covers = a >= kBrushCut;
       if (!covers && sp.two) {
@@ -334,6 +341,7 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
         if (!(length() * behind * behind <= reach * reach)) return;
       }
     }
+    prepare();
     // Alphas clamp at 1: a sum that reaches it is whole.
     float a = brush_alpha(s, first, u, v, 1.0f);
     glm::vec3 rgb = sp.rgb;
@@ -697,7 +705,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       return lo.x < hi.x && lo.y < hi.y;
     };
     for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
-      std::vector<uint32_t> order(list, list + n);
+      std::vector<uint32_t> order(list, list + n);  // point order
       if (kDepth) {
         // The nearest depth does not depend on the order: near splats first
         // leave most later fragments behind it, unshaded.
@@ -706,19 +714,25 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           return da < db || (da == db && a < b);
         });
       }
-      // Depth pass: the bin's farthest surface so far, every few splats;
-      // a splat wholly behind it has no fragment that could be nearer.
-      float bin_far = kInf;
+      // The bin's farthest surface (depth pass: so far, every few splats):
+      // a splat wholly behind it (blend: by more than its offset) has no
+      // fragment that could be nearer (blend: near the surface).
+      auto farthest = [&] {
+        float far = -kInf;
+        for (int y = area.min.y; y < area.max.y; ++y) {
+          const float* line = im.surface + size_t(y - im.min.y) * size_t(im.stride) - size_t(im.min.x);
+          for (int x = area.min.x; x < area.max.x; ++x) far = std::max(far, line[x]);
+        }
+        return far;
+      };
+      float bin_far = kDepth ? kInf : farthest();
       size_t since = 0;
       for (uint32_t i : order) {
+        if (!kDepth && splats[i].depth_range.x - splats[i].offset > bin_far) continue;
         if (kDepth) {
           if (++since == 32) {
             since = 0;
-            bin_far = -kInf;
-            for (int y = area.min.y; y < area.max.y; ++y) {
-              const float* line = im.surface + size_t(y - im.min.y) * size_t(im.stride) - size_t(im.min.x);
-              for (int x = area.min.x; x < area.max.x; ++x) bin_far = std::max(bin_far, line[x]);
-            }
+            bin_far = farthest();
           }
           if (splats[i].depth_range.x >= bin_far) break;  // and every later one (sorted)
         }
