@@ -49,11 +49,6 @@ constexpr uint32_t kBatch = 1u << 19;  // splats set up at once (about 60 MiB)
 constexpr uint32_t kGrain = 8192;      // points per setup work item
 constexpr int kTable = 4096;           // brush table intervals
 
-// shaders/id_hash.glsl's id_rand.
-float id_rand(uint32_t id, uint32_t salt, uint32_t seed) {
-  return float(hash_u32(id ^ hash_u32(salt * 0x9e3779b9u + seed * 0x85ebca6bu)) >> 8) * (1.0f / 16777216.0f);
-}
-
 int floor_int(float v) {  // |v| < 2^31 (callers bound it)
   const int i = int(v);
   return i - (float(i) > v);

@@ -64,9 +64,6 @@ constexpr uint32_t kGrain = 8192;             // points per work item
 
 // shaders/id_hash.glsl (its id_hash is lowbias32, core/hash.h)
 uint32_t id_hash(uint32_t x) { return hash_u32(x); }
-float id_rand(uint32_t id, uint32_t salt, uint32_t seed) {
-  return float(id_hash(id ^ id_hash(salt * 0x9e3779b9u + seed * 0x85ebca6bu)) >> 8) * (1.0f / 16777216.0f);
-}
 // GLSL's uint() of a float, negative values wrapped as x86 converts them.
 uint32_t to_uint(float v) { return uint32_t(int64_t(v)); }
 float mix(float a, float b, float t) { return a * (1.0f - t) + b * t; }
