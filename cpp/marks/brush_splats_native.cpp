@@ -48,6 +48,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kBatch = 1u << 19;  // splats set up at once (about 60 MiB)
 constexpr uint32_t kGrain = 8192;      // points per setup work item
 constexpr int kTable = 4096;           // brush table intervals
+constexpr int kBinSide = 64;           // screen bins (pixels): splats are up to 2 x 64 px
 
 int floor_int(float v) {  // |v| < 2^31 (callers bound it)
   const int i = int(v);
@@ -734,7 +735,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         if (s.ortho) rasterize<kDepth, true>(splats[i], s, area, im);
         else rasterize<kDepth, false>(splats[i], s, area, im);
       }
-    });
+    }, kBinSide);
   };
   for (const auto& [b, e] : batches) {
     set_up(b, e);

@@ -18,12 +18,12 @@ namespace pointnpr {
 
 // `bounds(i, lo, hi)` gives item i's local pixels [lo, hi) (false: none);
 // `visit(area, list, count)` draws the items list[0, count) (item indices,
-// ascending) over the tile `area` of the clip.
+// ascending) over the tile `area` of the clip. Bins of `side` pixels (more
+// where there would be over 16384).
 template <class Bounds, class Visit>
-void for_each_bin_in_order(size_t items, const Rect& clip, Bounds&& bounds, Visit&& visit) {
+void for_each_bin_in_order(size_t items, const Rect& clip, Bounds&& bounds, Visit&& visit, int side = 32) {
   if (items == 0 || clip.empty()) return;
   const glm::ivec2 size = clip.size();
-  int side = 32;  // bin side (pixels); at most 16384 bins
   while (size_t((size.x + side - 1) / side) * size_t((size.y + side - 1) / side) > 16384) side *= 2;
   const int bins_x = (size.x + side - 1) / side, bins_y = (size.y + side - 1) / side;
   const size_t bins = size_t(bins_x) * size_t(bins_y);
