@@ -722,12 +722,17 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         return far;
       };
       float bin_far = kDepth ? kInf : farthest();
-      size_t since = 0;
+      // Recomputed once the splats since cover the bin's area (so the scan
+      // costs at most what they did).
+      const size_t bin_area = size_t(area.size().x) * size_t(area.size().y);
+      size_t painted = 0;
       for (uint32_t i : order) {
         if (!kDepth && splats[i].depth_range.x - splats[i].offset > bin_far) continue;
         if (kDepth) {
-          if (++since == 32) {
-            since = 0;
+          const glm::ivec2 box = glm::min(splats[i].hi, area.max) - glm::max(splats[i].lo, area.min);
+          painted += size_t(std::max(box.x, 0)) * size_t(std::max(box.y, 0));
+          if (painted >= bin_area) {
+            painted = 0;
             bin_far = farthest();
           }
           if (splats[i].depth_range.x >= bin_far) break;  // and every later one (sorted)
