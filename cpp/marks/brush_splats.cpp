@@ -33,6 +33,8 @@
 //    of the frame drawn whole by this exact path. Frames drawn whole use
 //    the faster interpolating passes (about 3x faster on a software GL)
 //    unless tile_invariant asks for the exact path for every frame.
+//  - rasterizer native (auto on a software GL, for blur and none): the
+//    exact path's rules on the CPU's threads (brush_splats_native.cpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -8,20 +8,22 @@
 //     as brush_common.glsl's brush_splat() and the tiled vertex shader
 //     make it: plane, axes, depth range, colour, column angles, and the
 //     box of pixels its quad can cover. Batches of at most kBatch splats.
-//  2. Depth pass: each screen bin (render/screen_bins.h) runs its splats in
-//     point order; a fragment's depth comes first (the pixel's ray met
-//     with the splat's plane), and only one nearer than the pixel's
-//     nearest so far evaluates the brush, stopping at the first partial sum
-//     that reaches the cut (sums of Gaussians only grow). The minimum does
-//     not depend on the order.
-//  3. Blend pass: fragments within depth_tolerance radii of that surface
-//     (tested before the brush) evaluate the whole brush and blend in point
-//     order: colour sum, transmittance product, as the GL's blending.
+//  2. Depth pass: each screen bin (render/screen_bins.h) runs its splats
+//     nearest first (the minimum does not depend on the order); a
+//     fragment's depth comes first (the pixel's ray met with the splat's
+//     plane), and only one nearer than the pixel's nearest so far evaluates
+//     the brush, stopping at the first partial sum that reaches the cut
+//     (sums of Gaussians only grow); once the rest of a bin's splats lie
+//     behind its farthest surface, they are dropped.
+//  3. Blend pass: in point order per bin, fragments within depth_tolerance
+//     radii of that surface (tested before the brush) evaluate the brush
+//     (its sum stopping where the alpha clamps at 1) and blend: colour sum,
+//     transmittance product, as the GL's blending order.
 //  4. Resolve, blur (with depth occlusion) and upload.
-// The brush: exp(-q^lambda / 2) tabulated once a frame over sqrt(q / reach)
-// (smooth at q = 0 for every lambda the schema allows) and interpolated,
-// exp(-(qx^l + qy^l) / 2) as the product of the two axes'; within 1e-5 of
-// the shader's, far below the golden images' 2/255.
+// The brush: exp(-q^lambda / 2) tabulated once a frame over q / reach (over
+// sqrt(q / reach) for lambda < 1, steep at 0) and interpolated,
+// exp(-(qx^l + qy^l) / 2) as the product of the two axes'; within about
+// 1e-5 of the shader's, far below the golden images' 2/255.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
