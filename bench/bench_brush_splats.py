@@ -10,7 +10,10 @@
    336, the golden camera) that points and brush splats of the subset
    cover; a bar chart to docs/images/brush_splats_coverage.png.
 
-The tile_invariant row is the same blur drawn by the passes that can tile
+The native rows are brush_splats' own rasterizer on the CPU's threads
+(`rasterizer` native: what auto picks on a software GL for blur and none);
+the gl rows its GL passes (the A-buffer is GL's on every device). With
+POINTNPR_BENCH_TILE_INVARIANT=1 a row of the GL passes that can tile
 (every fragment from its frame pixel; the frame here is one tile).
 
 The CPU column is the process's CPU time (all of llvmpipe's threads): on
@@ -43,10 +46,16 @@ def render(renderer, style, cloud, w, h, background=(1, 1, 1, 1)):
 
 
 STYLES = {"points": pointnpr.Style(mark=("points", {"point_size": 2.0})),
-          "brush_splats (blur)": pointnpr.Style(mark=("brush_splats", {"blending": "blur"})),
-          "brush_splats (a_buffer)": pointnpr.Style(mark=("brush_splats", {"blending": "a_buffer"})),
-          "brush_splats (blur, tile_invariant)": pointnpr.Style(mark=("brush_splats", {"blending": "blur",
-                                                                                      "tile_invariant": True}))}
+          "brush_splats (blur, native)": pointnpr.Style(mark=("brush_splats", {"blending": "blur",
+                                                                              "rasterizer": "native"})),
+          "brush_splats (none, native)": pointnpr.Style(mark=("brush_splats", {"blending": "none",
+                                                                              "rasterizer": "native"})),
+          "brush_splats (blur, gl)": pointnpr.Style(mark=("brush_splats", {"blending": "blur", "rasterizer": "gl"})),
+          "brush_splats (a_buffer)": pointnpr.Style(mark=("brush_splats", {"blending": "a_buffer"}))}
+# The frame-pixel GL passes: POINTNPR_BENCH_TILE_INVARIANT=1 (slow on llvmpipe).
+if os.environ.get("POINTNPR_BENCH_TILE_INVARIANT"):
+    STYLES["brush_splats (blur, gl, tile_invariant)"] = pointnpr.Style(
+        mark=("brush_splats", {"blending": "blur", "rasterizer": "gl", "tile_invariant": True}))
 
 
 def timing(data):
@@ -101,7 +110,7 @@ def coverage(data):
         keep = np.sort(np.random.default_rng(0).choice(len(pos), int(round(fraction * len(pos))), replace=False))
         cloud = pointnpr.PointCloud(pos[keep], colors=colors[keep])
         covered = {name: np.asarray(render(renderer, STYLES[name], cloud, W, H, (0, 0, 0, 0)).color)[..., 3] > 0
-                   for name in ("points", "brush_splats (blur)")}
+                   for name in ("points", "brush_splats (blur, native)")}
         if full is None:
             full = covered["points"]
         rows.append((fraction, *[(covered[n] & full).sum() / full.sum() for n in covered],

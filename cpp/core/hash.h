@@ -15,4 +15,10 @@ inline uint32_t hash_u32(uint32_t x) {
   return x;
 }
 
+// Uniform in [0, 1) for a point id, a salt (one per decision) and a seed:
+// the shaders' id_rand (shaders/id_hash.glsl), for the native paths.
+inline float id_rand(uint32_t id, uint32_t salt, uint32_t seed) {
+  return float(hash_u32(id ^ hash_u32(salt * 0x9e3779b9u + seed * 0x85ebca6bu)) >> 8) * (1.0f / 16777216.0f);
+}
+
 }  // namespace pointnpr

@@ -33,6 +33,8 @@
 //    of the frame drawn whole by this exact path. Frames drawn whole use
 //    the faster interpolating passes (about 3x faster on a software GL)
 //    unless tile_invariant asks for the exact path for every frame.
+//  - rasterizer native (auto on a software GL, for blur and none): the
+//    exact path's rules on the CPU's threads (brush_splats_native.cpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -42,6 +44,7 @@
 
 #include "core/error.h"
 #include "gl/device.h"
+#include "marks/brush_splats.h"
 #include "marks/points.h"
 #include "render/exact_raster.h"
 #include "render/ink_layer.h"
@@ -62,7 +65,7 @@ static_assert(sizeof(SplatRecord) == 64);
 // Largest splat radius on screen the parameter allows (bounds the mark's
 // extent and fill rate).
 constexpr float kMaxRadiusPixels = 64.0f;
-constexpr float kCut = 1.0f / 255.0f;  // alpha below this is no coverage
+constexpr float kCut = kBrushCut;
 
 // Normals: the cloud's own, else k-neighbour PCA or least squares within 3r.
 AttributeKey normal_key(const ParamValues& p) {
@@ -105,6 +108,16 @@ class BrushSplats final : public Mark {
   }
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override;
+  void draw_gl(const MarkContext& ctx, const ParamValues& p) const;
+  void capture_splats(const MarkContext& ctx, const ParamValues& p) const;
+
+  // auto: the native passes where GL itself runs on the CPU (llvmpipe),
+  // for blur and none; the A-buffer's lists are GL's on every device.
+  static bool native(const ParamValues& p) {
+    if (p.get_enum_name("blending") == "a_buffer") return false;
+    const std::string r = p.get_enum_name("rasterizer");
+    return r == "native" || (r == "auto" && gl::Device::instance().info().software);
+  }
 };
 
 // Whether the splats take the exact path: every tile of a frame drawn in
@@ -176,11 +189,7 @@ void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const Para
   glUniform1f(g.location("u_elongation_gain"), float(p.get_float("elongation_stretch")));
   glUniform1f(g.location("u_max_stretch"), float(p.get_float("max_stretch")));
   glUniform1f(g.location("u_cut"), kCut);
-  // A N exp(-q^lambda / 2) < cut / 16 beyond q = (2 ln(16 A N / cut))^(1 / lambda): skipped Gaussians
-  // change the alpha by less than a 16th of the cut.
-  const double an = std::max(p.get_float("amplitude") * p.get_int("gaussians"), 1e-6);
-  const double reach = std::pow(2.0 * std::log(std::max(16.0 * an / double(kCut), 1.0 + 1e-6)), 1.0 / p.get_float("lambda"));
-  glUniform1f(g.location("u_reach"), float(reach));
+  glUniform1f(g.location("u_reach"), float(brush_reach(p)));
 }
 
 void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamValues& p) {
@@ -423,6 +432,18 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const
 }
 
 void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
+  if (native(p)) {
+    draw_brush_splats_native(ctx, p);
+  } else {
+    draw_gl(ctx, p);
+    uint64_t drawn = 0;
+    for (const VisibleChunk& v : ctx.chunks) drawn += queue_count(v, p);
+    if (ctx.stats) (*ctx.stats)["splats_drawn"] += double(drawn);
+  }
+  if (ctx.capture) capture_splats(ctx, p);
+}
+
+void BrushSplats::draw_gl(const MarkContext& ctx, const ParamValues& p) const {
   // 1. Depth pass: the nearest brush surface per pixel (GL depth, reversed
   // Z, from each fragment's own depth; its linear depth in the segment's).
   const std::optional<ExactRaster> raster = raster_viewport(ctx, p, *this);
@@ -447,13 +468,11 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
   // 2. The splats near that surface, blended.
   const std::string blending = p.get_enum_name("blending");
   if (blending != "a_buffer" || !draw_a_buffer(ctx, p, raster)) draw_blended(ctx, p, blending != "none", raster);
+}
 
-  uint64_t drawn = 0;
-  for (const VisibleChunk& v : ctx.chunks) drawn += queue_count(v, p);
-  if (ctx.stats) (*ctx.stats)["splats_drawn"] += double(drawn);
-
-  // Captured splats, per chunk (chunks are bounded in size).
-  if (ctx.capture) {
+// Captured splats, per chunk (chunks are bounded in size), on either path.
+void BrushSplats::capture_splats(const MarkContext& ctx, const ParamValues& p) const {
+  {
     const gl::Program& capture = ctx.shaders->compute("brush_capture.comp");
     capture.use();
     set_splat_uniforms(capture, ctx, p);
@@ -484,6 +503,17 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
     }
   }
 }
+
+}  // namespace
+
+double brush_reach(const ParamValues& p) {
+  // A N exp(-q^lambda / 2) < cut / 16 beyond q = (2 ln(16 A N / cut))^(1 / lambda): skipped Gaussians
+  // change the alpha by less than a 16th of the cut.
+  const double an = std::max(p.get_float("amplitude") * p.get_int("gaussians"), 1e-6);
+  return std::pow(2.0 * std::log(std::max(16.0 * an / double(kBrushCut), 1.0 + 1e-6)), 1.0 / p.get_float("lambda"));
+}
+
+namespace {
 
 const MarkRegistration registration{{
     Schema{"brush_splats",
@@ -564,6 +594,10 @@ const MarkRegistration registration{{
                                      "Neighbours mix only within this fraction of the depth"),
                          "blending", {"blur", "a_buffer"}),
                int_param("seed", 0, 0, 65535, "", "Varies the brushes' noise (still fixed per point)"),
+               enum_param("rasterizer", {"gl", "native", "auto"}, 2,
+                          "gl: the GL passes (for GPUs); native: the exact passes' rules on the CPU's threads "
+                          "(tile-invariant, the same bytes with any thread count; the A-buffer stays on GL); auto: "
+                          "native on a software GL device (llvmpipe) for blur and none, gl on a GPU"),
                bool_param("tile_invariant", false,
                           "Every frame by the exact path that frames drawn in tiles (over the memory budget) take, "
                           "so any size and budget give the same bytes (about 2.5x the time on a software GL); off, "

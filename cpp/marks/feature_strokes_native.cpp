@@ -34,6 +34,7 @@
 #include "gl/device.h"
 #include "marks/feature_strokes.h"
 #include "marks/points.h"
+#include "render/screen_bins.h"
 #include "scene/camera.h"
 #include "scene/point_cloud.h"
 
@@ -64,9 +65,6 @@ constexpr uint32_t kGrain = 8192;             // points per work item
 
 // shaders/id_hash.glsl (its id_hash is lowbias32, core/hash.h)
 uint32_t id_hash(uint32_t x) { return hash_u32(x); }
-float id_rand(uint32_t id, uint32_t salt, uint32_t seed) {
-  return float(id_hash(id ^ id_hash(salt * 0x9e3779b9u + seed * 0x85ebca6bu)) >> 8) * (1.0f / 16777216.0f);
-}
 // GLSL's uint() of a float, negative values wrapped as x86 converts them.
 uint32_t to_uint(float v) { return uint32_t(int64_t(v)); }
 float mix(float a, float b, float t) { return a * (1.0f - t) + b * t; }
@@ -521,55 +519,13 @@ HostImages& host_images(size_t pixels) {
 // Binned pass 2b of one batch of primitives, in their order per pixel.
 void draw_primitives(const std::vector<Prim>& prims, const Frame& f, const FeatureStrokeSettings& s,
                      const HostTexture& image, const Ink& ink) {
-  if (prims.empty()) return;
-  const glm::ivec2 size = f.clip.size();
-  int side = 32;  // bin side (pixels); at most 16384 bins
-  while (size_t((size.x + side - 1) / side) * size_t((size.y + side - 1) / side) > 16384) side *= 2;
-  const int bins_x = (size.x + side - 1) / side, bins_y = (size.y + side - 1) / side;
-  const size_t bins = size_t(bins_x) * size_t(bins_y);
-  const size_t blocks = std::clamp<size_t>(prims.size() / 2048, 1, 128);
-  const size_t per_block = (prims.size() + blocks - 1) / blocks;
-  auto bin_range = [&](const Prim& p, glm::ivec2& b0, glm::ivec2& b1) {
-    b0 = (p.lo - f.clip.min) / side;
-    b1 = (p.hi - 1 - f.clip.min) / side;
+  auto bounds = [&](size_t i, glm::ivec2& lo, glm::ivec2& hi) {
+    lo = prims[i].lo;
+    hi = prims[i].hi;
+    return true;
   };
-  std::vector<uint32_t> counts(blocks * bins, 0);
-  auto for_block = [&](size_t b, auto&& visit) {
-    const size_t end = std::min(prims.size(), (b + 1) * per_block);
-    for (size_t i = b * per_block; i < end; ++i) {
-      glm::ivec2 b0, b1;
-      bin_range(prims[i], b0, b1);
-      for (int by = b0.y; by <= b1.y; ++by)
-        for (int bx = b0.x; bx <= b1.x; ++bx) visit(i, size_t(by) * size_t(bins_x) + size_t(bx));
-    }
-  };
-  tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
-    uint32_t* c = &counts[b * bins];
-    for_block(b, [c](size_t, size_t bin) { ++c[bin]; });
-  });
-  // Offsets: bin major, block minor, so each bin's list is in primitive order.
-  std::vector<uint32_t> start(bins + 1, 0);
-  std::vector<uint32_t> offsets(blocks * bins);
-  uint32_t total = 0;
-  for (size_t bin = 0; bin < bins; ++bin) {
-    start[bin] = total;
-    for (size_t b = 0; b < blocks; ++b) {
-      offsets[b * bins + bin] = total;
-      total += counts[b * bins + bin];
-    }
-  }
-  start[bins] = total;
-  std::vector<uint32_t> list(total);
-  tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
-    uint32_t* o = &offsets[b * bins];
-    for_block(b, [&](size_t i, size_t bin) { list[o[bin]++] = uint32_t(i); });
-  });
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, bins, 1), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t bin = r.begin(); bin < r.end(); ++bin) {
-      const glm::ivec2 b(int(bin % size_t(bins_x)), int(bin / size_t(bins_x)));
-      const Rect area{f.clip.min + b * side, glm::min(f.clip.min + (b + 1) * side, f.clip.max)};
-      for (uint32_t n = start[bin]; n < start[bin + 1]; ++n) rasterize(prims[list[n]], area, f, s, image, ink);
-    }
+  for_each_bin_in_order(prims.size(), f.clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
+    for (size_t j = 0; j < n; ++j) rasterize(prims[list[j]], area, f, s, image, ink);
   });
 }
 

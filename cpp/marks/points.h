@@ -31,6 +31,18 @@ void draw_splats_compute(const MarkContext& ctx, const SplatSettings& s);
 void draw_splats_native(const MarkContext& ctx, const SplatSettings& s);
 // The classification palette of point_attributes.glsl (display sRGB).
 glm::vec3 class_color(uint32_t classification);
+// A chunk's colour attribute on the host, as point_attributes.glsl's
+// source_color() reads it (the native paths).
+struct HostColors {
+  ColorSource source = ColorSource::Constant;  // resolved (never Auto)
+  const uint32_t* colors = nullptr;            // the cloud's arrays, cloud order
+  const float* intensity = nullptr;
+  const uint32_t* classification = nullptr;
+  float intensity_scale = 1.0f;
+  glm::vec4 constant{0.8f, 0.8f, 0.8f, 1.0f};
+  glm::vec4 at(uint32_t index) const;  // alpha 1
+};
+HostColors host_colors(const GpuCloud& gpu, const PointCloud& cloud, ColorSource source, glm::vec4 constant);
 // GL_POINTS with reversed-Z depth into targets.gl_depth; also writes colour
 // and linear depth to targets.color / targets.depth.
 void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s);

@@ -41,6 +41,30 @@ glm::vec3 class_color(uint32_t c) {
   return {kColors[c][0], kColors[c][1], kColors[c][2]};
 }
 
+glm::vec4 HostColors::at(uint32_t index) const {
+  switch (source) {
+    case ColorSource::Rgb: {
+      const uint32_t v = colors[index];
+      return {float(v & 0xffu) / 255.0f, float(v >> 8 & 0xffu) / 255.0f, float(v >> 16 & 0xffu) / 255.0f, 1.0f};
+    }
+    case ColorSource::Intensity:
+      return glm::vec4(glm::vec3(std::clamp(intensity[index] * intensity_scale, 0.0f, 1.0f)), 1.0f);
+    case ColorSource::Classification: return glm::vec4(class_color(classification[index]), 1.0f);
+    default: return glm::vec4(glm::vec3(constant), 1.0f);
+  }
+}
+
+HostColors host_colors(const GpuCloud& gpu, const PointCloud& cloud, ColorSource source, glm::vec4 constant) {
+  HostColors c;
+  c.source = resolve_color_source(source, gpu);
+  c.colors = cloud.colors().data();
+  c.intensity = cloud.intensity().data();
+  c.classification = cloud.classification().data();
+  c.intensity_scale = gpu.intensity_scale;
+  c.constant = constant;
+  return c;
+}
+
 namespace {
 
 constexpr uint64_t kEmpty = ~uint64_t(0);
@@ -61,11 +85,7 @@ struct ColorChunk {
   uint32_t key_base = 0;
   uint32_t count = 0;
   uint32_t first = 0;  // the chunk's first point in the cloud's arrays
-  ColorSource source = ColorSource::Constant;
-  const uint32_t* colors = nullptr;  // the cloud's arrays (those of its source)
-  const float* intensity = nullptr;
-  const uint32_t* classification = nullptr;
-  float intensity_scale = 1.0f;
+  HostColors colors;
   const glm::vec3* normals = nullptr;  // cloud order, or null: unlit
   glm::mat3 normal_matrix{1.0f};
 };
@@ -199,19 +219,7 @@ HostImages& host_images(size_t pixels) {
 
 glm::vec4 point_color(const ColorChunk& c, uint32_t local, const SplatSettings& s) {
   const uint32_t index = c.first + local;
-  glm::vec4 color(glm::vec3(s.constant_color), 1.0f);
-  switch (c.source) {
-    case ColorSource::Rgb: {
-      const uint32_t v = c.colors[index];
-      color = {float(v & 0xffu) / 255.0f, float(v >> 8 & 0xffu) / 255.0f, float(v >> 16 & 0xffu) / 255.0f, 1.0f};
-      break;
-    }
-    case ColorSource::Intensity:
-      color = glm::vec4(glm::vec3(std::clamp(c.intensity[index] * c.intensity_scale, 0.0f, 1.0f)), 1.0f);
-      break;
-    case ColorSource::Classification: color = glm::vec4(class_color(c.classification[index]), 1.0f); break;
-    default: break;
-  }
+  glm::vec4 color = c.colors.at(index);
   if (s.shading) {
     float lambert = 1.0f;
     if (c.normals) {
@@ -293,11 +301,7 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
     cc.key_base = v.key_base;
     cc.count = v.chunk->count;
     cc.first = v.chunk->first;
-    cc.source = resolve_color_source(s.color_source, *v.gpu);
-    cc.colors = last_cloud->colors().data();
-    cc.intensity = last_cloud->intensity().data();
-    cc.classification = last_cloud->classification().data();
-    cc.intensity_scale = v.gpu->intensity_scale;
+    cc.colors = host_colors(*v.gpu, *last_cloud, s.color_source, s.constant_color);
     cc.normals = last_normals;
     cc.normal_matrix = glm::transpose(glm::inverse(glm::mat3(v.view_from_chunk)));
   }

@@ -315,9 +315,9 @@ def test_the_a_buffer_over_its_budget_warns_and_falls_back_to_blur(renderer):
     over = render(renderer, dict(params, blending="a_buffer", a_buffer_budget=needed / 2), c, cam, 320, 240)
     assert len(over.warnings) == 1, over.warnings
     assert "A-buffer" in over.warnings[0] and "blur" in over.warnings[0] and f"{needed:.1f} MiB" in over.warnings[0]
-    # The fallback is exactly the blur blending of the same frame, which
-    # the A-buffer's is not.
-    blur = render(renderer, dict(params, blending="blur"), c, cam, 320, 240)
+    # The fallback is exactly the blur blending of the same frame (by the
+    # GL passes, as the A-buffer's lists), which the A-buffer's is not.
+    blur = render(renderer, dict(params, blending="blur", rasterizer="gl"), c, cam, 320, 240)
     assert np.asarray(over.color).tobytes() == np.asarray(blur.color).tobytes()
     assert np.asarray(over.depth).tobytes() == np.asarray(blur.depth).tobytes()
     assert np.asarray(fits.color).tobytes() != np.asarray(blur.color).tobytes()
@@ -407,7 +407,7 @@ def test_a_pixel_with_too_long_a_list_falls_back_to_blur(renderer):
     over = render(renderer, dict(params, blending="a_buffer"), c, _perspective(), 160, 120)
     assert over.stats["a_buffer_longest_list"] > 512
     assert len(over.warnings) == 1 and "more than the 512" in over.warnings[0], over.warnings
-    blur = render(renderer, dict(params, blending="blur"), c, _perspective(), 160, 120)
+    blur = render(renderer, dict(params, blending="blur", rasterizer="gl"), c, _perspective(), 160, 120)  # the GL's, as the lists
     assert np.asarray(over.color).tobytes() == np.asarray(blur.color).tobytes()
 
 
@@ -459,10 +459,13 @@ TILE_STYLES = {"defaults (blur)": ({}, [("cartoon", {})]),
 TILE_STYLES.update({name: (p["mark"][1], p["filters"]) for name, p in _presets().items()})
 
 
+@pytest.mark.parametrize("rasterizer", ["gl", "native"])
 @pytest.mark.parametrize("name", sorted(TILE_STYLES))
-def test_brush_splats_tiled_are_the_bytes_of_the_whole_frame(renderer, wavy_clouds, name):
+def test_brush_splats_tiled_are_the_bytes_of_the_whole_frame(renderer, wavy_clouds, name, rasterizer):
+    # Both paths (the native one is always the exact path's rules; its
+    # A-buffer is the GL's).
     params, filters = TILE_STYLES[name]
-    params = dict(params, tile_invariant=True)
+    params = dict(params, tile_invariant=True, rasterizer=rasterizer)
     scene = pointnpr.Scene()
     # Behind: the brush splats with a filter; in front: points with a cartoon,
     # so the compositing of two segments is in the picture too.
@@ -490,7 +493,9 @@ def test_brush_splats_over_the_budget_tile_by_the_exact_path_without_being_asked
     # Without tile_invariant a frame that fits is drawn whole by the faster
     # interpolating passes; one over the memory budget is cut into tiles
     # drawn by the exact path: the bytes of the whole frame drawn that way.
+    # (The GL passes: the native path is the exact path's rules always.)
     def scene(params):
+        params = dict(params, rasterizer="gl")
         s = pointnpr.Scene()
         s.add_segment("wall", pointnpr.Style(mark=("brush_splats", params), filters=[("cartoon", {})]),
                       [wavy_clouds[0]])

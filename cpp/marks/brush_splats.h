@@ -1,0 +1,28 @@
+#pragma once
+// The brush_splats mark's two paths: its GL passes (marks/brush_splats.cpp,
+// which declares the schema) and the same rules on the CPU's threads
+// (marks/brush_splats_native.cpp), which `rasterizer` `auto` takes on
+// software GL devices (llvmpipe) for blur and none blending; the A-buffer
+// stays on GL.
+#include "render/mark.h"
+
+namespace pointnpr {
+
+constexpr float kBrushCut = 1.0f / 255.0f;  // alpha below this is no coverage
+
+// |q| beyond which one of the brush's Gaussians adds less than a 16th of
+// the cut to the alpha (skipped: it counts as 0 on both paths).
+double brush_reach(const ParamValues& p);
+
+// Depth pass, blending (weighted average, transmittance) and the blur of
+// brush_splats_tiled.vert/.frag, brush_resolve.comp and brush_blur.comp on
+// the CPU's threads, uploaded into ctx.targets.color and .depth over
+// ctx.clip. Every fragment is computed from its frame pixel and flat
+// per-splat values and blended in point order (screen bins), so a tile is
+// the frame's bytes in any process and with any thread count. Against the
+// GL passes it differs in the last bits of the brush (a tabulated
+// exp(-q^lambda / 2)) and on the splats' edges (the quad's coverage by uv
+// in [0, 1] instead of the GL's fixed-point edges).
+void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p);
+
+}  // namespace pointnpr

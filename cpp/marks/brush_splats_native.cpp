@@ -1,0 +1,800 @@
+// The brush_splats mark's native path (marks/brush_splats.h): the exact
+// (tile-invariant) passes of shaders/brush_splats_tiled.vert/.frag, then
+// brush_resolve.comp and brush_blur.comp, on the CPU's threads (TBB), for
+// software GL devices, where llvmpipe spends most of the mark's time
+// shading the brush's nine Gaussians per fragment, twice.
+//
+//  1. Setup: every splat (of the chunk's resolution queue when it is on)
+//     as brush_common.glsl's brush_splat() and the tiled vertex shader
+//     make it: plane, axes, depth range, colour, column angles, and the
+//     box of pixels its quad can cover. Batches of at most kBatch splats.
+//  2. Depth pass: each screen bin (render/screen_bins.h) runs its splats
+//     nearest first (the minimum does not depend on the order); a
+//     fragment's depth comes first (the pixel's ray met with the splat's
+//     plane), and only one nearer than the pixel's nearest so far evaluates
+//     the brush, stopping at the first partial sum that reaches the cut
+//     (sums of Gaussians only grow); once the rest of a bin's splats lie
+//     behind its farthest surface, they are dropped.
+//  3. Blend pass: in point order per bin, fragments within depth_tolerance
+//     radii of that surface (tested before the brush) evaluate the brush
+//     (its sum stopping where the alpha clamps at 1) and blend: colour sum,
+//     transmittance product, as the GL's blending order.
+//  4. Resolve, blur (with depth occlusion) and upload.
+// The brush: exp(-q^lambda / 2) tabulated once a frame over q / reach (over
+// sqrt(q / reach) for lambda < 1, steep at 0) and interpolated,
+// exp(-(qx^l + qy^l) / 2) as the product of the two axes'; within about
+// 1e-5 of the shader's, far below the golden images' 2/255.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "core/hash.h"
+#include "geometry/analysis.h"
+#include "marks/brush_splats.h"
+#include "marks/points.h"
+#include "render/screen_bins.h"
+#include "scene/camera.h"
+#include "scene/point_cloud.h"
+
+namespace pointnpr {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr uint32_t kBatch = 1u << 19;  // splats set up at once (about 60 MiB)
+constexpr uint32_t kGrain = 8192;      // points per setup work item
+constexpr int kTable = 4096;           // brush table intervals
+constexpr int kBinSide = 64;           // screen bins (pixels): splats are up to 2 x 64 px
+
+int floor_int(float v) {  // |v| < 2^31 (callers bound it)
+  const int i = int(v);
+  return i - (float(i) > v);
+}
+
+// GLSL's mat4 * vec4(p, 1): the columns summed in order.
+glm::vec4 transform(const glm::mat4& m, const glm::vec3& p) { return m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3]; }
+
+glm::vec3 normalized(glm::vec3 v) { return v / std::sqrt(glm::dot(v, v)); }
+// What a shader reads of a normal uploaded as snorm8 (render/gpu_cloud.h).
+glm::vec3 as_uploaded(const glm::vec3& n) { return unpack_normal(pack_normal(n)); }
+
+// The shaders' uniforms, resolved once per frame.
+struct Settings {
+  glm::vec2 frame{0.0f};    // the whole frame's size
+  glm::ivec2 origin{0, 0};  // the tile's
+  Rect clip;                // tile pixels
+  float near = 0.0f, far = 1.0f;
+  bool ortho = false;
+  float px_per_unit = 1.0f;
+  glm::mat4 projection{1.0f}, view_from_pixel{1.0f};
+  bool resolution_size = true, user_eps = false;
+  float epsilon = 0.0f, size_scale = 1.0f, world_radius = 0.0f, max_radius_px = 16.0f;
+  int tangent_frame = 0;
+  float angle = 0.0f, jitter = 0.0f;
+  uint32_t seed = 0;
+  bool two_layers = false;  // layers two (every splat)
+  bool clusters = false;
+  float small_cluster = 0.0f, elongation_gain = 0.0f, max_stretch = 1.0f;
+  float depth_tolerance = 1.0f;
+  // The brush (brush_texture.glsl): centres on the grid and their column.
+  int gaussians = 9;
+  float cx[9] = {}, cy[9] = {};
+  int column[9] = {};
+  float amplitude = 1.0f, inv_sx = 1.0f, inv_sy = 1.0f, reach = 1.0f, inv_reach = 1.0f;
+  bool sqrt_index = false;  // the table over sqrt(q / reach) (lambda < 1: steep at 0), else over q / reach
+  float layer_scale = 1.0f, layer_cos = 1.0f, layer_sin = 0.0f, layer_tint = 0.0f;
+  std::vector<float> table;  // exp(-q^lambda / 2) at q = reach t (t^2 with sqrt_index), t = i / kTable (+ 1 pad)
+};
+
+// One visible chunk's host data (index = first + local into the cloud's arrays).
+struct Chunk {
+  const glm::vec3* positions = nullptr;
+  const uint32_t* ids = nullptr;
+  const glm::vec3* normals = nullptr;
+  const float* r = nullptr;
+  const float* eps = nullptr;
+  const glm::vec3* axes = nullptr;  // covariance frame's major axes
+  const geometry::ClusterShapes* shapes = nullptr;
+  const uint32_t* order = nullptr;  // queue order (chunk-local), or null
+  HostColors colors;
+  uint32_t first = 0, count = 0;
+  glm::mat4 view{1.0f};
+};
+
+// A splat as the tiled fragment shader sees it (its flat inputs).
+struct Splat {
+  glm::vec3 center{0.0f};  // view space
+  glm::vec3 u_axis{0.0f};  // t / (2 radius stretch)
+  glm::vec3 v_axis{0.0f};  // b / (2 radius)
+  glm::vec3 normal{0.0f};  // the plane's
+  glm::vec2 depth_range{0.0f};
+  float offset = 0.0f;  // depth_tolerance radii
+  glm::vec3 rgb{0.0f};
+  float cs[3] = {}, sn[3] = {};
+  bool two = false;
+  glm::ivec2 lo{0}, hi{0};  // local pixels the quad can cover, [lo, hi)
+  float wx[4] = {}, wy[4] = {};  // the quad's corners on screen (frame pixels), in order around it
+};
+
+// Householder, Eberly, square plate, covariance (brush_common.glsl).
+void frame_householder(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
+  const float s = n.x >= 0.0f ? 1.0f : -1.0f;
+  const float ih = 1.0f / (1.0f + std::abs(n.x));
+  t = {-s * n.y, 1.0f - n.y * n.y * ih, -n.y * n.z * ih};
+  b = {-s * n.z, -n.y * n.z * ih, 1.0f - n.z * n.z * ih};
+}
+void tangent_frame(int kind, glm::vec3 n, const glm::vec3* major, glm::vec3& t, glm::vec3& b) {
+  if (kind == 1) {
+    if (std::abs(n.x) > std::abs(n.y)) t = glm::vec3(-n.z, 0.0f, n.x) / std::sqrt(n.x * n.x + n.z * n.z);
+    else t = glm::vec3(0.0f, n.z, -n.y) / std::sqrt(n.y * n.y + n.z * n.z);
+    b = glm::cross(n, t);
+  } else if (kind == 2) {
+    glm::vec3 d(0.57735027f);
+    if (std::abs(glm::dot(n, d)) > 0.9f) d = glm::vec3(0.70710678f, -0.70710678f, 0.0f);
+    t = normalized(d - glm::dot(d, n) * n);
+    b = glm::cross(n, t);
+  } else if (kind == 3) {
+    const glm::vec3 along = *major - glm::dot(*major, n) * n;
+    if (glm::dot(along, along) < 1e-6f) return frame_householder(n, t, b);
+    t = normalized(along);
+    b = glm::cross(n, t);
+  } else {
+    frame_householder(n, t, b);
+  }
+}
+
+// brush_splat() and brush_splats_tiled.vert: false where nothing is drawn.
+bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
+  const glm::vec4 v = transform(c.view, c.positions[index]);
+  const glm::vec3 center(v);
+  const float depth = -v.z;
+  if (!(depth >= s.near && depth <= s.far)) return false;
+  float r = s.world_radius;
+  if (s.resolution_size) r = c.r[index] + (s.user_eps ? s.epsilon : c.eps[index]);
+  r *= s.size_scale;
+  const float px_per_unit = s.px_per_unit / (s.ortho ? 1.0f : std::max(depth, 1e-20f));
+  const float radius = std::min(r, s.max_radius_px / px_per_unit);
+  if (!(radius > 0.0f)) return false;
+  glm::vec3 n = as_uploaded(c.normals[index]);
+  const float len = std::sqrt(glm::dot(n, n));
+  const glm::mat3 to_view(c.view);
+  float stretch = 1.0f;
+  bool two = s.two_layers;
+  glm::vec3 tv(1.0f, 0.0f, 0.0f), bv(0.0f, 1.0f, 0.0f);
+  if (len > 1e-3f) {
+    n /= len;
+    glm::vec3 t, b;
+    glm::vec3 major(0.0f);
+    if (s.tangent_frame == 3) major = as_uploaded(c.axes[index]);
+    tangent_frame(s.tangent_frame, n, &major, t, b);
+    tv = normalized(to_view * t);
+    bv = normalized(to_view * b);
+    if (s.clusters && c.shapes->size[index] > 0) {
+      two = two || float(c.shapes->size[index]) < s.small_cluster;
+      const float st = std::min(std::pow(std::max(c.shapes->elongation[index], 1.0f), s.elongation_gain), s.max_stretch);
+      const glm::vec3 axis = as_uploaded(c.shapes->axis[index]);
+      const glm::vec3 along = axis - glm::dot(axis, n) * n;
+      if (st > 1.05f && glm::dot(along, along) > 0.01f) {
+        const glm::vec3 ta = normalized(along);
+        tv = normalized(to_view * ta);
+        bv = normalized(to_view * glm::cross(n, ta));
+        stretch = st;
+      }
+    }
+  }
+  // The whole splat beyond the near plane (the exact path draws no other).
+  const float reach_z = (std::abs(tv.z) * stretch + std::abs(bv.z)) * radius;
+  if (-center.z - reach_z < s.near) return false;
+  // The box of the quad's corners on screen (frame pixels), less the origin.
+  float min_x = kInf, min_y = kInf, max_x = -kInf, max_y = -kInf;
+  static constexpr float kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (int k = 0; k < 4; ++k) {
+    const float ux = kCorner[k][0], uy = kCorner[k][1];
+    const glm::vec3 p = center + (tv * ((ux - 0.5f) * stretch) + bv * (uy - 0.5f)) * (2.0f * radius);
+    const glm::vec4 clip = transform(s.projection, p);
+    const float wx = (clip.x / clip.w * 0.5f + 0.5f) * s.frame.x, wy = (clip.y / clip.w * 0.5f + 0.5f) * s.frame.y;
+    out.wx[k] = wx;
+    out.wy[k] = wy;
+    min_x = std::min(min_x, wx);
+    max_x = std::max(max_x, wx);
+    min_y = std::min(min_y, wy);
+    max_y = std::max(max_y, wy);
+  }
+  const float lo_x = float(s.clip.min.x + s.origin.x) - 2.0f, hi_x = float(s.clip.max.x + s.origin.x) + 2.0f;
+  const float lo_y = float(s.clip.min.y + s.origin.y) - 2.0f, hi_y = float(s.clip.max.y + s.origin.y) + 2.0f;
+  if (!(max_x >= lo_x && min_x <= hi_x && max_y >= lo_y && min_y <= hi_y)) return false;  // also NaN
+  // Pixels whose centre can lie in the box (one more each side: the uv
+  // test decides), clamped to the clip (no int overflow).
+  out.lo = {floor_int(std::max(min_x, lo_x) - 0.5f) - s.origin.x, floor_int(std::max(min_y, lo_y) - 0.5f) - s.origin.y};
+  out.hi = {floor_int(std::min(max_x, hi_x) - 0.5f) + 2 - s.origin.x,
+            floor_int(std::min(max_y, hi_y) - 0.5f) + 2 - s.origin.y};
+  out.center = center;
+  out.u_axis = tv / (2.0f * radius * stretch);
+  out.v_axis = bv / (2.0f * radius);
+  out.normal = glm::cross(tv, bv);
+  out.depth_range = {depth - reach_z, depth + reach_z};
+  out.offset = s.depth_tolerance * radius;
+  out.rgb = glm::vec3(c.colors.at(index));
+  out.two = two;
+  const uint32_t id = c.ids[index];
+  float a = s.angle + s.jitter * (2.0f * id_rand(id, 1u, s.seed) - 1.0f);
+  for (int col = 0; col < 3; ++col) {
+    if (col > 0) a += s.jitter * (2.0f * id_rand(id, uint32_t(col + 1), s.seed) - 1.0f);
+    out.cs[col] = std::cos(a);
+    out.sn[col] = std::sin(a);
+  }
+  return true;
+}
+
+// One layer of a splat's brush, per Gaussian (12 lanes, the last ones
+// never reached): its column's angle and its centre turned by it (R c),
+// so a fragment's q of every Gaussian is a few products without branches.
+constexpr int kLanes12 = 12;
+struct Layer {
+  float cs[kLanes12], sn[kLanes12];
+  float rcx[kLanes12], rcy[kLanes12];
+};
+Layer layer(const Settings& s, const float* cs, const float* sn) {
+  Layer l;
+  for (int k = 0; k < kLanes12; ++k) {
+    const int c = k < s.gaussians ? s.column[k] : 0;
+    l.cs[k] = cs[c];
+    l.sn[k] = sn[c];
+    l.rcx[k] = k < s.gaussians ? cs[c] * s.cx[k] - sn[c] * s.cy[k] : 1e30f;
+    l.rcy[k] = k < s.gaussians ? sn[c] * s.cx[k] + cs[c] * s.cy[k] : 1e30f;
+  }
+  return l;
+}
+
+float falloff(const Settings& s, float q) {  // exp(-q^lambda / 2), 0 <= q <= reach
+  const float t = q * s.inv_reach;
+  const float at = (s.sqrt_index ? std::sqrt(t) : t) * float(kTable);
+  const int i = int(at);
+  const float f = at - float(i);
+  const float a = s.table[size_t(i)], b = s.table[size_t(i) + 1];
+  return a + f * (b - a);
+}
+
+// brush_alpha() of brush_texture.glsl; with `stop`, returns as soon as the
+// clamped alpha reaches it (the partial sums only grow).
+float brush_alpha(const Settings& s, const Layer& l, float u, float v, float stop) {
+  float qx[kLanes12], qy[kLanes12];
+  for (int k = 0; k < kLanes12; ++k) {
+    qx[k] = std::abs(l.cs[k] * u - l.sn[k] * v - l.rcx[k]) * s.inv_sx;
+    qy[k] = std::abs(l.sn[k] * u + l.cs[k] * v - l.rcy[k]) * s.inv_sy;
+  }
+  float sum = 0.0f;
+  for (int k = 0; k < s.gaussians; ++k) {
+    // Either axis beyond the reach: nothing (also NaN).
+    if (!(qx[k] <= s.reach && qy[k] <= s.reach)) continue;
+    sum += falloff(s, qx[k]) * falloff(s, qy[k]);
+    if (s.amplitude * sum >= stop) break;
+  }
+  return std::clamp(s.amplitude * sum, 0.0f, 1.0f);
+}
+
+// The per-pixel images over the clip (tile pixels, row-major from clip.min).
+struct Images {
+  float* surface;  // the depth pass's nearest depth
+  float* accum;    // rgb * a, a
+  float* reveal;   // transmittance
+  int stride;
+  glm::ivec2 min;
+};
+
+// The splat's fragments over `area`: kDepth the depth pass, else the blend.
+template <bool kDepth, bool kOrtho>
+void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Images& im) {
+  const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
+  if (lo.x >= hi.x || lo.y >= hi.y) return;
+  // The layers at the first fragment that needs the brush (most of a
+  // depth pass's splats have none: they lie behind).
+  Layer first, second;
+  bool layers_ready = false;
+  auto prepare = [&] {
+    if (layers_ready) return;
+    layers_ready = true;
+    first = layer(s, sp.cs, sp.sn);
+    if (!sp.two) return;
+    float cs[3], sn[3];  // turned by the layer angle: cos(t + l), sin(t + l)
+    for (int c = 0; c < 3; ++c) {
+      cs[c] = sp.cs[c] * s.layer_cos - sp.sn[c] * s.layer_sin;
+      sn[c] = sp.sn[c] * s.layer_cos + sp.cs[c] * s.layer_sin;
+    }
+    second = layer(s, cs, sn);
+  };
+  // A fragment on the quad: its uv, depth and (blend) the squared length
+  // of its point's view vector, asked only when needed.
+  auto fragment = [&](size_t q, float u, float v, float depth, auto&& length) {
+    if (kDepth) {
+      if (!(depth < im.surface[q])) return;  // cannot be nearer: no brush
+      prepare();
+      const float a = brush_alpha(s, first, u, v, kBrushCut);
+      bool covers = a >= kBrushCut;
+      if (!covers && sp.two) {
+        const float u2 = (u - 0.5f) / s.layer_scale + 0.5f, v2 = (v - 0.5f) / s.layer_scale + 0.5f;
+        const float a2 = brush_alpha(s, second, u2, v2, kBrushCut);
+        // Neither layer reached the cut alone: both sums are whole.
+        covers = a2 >= kBrushCut || a2 + a * (1.0f - a2) >= kBrushCut;
+      }
+      if (covers) im.surface[q] = depth;
+      return;
+    }
+    // Near the surface: moved toward the camera by the offset along its ray
+    // (at most to the camera), not behind it. The move is at most the
+    // offset: only fragments between depth - offset and depth need it.
+    const float surface = im.surface[q];
+    if (!(depth <= surface)) {
+      if (!(depth - sp.offset <= surface)) return;
+      if (!kOrtho) {
+        // depth (1 - offset / max(|p|, depth)) <= surface, as |p| (depth -
+        // surface) <= depth offset (depth <= |p| holds): squared, no root.
+        const float behind = depth - surface, reach = depth * sp.offset;
+        if (!(length() * behind * behind <= reach * reach)) return;
+      }
+    }
+    prepare();
+    // Alphas clamp at 1: a sum that reaches it is whole.
+    float a = brush_alpha(s, first, u, v, 1.0f);
+    glm::vec3 rgb = sp.rgb;
+    if (sp.two) {
+      const float u2 = (u - 0.5f) / s.layer_scale + 0.5f, v2 = (v - 0.5f) / s.layer_scale + 0.5f;
+      const float a2 = brush_alpha(s, second, u2, v2, 1.0f);
+      const glm::vec3 rgb2 = s.layer_tint >= 0.0f ? rgb * (1.0f - s.layer_tint) + glm::vec3(s.layer_tint)
+                                                  : rgb * (1.0f + s.layer_tint);
+      const float total = a2 + a * (1.0f - a2);
+      rgb = total > 0.0f ? (rgb2 * a2 + rgb * a * (1.0f - a2)) / total : rgb;
+      a = total;
+    }
+    if (!(a >= kBrushCut)) return;
+    float* acc = im.accum + 4 * q;
+    acc[0] += rgb.r * a;
+    acc[1] += rgb.g * a;
+    acc[2] += rgb.b * a;
+    acc[3] += a;
+    im.reveal[q] *= 1.0f - a;
+  };
+  const float plane = glm::dot(sp.center, sp.normal);
+  const glm::vec4 col_x = s.view_from_pixel[0], col_y = s.view_from_pixel[1], col_w = s.view_from_pixel[3];
+  // Perspective: the pixel's ray h (homogeneous, linear in the frame pixel)
+  // meets the plane at p = h.xyz t, t = plane / dot(h.xyz, n) (h.w cancels):
+  // the ray's dot products with n, the axes and z are linear along a row.
+  const glm::vec3 hx(col_x);
+  const float dx = glm::dot(hx, sp.normal), ux = glm::dot(hx, sp.u_axis), vx = glm::dot(hx, sp.v_axis);
+  const float cu = 0.5f - glm::dot(sp.center, sp.u_axis), cv = 0.5f - glm::dot(sp.center, sp.v_axis);
+  const float near_d = sp.depth_range.x, far_d = sp.depth_range.y;
+  for (int y = lo.y; y < hi.y; ++y) {
+    // The row's span of the quad (its edges met with the row through the
+    // pixel centres), a pixel wider each side: the uv test decides.
+    const float yc = float(y + s.origin.y) + 0.5f;
+    float x_min = kInf, x_max = -kInf;
+    for (int e = 0; e < 4; ++e) {
+      const float xa = sp.wx[e], ya = sp.wy[e], xb = sp.wx[(e + 1) & 3], yb = sp.wy[(e + 1) & 3];
+      if ((ya - yc) * (yb - yc) > 0.0f) continue;
+      if (ya == yb) {
+        x_min = std::min(x_min, std::min(xa, xb));
+        x_max = std::max(x_max, std::max(xa, xb));
+        continue;
+      }
+      const float xc = xa + (yc - ya) * (xb - xa) / (yb - ya);
+      x_min = std::min(x_min, xc);
+      x_max = std::max(x_max, xc);
+    }
+    if (!(x_min <= x_max)) continue;
+    const int x0 = std::max(lo.x, floor_int(x_min - 0.5f) - s.origin.x);
+    const int x1 = std::min(hi.x, floor_int(x_max - 0.5f) + 2 - s.origin.x);
+    const glm::vec4 row = col_y * yc + col_w;
+    const glm::vec3 hr(row);
+    const size_t line = size_t(y - im.min.y) * size_t(im.stride) - size_t(im.min.x);
+    if (kOrtho) {
+      for (int x = x0; x < x1; ++x) {
+        // plane_point(): along -z through the pixel.
+        const glm::vec4 h = col_x * (float(x + s.origin.x) + 0.5f) + row;
+        const glm::vec3 on_ray = glm::vec3(h) / h.w;
+        const glm::vec3 p(on_ray.x, on_ray.y, on_ray.z + glm::dot(sp.center - on_ray, sp.normal) / sp.normal.z);
+        if (!(std::abs(p.z) < 3.0e38f)) continue;  // the plane seen edge on
+        const glm::vec3 rel = p - sp.center;
+        const float u = glm::dot(rel, sp.u_axis) + 0.5f, v = glm::dot(rel, sp.v_axis) + 0.5f;
+        if (!(u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f)) continue;  // off the quad
+        fragment(line + size_t(x), u, v, std::clamp(-p.z, near_d, far_d), [] { return 0.0f; });
+      }
+      continue;
+    }
+    const float d0 = glm::dot(hr, sp.normal), u0 = glm::dot(hr, sp.u_axis), v0 = glm::dot(hr, sp.v_axis);
+    // Eight pixels at a time without branches (the compiler's vectors),
+    // then the fragments on the quad one by one.
+    constexpr int kLanes = 8;
+    for (int xs = x0; xs < x1; xs += kLanes) {
+      float us[kLanes], vs[kLanes], ds[kLanes], ts[kLanes];
+      int on[kLanes];
+      for (int i = 0; i < kLanes; ++i) {
+        const float xc = float(xs + i + s.origin.x) + 0.5f;
+        const float t = plane / (d0 + xc * dx);
+        const float pz = t * (hr.z + xc * hx.z);
+        const float u = t * (u0 + xc * ux) + cu, v = t * (v0 + xc * vx) + cv;
+        us[i] = u;
+        vs[i] = v;
+        ts[i] = t;
+        ds[i] = std::min(std::max(-pz, near_d), far_d);
+        // Off the quad, or the plane seen edge on (not finite): nothing.
+        on[i] = (std::abs(pz) < 3.0e38f) & (u >= 0.0f) & (u <= 1.0f) & (v >= 0.0f) & (v <= 1.0f);
+      }
+      const int n = std::min(kLanes, x1 - xs);
+      for (int i = 0; i < n; ++i) {
+        if (!on[i]) continue;
+        fragment(line + size_t(xs + i), us[i], vs[i], ds[i], [&] {
+          const glm::vec3 p = (hx * (float(xs + i + s.origin.x) + 0.5f) + hr) * ts[i];  // h t
+          return glm::dot(p, p);
+        });
+      }
+    }
+  }
+}
+
+// The host images of the last frames, kept so a frame does not page-fault
+// them in anew (bounded by the largest clip, a tile's region at most).
+// Only the GL thread draws.
+struct HostImages {
+  std::vector<float> surface, accum, reveal, sums, color;
+  std::vector<Splat> splats;  // a batch's (at most kBatch)
+};
+HostImages& host_images(size_t pixels) {
+  thread_local HostImages images;
+  if (images.surface.size() < pixels) {
+    images.surface.resize(pixels);
+    images.accum.resize(4 * pixels);
+    images.reveal.resize(pixels);
+    images.sums.resize(4 * pixels);
+    images.color.resize(4 * pixels);
+  }
+  return images;
+}
+
+Settings settings(const MarkContext& ctx, const ParamValues& p) {
+  const Camera& cam = *ctx.camera;
+  Settings s;
+  const glm::ivec2 frame = frame_size(ctx.targets);
+  s.frame = glm::vec2(frame);
+  s.origin = ctx.targets.origin;
+  s.clip = ctx.clip;
+  s.near = float(cam.clip_start);
+  s.far = float(cam.clip_end);
+  s.ortho = cam.orthographic;
+  s.px_per_unit = float(cam.pixels_per_unit(1.0, frame.y));
+  s.projection = glm::mat4(cam.projection);
+  // As brush_splats.cpp's u_view_from_pixel: composed in double.
+  glm::dmat4 ndc_from_pixel(0.0);
+  ndc_from_pixel[0][0] = 2.0 / double(frame.x);
+  ndc_from_pixel[1][1] = 2.0 / double(frame.y);
+  ndc_from_pixel[3] = glm::dvec4(-1.0, -1.0, -1.0, 1.0);
+  s.view_from_pixel = glm::mat4(glm::inverse(cam.projection) * ndc_from_pixel);
+  s.resolution_size = p.get_enum_name("size_mode") == "resolution";
+  s.user_eps = s.resolution_size && p.get_enum_name("epsilon_mode") == "user";
+  s.epsilon = s.resolution_size ? float(p.get_float("epsilon")) : 0.0f;
+  s.size_scale = float(p.get_float("size_scale"));
+  s.world_radius = s.resolution_size ? 0.0f : float(p.get_float("world_radius"));
+  s.max_radius_px = float(p.get_float("max_radius"));
+  s.tangent_frame = p.get_enum("tangent_frame");
+  s.angle = float(glm::radians(p.get_float("brush_angle")));
+  s.jitter = float(glm::radians(p.get_float("angle_jitter")));
+  s.seed = uint32_t(p.get_int("seed"));
+  s.two_layers = p.get_enum_name("layers") == "two";
+  s.clusters = p.get_bool("clusters");
+  s.small_cluster = s.clusters ? float(p.get_int("small_cluster")) : 0.0f;
+  s.elongation_gain = float(p.get_float("elongation_stretch"));
+  s.max_stretch = float(p.get_float("max_stretch"));
+  s.depth_tolerance = float(p.get_float("depth_tolerance"));
+  s.gaussians = p.get_int("gaussians");
+  const int rows = (s.gaussians + 2) / 3;
+  const float dev = float(p.get_float("dev"));
+  int k = 0;
+  for (int row = 0; row < 3; ++row) {
+    const int cols = std::clamp(s.gaussians - row * 3, 0, 3);
+    for (int col = 0; col < cols; ++col, ++k) {
+      s.cx[k] = 0.5f + (float(col) - 0.5f * float(cols - 1)) * dev;
+      s.cy[k] = 0.5f + (float(row) - 0.5f * float(rows - 1)) * dev;
+      s.column[k] = col;
+    }
+  }
+  s.amplitude = float(p.get_float("amplitude"));
+  s.inv_sx = 1.0f / float(p.get_float("sigma_x"));
+  s.inv_sy = 1.0f / float(p.get_float("sigma_y"));
+  s.reach = float(brush_reach(p));
+  s.inv_reach = 1.0f / s.reach;
+  s.layer_scale = float(p.get_float("layer_scale"));
+  const float layer_angle = float(glm::radians(p.get_float("layer_angle")));
+  s.layer_cos = std::cos(layer_angle);
+  s.layer_sin = std::sin(layer_angle);
+  s.layer_tint = float(p.get_float("layer_tint"));
+  const double lambda = p.get_float("lambda");
+  s.table.resize(kTable + 2);
+  s.sqrt_index = lambda < 1.0;
+  for (int i = 0; i <= kTable; ++i) {
+    const double t = double(i) / kTable;
+    s.table[size_t(i)] = float(std::exp(-0.5 * std::pow(double(s.reach) * (s.sqrt_index ? t * t : t), lambda)));
+  }
+  s.table[kTable + 1] = s.table[kTable];
+  return s;
+}
+
+// brush_blur.comp over the clip: along x into `sums`, then along y into `out`.
+void blur(const Settings& s, const ParamValues& p, const float* color, const float* depth, float* sums, float* out) {
+  const int radius = p.get_int("blur_radius");
+  const float sigma = std::max(0.5f, 0.5f * float(radius));
+  const float tolerance = float(p.get_float("blur_depth_tolerance"));
+  std::vector<float> weight(size_t(2 * radius + 1));
+  for (int k = -radius; k <= radius; ++k) weight[size_t(k + radius)] = std::exp(-0.5f * float(k * k) / (sigma * sigma));
+  const glm::ivec2 size = s.clip.size();
+  auto at = [&](int x, int y) { return size_t(y) * size_t(size.x) + size_t(x); };
+  tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = 0; x < size.x; ++x) {
+        const float d = depth[at(x, y)];
+        float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        if (!std::isinf(d)) {
+          for (int k = -radius; k <= radius; ++k) {
+            const size_t q = at(std::clamp(x + k, 0, size.x - 1), y);
+            const float dq = depth[q];
+            if (std::isinf(dq) || std::abs(dq - d) > tolerance * d) continue;
+            const float w = weight[size_t(k + radius)] * color[4 * q + 3];
+            for (int c = 0; c < 3; ++c) sum[c] += color[4 * q + size_t(c)] * w;
+            sum[3] += w;
+          }
+        }
+        std::memcpy(&sums[4 * at(x, y)], sum, 16);
+      }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = 0; x < size.x; ++x) {
+        const size_t i = at(x, y);
+        const float d = depth[i];
+        const float* c = &color[4 * i];
+        float* o = &out[4 * i];
+        if (std::isinf(d)) {
+          std::memcpy(o, c, 16);
+          continue;
+        }
+        float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (int k = -radius; k <= radius; ++k) {
+          const size_t q = at(x, std::clamp(y + k, 0, size.y - 1));
+          const float dq = depth[q];
+          if (std::isinf(dq) || std::abs(dq - d) > tolerance * d) continue;
+          for (int ch = 0; ch < 4; ++ch) sum[ch] += weight[size_t(k + radius)] * sums[4 * q + size_t(ch)];
+        }
+        for (int ch = 0; ch < 3; ++ch) o[ch] = sum[3] > 0.0f ? sum[ch] / sum[3] : c[ch];
+        o[3] = c[3];
+      }
+  });
+}
+
+}  // namespace
+
+void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
+  const Rect clip = ctx.clip;
+  if (clip.empty()) {
+    if (ctx.coverage) *ctx.coverage = Rect{};
+    return;
+  }
+  const Settings s = settings(ctx, p);
+  const bool queued = draws_queue(ctx, p);
+  const int k = p.get_int("resolution_neighbors");
+  const int normal_k = p.get_int("normal_neighbors");
+  const bool radius_normals = p.get_enum_name("normals") == "radius_3r";
+  const ColorSource source = ColorSource(p.get_enum("color_source"));
+  const glm::vec4 constant = p.get_color("color");
+
+  // Host data of every chunk (what the GPU cloud uploaded, from the same
+  // caches), held while drawing.
+  std::vector<Chunk> chunks(ctx.chunks.size());
+  std::vector<std::shared_ptr<const void>> held;
+  const PointCloud* last = nullptr;
+  Chunk proto;
+  for (size_t i = 0; i < ctx.chunks.size(); ++i) {
+    const VisibleChunk& v = ctx.chunks[i];
+    std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
+    if (!cloud) throw GLError("brush_splats: a visible chunk's cloud is gone");
+    if (cloud.get() != last) {
+      last = cloud.get();
+      geometry::Analysis& analysis = cloud->analysis();
+      proto = Chunk{};
+      proto.positions = cloud->local_positions().data();
+      proto.ids = cloud->point_index().data();
+      if (v.gpu->own_normals) {
+        proto.normals = cloud->normals().data();
+      } else {
+        geometry::NormalOptions o{normal_k, geometry::Orientation::Consistent, {}};
+        if (radius_normals) o.radius_factor = 3.0;
+        auto normals = analysis.normals(o);
+        proto.normals = normals->data();
+        held.push_back(normals);
+      }
+      if (s.resolution_size) {
+        auto resolution = analysis.local_resolution(k);
+        proto.r = resolution->r.data();
+        proto.eps = resolution->eps.data();
+        held.push_back(resolution);
+      }
+      if (s.tangent_frame == 3) {
+        auto pca = analysis.pca(normal_k);
+        auto axes = std::make_shared<const std::vector<glm::vec3>>(analysis.points().to_original(pca->major));
+        proto.axes = axes->data();
+        held.push_back(axes);
+      }
+      if (s.clusters) {
+        auto shapes = analysis.cluster_shapes(p.get_int("cluster_neighbors"));
+        proto.shapes = shapes.get();
+        held.push_back(shapes);
+      }
+      proto.order = queued ? v.gpu->host_queue_order().data() : nullptr;
+      proto.colors = host_colors(*v.gpu, *cloud, source, constant);
+      held.push_back(cloud);
+    }
+    Chunk& c = chunks[i];
+    c = proto;
+    c.order = draws_queue(v, p) ? v.gpu->host_queue_order().data() + v.chunk->first : nullptr;
+    c.first = v.chunk->first;
+    c.count = queue_count(v, p);
+    c.view = v.view_from_chunk;
+  }
+  uint64_t drawn = 0;
+  for (const Chunk& c : chunks) drawn += c.count;
+
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  const glm::ivec2 size = clip.size();
+  const size_t pixels = size_t(size.x) * size_t(size.y);
+  HostImages& host = host_images(pixels);
+  const Images im{host.surface.data(), host.accum.data(), host.reveal.data(), size.x, clip.min};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+    std::fill(im.surface + r.begin(), im.surface + r.end(), kInf);
+    std::fill(im.accum + 4 * r.begin(), im.accum + 4 * r.end(), 0.0f);
+    std::fill(im.reveal + r.begin(), im.reveal + r.end(), 1.0f);
+  });
+
+  // Batches of whole chunks (a chunk larger than a batch is one), set up
+  // in parallel and kept in point order; with one batch the blend pass
+  // reuses the depth pass's splats.
+  struct Item {
+    uint32_t chunk, begin, end;
+  };
+  std::vector<std::pair<size_t, size_t>> batches;
+  for (size_t b = 0; b < chunks.size();) {
+    size_t e = b;
+    uint64_t used = 0;
+    while (e < chunks.size() && (e == b || used + chunks[e].count <= kBatch)) used += chunks[e++].count;
+    batches.push_back({b, e});
+    b = e;
+  }
+  std::vector<Splat>& splats = host.splats;
+  double setup_ms = 0.0;
+  auto set_up = [&](size_t b, size_t e) {
+    const auto ts = Clock::now();
+    std::vector<Item> items;
+    for (size_t i = b; i < e; ++i)
+      for (uint32_t j = 0; j < chunks[i].count; j += kGrain)
+        items.push_back({uint32_t(i), j, std::min(chunks[i].count, j + kGrain)});
+    // Each point's slot in point order; one not drawn covers nothing.
+    std::vector<size_t> slot(items.size() + 1, 0);
+    for (size_t n = 0; n < items.size(); ++n) slot[n + 1] = slot[n] + (items[n].end - items[n].begin);
+    splats.resize(slot.back());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t n = r.begin(); n < r.end(); ++n) {
+        const Item& it = items[n];
+        const Chunk& c = chunks[it.chunk];
+        Splat* out = splats.data() + slot[n];
+        for (uint32_t j = it.begin; j < it.end; ++j, ++out)
+          if (!setup(c, s, c.first + (c.order ? c.order[j] : j), *out)) out->lo = out->hi = glm::ivec2(0);
+      }
+    });
+    setup_ms += std::chrono::duration<double, std::milli>(Clock::now() - ts).count();
+  };
+  auto pass = [&](auto depth_pass) {
+    constexpr bool kDepth = decltype(depth_pass)::value;
+    auto bounds = [&](size_t i, glm::ivec2& lo, glm::ivec2& hi) {
+      lo = splats[i].lo;
+      hi = splats[i].hi;
+      return lo.x < hi.x && lo.y < hi.y;
+    };
+    for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
+      std::vector<uint32_t> order(list, list + n);  // point order
+      if (kDepth) {
+        // The nearest depth does not depend on the order: near splats first
+        // leave most later fragments behind it, unshaded.
+        std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+          const float da = splats[a].depth_range.x, db = splats[b].depth_range.x;
+          return da < db || (da == db && a < b);
+        });
+      }
+      // The bin's farthest surface (depth pass: so far, every few splats):
+      // a splat wholly behind it (blend: by more than its offset) has no
+      // fragment that could be nearer (blend: near the surface).
+      auto farthest = [&] {
+        float far = -kInf;
+        for (int y = area.min.y; y < area.max.y; ++y) {
+          const float* line = im.surface + size_t(y - im.min.y) * size_t(im.stride) - size_t(im.min.x);
+          for (int x = area.min.x; x < area.max.x; ++x) far = std::max(far, line[x]);
+        }
+        return far;
+      };
+      float bin_far = kDepth ? kInf : farthest();
+      // Recomputed once the splats since cover the bin's area (so the scan
+      // costs at most what they did).
+      const size_t bin_area = size_t(area.size().x) * size_t(area.size().y);
+      size_t painted = 0;
+      for (uint32_t i : order) {
+        if (!kDepth && splats[i].depth_range.x - splats[i].offset > bin_far) continue;
+        if (kDepth) {
+          const glm::ivec2 box = glm::min(splats[i].hi, area.max) - glm::max(splats[i].lo, area.min);
+          painted += size_t(std::max(box.x, 0)) * size_t(std::max(box.y, 0));
+          if (painted >= bin_area) {
+            painted = 0;
+            bin_far = farthest();
+          }
+          if (splats[i].depth_range.x >= bin_far) break;  // and every later one (sorted)
+        }
+        if (s.ortho) rasterize<kDepth, true>(splats[i], s, area, im);
+        else rasterize<kDepth, false>(splats[i], s, area, im);
+      }
+    }, kBinSide);
+  };
+  for (const auto& [b, e] : batches) {
+    set_up(b, e);
+    pass(std::true_type{});
+  }
+  const auto t1 = Clock::now();
+  for (const auto& [b, e] : batches) {
+    if (batches.size() > 1) set_up(b, e);
+    pass(std::false_type{});
+  }
+  const auto t2 = Clock::now();
+
+  // Resolve (brush_resolve.comp): straight colour, coverage, the surface's
+  // depth (every blended fragment lies on a pixel the depth pass covered).
+  float* color = host.color.data();
+  float* depth = im.surface;
+  std::vector<glm::ivec2> row_span(size_t(size.y), glm::ivec2(size.x, -1));
+  tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = 0; x < size.x; ++x) {
+        const size_t q = size_t(y) * size_t(size.x) + size_t(x);
+        const float alpha = 1.0f - std::clamp(im.reveal[q], 0.0f, 1.0f);
+        const float* acc = im.accum + 4 * q;
+        float* c = color + 4 * q;
+        if (alpha > 0.0f && acc[3] > 0.0f && !std::isinf(depth[q])) {
+          for (int ch = 0; ch < 3; ++ch) c[ch] = std::clamp(acc[ch] / acc[3], 0.0f, 1.0f);
+          c[3] = alpha;
+          row_span[size_t(y)] = {std::min(row_span[size_t(y)].x, x), x};
+        } else {
+          std::fill(c, c + 4, 0.0f);
+          depth[q] = kInf;
+        }
+      }
+  });
+  const float* result = color;
+  if (p.get_enum_name("blending") != "none" && p.get_int("blur_radius") > 0) {
+    blur(s, p, color, depth, host.sums.data(), host.accum.data());
+    result = host.accum.data();
+  }
+  const auto t3 = Clock::now();
+  upload_cpu_mark(ctx.targets, clip, result, depth, row_span, ctx.coverage, "brush_splats");
+  if (ctx.stats) {
+    auto ms = [](Clock::time_point a, Clock::time_point b) {
+      return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    (*ctx.stats)["splats_drawn"] += double(drawn);
+    (*ctx.stats)["brush_native_setup_ms"] += setup_ms;
+    (*ctx.stats)["brush_native_depth_ms"] += ms(t0, t1);
+    (*ctx.stats)["brush_native_blend_ms"] += ms(t1, t2);
+    (*ctx.stats)["brush_native_resolve_ms"] += ms(t2, t3);
+    (*ctx.stats)["brush_native_upload_ms"] += ms(t3, Clock::now());
+  }
+}
+
+}  // namespace pointnpr

@@ -1,0 +1,118 @@
+"""The brush_splats mark's native path (cpp/marks/brush_splats_native.cpp,
+`rasterizer` native, and auto on software GL for blur and none) against
+its GL passes (cpp/marks/brush_splats.cpp), on the lion at the golden
+camera; its bytes in another process with one thread, and its tiles
+(tests/python/test_marks_brush_splats.py runs the tiled frames on both
+paths, and its other behaviour tests on whatever auto picks).
+
+Tolerance: the golden images' (a channel within 2/255) on at least 99 % of
+the pixels; the native brush is a tabulated exp(-q^lambda / 2) and the
+quad's edges are decided by uv in [0, 1] rather than the GL's fixed-point
+edges, so a splat edge pixel now and then falls to the other splat."""
+import hashlib
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import pointnpr
+from pointnpr import presets
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+W, H = 320, 224
+
+
+@pytest.fixture(scope="module")
+def lion():
+    return pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
+
+
+def _camera(width=W, height=H):
+    return pointnpr.Camera.perspective(pointnpr.look_at((2.6, -1.6, 1.5), (-2.9, 3.9, -1.2)), lens=35.0,
+                                       clip_start=0.1, clip_end=100.0, width=width, height=height)
+
+
+def _render(renderer, params, cloud, capture=False, **kw):
+    scene = pointnpr.Scene()
+    scene.add_segment("scan", pointnpr.Style(mark=("brush_splats", params)), [(cloud, np.eye(4))])
+    return renderer.render(scene, _camera(), W, H, background=(1, 1, 1, 0), capture_marks=capture, **kw)
+
+
+CASES = {"blur": {}, "none": {"blending": "none"}, "two layers": {"layers": "two", "layer_tint": -0.3},
+         "clusters": {"clusters": True, "small_cluster": 400},
+         "covariance frame, user eps": {"tangent_frame": "covariance", "epsilon_mode": "user", "epsilon": 0.002},
+         "queue": {"density_mode": "constant_on_screen", "queue_level": 2.0}}
+CASES.update({name: p["mark"][1] for name, p in presets.PRESETS.items() if p["mark"][0] == "brush_splats"})
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_the_native_path_draws_the_gl_paths_image(renderer, lion, case):
+    gl, native = (_render(renderer, dict(CASES[case], rasterizer=r), lion, capture=True) for r in ("gl", "native"))
+    assert gl.stats["splats_drawn"] == native.stats["splats_drawn"] > 0
+    assert "brush_native_blend_ms" in native.stats and "brush_native_blend_ms" not in gl.stats
+    # The same splats captured (the capture is the GL's on both paths).
+    assert np.array_equal(np.asarray(gl.marks["point_id"]), np.asarray(native.marks["point_id"]))
+    a, b = np.asarray(gl.color), np.asarray(native.color)
+    covered = a[..., 3] > 0
+    assert covered.mean() > 0.2
+    assert ((b[..., 3] > 0) != covered).mean() <= 0.001
+    assert (np.abs(a - b).max(axis=-1) > 2.0 / 255.0).mean() <= 0.01
+    da, db = np.asarray(gl.depth), np.asarray(native.depth)
+    same = (np.isinf(da) & np.isinf(db)) | np.isclose(da, db, rtol=1e-3, atol=0)
+    assert (~same).mean() <= 0.005
+
+
+def test_the_native_path_is_closer_still_to_the_gl_exact_path(renderer, lion):
+    # Its rules are the tile-invariant passes' (brush_splats_tiled.*): per
+    # frame pixel, the same moved-depth test.
+    exact = _render(renderer, {"rasterizer": "gl", "tile_invariant": True}, lion)
+    native = _render(renderer, {"rasterizer": "native"}, lion)
+    a, b = np.asarray(exact.color), np.asarray(native.color)
+    assert (np.abs(a - b).max(axis=-1) > 2.0 / 255.0).mean() <= 0.005
+
+
+def test_auto_is_native_on_software_gl_for_blur_and_none_and_gl_for_the_a_buffer(renderer, lion):
+    software = bool(pointnpr.gl_info()["software"])
+    for blending, native in (("blur", software), ("none", software), ("a_buffer", False)):
+        r = _render(renderer, {"blending": blending}, lion)
+        assert ("brush_native_blend_ms" in r.stats) == native, blending
+    # Asked for, the A-buffer is still GL's lists (and their stats).
+    r = _render(renderer, {"blending": "a_buffer", "rasterizer": "native"}, lion)
+    assert "brush_native_blend_ms" not in r.stats and r.stats["a_buffer_fragments"] > 0
+
+
+def test_the_native_path_draws_the_same_bytes_frame_after_frame(renderer, lion):
+    """Splats blend in point order per screen bin, whatever order the
+    threads ran the bins in."""
+    first = _render(renderer, {"rasterizer": "native"}, lion)
+    again = _render(renderer, {"rasterizer": "native"}, lion)
+    assert np.asarray(first.color).tobytes() == np.asarray(again.color).tobytes()
+    assert np.asarray(first.depth).tobytes() == np.asarray(again.depth).tobytes()
+
+
+_THREADS_SCRIPT = r"""
+import os, sys
+os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})  # one CPU: TBB runs one thread
+sys.path.insert(0, sys.argv[1])
+sys.path.insert(0, sys.argv[2])
+import pointnpr
+import test_marks_brush_splats_native as t
+print(t._native_digest(pointnpr.Renderer()))
+"""
+
+
+def _native_digest(renderer):
+    cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
+    r = _render(renderer, {"rasterizer": "native", "layers": "two", "clusters": True}, cloud)
+    return hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest()
+
+
+def test_the_native_path_draws_the_same_bytes_with_one_thread_in_another_process(renderer):
+    from conftest import BUILD_DIR
+    assert len(os.sched_getaffinity(0)) > 1  # else this process would run one thread too
+    out = subprocess.run([sys.executable, "-c", _THREADS_SCRIPT, os.path.abspath(BUILD_DIR),
+                          os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
+                         timeout=600)
+    assert out.stdout.strip() == _native_digest(renderer)
