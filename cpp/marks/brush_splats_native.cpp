@@ -31,6 +31,7 @@
 #include <limits>
 #include <memory>
 
+#include <immintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -288,77 +289,148 @@ struct Images {
   glm::ivec2 min;
 };
 
-// The splat's fragments over `area`: kDepth the depth pass, else the blend.
-template <bool kDepth, bool kOrtho>
-void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Images& im) {
-  const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
-  if (lo.x >= hi.x || lo.y >= hi.y) return;
-  // The layers at the first fragment that needs the brush (most of a
-  // depth pass's splats have none: they lie behind).
-  Layer first, second;
-  bool layers_ready = false;
-  auto prepare = [&] {
-    if (layers_ready) return;
-    layers_ready = true;
-    first = layer(s, sp.cs, sp.sn);
-    if (!sp.two) return;
-    float cs[3], sn[3];  // turned by the layer angle: cos(t + l), sin(t + l)
-    for (int c = 0; c < 3; ++c) {
-      cs[c] = sp.cs[c] * s.layer_cos - sp.sn[c] * s.layer_sin;
-      sn[c] = sp.sn[c] * s.layer_cos + sp.cs[c] * s.layer_sin;
+// A splat's fragments that passed the depth tests, gathered (in the
+// order the row loop meets them) so the brush is evaluated for many at a
+// time. Each pixel appears once per splat, so deferring its write changes
+// nothing another of the splat's fragments reads.
+struct Fragments {
+  static constexpr int kMax = 256;  // a multiple of the brush's lanes, at least a row (a bin's side)
+  static_assert(kMax % 8 == 0 && kMax >= kBinSide);
+  int n = 0;
+  uint32_t q[kMax];
+  alignas(32) float u[kMax], v[kMax], depth[kMax];
+};
+
+// falloff() on eight lanes; a lane out of reach (`in` clear) reads entry 0.
+__attribute__((target("avx2"), always_inline)) inline __m256 falloff_avx2(const Settings& s, __m256 q, __m256 in) {
+  __m256 t = _mm256_mul_ps(q, _mm256_set1_ps(s.inv_reach));
+  if (s.sqrt_index) t = _mm256_sqrt_ps(t);
+  const __m256 at = _mm256_mul_ps(t, _mm256_set1_ps(float(kTable)));
+  const __m256i i = _mm256_and_si256(_mm256_cvttps_epi32(at), _mm256_castps_si256(in));
+  const __m256 f = _mm256_sub_ps(at, _mm256_cvtepi32_ps(i));
+  const __m256 a = _mm256_i32gather_ps(s.table.data(), i, 4), b = _mm256_i32gather_ps(s.table.data() + 1, i, 4);
+  return _mm256_add_ps(a, _mm256_mul_ps(f, _mm256_sub_ps(b, a)));
+}
+
+// brush_alpha() for n fragments of one layer. The AVX2 lanes run the same
+// float operations in the same order as brush_alpha() (no FMA: the target
+// does not enable it), without its early stop: a sum past `stop` is never
+// read but as >= stop (depth pass) or clamped to 1 (blend), so every
+// decision and byte is the scalar path's on any CPU.
+__attribute__((target("avx2"))) void brush_alphas_avx2(const Settings& s, const Layer& l, const float* u,
+                                                        const float* v, int n, float* out) {
+  const __m256 inv_sx = _mm256_set1_ps(s.inv_sx), inv_sy = _mm256_set1_ps(s.inv_sy);
+  const __m256 reach = _mm256_set1_ps(s.reach), amplitude = _mm256_set1_ps(s.amplitude);
+  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+  for (int j = 0; j < n; j += 8) {
+    const __m256 uu = _mm256_load_ps(u + j), vv = _mm256_load_ps(v + j);
+    __m256 sum = zero;
+    for (int k = 0; k < s.gaussians; ++k) {
+      const __m256 cs = _mm256_set1_ps(l.cs[k]), sn = _mm256_set1_ps(l.sn[k]);
+      const __m256 qx = _mm256_mul_ps(
+          _mm256_and_ps(_mm256_sub_ps(_mm256_sub_ps(_mm256_mul_ps(cs, uu), _mm256_mul_ps(sn, vv)),
+                                      _mm256_set1_ps(l.rcx[k])), magnitude), inv_sx);
+      const __m256 qy = _mm256_mul_ps(
+          _mm256_and_ps(_mm256_sub_ps(_mm256_add_ps(_mm256_mul_ps(sn, uu), _mm256_mul_ps(cs, vv)),
+                                      _mm256_set1_ps(l.rcy[k])), magnitude), inv_sy);
+      const __m256 in = _mm256_and_ps(_mm256_cmp_ps(qx, reach, _CMP_LE_OQ), _mm256_cmp_ps(qy, reach, _CMP_LE_OQ));
+      if (_mm256_movemask_ps(in) == 0) continue;
+      const __m256 fx = falloff_avx2(s, qx, in), fy = falloff_avx2(s, qy, in);
+      sum = _mm256_add_ps(sum, _mm256_and_ps(_mm256_mul_ps(fx, fy), in));
     }
-    second = layer(s, cs, sn);
-  };
-  // A fragment on the quad: its uv, depth and (blend) the squared length
-  // of its point's view vector, asked only when needed.
-  auto fragment = [&](size_t q, float u, float v, float depth, auto&& length) {
+    _mm256_store_ps(out + j, _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(amplitude, sum), zero), one));
+  }
+}
+
+const bool kHasAvx2 = __builtin_cpu_supports("avx2");
+
+void brush_alphas(const Settings& s, const Layer& l, const float* u, const float* v, int n, float stop, float* out) {
+  if (kHasAvx2) return brush_alphas_avx2(s, l, u, v, n, out);
+  for (int j = 0; j < n; ++j) out[j] = brush_alpha(s, l, u[j], v[j], stop);
+}
+
+// The brush of a splat's gathered fragments, then their depth (depth
+// pass) or blend.
+template <bool kDepth>
+void shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& second, Fragments& f,
+           const Images& im) {
+  const int n = f.n;
+  if (n == 0) return;
+  for (int j = n; j < ((n + 7) & ~7); ++j) f.u[j] = f.v[j] = 0.0f;  // whole lanes
+  const float stop = kDepth ? kBrushCut : 1.0f;
+  alignas(32) float a1[Fragments::kMax], a2[Fragments::kMax];
+  brush_alphas(s, first, f.u, f.v, n, stop, a1);
+  if (sp.two) {
+    alignas(32) float u2[Fragments::kMax], v2[Fragments::kMax];
+    for (int j = 0; j < ((n + 7) & ~7); ++j) {
+      u2[j] = (f.u[j] - 0.5f) / s.layer_scale + 0.5f;
+      v2[j] = (f.v[j] - 0.5f) / s.layer_scale + 0.5f;
+    }
+    brush_alphas(s, second, u2, v2, n, stop, a2);
+  }
+  for (int j = 0; j < n; ++j) {
+    const size_t q = f.q[j];
+    float a = a1[j];
     if (kDepth) {
-      if (!(depth < im.surface[q])) return;  // cannot be nearer: no brush
-      prepare();
-      const float a = brush_alpha(s, first, u, v, kBrushCut);
       bool covers = a >= kBrushCut;
-      if (!covers && sp.two) {
-        const float u2 = (u - 0.5f) / s.layer_scale + 0.5f, v2 = (v - 0.5f) / s.layer_scale + 0.5f;
-        const float a2 = brush_alpha(s, second, u2, v2, kBrushCut);
-        // Neither layer reached the cut alone: both sums are whole.
-        covers = a2 >= kBrushCut || a2 + a * (1.0f - a2) >= kBrushCut;
-      }
-      if (covers) im.surface[q] = depth;
-      return;
+      // Neither layer reached the cut alone: both sums are whole.
+      if (!covers && sp.two) covers = a2[j] >= kBrushCut || a2[j] + a * (1.0f - a2[j]) >= kBrushCut;
+      if (covers) im.surface[q] = f.depth[j];
+      continue;
     }
-    // Near the surface: moved toward the camera by the offset along its ray
-    // (at most to the camera), not behind it. The move is at most the
-    // offset: only fragments between depth - offset and depth need it.
-    const float surface = im.surface[q];
-    if (!(depth <= surface)) {
-      if (!(depth - sp.offset <= surface)) return;
-      if (!kOrtho) {
-        // depth (1 - offset / max(|p|, depth)) <= surface, as |p| (depth -
-        // surface) <= depth offset (depth <= |p| holds): squared, no root.
-        const float behind = depth - surface, reach = depth * sp.offset;
-        if (!(length() * behind * behind <= reach * reach)) return;
-      }
-    }
-    prepare();
-    // Alphas clamp at 1: a sum that reaches it is whole.
-    float a = brush_alpha(s, first, u, v, 1.0f);
     glm::vec3 rgb = sp.rgb;
     if (sp.two) {
-      const float u2 = (u - 0.5f) / s.layer_scale + 0.5f, v2 = (v - 0.5f) / s.layer_scale + 0.5f;
-      const float a2 = brush_alpha(s, second, u2, v2, 1.0f);
       const glm::vec3 rgb2 = s.layer_tint >= 0.0f ? rgb * (1.0f - s.layer_tint) + glm::vec3(s.layer_tint)
                                                   : rgb * (1.0f + s.layer_tint);
-      const float total = a2 + a * (1.0f - a2);
-      rgb = total > 0.0f ? (rgb2 * a2 + rgb * a * (1.0f - a2)) / total : rgb;
+      const float total = a2[j] + a * (1.0f - a2[j]);
+      rgb = total > 0.0f ? (rgb2 * a2[j] + rgb * a * (1.0f - a2[j])) / total : rgb;
       a = total;
     }
-    if (!(a >= kBrushCut)) return;
+    if (!(a >= kBrushCut)) continue;
     float* acc = im.accum + 4 * q;
     acc[0] += rgb.r * a;
     acc[1] += rgb.g * a;
     acc[2] += rgb.b * a;
     acc[3] += a;
     im.reveal[q] *= 1.0f - a;
+  }
+  f.n = 0;
+}
+
+// The splat's fragments over `area`: kDepth the depth pass, else the blend.
+template <bool kDepth, bool kOrtho>
+__attribute__((always_inline)) inline void rasterize_body(const Splat& sp, const Settings& s, const Rect& area,
+                                                          const Images& im) {
+  const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
+  if (lo.x >= hi.x || lo.y >= hi.y) return;
+  Fragments frags;
+  // The layers at the first fragments that need the brush (most of a
+  // depth pass's splats have none: they lie behind).
+  Layer first, second;
+  bool layers_ready = false;
+  auto flush = [&] {
+    if (frags.n == 0) return;
+    if (!layers_ready) {
+      layers_ready = true;
+      first = layer(s, sp.cs, sp.sn);
+      if (sp.two) {
+        float cs[3], sn[3];  // turned by the layer angle: cos(t + l), sin(t + l)
+        for (int c = 0; c < 3; ++c) {
+          cs[c] = sp.cs[c] * s.layer_cos - sp.sn[c] * s.layer_sin;
+          sn[c] = sp.sn[c] * s.layer_cos + sp.cs[c] * s.layer_sin;
+        }
+        second = layer(s, cs, sn);
+      }
+    }
+    shade<kDepth>(sp, s, first, second, frags, im);
+  };
+  auto push = [&](size_t q, float u, float v, float depth, bool keep) {
+    frags.q[frags.n] = uint32_t(q);
+    frags.u[frags.n] = u;
+    frags.v[frags.n] = v;
+    frags.depth[frags.n] = depth;
+    frags.n += keep;
   };
   const float plane = glm::dot(sp.center, sp.normal);
   const glm::vec4 col_x = s.view_from_pixel[0], col_y = s.view_from_pixel[1], col_w = s.view_from_pixel[3];
@@ -389,6 +461,9 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
     if (!(x_min <= x_max)) continue;
     const int x0 = std::max(lo.x, floor_int(x_min - 0.5f) - s.origin.x);
     const int x1 = std::min(hi.x, floor_int(x_max - 0.5f) + 2 - s.origin.x);
+    if (x0 >= x1) continue;
+    // Room for a whole row (at most the area's width) before it is walked.
+    if (frags.n + (x1 - x0) > Fragments::kMax) flush();
     const glm::vec4 row = col_y * yc + col_w;
     const glm::vec3 hr(row);
     const size_t line = size_t(y - im.min.y) * size_t(im.stride) - size_t(im.min.x);
@@ -402,17 +477,25 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
         const glm::vec3 rel = p - sp.center;
         const float u = glm::dot(rel, sp.u_axis) + 0.5f, v = glm::dot(rel, sp.v_axis) + 0.5f;
         if (!(u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f)) continue;  // off the quad
-        fragment(line + size_t(x), u, v, std::clamp(-p.z, near_d, far_d), [] { return 0.0f; });
+        const float depth = std::clamp(-p.z, near_d, far_d), surface = im.surface[line + size_t(x)];
+        // Orthographic rays are parallel: the move toward the camera is the offset itself.
+        const bool keep = kDepth ? depth < surface : (depth <= surface || depth - sp.offset <= surface);
+        push(line + size_t(x), u, v, depth, keep);
       }
       continue;
     }
     const float d0 = glm::dot(hr, sp.normal), u0 = glm::dot(hr, sp.u_axis), v0 = glm::dot(hr, sp.v_axis);
-    // Eight pixels at a time without branches (the compiler's vectors),
-    // then the fragments on the quad one by one.
+    // Eight pixels at a time without branches (the compiler's vectors):
+    // on the quad, and nearer than the surface (depth pass) or near it
+    // (blend: within the offset moved toward the camera along the pixel's
+    // ray, at most to the camera: depth (1 - offset / max(|p|, depth)) <=
+    // surface, as |p| (depth - surface) <= depth offset, squared).
     constexpr int kLanes = 8;
     for (int xs = x0; xs < x1; xs += kLanes) {
-      float us[kLanes], vs[kLanes], ds[kLanes], ts[kLanes];
-      int on[kLanes];
+      const int n = std::min(kLanes, x1 - xs);
+      float us[kLanes], vs[kLanes], ds[kLanes];
+      int keep[kLanes];
+      const float* surface = im.surface + line + size_t(xs);  // the images hold a lane's slack past their end
       for (int i = 0; i < kLanes; ++i) {
         const float xc = float(xs + i + s.origin.x) + 0.5f;
         const float t = plane / (d0 + xc * dx);
@@ -420,21 +503,37 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
         const float u = t * (u0 + xc * ux) + cu, v = t * (v0 + xc * vx) + cv;
         us[i] = u;
         vs[i] = v;
-        ts[i] = t;
-        ds[i] = std::min(std::max(-pz, near_d), far_d);
+        const float depth = std::min(std::max(-pz, near_d), far_d);
+        ds[i] = depth;
         // Off the quad, or the plane seen edge on (not finite): nothing.
-        on[i] = (std::abs(pz) < 3.0e38f) & (u >= 0.0f) & (u <= 1.0f) & (v >= 0.0f) & (v <= 1.0f);
+        const int on = (i < n) & (std::abs(pz) < 3.0e38f) & (u >= 0.0f) & (u <= 1.0f) & (v >= 0.0f) & (v <= 1.0f);
+        if (kDepth) {
+          keep[i] = on & (depth < surface[i]);
+        } else {
+          const glm::vec3 p = (hx * xc + hr) * t;  // h t
+          const float behind = depth - surface[i], reach = depth * sp.offset;
+          keep[i] = on & ((depth <= surface[i]) |
+                          ((depth - sp.offset <= surface[i]) & (glm::dot(p, p) * behind * behind <= reach * reach)));
+        }
       }
-      const int n = std::min(kLanes, x1 - xs);
-      for (int i = 0; i < n; ++i) {
-        if (!on[i]) continue;
-        fragment(line + size_t(xs + i), us[i], vs[i], ds[i], [&] {
-          const glm::vec3 p = (hx * (float(xs + i + s.origin.x) + 0.5f) + hr) * ts[i];  // h t
-          return glm::dot(p, p);
-        });
-      }
+      for (int i = 0; i < n; ++i) push(line + size_t(xs + i), us[i], vs[i], ds[i], keep[i]);
     }
   }
+  flush();
+}
+
+// rasterize_body() compiled twice: with AVX2 the compiler's vectors of
+// its row loop are twice as wide. The same float operations either way
+// (neither enables FMA), so the same bytes on any CPU.
+template <bool kDepth, bool kOrtho>
+__attribute__((target("avx2"))) void rasterize_avx2(const Splat& sp, const Settings& s, const Rect& area,
+                                                    const Images& im) {
+  rasterize_body<kDepth, kOrtho>(sp, s, area, im);
+}
+template <bool kDepth, bool kOrtho>
+void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Images& im) {
+  if (kHasAvx2) rasterize_avx2<kDepth, kOrtho>(sp, s, area, im);
+  else rasterize_body<kDepth, kOrtho>(sp, s, area, im);
 }
 
 // The host images of the last frames, kept so a frame does not page-fault
@@ -446,8 +545,8 @@ struct HostImages {
 };
 HostImages& host_images(size_t pixels) {
   thread_local HostImages images;
-  if (images.surface.size() < pixels) {
-    images.surface.resize(pixels);
+  if (images.surface.size() < pixels + 8) {
+    images.surface.resize(pixels + 8);  // slack for the row loop's last lanes
     images.accum.resize(4 * pixels);
     images.reveal.resize(pixels);
     images.sums.resize(4 * pixels);
