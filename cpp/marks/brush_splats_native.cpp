@@ -289,6 +289,49 @@ struct Images {
   glm::ivec2 min;
 };
 
+// The farthest surface of each 8 x 8 block of a bin, recomputed lazily
+// where fragments were kept since: a splat whose nearest depth lies behind
+// the farthest surface under its box has no fragment nearer than the
+// surface (depth pass), or near it (blend: behind by more than its offset).
+struct BlockDepths {
+  static constexpr int kSide = 8, kBlocks = kBinSide / kSide;  // blocks per axis
+  static_assert(kBlocks * kBlocks == 64);
+  float far[kBlocks * kBlocks];
+  uint64_t stale = ~uint64_t(0);
+  Rect area;
+  const Images* im = nullptr;
+
+  float block(int bx, int by) {
+    const int b = by * kBlocks + bx;
+    if (stale >> b & 1) {
+      stale &= ~(uint64_t(1) << b);
+      const int x0 = area.min.x + bx * kSide, x1 = std::min(x0 + kSide, area.max.x);
+      const int y0 = area.min.y + by * kSide, y1 = std::min(y0 + kSide, area.max.y);
+      float m = -kInf;
+      for (int y = y0; y < y1; ++y) {
+        const float* line = im->surface + size_t(y - im->min.y) * size_t(im->stride) - size_t(im->min.x);
+        for (int x = x0; x < x1; ++x) m = std::max(m, line[x]);
+      }
+      far[b] = m;
+    }
+    return far[b];
+  }
+  // The farthest surface under the pixels [lo, hi) (within the area).
+  float under(glm::ivec2 lo, glm::ivec2 hi) {
+    lo = glm::max(lo, area.min) - area.min;
+    hi = glm::min(hi, area.max) - area.min;
+    float m = -kInf;
+    for (int by = lo.y / kSide; by <= (hi.y - 1) / kSide; ++by)
+      for (int bx = lo.x / kSide; bx <= (hi.x - 1) / kSide; ++bx) m = std::max(m, block(bx, by));
+    return m;
+  }
+  void touch(int y, int x0, int x1) {  // row y's pixels [x0, x1) may have changed
+    const int by = (y - area.min.y) / kSide;
+    for (int bx = (x0 - area.min.x) / kSide; bx <= (x1 - 1 - area.min.x) / kSide; ++bx)
+      stale |= uint64_t(1) << (by * kBlocks + bx);
+  }
+};
+
 // A splat's fragments that passed the depth tests, gathered (in the
 // order the row loop meets them) so the brush is evaluated for many at a
 // time. Each pixel appears once per splat, so deferring its write changes
@@ -297,8 +340,8 @@ struct Fragments {
   static constexpr int kMax = 256;  // a multiple of the brush's lanes, at least a row (a bin's side)
   static_assert(kMax % 8 == 0 && kMax >= kBinSide);
   int n = 0;
-  uint32_t q[kMax];
-  alignas(32) float u[kMax], v[kMax], depth[kMax];
+  uint32_t q[kMax + 8];  // (slack: the AVX2 lanes store 8 at a time)
+  alignas(32) float u[kMax + 8], v[kMax + 8], depth[kMax + 8];
 };
 
 // falloff() on eight lanes; a lane out of reach (`in` clear) reads entry 0.
@@ -398,10 +441,132 @@ void shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
   f.n = 0;
 }
 
+// A perspective splat's row: the numbers its pixels' lanes need.
+struct RowLanes {
+  float plane, d0, dx, u0, ux, v0, vx, cu, cv, near_d, far_d, offset;
+  glm::vec3 hx, hr;
+  int origin_x;
+  const float* surface;  // the row's, by local x (the images hold a lane's slack past their end)
+  size_t line;           // the row's first pixel, by local x
+};
+
+// The row's pixels [x0, x1), eight at a time without branches (the
+// compiler's vectors): on the quad, and nearer than the surface (depth
+// pass) or near it (blend: within the offset moved toward the camera along
+// the pixel's ray, at most to the camera: depth (1 - offset / max(|p|,
+// depth)) <= surface, as |p| (depth - surface) <= depth offset, squared).
+// Those kept go to `f` in row order.
+template <bool kDepth>
+__attribute__((always_inline)) inline void row_lanes(const RowLanes& r, int x0, int x1, Fragments& f) {
+  constexpr int kLanes = 8;
+  for (int xs = x0; xs < x1; xs += kLanes) {
+    const int n = std::min(kLanes, x1 - xs);
+    float us[kLanes], vs[kLanes], ds[kLanes];
+    int keep[kLanes];
+    const float* surface = r.surface + xs;
+    for (int i = 0; i < kLanes; ++i) {
+      const float xc = float(xs + i + r.origin_x) + 0.5f;
+      const float t = r.plane / (r.d0 + xc * r.dx);
+      const float pz = t * (r.hr.z + xc * r.hx.z);
+      const float u = t * (r.u0 + xc * r.ux) + r.cu, v = t * (r.v0 + xc * r.vx) + r.cv;
+      us[i] = u;
+      vs[i] = v;
+      const float depth = std::min(std::max(-pz, r.near_d), r.far_d);
+      ds[i] = depth;
+      // Off the quad, or the plane seen edge on (not finite): nothing.
+      const int on = (i < n) & (std::abs(pz) < 3.0e38f) & (u >= 0.0f) & (u <= 1.0f) & (v >= 0.0f) & (v <= 1.0f);
+      if (kDepth) {
+        keep[i] = on & (depth < surface[i]);
+      } else {
+        const glm::vec3 p = (r.hx * xc + r.hr) * t;  // h t
+        const float behind = depth - surface[i], reach = depth * r.offset;
+        keep[i] = on & ((depth <= surface[i]) |
+                        ((depth - r.offset <= surface[i]) & (glm::dot(p, p) * behind * behind <= reach * reach)));
+      }
+    }
+    for (int i = 0; i < n; ++i) {
+      f.q[f.n] = uint32_t(r.line + size_t(xs + i));
+      f.u[f.n] = us[i];
+      f.v[f.n] = vs[i];
+      f.depth[f.n] = ds[i];
+      f.n += keep[i];
+    }
+  }
+}
+
+// For each 8-bit mask, the lanes it keeps in order (then zeros): a
+// permutation packing them to the front.
+struct PackTable {
+  alignas(32) int32_t lanes[256][8];
+  constexpr PackTable() : lanes{} {
+    for (int m = 0; m < 256; ++m) {
+      int k = 0;
+      for (int i = 0; i < 8; ++i)
+        if (m >> i & 1) lanes[m][k++] = i;
+    }
+  }
+};
+constexpr PackTable kPack;
+
+// row_lanes() on AVX2 lanes: the same float operations in the same order
+// (the max and min with std::max's and std::min's operand order), the kept
+// lanes packed by a permutation.
+template <bool kDepth>
+__attribute__((target("avx2"))) void row_avx2(const RowLanes& r, int x0, int x1,
+                                                                    Fragments& f) {
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  const __m256 sign = _mm256_castsi256_ps(_mm256_set1_epi32(int32_t(0x80000000u)));
+  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f), huge = _mm256_set1_ps(3.0e38f);
+  const __m256 plane = _mm256_set1_ps(r.plane), d0 = _mm256_set1_ps(r.d0), dx = _mm256_set1_ps(r.dx);
+  const __m256 u0 = _mm256_set1_ps(r.u0), ux = _mm256_set1_ps(r.ux), cu = _mm256_set1_ps(r.cu);
+  const __m256 v0 = _mm256_set1_ps(r.v0), vx = _mm256_set1_ps(r.vx), cv = _mm256_set1_ps(r.cv);
+  const __m256 hrz = _mm256_set1_ps(r.hr.z), hxz = _mm256_set1_ps(r.hx.z);
+  const __m256 near_d = _mm256_set1_ps(r.near_d), far_d = _mm256_set1_ps(r.far_d), offset = _mm256_set1_ps(r.offset);
+  for (int xs = x0; xs < x1; xs += 8) {
+    const int n = std::min(8, x1 - xs);
+    const __m256 xc =
+        _mm256_add_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(xs + r.origin_x), lane)),
+                      _mm256_set1_ps(0.5f));
+    const __m256 t = _mm256_div_ps(plane, _mm256_add_ps(d0, _mm256_mul_ps(xc, dx)));
+    const __m256 pz = _mm256_mul_ps(t, _mm256_add_ps(hrz, _mm256_mul_ps(xc, hxz)));
+    const __m256 u = _mm256_add_ps(_mm256_mul_ps(t, _mm256_add_ps(u0, _mm256_mul_ps(xc, ux))), cu);
+    const __m256 v = _mm256_add_ps(_mm256_mul_ps(t, _mm256_add_ps(v0, _mm256_mul_ps(xc, vx))), cv);
+    const __m256 depth = _mm256_min_ps(far_d, _mm256_max_ps(near_d, _mm256_xor_ps(pz, sign)));
+    __m256 keep = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(n), lane));
+    keep = _mm256_and_ps(keep, _mm256_cmp_ps(_mm256_and_ps(pz, magnitude), huge, _CMP_LT_OQ));
+    keep = _mm256_and_ps(keep, _mm256_and_ps(_mm256_cmp_ps(u, zero, _CMP_GE_OQ), _mm256_cmp_ps(u, one, _CMP_LE_OQ)));
+    keep = _mm256_and_ps(keep, _mm256_and_ps(_mm256_cmp_ps(v, zero, _CMP_GE_OQ), _mm256_cmp_ps(v, one, _CMP_LE_OQ)));
+    const __m256 surface = _mm256_loadu_ps(r.surface + xs);
+    if (kDepth) {
+      keep = _mm256_and_ps(keep, _mm256_cmp_ps(depth, surface, _CMP_LT_OQ));
+    } else {
+      const __m256 px = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(r.hx.x), xc), _mm256_set1_ps(r.hr.x)), t);
+      const __m256 py = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(r.hx.y), xc), _mm256_set1_ps(r.hr.y)), t);
+      const __m256 pw = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(hxz, xc), hrz), t);
+      const __m256 length = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(px, px), _mm256_mul_ps(py, py)), _mm256_mul_ps(pw, pw));
+      const __m256 behind = _mm256_sub_ps(depth, surface), reach = _mm256_mul_ps(depth, offset);
+      const __m256 moved = _mm256_and_ps(
+          _mm256_cmp_ps(_mm256_sub_ps(depth, offset), surface, _CMP_LE_OQ),
+          _mm256_cmp_ps(_mm256_mul_ps(_mm256_mul_ps(length, behind), behind), _mm256_mul_ps(reach, reach), _CMP_LE_OQ));
+      keep = _mm256_and_ps(keep, _mm256_or_ps(_mm256_cmp_ps(depth, surface, _CMP_LE_OQ), moved));
+    }
+    const int mask = _mm256_movemask_ps(keep);
+    if (mask == 0) continue;
+    const __m256i pack = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPack.lanes[mask]));
+    const __m256i q = _mm256_add_epi32(_mm256_set1_epi32(int32_t(r.line + size_t(xs))), lane);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(f.q + f.n), _mm256_permutevar8x32_epi32(q, pack));
+    _mm256_storeu_ps(f.u + f.n, _mm256_permutevar8x32_ps(u, pack));
+    _mm256_storeu_ps(f.v + f.n, _mm256_permutevar8x32_ps(v, pack));
+    _mm256_storeu_ps(f.depth + f.n, _mm256_permutevar8x32_ps(depth, pack));
+    f.n += __builtin_popcount(unsigned(mask));
+  }
+}
+
 // The splat's fragments over `area`: kDepth the depth pass, else the blend.
-template <bool kDepth, bool kOrtho>
+template <bool kDepth, bool kOrtho, bool kAvx2>
 __attribute__((always_inline)) inline void rasterize_body(const Splat& sp, const Settings& s, const Rect& area,
-                                                          const Images& im) {
+                                                          const Images& im, BlockDepths& blocks) {
   const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
   if (lo.x >= hi.x || lo.y >= hi.y) return;
   Fragments frags;
@@ -482,6 +647,7 @@ __attribute__((always_inline)) inline void rasterize_body(const Splat& sp, const
         const bool keep = kDepth ? depth < surface : (depth <= surface || depth - sp.offset <= surface);
         push(line + size_t(x), u, v, depth, keep);
       }
+      if (kDepth) blocks.touch(y, x0, x1);
       continue;
     }
     const float d0 = glm::dot(hr, sp.normal), u0 = glm::dot(hr, sp.u_axis), v0 = glm::dot(hr, sp.v_axis);
@@ -490,34 +656,12 @@ __attribute__((always_inline)) inline void rasterize_body(const Splat& sp, const
     // (blend: within the offset moved toward the camera along the pixel's
     // ray, at most to the camera: depth (1 - offset / max(|p|, depth)) <=
     // surface, as |p| (depth - surface) <= depth offset, squared).
-    constexpr int kLanes = 8;
-    for (int xs = x0; xs < x1; xs += kLanes) {
-      const int n = std::min(kLanes, x1 - xs);
-      float us[kLanes], vs[kLanes], ds[kLanes];
-      int keep[kLanes];
-      const float* surface = im.surface + line + size_t(xs);  // the images hold a lane's slack past their end
-      for (int i = 0; i < kLanes; ++i) {
-        const float xc = float(xs + i + s.origin.x) + 0.5f;
-        const float t = plane / (d0 + xc * dx);
-        const float pz = t * (hr.z + xc * hx.z);
-        const float u = t * (u0 + xc * ux) + cu, v = t * (v0 + xc * vx) + cv;
-        us[i] = u;
-        vs[i] = v;
-        const float depth = std::min(std::max(-pz, near_d), far_d);
-        ds[i] = depth;
-        // Off the quad, or the plane seen edge on (not finite): nothing.
-        const int on = (i < n) & (std::abs(pz) < 3.0e38f) & (u >= 0.0f) & (u <= 1.0f) & (v >= 0.0f) & (v <= 1.0f);
-        if (kDepth) {
-          keep[i] = on & (depth < surface[i]);
-        } else {
-          const glm::vec3 p = (hx * xc + hr) * t;  // h t
-          const float behind = depth - surface[i], reach = depth * sp.offset;
-          keep[i] = on & ((depth <= surface[i]) |
-                          ((depth - sp.offset <= surface[i]) & (glm::dot(p, p) * behind * behind <= reach * reach)));
-        }
-      }
-      for (int i = 0; i < n; ++i) push(line + size_t(xs + i), us[i], vs[i], ds[i], keep[i]);
-    }
+    const RowLanes r{plane, d0, dx, u0, ux, v0, vx, cu, cv, near_d, far_d, sp.offset, hx, hr,
+                     s.origin.x, im.surface + line, line};
+    const int kept = frags.n;
+    if constexpr (kAvx2) row_avx2<kDepth>(r, x0, x1, frags);
+    else row_lanes<kDepth>(r, x0, x1, frags);
+    if (kDepth && frags.n != kept) blocks.touch(y, x0, x1);
   }
   flush();
 }
@@ -527,13 +671,14 @@ __attribute__((always_inline)) inline void rasterize_body(const Splat& sp, const
 // (neither enables FMA), so the same bytes on any CPU.
 template <bool kDepth, bool kOrtho>
 __attribute__((target("avx2"))) void rasterize_avx2(const Splat& sp, const Settings& s, const Rect& area,
-                                                    const Images& im) {
-  rasterize_body<kDepth, kOrtho>(sp, s, area, im);
+                                                    const Images& im, BlockDepths& blocks) {
+  rasterize_body<kDepth, kOrtho, true>(sp, s, area, im, blocks);
 }
+// The depth pass marks the blocks of the rows where it kept fragments.
 template <bool kDepth, bool kOrtho>
-void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Images& im) {
-  if (kHasAvx2) rasterize_avx2<kDepth, kOrtho>(sp, s, area, im);
-  else rasterize_body<kDepth, kOrtho>(sp, s, area, im);
+void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Images& im, BlockDepths& blocks) {
+  if (kHasAvx2) rasterize_avx2<kDepth, kOrtho>(sp, s, area, im, blocks);
+  else rasterize_body<kDepth, kOrtho, false>(sp, s, area, im, blocks);
 }
 
 // The host images of the last frames, kept so a frame does not page-fault
@@ -811,35 +956,31 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           return da < db || (da == db && a < b);
         });
       }
-      // The bin's farthest surface (depth pass: so far, every few splats):
-      // a splat wholly behind it (blend: by more than its offset) has no
-      // fragment that could be nearer (blend: near the surface).
-      auto farthest = [&] {
-        float far = -kInf;
-        for (int y = area.min.y; y < area.max.y; ++y) {
-          const float* line = im.surface + size_t(y - im.min.y) * size_t(im.stride) - size_t(im.min.x);
-          for (int x = area.min.x; x < area.max.x; ++x) far = std::max(far, line[x]);
-        }
-        return far;
-      };
-      float bin_far = kDepth ? kInf : farthest();
-      // Recomputed once the splats since cover the bin's area (so the scan
-      // costs at most what they did).
+      BlockDepths blocks;
+      blocks.area = area;
+      blocks.im = &im;
+      // Depth pass: once the splats since cover the bin's area (so the scan
+      // costs at most what they did), the bin's farthest surface: every
+      // later splat (sorted) behind it is dropped.
+      float bin_far = kInf;
       const size_t bin_area = size_t(area.size().x) * size_t(area.size().y);
       size_t painted = 0;
       for (uint32_t i : order) {
-        if (!kDepth && splats[i].depth_range.x - splats[i].offset > bin_far) continue;
+        const Splat& sp = splats[i];
         if (kDepth) {
-          const glm::ivec2 box = glm::min(splats[i].hi, area.max) - glm::max(splats[i].lo, area.min);
+          const glm::ivec2 box = glm::min(sp.hi, area.max) - glm::max(sp.lo, area.min);
           painted += size_t(std::max(box.x, 0)) * size_t(std::max(box.y, 0));
           if (painted >= bin_area) {
             painted = 0;
-            bin_far = farthest();
+            bin_far = blocks.under(area.min, area.max);
           }
-          if (splats[i].depth_range.x >= bin_far) break;  // and every later one (sorted)
+          if (sp.depth_range.x >= bin_far) break;
+          if (sp.depth_range.x >= blocks.under(sp.lo, sp.hi)) continue;
+        } else if (sp.depth_range.x - sp.offset > blocks.under(sp.lo, sp.hi)) {
+          continue;
         }
-        if (s.ortho) rasterize<kDepth, true>(splats[i], s, area, im);
-        else rasterize<kDepth, false>(splats[i], s, area, im);
+        if (s.ortho) rasterize<kDepth, true>(sp, s, area, im, blocks);
+        else rasterize<kDepth, false>(sp, s, area, im, blocks);
       }
     }, kBinSide);
   };
