@@ -48,7 +48,7 @@ namespace pointnpr {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr uint32_t kBatch = 1u << 19;  // splats set up at once (about 60 MiB)
+constexpr uint32_t kBatch = 1u << 21;  // splats set up at once (about 300 MiB)
 constexpr uint32_t kGrain = 8192;      // points per setup work item
 constexpr int kTable = 4096;           // brush table intervals
 constexpr int kBinSide = 64;           // screen bins (pixels): splats are up to 2 x 64 px
@@ -950,11 +950,12 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       std::vector<uint32_t> order(list, list + n);  // point order
       if (kDepth) {
         // The nearest depth does not depend on the order: near splats first
-        // leave most later fragments behind it, unshaded.
-        std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-          const float da = splats[a].depth_range.x, db = splats[b].depth_range.x;
-          return da < db || (da == db && a < b);
-        });
+        // leave most later fragments behind it, unshaded. Sorted as (depth,
+        // index) pairs read in point order, not through the splats.
+        std::vector<std::pair<float, uint32_t>> near(n);
+        for (size_t j = 0; j < n; ++j) near[j] = {splats[list[j]].depth_range.x, list[j]};
+        std::sort(near.begin(), near.end());
+        for (size_t j = 0; j < n; ++j) order[j] = near[j].second;
       }
       BlockDepths blocks;
       blocks.area = area;
@@ -965,8 +966,13 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       float bin_far = kInf;
       const size_t bin_area = size_t(area.size().x) * size_t(area.size().y);
       size_t painted = 0;
-      for (uint32_t i : order) {
-        const Splat& sp = splats[i];
+      for (size_t j = 0; j < n; ++j) {
+        // In depth order the splats are far apart in memory: fetched ahead.
+        if (kDepth && j + 8 < n) {
+          const char* ahead = reinterpret_cast<const char*>(&splats[order[j + 8]]);
+          for (size_t line = 0; line < sizeof(Splat); line += 64) __builtin_prefetch(ahead + line);
+        }
+        const Splat& sp = splats[order[j]];
         if (kDepth) {
           const glm::ivec2 box = glm::min(sp.hi, area.max) - glm::max(sp.lo, area.min);
           painted += size_t(std::max(box.x, 0)) * size_t(std::max(box.y, 0));
