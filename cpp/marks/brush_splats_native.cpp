@@ -31,6 +31,7 @@
 #include <limits>
 #include <memory>
 
+#include <Eigen/Dense>
 #include <immintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -51,6 +52,8 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kBatch = 1u << 21;  // splats set up at once (about 300 MiB)
 constexpr uint32_t kGrain = 8192;      // points per setup work item
 constexpr int kTable = 4096;           // brush table intervals
+constexpr int kPieces = 8;             // brush polynomial pieces (one AVX2 register of each coefficient)
+constexpr int kDegree = 7;             // and their degree
 constexpr int kBinSide = 64;           // screen bins (pixels): splats are up to 2 x 64 px
 
 int floor_int(float v) {  // |v| < 2^31 (callers bound it)
@@ -91,6 +94,10 @@ struct Settings {
   bool sqrt_index = false;  // the table over sqrt(q / reach) (lambda < 1: steep at 0), else over q / reach
   float layer_scale = 1.0f, layer_cos = 1.0f, layer_sin = 0.0f, layer_tint = 0.0f;
   std::vector<float> table;  // exp(-q^lambda / 2) at q = reach t (t^2 with sqrt_index), t = i / kTable (+ 1 pad)
+  // Or, where they fit it within kPieceError, kPieces polynomials over t
+  // (coefficient d of piece i, in the piece's own 0..1).
+  bool pieces = false;
+  alignas(32) float poly[kDegree + 1][kPieces] = {};
 };
 
 // One visible chunk's host data (index = first + local into the cloud's arrays).
@@ -255,6 +262,14 @@ Layer layer(const Settings& s, const float* cs, const float* sn) {
 
 float falloff(const Settings& s, float q) {  // exp(-q^lambda / 2), 0 <= q <= reach
   const float t = q * s.inv_reach;
+  if (s.pieces) {
+    const float x = (s.sqrt_index ? std::sqrt(t) : t) * float(kPieces);
+    const int i = std::min(int(x), kPieces - 1);
+    const float f = x - float(i);
+    float r = s.poly[kDegree][i];
+    for (int d = kDegree - 1; d >= 0; --d) r = r * f + s.poly[d][i];
+    return r;
+  }
   const float at = (s.sqrt_index ? std::sqrt(t) : t) * float(kTable);
   const int i = int(at);
   const float f = at - float(i);
@@ -344,15 +359,35 @@ struct Fragments {
   alignas(32) float u[kMax + 8], v[kMax + 8], depth[kMax + 8];
 };
 
-// falloff() on eight lanes; a lane out of reach (`in` clear) reads entry 0.
+// falloff() on eight lanes; a lane out of reach (`in` clear) reads entry 0
+// (the pieces: any, by its index's low bits).
 __attribute__((target("avx2"), always_inline)) inline __m256 falloff_avx2(const Settings& s, __m256 q, __m256 in) {
   __m256 t = _mm256_mul_ps(q, _mm256_set1_ps(s.inv_reach));
   if (s.sqrt_index) t = _mm256_sqrt_ps(t);
+  if (s.pieces) {
+    const __m256 x = _mm256_mul_ps(t, _mm256_set1_ps(float(kPieces)));
+    const __m256i i = _mm256_min_epi32(_mm256_cvttps_epi32(x), _mm256_set1_epi32(kPieces - 1));
+    const __m256 f = _mm256_sub_ps(x, _mm256_cvtepi32_ps(i));
+    __m256 r = _mm256_permutevar8x32_ps(_mm256_load_ps(s.poly[kDegree]), i);
+    for (int d = kDegree - 1; d >= 0; --d)
+      r = _mm256_add_ps(_mm256_mul_ps(r, f), _mm256_permutevar8x32_ps(_mm256_load_ps(s.poly[d]), i));
+    return r;
+  }
   const __m256 at = _mm256_mul_ps(t, _mm256_set1_ps(float(kTable)));
   const __m256i i = _mm256_and_si256(_mm256_cvttps_epi32(at), _mm256_castps_si256(in));
   const __m256 f = _mm256_sub_ps(at, _mm256_cvtepi32_ps(i));
   const __m256 a = _mm256_i32gather_ps(s.table.data(), i, 4), b = _mm256_i32gather_ps(s.table.data() + 1, i, 4);
   return _mm256_add_ps(a, _mm256_mul_ps(f, _mm256_sub_ps(b, a)));
+}
+
+// brush_alpha()'s |R (u, v) - R c| / sigma along x (kY: y) on eight lanes.
+template <bool kY>
+__attribute__((target("avx2"), always_inline)) inline __m256 q_avx2(__m256 cs, __m256 sn, __m256 u, __m256 v,
+                                                                   float rc, __m256 inv_sigma) {
+  const __m256 along = kY ? _mm256_add_ps(_mm256_mul_ps(sn, u), _mm256_mul_ps(cs, v))
+                          : _mm256_sub_ps(_mm256_mul_ps(cs, u), _mm256_mul_ps(sn, v));
+  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  return _mm256_mul_ps(_mm256_and_ps(_mm256_sub_ps(along, _mm256_set1_ps(rc)), magnitude), inv_sigma);
 }
 
 // brush_alpha() for n fragments of one layer. The AVX2 lanes run the same
@@ -364,25 +399,27 @@ __attribute__((target("avx2"))) void brush_alphas_avx2(const Settings& s, const 
                                                         const float* v, int n, float* out) {
   const __m256 inv_sx = _mm256_set1_ps(s.inv_sx), inv_sy = _mm256_set1_ps(s.inv_sy);
   const __m256 reach = _mm256_set1_ps(s.reach), amplitude = _mm256_set1_ps(s.amplitude);
-  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
-  for (int j = 0; j < n; j += 8) {
-    const __m256 uu = _mm256_load_ps(u + j), vv = _mm256_load_ps(v + j);
-    __m256 sum = zero;
+  // Sixteen fragments at a time, as two independent groups of lanes (the
+  // polynomials' chains overlap); the arrays are padded to 16.
+  for (int j = 0; j < n; j += 16) {
+    const __m256 ua = _mm256_load_ps(u + j), va = _mm256_load_ps(v + j);
+    const __m256 ub = _mm256_load_ps(u + j + 8), vb = _mm256_load_ps(v + j + 8);
+    __m256 sum_a = zero, sum_b = zero;
     for (int k = 0; k < s.gaussians; ++k) {
       const __m256 cs = _mm256_set1_ps(l.cs[k]), sn = _mm256_set1_ps(l.sn[k]);
-      const __m256 qx = _mm256_mul_ps(
-          _mm256_and_ps(_mm256_sub_ps(_mm256_sub_ps(_mm256_mul_ps(cs, uu), _mm256_mul_ps(sn, vv)),
-                                      _mm256_set1_ps(l.rcx[k])), magnitude), inv_sx);
-      const __m256 qy = _mm256_mul_ps(
-          _mm256_and_ps(_mm256_sub_ps(_mm256_add_ps(_mm256_mul_ps(sn, uu), _mm256_mul_ps(cs, vv)),
-                                      _mm256_set1_ps(l.rcy[k])), magnitude), inv_sy);
-      const __m256 in = _mm256_and_ps(_mm256_cmp_ps(qx, reach, _CMP_LE_OQ), _mm256_cmp_ps(qy, reach, _CMP_LE_OQ));
-      if (_mm256_movemask_ps(in) == 0) continue;
-      const __m256 fx = falloff_avx2(s, qx, in), fy = falloff_avx2(s, qy, in);
-      sum = _mm256_add_ps(sum, _mm256_and_ps(_mm256_mul_ps(fx, fy), in));
+      const __m256 qxa = q_avx2<false>(cs, sn, ua, va, l.rcx[k], inv_sx), qya = q_avx2<true>(cs, sn, ua, va, l.rcy[k], inv_sy);
+      const __m256 qxb = q_avx2<false>(cs, sn, ub, vb, l.rcx[k], inv_sx), qyb = q_avx2<true>(cs, sn, ub, vb, l.rcy[k], inv_sy);
+      const __m256 in_a = _mm256_and_ps(_mm256_cmp_ps(qxa, reach, _CMP_LE_OQ), _mm256_cmp_ps(qya, reach, _CMP_LE_OQ));
+      const __m256 in_b = _mm256_and_ps(_mm256_cmp_ps(qxb, reach, _CMP_LE_OQ), _mm256_cmp_ps(qyb, reach, _CMP_LE_OQ));
+      if (_mm256_movemask_ps(_mm256_or_ps(in_a, in_b)) == 0) continue;
+      const __m256 fxa = falloff_avx2(s, qxa, in_a), fya = falloff_avx2(s, qya, in_a);
+      const __m256 fxb = falloff_avx2(s, qxb, in_b), fyb = falloff_avx2(s, qyb, in_b);
+      sum_a = _mm256_add_ps(sum_a, _mm256_and_ps(_mm256_mul_ps(fxa, fya), in_a));
+      sum_b = _mm256_add_ps(sum_b, _mm256_and_ps(_mm256_mul_ps(fxb, fyb), in_b));
     }
-    _mm256_store_ps(out + j, _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(amplitude, sum), zero), one));
+    _mm256_store_ps(out + j, _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(amplitude, sum_a), zero), one));
+    _mm256_store_ps(out + j + 8, _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(amplitude, sum_b), zero), one));
   }
 }
 
@@ -400,13 +437,13 @@ void shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
            const Images& im) {
   const int n = f.n;
   if (n == 0) return;
-  for (int j = n; j < ((n + 7) & ~7); ++j) f.u[j] = f.v[j] = 0.0f;  // whole lanes
+  for (int j = n; j < ((n + 15) & ~15); ++j) f.u[j] = f.v[j] = 0.0f;  // whole groups of lanes
   const float stop = kDepth ? kBrushCut : 1.0f;
   alignas(32) float a1[Fragments::kMax], a2[Fragments::kMax];
   brush_alphas(s, first, f.u, f.v, n, stop, a1);
   if (sp.two) {
     alignas(32) float u2[Fragments::kMax], v2[Fragments::kMax];
-    for (int j = 0; j < ((n + 7) & ~7); ++j) {
+    for (int j = 0; j < ((n + 15) & ~15); ++j) {
       u2[j] = (f.u[j] - 0.5f) / s.layer_scale + 0.5f;
       v2[j] = (f.v[j] - 0.5f) / s.layer_scale + 0.5f;
     }
@@ -700,6 +737,35 @@ HostImages& host_images(size_t pixels) {
   return images;
 }
 
+// The brush's falloff as kPieces polynomials of kDegree over t (or
+// sqrt(t)), interpolated at each piece's Chebyshev nodes; kept only where
+// they are within kPieceError of exp(-q^lambda / 2) on a fine grid, as the
+// runtime evaluates them (floats, Horner): steep shapes (lambda < 1 at 0,
+// very high lambda) keep the table. Eight lanes look a piece's coefficients
+// up in registers, where the table takes two gathers.
+constexpr double kPieceError = 1e-5;
+void fit_pieces(Settings& s, double lambda) {
+  auto exact = [&](double t) { return std::exp(-0.5 * std::pow(double(s.reach) * (s.sqrt_index ? t * t : t), lambda)); };
+  Eigen::Matrix<double, kDegree + 1, kDegree + 1> vandermonde;
+  Eigen::Matrix<double, kDegree + 1, 1> values;
+  for (int i = 0; i < kPieces; ++i) {
+    for (int k = 0; k <= kDegree; ++k) {
+      const double f = 0.5 - 0.5 * std::cos((k + 0.5) * M_PI / (kDegree + 1));
+      for (int d = 0; d <= kDegree; ++d) vandermonde(k, d) = std::pow(f, d);
+      values(k) = exact((i + f) / kPieces);
+    }
+    const Eigen::Matrix<double, kDegree + 1, 1> c = vandermonde.colPivHouseholderQr().solve(values);
+    for (int d = 0; d <= kDegree; ++d) s.poly[d][i] = float(c(d));
+  }
+  s.pieces = true;
+  double worst = 0.0;
+  for (int j = 0; j <= 64 * kPieces; ++j) {
+    const double t = double(j) / (64 * kPieces);
+    worst = std::max(worst, std::abs(double(falloff(s, float(s.sqrt_index ? t * t : t) * s.reach)) - exact(t)));
+  }
+  s.pieces = worst <= kPieceError;
+}
+
 Settings settings(const MarkContext& ctx, const ParamValues& p) {
   const Camera& cam = *ctx.camera;
   Settings s;
@@ -764,6 +830,7 @@ Settings settings(const MarkContext& ctx, const ParamValues& p) {
     s.table[size_t(i)] = float(std::exp(-0.5 * std::pow(double(s.reach) * (s.sqrt_index ? t * t : t), lambda)));
   }
   s.table[kTable + 1] = s.table[kTable];
+  fit_pieces(s, lambda);
   return s;
 }
 
