@@ -643,22 +643,29 @@ __attribute__((always_inline)) inline void rasterize_body(const Splat& sp, const
   const float dx = glm::dot(hx, sp.normal), ux = glm::dot(hx, sp.u_axis), vx = glm::dot(hx, sp.v_axis);
   const float cu = 0.5f - glm::dot(sp.center, sp.u_axis), cv = 0.5f - glm::dot(sp.center, sp.v_axis);
   const float near_d = sp.depth_range.x, far_d = sp.depth_range.y;
+  // The quad's edges met with each row through the pixel centres: the
+  // row's span, a pixel wider each side (the uv test decides, so the
+  // slope's rounding moves no pixel on or off the quad).
+  float edge_x[4], edge_y[4], edge_lo[4], edge_hi[4], edge_slope[4], flat_min[4], flat_max[4];
+  for (int e = 0; e < 4; ++e) {
+    const float xa = sp.wx[e], ya = sp.wy[e], xb = sp.wx[(e + 1) & 3], yb = sp.wy[(e + 1) & 3];
+    edge_x[e] = xa;
+    edge_y[e] = ya;
+    edge_lo[e] = std::min(ya, yb);
+    edge_hi[e] = std::max(ya, yb);
+    edge_slope[e] = ya == yb ? 0.0f : (xb - xa) / (yb - ya);
+    // A level edge on the row: both its ends.
+    flat_min[e] = ya == yb ? std::min(xa, xb) : kInf;
+    flat_max[e] = ya == yb ? std::max(xa, xb) : -kInf;
+  }
   for (int y = lo.y; y < hi.y; ++y) {
-    // The row's span of the quad (its edges met with the row through the
-    // pixel centres), a pixel wider each side: the uv test decides.
     const float yc = float(y + s.origin.y) + 0.5f;
     float x_min = kInf, x_max = -kInf;
     for (int e = 0; e < 4; ++e) {
-      const float xa = sp.wx[e], ya = sp.wy[e], xb = sp.wx[(e + 1) & 3], yb = sp.wy[(e + 1) & 3];
-      if ((ya - yc) * (yb - yc) > 0.0f) continue;
-      if (ya == yb) {
-        x_min = std::min(x_min, std::min(xa, xb));
-        x_max = std::max(x_max, std::max(xa, xb));
-        continue;
-      }
-      const float xc = xa + (yc - ya) * (xb - xa) / (yb - ya);
-      x_min = std::min(x_min, xc);
-      x_max = std::max(x_max, xc);
+      const bool meets = edge_lo[e] <= yc && yc <= edge_hi[e];
+      const float xc = edge_x[e] + (yc - edge_y[e]) * edge_slope[e];
+      x_min = meets ? std::min(x_min, std::min(xc, flat_min[e])) : x_min;
+      x_max = meets ? std::max(x_max, std::max(xc, flat_max[e])) : x_max;
     }
     if (!(x_min <= x_max)) continue;
     const int x0 = std::max(lo.x, floor_int(x_min - 0.5f) - s.origin.x);
