@@ -53,7 +53,7 @@ constexpr uint32_t kBatch = 1u << 21;  // splats set up at once (about 300 MiB)
 constexpr uint32_t kGrain = 8192;      // points per setup work item
 constexpr int kTable = 4096;           // brush table intervals
 constexpr int kPieces = 8;             // brush polynomial pieces (one AVX2 register of each coefficient)
-constexpr int kDegree = 7;             // and their degree
+constexpr int kDegree = 7;             // and their highest degree
 constexpr int kBinSide = 64;           // screen bins (pixels): splats are up to 2 x 64 px
 
 int floor_int(float v) {  // |v| < 2^31 (callers bound it)
@@ -97,6 +97,7 @@ struct Settings {
   // Or, where they fit it within kPieceError, kPieces polynomials over t
   // (coefficient d of piece i, in the piece's own 0..1).
   bool pieces = false;
+  int degree = kDegree;  // the lowest that fits
   alignas(32) float poly[kDegree + 1][kPieces] = {};
 };
 
@@ -266,8 +267,8 @@ float falloff(const Settings& s, float q) {  // exp(-q^lambda / 2), 0 <= q <= re
     const float x = (s.sqrt_index ? std::sqrt(t) : t) * float(kPieces);
     const int i = std::min(int(x), kPieces - 1);
     const float f = x - float(i);
-    float r = s.poly[kDegree][i];
-    for (int d = kDegree - 1; d >= 0; --d) r = r * f + s.poly[d][i];
+    float r = s.poly[s.degree][i];
+    for (int d = s.degree - 1; d >= 0; --d) r = r * f + s.poly[d][i];
     return r;
   }
   const float at = (s.sqrt_index ? std::sqrt(t) : t) * float(kTable);
@@ -368,8 +369,8 @@ __attribute__((target("avx2"), always_inline)) inline __m256 falloff_avx2(const 
     const __m256 x = _mm256_mul_ps(t, _mm256_set1_ps(float(kPieces)));
     const __m256i i = _mm256_min_epi32(_mm256_cvttps_epi32(x), _mm256_set1_epi32(kPieces - 1));
     const __m256 f = _mm256_sub_ps(x, _mm256_cvtepi32_ps(i));
-    __m256 r = _mm256_permutevar8x32_ps(_mm256_load_ps(s.poly[kDegree]), i);
-    for (int d = kDegree - 1; d >= 0; --d)
+    __m256 r = _mm256_permutevar8x32_ps(_mm256_load_ps(s.poly[s.degree]), i);
+    for (int d = s.degree - 1; d >= 0; --d)
       r = _mm256_add_ps(_mm256_mul_ps(r, f), _mm256_permutevar8x32_ps(_mm256_load_ps(s.poly[d]), i));
     return r;
   }
@@ -744,33 +745,37 @@ HostImages& host_images(size_t pixels) {
   return images;
 }
 
-// The brush's falloff as kPieces polynomials of kDegree over t (or
-// sqrt(t)), interpolated at each piece's Chebyshev nodes; kept only where
-// they are within kPieceError of exp(-q^lambda / 2) on a fine grid, as the
-// runtime evaluates them (floats, Horner): steep shapes (lambda < 1 at 0,
-// very high lambda) keep the table. Eight lanes look a piece's coefficients
-// up in registers, where the table takes two gathers.
+// The brush's falloff as kPieces polynomials over t (or sqrt(t)) of the
+// lowest degree up to kDegree that stays within kPieceError of
+// exp(-q^lambda / 2) on a fine grid, as the runtime evaluates them (floats,
+// Horner), interpolated at each piece's Chebyshev nodes; steep shapes
+// (lambda < 1 at 0, very high lambda) keep the table. Eight lanes look a
+// piece's coefficients up in registers, where the table takes two gathers.
 constexpr double kPieceError = 1e-5;
 void fit_pieces(Settings& s, double lambda) {
   auto exact = [&](double t) { return std::exp(-0.5 * std::pow(double(s.reach) * (s.sqrt_index ? t * t : t), lambda)); };
-  Eigen::Matrix<double, kDegree + 1, kDegree + 1> vandermonde;
-  Eigen::Matrix<double, kDegree + 1, 1> values;
-  for (int i = 0; i < kPieces; ++i) {
-    for (int k = 0; k <= kDegree; ++k) {
-      const double f = 0.5 - 0.5 * std::cos((k + 0.5) * M_PI / (kDegree + 1));
-      for (int d = 0; d <= kDegree; ++d) vandermonde(k, d) = std::pow(f, d);
-      values(k) = exact((i + f) / kPieces);
+  for (int degree = 3; degree <= kDegree; ++degree) {
+    Eigen::MatrixXd vandermonde(degree + 1, degree + 1);
+    Eigen::VectorXd values(degree + 1);
+    for (int i = 0; i < kPieces; ++i) {
+      for (int k = 0; k <= degree; ++k) {
+        const double f = 0.5 - 0.5 * std::cos((k + 0.5) * M_PI / (degree + 1));
+        for (int d = 0; d <= degree; ++d) vandermonde(k, d) = std::pow(f, d);
+        values(k) = exact((i + f) / kPieces);
+      }
+      const Eigen::VectorXd c = vandermonde.colPivHouseholderQr().solve(values);
+      for (int d = 0; d <= kDegree; ++d) s.poly[d][i] = d <= degree ? float(c(d)) : 0.0f;
     }
-    const Eigen::Matrix<double, kDegree + 1, 1> c = vandermonde.colPivHouseholderQr().solve(values);
-    for (int d = 0; d <= kDegree; ++d) s.poly[d][i] = float(c(d));
+    s.pieces = true;
+    s.degree = degree;
+    double worst = 0.0;
+    for (int j = 0; j <= 64 * kPieces; ++j) {
+      const double t = double(j) / (64 * kPieces);
+      worst = std::max(worst, std::abs(double(falloff(s, float(s.sqrt_index ? t * t : t) * s.reach)) - exact(t)));
+    }
+    if (worst <= kPieceError) return;
   }
-  s.pieces = true;
-  double worst = 0.0;
-  for (int j = 0; j <= 64 * kPieces; ++j) {
-    const double t = double(j) / (64 * kPieces);
-    worst = std::max(worst, std::abs(double(falloff(s, float(s.sqrt_index ? t * t : t) * s.reach)) - exact(t)));
-  }
-  s.pieces = worst <= kPieceError;
+  s.pieces = false;
 }
 
 Settings settings(const MarkContext& ctx, const ParamValues& p) {
