@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -424,7 +425,8 @@ __attribute__((target("avx2"))) void brush_alphas_avx2(const Settings& s, const 
   }
 }
 
-const bool kHasAvx2 = __builtin_cpu_supports("avx2");
+// POINTNPR_NATIVE_NO_AVX2 (tests): the scalar lanes on any CPU.
+const bool kHasAvx2 = __builtin_cpu_supports("avx2") && !std::getenv("POINTNPR_NATIVE_NO_AVX2");
 
 void brush_alphas(const Settings& s, const Layer& l, const float* u, const float* v, int n, float stop, float* out) {
   if (kHasAvx2) return brush_alphas_avx2(s, l, u, v, n, out);

@@ -116,3 +116,17 @@ def test_the_native_path_draws_the_same_bytes_with_one_thread_in_another_process
                           os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
                          timeout=600)
     assert out.stdout.strip() == _native_digest(renderer)
+
+
+def test_the_scalar_lanes_draw_the_avx2_lanes_bytes(renderer):
+    """The brush, the rows and their fragments run on AVX2 lanes where the
+    CPU has them, else on the compiler's scalar and SSE lanes: the same
+    float operations in the same order, so the same bytes (forced here by
+    POINTNPR_NATIVE_NO_AVX2 in another process)."""
+    from conftest import BUILD_DIR
+    env = dict(os.environ, POINTNPR_NATIVE_NO_AVX2="1")
+    script = _THREADS_SCRIPT.replace("os.sched_setaffinity", "0 and os.sched_setaffinity")
+    out = subprocess.run([sys.executable, "-c", script, os.path.abspath(BUILD_DIR),
+                          os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
+                         timeout=600, env=env)
+    assert out.stdout.strip() == _native_digest(renderer)
