@@ -19,7 +19,7 @@ POINTNPR_BENCH_TILE_INVARIANT=1 a row of the GL passes that can tile
 The CPU column is the process's CPU time (all of llvmpipe's threads): on
 a machine shared with other work it moves far less than the wall clock.
 
-    PYTHONPATH=build /usr/bin/python3 bench/bench_brush_splats.py [frames]
+    PYTHONPATH=build /usr/bin/python3 bench/bench_brush_splats.py [frames] [--no-a-buffer] [--timing-only]
 """
 import os
 import sys
@@ -29,7 +29,8 @@ import numpy as np
 
 import pointnpr
 
-FRAMES = int(sys.argv[1]) if len(sys.argv) > 1 else 5
+ARGS = [a for a in sys.argv[1:] if not a.startswith("--")]
+FRAMES = int(ARGS[0]) if ARGS else 5
 EYE, TARGET = (2.6, -1.6, 1.5), (-2.9, 3.9, -1.2)
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 
@@ -52,6 +53,8 @@ STYLES = {"points": pointnpr.Style(mark=("points", {"point_size": 2.0})),
                                                                               "rasterizer": "native"})),
           "brush_splats (blur, gl)": pointnpr.Style(mark=("brush_splats", {"blending": "blur", "rasterizer": "gl"})),
           "brush_splats (a_buffer)": pointnpr.Style(mark=("brush_splats", {"blending": "a_buffer"}))}
+if "--no-a-buffer" in sys.argv:  # (15 s a frame on llvmpipe)
+    del STYLES["brush_splats (a_buffer)"]
 # The frame-pixel GL passes: POINTNPR_BENCH_TILE_INVARIANT=1 (slow on llvmpipe).
 if os.environ.get("POINTNPR_BENCH_TILE_INVARIANT"):
     STYLES["brush_splats (blur, gl, tile_invariant)"] = pointnpr.Style(
@@ -135,7 +138,8 @@ def coverage(data):
 
 def main():
     data = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply"))
-    coverage(data)
+    if "--timing-only" not in sys.argv:
+        coverage(data)
     timing(data)
 
 
