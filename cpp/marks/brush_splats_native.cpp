@@ -20,10 +20,13 @@
 //     (its sum stopping where the alpha clamps at 1) and blend: colour sum,
 //     transmittance product, as the GL's blending order.
 //  4. Resolve, blur (with depth occlusion) and upload.
-// The brush: exp(-q^lambda / 2) tabulated once a frame over q / reach (over
-// sqrt(q / reach) for lambda < 1, steep at 0) and interpolated,
+// The brush: exp(-q^lambda / 2) over q / reach (over sqrt(q / reach) for
+// lambda < 1, steep at 0) fitted once a frame by eight polynomial pieces,
+// or tabulated and interpolated where no piece fits within 1e-5;
 // exp(-(qx^l + qy^l) / 2) as the product of the two axes'; within about
-// 1e-5 of the shader's, far below the golden images' 2/255.
+// 1e-5 of the shader's, far below the golden images' 2/255. Fragments and
+// brushes run on AVX2 lanes where the CPU has them, with the scalar path's
+// float operations in its order (no FMA), so the bytes never depend on it.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
