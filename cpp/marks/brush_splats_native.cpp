@@ -555,8 +555,7 @@ constexpr PackTable kPack;
 // (the max and min with std::max's and std::min's operand order), the kept
 // lanes packed by a permutation.
 template <bool kDepth>
-__attribute__((target("avx2"))) void row_avx2(const RowLanes& r, int x0, int x1,
-                                                                    Fragments& f) {
+__attribute__((target("avx2"))) void row_avx2(const RowLanes& r, int x0, int x1, Fragments& f) {
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
   const __m256 sign = _mm256_castsi256_ps(_mm256_set1_epi32(int32_t(0x80000000u)));
@@ -607,9 +606,9 @@ __attribute__((target("avx2"))) void row_avx2(const RowLanes& r, int x0, int x1,
 }
 
 // The splat's fragments over `area`: kDepth the depth pass, else the blend.
-template <bool kDepth, bool kOrtho, bool kAvx2>
-__attribute__((always_inline)) inline void rasterize_body(const Splat& sp, const Settings& s, const Rect& area,
-                                                          const Images& im, BlockDepths& blocks) {
+// The depth pass marks the blocks of the rows where it kept fragments.
+template <bool kDepth, bool kOrtho>
+void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Images& im, BlockDepths& blocks) {
   const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
   if (lo.x >= hi.x || lo.y >= hi.y) return;
   Fragments frags;
@@ -701,34 +700,14 @@ __attribute__((always_inline)) inline void rasterize_body(const Splat& sp, const
       continue;
     }
     const float d0 = glm::dot(hr, sp.normal), u0 = glm::dot(hr, sp.u_axis), v0 = glm::dot(hr, sp.v_axis);
-    // Eight pixels at a time without branches (the compiler's vectors):
-    // on the quad, and nearer than the surface (depth pass) or near it
-    // (blend: within the offset moved toward the camera along the pixel's
-    // ray, at most to the camera: depth (1 - offset / max(|p|, depth)) <=
-    // surface, as |p| (depth - surface) <= depth offset, squared).
     const RowLanes r{plane, d0, dx, u0, ux, v0, vx, cu, cv, near_d, far_d, sp.offset, hx, hr,
                      s.origin.x, im.surface + line, line};
     const int kept = frags.n;
-    if constexpr (kAvx2) row_avx2<kDepth>(r, x0, x1, frags);
+    if (kHasAvx2) row_avx2<kDepth>(r, x0, x1, frags);
     else row_lanes<kDepth>(r, x0, x1, frags);
     if (kDepth && frags.n != kept) blocks.touch(y, x0, x1);
   }
   flush();
-}
-
-// rasterize_body() compiled twice: with AVX2 the compiler's vectors of
-// its row loop are twice as wide. The same float operations either way
-// (neither enables FMA), so the same bytes on any CPU.
-template <bool kDepth, bool kOrtho>
-__attribute__((target("avx2"))) void rasterize_avx2(const Splat& sp, const Settings& s, const Rect& area,
-                                                    const Images& im, BlockDepths& blocks) {
-  rasterize_body<kDepth, kOrtho, true>(sp, s, area, im, blocks);
-}
-// The depth pass marks the blocks of the rows where it kept fragments.
-template <bool kDepth, bool kOrtho>
-void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Images& im, BlockDepths& blocks) {
-  if (kHasAvx2) rasterize_avx2<kDepth, kOrtho>(sp, s, area, im, blocks);
-  else rasterize_body<kDepth, kOrtho, false>(sp, s, area, im, blocks);
 }
 
 // The host images of the last frames, kept so a frame does not page-fault
@@ -1031,7 +1010,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       return lo.x < hi.x && lo.y < hi.y;
     };
     for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
-      std::vector<uint32_t> order(list, list + n);  // point order
+      std::vector<uint32_t> order(list, list + (kDepth ? 0 : n));  // point order (blend)
       if (kDepth) {
         // The nearest depth does not depend on the order: near splats first
         // leave most later fragments behind it, unshaded. Sorted as (depth,
@@ -1039,6 +1018,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         std::vector<std::pair<float, uint32_t>> near(n);
         for (size_t j = 0; j < n; ++j) near[j] = {splats[list[j]].depth_range.x, list[j]};
         std::sort(near.begin(), near.end());
+        order.resize(n);
         for (size_t j = 0; j < n; ++j) order[j] = near[j].second;
       }
       BlockDepths blocks;
