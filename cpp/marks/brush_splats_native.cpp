@@ -362,19 +362,55 @@ struct Fragments {
   int n = 0;
   uint32_t q[kMax + 8];  // (slack: the AVX2 lanes store 8 at a time)
   alignas(32) float u[kMax + 8], v[kMax + 8], depth[kMax + 8];
+  // Pass::kBoth: |p|^2 of the pixel's point on the plane, and whether the
+  // fragment is nearer than the surface (else only near it).
+  alignas(32) float length[kMax + 8];
+  int32_t nearer[kMax + 8];
 };
 
-// falloff() on eight lanes; a lane out of reach (`in` clear) reads entry 0
-// (the pieces: any, by its index's low bits).
+// Which pass a splat's fragments run: the depth pass, the blend pass, or
+// the depth pass that also keeps, with their brush, the fragments the
+// blend pass may keep (Candidates), so the blend walks no rows.
+enum class Pass { kDepth, kBlend, kBoth };
+
+// A bin's fragments near its surface as the depth pass leaves it after
+// each splat. The surface only comes nearer, so a fragment behind it by
+// more than the blend's offset stays so; those within are kept with their
+// brush, each splat's in one run, for the blend to test against the final
+// surface. Bounded: a bin with more blends in a pass of its own.
+struct Candidates {
+  static constexpr size_t kMax = size_t(1) << 20;  // fragments (20 MiB)
+  struct Fragment {
+    uint32_t q;
+    float depth, length, a1, a2;
+  };
+  struct Run {
+    uint32_t splat, begin, end;
+  };
+  std::vector<Fragment> fragments;
+  std::vector<Run> runs;
+  bool full = false;
+  void clear() {
+    fragments.clear();
+    runs.clear();
+    full = false;
+  }
+};
+
+// falloff() on eight lanes, with the pieces of degree kD (0: the
+// table); a lane out of reach (`in` clear) reads entry 0 (the pieces: any,
+// by its index's low bits). The degree is a constant so that the Horner
+// steps unroll and the brush's four falloffs interleave.
+template <int kD>
 __attribute__((target("avx2"), always_inline)) inline __m256 falloff_avx2(const Settings& s, __m256 q, __m256 in) {
   __m256 t = _mm256_mul_ps(q, _mm256_set1_ps(s.inv_reach));
   if (s.sqrt_index) t = _mm256_sqrt_ps(t);
-  if (s.pieces) {
+  if constexpr (kD > 0) {
     const __m256 x = _mm256_mul_ps(t, _mm256_set1_ps(float(kPieces)));
     const __m256i i = _mm256_min_epi32(_mm256_cvttps_epi32(x), _mm256_set1_epi32(kPieces - 1));
     const __m256 f = _mm256_sub_ps(x, _mm256_cvtepi32_ps(i));
-    __m256 r = _mm256_permutevar8x32_ps(_mm256_load_ps(s.poly[s.degree]), i);
-    for (int d = s.degree - 1; d >= 0; --d)
+    __m256 r = _mm256_permutevar8x32_ps(_mm256_load_ps(s.poly[kD]), i);
+    for (int d = kD - 1; d >= 0; --d)
       r = _mm256_add_ps(_mm256_mul_ps(r, f), _mm256_permutevar8x32_ps(_mm256_load_ps(s.poly[d]), i));
     return r;
   }
@@ -400,6 +436,7 @@ __attribute__((target("avx2"), always_inline)) inline __m256 q_avx2(__m256 cs, _
 // does not enable it), without its early stop: a sum past `stop` is never
 // read but as >= stop (depth pass) or clamped to 1 (blend), so every
 // decision and byte is the scalar path's on any CPU.
+template <int kD>
 __attribute__((target("avx2"))) void brush_alphas_avx2(const Settings& s, const Layer& l, const float* u,
                                                         const float* v, int n, float* out) {
   const __m256 inv_sx = _mm256_set1_ps(s.inv_sx), inv_sy = _mm256_set1_ps(s.inv_sy);
@@ -418,8 +455,8 @@ __attribute__((target("avx2"))) void brush_alphas_avx2(const Settings& s, const 
       const __m256 in_a = _mm256_and_ps(_mm256_cmp_ps(qxa, reach, _CMP_LE_OQ), _mm256_cmp_ps(qya, reach, _CMP_LE_OQ));
       const __m256 in_b = _mm256_and_ps(_mm256_cmp_ps(qxb, reach, _CMP_LE_OQ), _mm256_cmp_ps(qyb, reach, _CMP_LE_OQ));
       if (_mm256_movemask_ps(_mm256_or_ps(in_a, in_b)) == 0) continue;
-      const __m256 fxa = falloff_avx2(s, qxa, in_a), fya = falloff_avx2(s, qya, in_a);
-      const __m256 fxb = falloff_avx2(s, qxb, in_b), fyb = falloff_avx2(s, qyb, in_b);
+      const __m256 fxa = falloff_avx2<kD>(s, qxa, in_a), fya = falloff_avx2<kD>(s, qya, in_a);
+      const __m256 fxb = falloff_avx2<kD>(s, qxb, in_b), fyb = falloff_avx2<kD>(s, qyb, in_b);
       sum_a = _mm256_add_ps(sum_a, _mm256_and_ps(_mm256_mul_ps(fxa, fya), in_a));
       sum_b = _mm256_add_ps(sum_b, _mm256_and_ps(_mm256_mul_ps(fxb, fyb), in_b));
     }
@@ -432,15 +469,44 @@ __attribute__((target("avx2"))) void brush_alphas_avx2(const Settings& s, const 
 const bool kHasAvx2 = __builtin_cpu_supports("avx2") && !std::getenv("POINTNPR_NATIVE_NO_AVX2");
 
 void brush_alphas(const Settings& s, const Layer& l, const float* u, const float* v, int n, float stop, float* out) {
-  if (kHasAvx2) return brush_alphas_avx2(s, l, u, v, n, out);
+  if (kHasAvx2) {
+    switch (s.pieces ? s.degree : 0) {
+      case 3: return brush_alphas_avx2<3>(s, l, u, v, n, out);
+      case 4: return brush_alphas_avx2<4>(s, l, u, v, n, out);
+      case 5: return brush_alphas_avx2<5>(s, l, u, v, n, out);
+      case 6: return brush_alphas_avx2<6>(s, l, u, v, n, out);
+      case 7: return brush_alphas_avx2<7>(s, l, u, v, n, out);
+      default: return brush_alphas_avx2<0>(s, l, u, v, n, out);
+    }
+  }
   for (int j = 0; j < n; ++j) out[j] = brush_alpha(s, l, u[j], v[j], stop);
 }
 
+// A fragment's blend of its brush's alpha a (a2: the second layer's).
+inline void blend(const Splat& sp, const Settings& s, const Images& im, size_t q, float a, float a2) {
+  glm::vec3 rgb = sp.rgb;
+  if (sp.two) {
+    const glm::vec3 rgb2 = s.layer_tint >= 0.0f ? rgb * (1.0f - s.layer_tint) + glm::vec3(s.layer_tint)
+                                                : rgb * (1.0f + s.layer_tint);
+    const float total = a2 + a * (1.0f - a2);
+    rgb = total > 0.0f ? (rgb2 * a2 + rgb * a * (1.0f - a2)) / total : rgb;
+    a = total;
+  }
+  if (!(a >= kBrushCut)) return;
+  float* acc = im.accum + 4 * q;
+  acc[0] += rgb.r * a;
+  acc[1] += rgb.g * a;
+  acc[2] += rgb.b * a;
+  acc[3] += a;
+  im.reveal[q] *= 1.0f - a;
+}
+
 // The brush of a splat's gathered fragments, then their depth (depth
-// pass) or blend.
-template <bool kDepth>
+// pass), blend, or both: depth, and the candidates that cover.
+template <Pass P>
 void shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& second, Fragments& f,
-           const Images& im) {
+           const Images& im, Candidates* out) {
+  constexpr bool kDepth = P == Pass::kDepth;
   const int n = f.n;
   if (n == 0) return;
   for (int j = n; j < ((n + 15) & ~15); ++j) f.u[j] = f.v[j] = 0.0f;  // whole groups of lanes
@@ -455,31 +521,20 @@ void shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
     }
     brush_alphas(s, second, u2, v2, n, stop, a2);
   }
+  if (P == Pass::kBlend) {
+    for (int j = 0; j < n; ++j) blend(sp, s, im, f.q[j], a1[j], sp.two ? a2[j] : 0.0f);
+    f.n = 0;
+    return;
+  }
+  // Room for the candidates, or none kept from here on.
+  if (P == Pass::kBoth && !out->full && out->fragments.size() + size_t(n) > Candidates::kMax) out->full = true;
   for (int j = 0; j < n; ++j) {
-    const size_t q = f.q[j];
-    float a = a1[j];
-    if (kDepth) {
-      bool covers = a >= kBrushCut;
-      // Neither layer reached the cut alone: both sums are whole.
-      if (!covers && sp.two) covers = a2[j] >= kBrushCut || a2[j] + a * (1.0f - a2[j]) >= kBrushCut;
-      if (covers) im.surface[q] = f.depth[j];
-      continue;
-    }
-    glm::vec3 rgb = sp.rgb;
-    if (sp.two) {
-      const glm::vec3 rgb2 = s.layer_tint >= 0.0f ? rgb * (1.0f - s.layer_tint) + glm::vec3(s.layer_tint)
-                                                  : rgb * (1.0f + s.layer_tint);
-      const float total = a2[j] + a * (1.0f - a2[j]);
-      rgb = total > 0.0f ? (rgb2 * a2[j] + rgb * a * (1.0f - a2[j])) / total : rgb;
-      a = total;
-    }
-    if (!(a >= kBrushCut)) continue;
-    float* acc = im.accum + 4 * q;
-    acc[0] += rgb.r * a;
-    acc[1] += rgb.g * a;
-    acc[2] += rgb.b * a;
-    acc[3] += a;
-    im.reveal[q] *= 1.0f - a;
+    const float a = a1[j], b = sp.two ? a2[j] : 0.0f;
+    // (Neither layer reached the cut alone, in the depth pass: both sums are whole.)
+    const bool covers = a >= kBrushCut || (sp.two && (b >= kBrushCut || b + a * (1.0f - b) >= kBrushCut));
+    if (!covers) continue;
+    if (kDepth || f.nearer[j]) im.surface[f.q[j]] = f.depth[j];
+    if (P == Pass::kBoth && !out->full) out->fragments.push_back({f.q[j], f.depth[j], f.length[j], a, b});
   }
   f.n = 0;
 }
@@ -498,14 +553,17 @@ struct RowLanes {
 // pass) or near it (blend: within the offset moved toward the camera along
 // the pixel's ray, at most to the camera: depth (1 - offset / max(|p|,
 // depth)) <= surface, as |p| (depth - surface) <= depth offset, squared).
-// Those kept go to `f` in row order.
-template <bool kDepth>
-__attribute__((always_inline)) inline void row_lanes(const RowLanes& r, int x0, int x1, Fragments& f) {
+// Those kept go to `f` in row order; returns whether one is nearer than
+// the surface (Pass::kBoth keeps those near it, as the blend).
+template <Pass P>
+__attribute__((always_inline)) inline bool row_lanes(const RowLanes& r, int x0, int x1, Fragments& f) {
+  constexpr bool kDepth = P == Pass::kDepth;
   constexpr int kLanes = 8;
+  int any_nearer = 0;
   for (int xs = x0; xs < x1; xs += kLanes) {
     const int n = std::min(kLanes, x1 - xs);
-    float us[kLanes], vs[kLanes], ds[kLanes];
-    int keep[kLanes];
+    float us[kLanes], vs[kLanes], ds[kLanes], ls[kLanes];
+    int keep[kLanes], nearer[kLanes];
     const float* surface = r.surface + xs;
     for (int i = 0; i < kLanes; ++i) {
       const float xc = float(xs + i + r.origin_x) + 0.5f;
@@ -518,13 +576,14 @@ __attribute__((always_inline)) inline void row_lanes(const RowLanes& r, int x0, 
       ds[i] = depth;
       // Off the quad, or the plane seen edge on (not finite): nothing.
       const int on = (i < n) & (std::abs(pz) < 3.0e38f) & (u >= 0.0f) & (u <= 1.0f) & (v >= 0.0f) & (v <= 1.0f);
+      nearer[i] = on & (depth < surface[i]);
       if (kDepth) {
-        keep[i] = on & (depth < surface[i]);
+        keep[i] = nearer[i];
       } else {
         const glm::vec3 p = (r.hx * xc + r.hr) * t;  // h t
         const float behind = depth - surface[i], reach = depth * r.offset;
-        keep[i] = on & ((depth <= surface[i]) |
-                        ((depth - r.offset <= surface[i]) & (glm::dot(p, p) * behind * behind <= reach * reach)));
+        ls[i] = glm::dot(p, p);
+        keep[i] = on & ((depth <= surface[i]) | ((depth - r.offset <= surface[i]) & (ls[i] * behind * behind <= reach * reach)));
       }
     }
     for (int i = 0; i < n; ++i) {
@@ -532,9 +591,15 @@ __attribute__((always_inline)) inline void row_lanes(const RowLanes& r, int x0, 
       f.u[f.n] = us[i];
       f.v[f.n] = vs[i];
       f.depth[f.n] = ds[i];
+      if (P == Pass::kBoth) {
+        f.length[f.n] = ls[i];
+        f.nearer[f.n] = nearer[i];
+      }
+      any_nearer |= nearer[i];
       f.n += keep[i];
     }
   }
+  return any_nearer;
 }
 
 // For each 8-bit mask, the lanes it keeps in order (then zeros): a
@@ -554,8 +619,10 @@ constexpr PackTable kPack;
 // row_lanes() on AVX2 lanes: the same float operations in the same order
 // (the max and min with std::max's and std::min's operand order), the kept
 // lanes packed by a permutation.
-template <bool kDepth>
-__attribute__((target("avx2"))) void row_avx2(const RowLanes& r, int x0, int x1, Fragments& f) {
+template <Pass P>
+__attribute__((target("avx2"))) bool row_avx2(const RowLanes& r, int x0, int x1, Fragments& f) {
+  constexpr bool kDepth = P == Pass::kDepth;
+  int any_nearer = 0;
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
   const __m256 sign = _mm256_castsi256_ps(_mm256_set1_epi32(int32_t(0x80000000u)));
@@ -580,13 +647,16 @@ __attribute__((target("avx2"))) void row_avx2(const RowLanes& r, int x0, int x1,
     keep = _mm256_and_ps(keep, _mm256_and_ps(_mm256_cmp_ps(u, zero, _CMP_GE_OQ), _mm256_cmp_ps(u, one, _CMP_LE_OQ)));
     keep = _mm256_and_ps(keep, _mm256_and_ps(_mm256_cmp_ps(v, zero, _CMP_GE_OQ), _mm256_cmp_ps(v, one, _CMP_LE_OQ)));
     const __m256 surface = _mm256_loadu_ps(r.surface + xs);
+    const __m256 nearer = _mm256_and_ps(keep, _mm256_cmp_ps(depth, surface, _CMP_LT_OQ));
+    any_nearer |= _mm256_movemask_ps(nearer);
+    __m256 length = _mm256_setzero_ps();
     if (kDepth) {
-      keep = _mm256_and_ps(keep, _mm256_cmp_ps(depth, surface, _CMP_LT_OQ));
+      keep = nearer;
     } else {
       const __m256 px = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(r.hx.x), xc), _mm256_set1_ps(r.hr.x)), t);
       const __m256 py = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(r.hx.y), xc), _mm256_set1_ps(r.hr.y)), t);
       const __m256 pw = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(hxz, xc), hrz), t);
-      const __m256 length = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(px, px), _mm256_mul_ps(py, py)), _mm256_mul_ps(pw, pw));
+      length = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(px, px), _mm256_mul_ps(py, py)), _mm256_mul_ps(pw, pw));
       const __m256 behind = _mm256_sub_ps(depth, surface), reach = _mm256_mul_ps(depth, offset);
       const __m256 moved = _mm256_and_ps(
           _mm256_cmp_ps(_mm256_sub_ps(depth, offset), surface, _CMP_LE_OQ),
@@ -601,16 +671,26 @@ __attribute__((target("avx2"))) void row_avx2(const RowLanes& r, int x0, int x1,
     _mm256_storeu_ps(f.u + f.n, _mm256_permutevar8x32_ps(u, pack));
     _mm256_storeu_ps(f.v + f.n, _mm256_permutevar8x32_ps(v, pack));
     _mm256_storeu_ps(f.depth + f.n, _mm256_permutevar8x32_ps(depth, pack));
+    if (P == Pass::kBoth) {
+      _mm256_storeu_ps(f.length + f.n, _mm256_permutevar8x32_ps(length, pack));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(f.nearer + f.n),
+                          _mm256_permutevar8x32_epi32(_mm256_castps_si256(nearer), pack));
+    }
     f.n += __builtin_popcount(unsigned(mask));
   }
+  return any_nearer != 0;
 }
 
-// The splat's fragments over `area`: kDepth the depth pass, else the blend.
-// The depth pass marks the blocks of the rows where it kept fragments.
-template <bool kDepth, bool kOrtho>
-void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Images& im, BlockDepths& blocks) {
+// Splat `index`'s fragments over `area` in pass P (kBoth: its candidates
+// to `out`, as one run). The depth passes mark the blocks of the rows
+// where a fragment was nearer than the surface.
+template <Pass P, bool kOrtho>
+void rasterize(uint32_t index, const Splat& sp, const Settings& s, const Rect& area, const Images& im,
+               BlockDepths& blocks, Candidates* out) {
+  constexpr bool kDepth = P == Pass::kDepth;
   const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
   if (lo.x >= hi.x || lo.y >= hi.y) return;
+  const size_t begin = P == Pass::kBoth ? out->fragments.size() : 0;
   Fragments frags;
   // The layers at the first fragments that need the brush (most of a
   // depth pass's splats have none: they lie behind).
@@ -630,14 +710,7 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
         second = layer(s, cs, sn);
       }
     }
-    shade<kDepth>(sp, s, first, second, frags, im);
-  };
-  auto push = [&](size_t q, float u, float v, float depth, bool keep) {
-    frags.q[frags.n] = uint32_t(q);
-    frags.u[frags.n] = u;
-    frags.v[frags.n] = v;
-    frags.depth[frags.n] = depth;
-    frags.n += keep;
+    shade<P>(sp, s, first, second, frags, im, out);
   };
   const float plane = glm::dot(sp.center, sp.normal);
   const glm::vec4 col_x = s.view_from_pixel[0], col_y = s.view_from_pixel[1], col_w = s.view_from_pixel[3];
@@ -693,21 +766,50 @@ void rasterize(const Splat& sp, const Settings& s, const Rect& area, const Image
         if (!(u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f)) continue;  // off the quad
         const float depth = std::clamp(-p.z, near_d, far_d), surface = im.surface[line + size_t(x)];
         // Orthographic rays are parallel: the move toward the camera is the offset itself.
-        const bool keep = kDepth ? depth < surface : (depth <= surface || depth - sp.offset <= surface);
-        push(line + size_t(x), u, v, depth, keep);
+        const bool nearer = depth < surface;
+        const bool keep = kDepth ? nearer : (depth <= surface || depth - sp.offset <= surface);
+        const int k = frags.n;
+        frags.q[k] = uint32_t(line + size_t(x));
+        frags.u[k] = u;
+        frags.v[k] = v;
+        frags.depth[k] = depth;
+        frags.length[k] = 0.0f;
+        frags.nearer[k] = nearer;
+        frags.n += keep;
       }
-      if (kDepth) blocks.touch(y, x0, x1);
+      if (P != Pass::kBlend) blocks.touch(y, x0, x1);
       continue;
     }
     const float d0 = glm::dot(hr, sp.normal), u0 = glm::dot(hr, sp.u_axis), v0 = glm::dot(hr, sp.v_axis);
     const RowLanes r{plane, d0, dx, u0, ux, v0, vx, cu, cv, near_d, far_d, sp.offset, hx, hr,
                      s.origin.x, im.surface + line, line};
-    const int kept = frags.n;
-    if (kHasAvx2) row_avx2<kDepth>(r, x0, x1, frags);
-    else row_lanes<kDepth>(r, x0, x1, frags);
-    if (kDepth && frags.n != kept) blocks.touch(y, x0, x1);
+    const bool nearer = kHasAvx2 ? row_avx2<P>(r, x0, x1, frags) : row_lanes<P>(r, x0, x1, frags);
+    if (P != Pass::kBlend && nearer) blocks.touch(y, x0, x1);
   }
   flush();
+  if (P == Pass::kBoth && out->fragments.size() > begin)
+    out->runs.push_back({index, uint32_t(begin), uint32_t(out->fragments.size())});
+}
+
+// The blend of a bin's candidates against its final surface, splats in
+// point order: the blend pass's tests and float operations, so its bytes.
+void blend_candidates(const std::vector<Splat>& splats, const Settings& s, const Images& im, Candidates& c) {
+  std::sort(c.runs.begin(), c.runs.end(), [](const Candidates::Run& a, const Candidates::Run& b) { return a.splat < b.splat; });
+  for (const Candidates::Run& run : c.runs) {
+    const Splat& sp = splats[run.splat];
+    for (uint32_t i = run.begin; i < run.end; ++i) {
+      const Candidates::Fragment& f = c.fragments[i];
+      const float surface = im.surface[f.q];
+      bool keep;
+      if (s.ortho) {
+        keep = f.depth <= surface || f.depth - sp.offset <= surface;
+      } else {
+        const float behind = f.depth - surface, reach = f.depth * sp.offset;
+        keep = f.depth <= surface || (f.depth - sp.offset <= surface && f.length * behind * behind <= reach * reach);
+      }
+      if (keep) blend(sp, s, im, f.q, f.a1, f.a2);
+    }
+  }
 }
 
 // The host images of the last frames, kept so a frame does not page-fault
@@ -1002,66 +1104,99 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     });
     setup_ms += std::chrono::duration<double, std::milli>(Clock::now() - ts).count();
   };
-  auto pass = [&](auto depth_pass) {
-    constexpr bool kDepth = decltype(depth_pass)::value;
+  // One pass P over the batch in `splats`, bin by bin.
+  auto pass = [&](auto which) {
+    constexpr Pass P = decltype(which)::value;
     auto bounds = [&](size_t i, glm::ivec2& lo, glm::ivec2& hi) {
       lo = splats[i].lo;
       hi = splats[i].hi;
       return lo.x < hi.x && lo.y < hi.y;
     };
     for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
-      std::vector<uint32_t> order(list, list + (kDepth ? 0 : n));  // point order (blend)
-      if (kDepth) {
-        // The nearest depth does not depend on the order: near splats first
-        // leave most later fragments behind it, unshaded. Sorted as (depth,
-        // index) pairs read in point order, not through the splats.
-        std::vector<std::pair<float, uint32_t>> near(n);
-        for (size_t j = 0; j < n; ++j) near[j] = {splats[list[j]].depth_range.x, list[j]};
-        std::sort(near.begin(), near.end());
-        order.resize(n);
-        for (size_t j = 0; j < n; ++j) order[j] = near[j].second;
-      }
       BlockDepths blocks;
       blocks.area = area;
       blocks.im = &im;
-      // Depth pass: once the splats since cover the bin's area (so the scan
-      // costs at most what they did), the bin's farthest surface: every
-      // later splat (sorted) behind it is dropped.
+      // The blend pass: in point order, splats behind the surface by more
+      // than their offset dropped.
+      auto blend_pass = [&] {
+        blocks.stale = ~uint64_t(0);
+        for (size_t j = 0; j < n; ++j) {
+          const Splat& sp = splats[list[j]];
+          if (sp.depth_range.x - sp.offset > blocks.under(sp.lo, sp.hi)) continue;
+          if (s.ortho) rasterize<Pass::kBlend, true>(list[j], sp, s, area, im, blocks, nullptr);
+          else rasterize<Pass::kBlend, false>(list[j], sp, s, area, im, blocks, nullptr);
+        }
+      };
+      if (P == Pass::kBlend) return blend_pass();
+      // The nearest depth does not depend on the order: near splats first
+      // leave most later fragments behind it, unshaded. Sorted as (depth,
+      // index) pairs read in point order, not through the splats.
+      std::vector<std::pair<float, uint32_t>> near(n);
+      float max_offset = 0.0f;
+      for (size_t j = 0; j < n; ++j) {
+        const Splat& sp = splats[list[j]];
+        near[j] = {sp.depth_range.x, list[j]};
+        max_offset = std::max(max_offset, sp.offset);
+      }
+      std::sort(near.begin(), near.end());
+      thread_local Candidates candidates;
+      candidates.clear();
+      // Once the splats since cover the bin's area (so the scan costs at
+      // most what they did), the bin's farthest surface: every later splat
+      // (sorted) behind it (by more than the offsets, kBoth) is dropped.
       float bin_far = kInf;
       const size_t bin_area = size_t(area.size().x) * size_t(area.size().y);
       size_t painted = 0;
       for (size_t j = 0; j < n; ++j) {
         // In depth order the splats are far apart in memory: fetched ahead.
-        if (kDepth && j + 8 < n) {
-          const char* ahead = reinterpret_cast<const char*>(&splats[order[j + 8]]);
+        if (j + 8 < n) {
+          const char* ahead = reinterpret_cast<const char*>(&splats[near[j + 8].second]);
           for (size_t line = 0; line < sizeof(Splat); line += 64) __builtin_prefetch(ahead + line);
         }
-        const Splat& sp = splats[order[j]];
-        if (kDepth) {
-          const glm::ivec2 box = glm::min(sp.hi, area.max) - glm::max(sp.lo, area.min);
-          painted += size_t(std::max(box.x, 0)) * size_t(std::max(box.y, 0));
-          if (painted >= bin_area) {
-            painted = 0;
-            bin_far = blocks.under(area.min, area.max);
-          }
+        const uint32_t index = near[j].second;
+        const Splat& sp = splats[index];
+        const glm::ivec2 box = glm::min(sp.hi, area.max) - glm::max(sp.lo, area.min);
+        painted += size_t(std::max(box.x, 0)) * size_t(std::max(box.y, 0));
+        if (painted >= bin_area) {
+          painted = 0;
+          bin_far = blocks.under(area.min, area.max);
+        }
+        if (P == Pass::kDepth) {
           if (sp.depth_range.x >= bin_far) break;
           if (sp.depth_range.x >= blocks.under(sp.lo, sp.hi)) continue;
-        } else if (sp.depth_range.x - sp.offset > blocks.under(sp.lo, sp.hi)) {
-          continue;
+        } else {
+          if (sp.depth_range.x - max_offset > bin_far) break;
+          if (sp.depth_range.x - sp.offset > blocks.under(sp.lo, sp.hi)) continue;
         }
-        if (s.ortho) rasterize<kDepth, true>(sp, s, area, im, blocks);
-        else rasterize<kDepth, false>(sp, s, area, im, blocks);
+        if (s.ortho) rasterize<P, true>(index, sp, s, area, im, blocks, &candidates);
+        else rasterize<P, false>(index, sp, s, area, im, blocks, &candidates);
+      }
+      if (P == Pass::kBoth) {
+        if (candidates.full) blend_pass();
+        else blend_candidates(splats, s, im, candidates);
       }
     }, kBinSide);
   };
-  for (const auto& [b, e] : batches) {
-    set_up(b, e);
-    pass(std::true_type{});
+  using DepthPass = std::integral_constant<Pass, Pass::kDepth>;
+  using BlendPass = std::integral_constant<Pass, Pass::kBlend>;
+  using BothPasses = std::integral_constant<Pass, Pass::kBoth>;
+  // One batch: each bin's depth pass keeps the fragments its blend needs.
+  // Several: every depth pass, then every blend pass (set up again).
+  if (batches.size() == 1) {
+    set_up(batches[0].first, batches[0].second);
+    pass(BothPasses{});
+  } else {
+    for (const auto& [b, e] : batches) {
+      set_up(b, e);
+      pass(DepthPass{});
+    }
   }
   const auto t1 = Clock::now();
-  for (const auto& [b, e] : batches) {
-    if (batches.size() > 1) set_up(b, e);
-    pass(std::false_type{});
+  if (batches.size() > 1) {
+    for (const auto& [b, e] : batches) {
+      set_up(b, e);
+      pass(BlendPass{});
+    }
   }
   const auto t2 = Clock::now();
 
