@@ -28,6 +28,7 @@
 // brushes run on AVX2 lanes where the CPU has them, with the scalar path's
 // float operations in its order (no FMA), so the bytes never depend on it.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -1073,11 +1074,17 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   struct Item {
     uint32_t chunk, begin, end;
   };
+  // POINTNPR_NATIVE_BATCH (tests): fewer splats a batch, so that several
+  // run the passes apart.
+  static const uint64_t batch_splats = [] {
+    const char* v = std::getenv("POINTNPR_NATIVE_BATCH");
+    return v ? std::clamp<uint64_t>(std::strtoull(v, nullptr, 10), 1, kBatch) : uint64_t(kBatch);
+  }();
   std::vector<std::pair<size_t, size_t>> batches;
   for (size_t b = 0; b < chunks.size();) {
     size_t e = b;
     uint64_t used = 0;
-    while (e < chunks.size() && (e == b || used + chunks[e].count <= kBatch)) used += chunks[e++].count;
+    while (e < chunks.size() && (e == b || used + chunks[e].count <= batch_splats)) used += chunks[e++].count;
     batches.push_back({b, e});
     b = e;
   }
@@ -1104,6 +1111,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     });
     setup_ms += std::chrono::duration<double, std::milli>(Clock::now() - ts).count();
   };
+  std::atomic<int> bins_blended_apart{0};  // over Candidates::kMax
   // One pass P over the batch in `splats`, bin by bin.
   auto pass = [&](auto which) {
     constexpr Pass P = decltype(which)::value;
@@ -1172,8 +1180,9 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         else rasterize<P, false>(index, sp, s, area, im, blocks, &candidates);
       }
       if (P == Pass::kBoth) {
-        if (candidates.full) blend_pass();
-        else blend_candidates(splats, s, im, candidates);
+        if (!candidates.full) return blend_candidates(splats, s, im, candidates);
+        ++bins_blended_apart;
+        blend_pass();
       }
     }, kBinSide);
   };
@@ -1235,6 +1244,8 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     };
     (*ctx.stats)["splats_drawn"] += double(drawn);
     (*ctx.stats)["brush_native_setup_ms"] += setup_ms;
+    (*ctx.stats)["brush_native_batches"] += double(batches.size());
+    (*ctx.stats)["brush_native_bins_blended_apart"] += double(bins_blended_apart.load());
     (*ctx.stats)["brush_native_depth_ms"] += ms(t0, t1);
     (*ctx.stats)["brush_native_blend_ms"] += ms(t1, t2);
     (*ctx.stats)["brush_native_resolve_ms"] += ms(t2, t3);

@@ -10,6 +10,7 @@ the pixels; the native brush is a tabulated exp(-q^lambda / 2) and the
 quad's edges are decided by uv in [0, 1] rather than the GL's fixed-point
 edges, so a splat edge pixel now and then falls to the other splat."""
 import hashlib
+import json
 import os
 import subprocess
 import sys
@@ -130,3 +131,51 @@ def test_the_scalar_lanes_draw_the_avx2_lanes_bytes(renderer):
                           os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
                          timeout=600, env=env)
     assert out.stdout.strip() == _native_digest(renderer)
+
+
+_PASSES_SCRIPT = r"""
+import json, sys
+sys.path.insert(0, sys.argv[1])
+sys.path.insert(0, sys.argv[2])
+import pointnpr
+import test_marks_brush_splats_native as t
+print(json.dumps(t._passes(pointnpr.Renderer())))
+"""
+
+
+def _passes(renderer):
+    """Digests and pass statistics of frames whose bins fit their candidates,
+    and of one (big splats on a small frame) where some bins hold more."""
+    cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
+    out = []
+    for params in ({"layers": "two", "clusters": True}, {"size_scale": 8.0}, {"size_scale": 8.0, "camera": "ortho"}):
+        params = dict(params, rasterizer="native")
+        if params.pop("camera", None) == "ortho":
+            scene = pointnpr.Scene()
+            scene.add_segment("scan", pointnpr.Style(mark=("brush_splats", params)), [(cloud, np.eye(4))])
+            cam = pointnpr.Camera.orthographic(pointnpr.look_at((2.6, -1.6, 1.5), (-2.9, 3.9, -1.2)), ortho_scale=4.0,
+                                               clip_start=0.1, clip_end=100.0, width=W, height=H)
+            r = renderer.render(scene, cam, W, H, background=(1, 1, 1, 0))
+        else:
+            r = _render(renderer, params, cloud)
+        out.append({"digest": hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest(),
+                    "batches": r.stats["brush_native_batches"],
+                    "apart": r.stats["brush_native_bins_blended_apart"]})
+    return out
+
+
+def test_one_pass_with_candidates_draws_the_two_passes_bytes(renderer):
+    """With one batch of splats, each bin's depth pass keeps the fragments
+    near its surface, with their brush, and blends those that stay near the
+    final surface; a bin with more than its bound of them, and frames of
+    several batches (forced here by POINTNPR_NATIVE_BATCH in another
+    process), run the blend pass apart: the same bytes either way."""
+    from conftest import BUILD_DIR
+    env = dict(os.environ, POINTNPR_NATIVE_BATCH="50000")
+    out = subprocess.run([sys.executable, "-c", _PASSES_SCRIPT, os.path.abspath(BUILD_DIR),
+                          os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
+                         timeout=600, env=env)
+    apart, merged = json.loads(out.stdout), _passes(renderer)
+    assert [f["batches"] for f in merged] == [1, 1, 1] and all(f["batches"] > 1 for f in apart)
+    assert merged[0]["apart"] == 0 and merged[1]["apart"] > 0 and merged[2]["apart"] > 0
+    assert [f["digest"] for f in merged] == [f["digest"] for f in apart]
