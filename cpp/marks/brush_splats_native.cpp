@@ -28,6 +28,7 @@
 // brushes run on AVX2 lanes where the CPU has them, with the scalar path's
 // float operations in its order (no FMA), so the bytes never depend on it.
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -328,12 +329,17 @@ struct BlockDepths {
       stale &= ~(uint64_t(1) << b);
       const int x0 = area.min.x + bx * kSide, x1 = std::min(x0 + kSide, area.max.x);
       const int y0 = area.min.y + by * kSide, y1 = std::min(y0 + kSide, area.max.y);
+      __m128 m4 = _mm_set1_ps(-kInf);  // (SSE: every x86-64 has it)
       float m = -kInf;
       for (int y = y0; y < y1; ++y) {
         const float* line = im->surface + size_t(y - im->min.y) * size_t(im->stride) - size_t(im->min.x);
-        for (int x = x0; x < x1; ++x) m = std::max(m, line[x]);
+        int x = x0;
+        for (; x + 4 <= x1; x += 4) m4 = _mm_max_ps(m4, _mm_loadu_ps(line + x));
+        for (; x < x1; ++x) m = std::max(m, line[x]);
       }
-      far[b] = m;
+      alignas(16) float lanes[4];
+      _mm_store_ps(lanes, m4);
+      far[b] = std::max({m, lanes[0], lanes[1], lanes[2], lanes[3]});
     }
     return far[b];
   }
@@ -386,10 +392,11 @@ struct Candidates {
     float depth, length, a1, a2;
   };
   struct Run {
-    uint32_t splat, begin, end;
+    uint32_t place, begin, end;  // the splat's place in the bin's list
   };
   std::vector<Fragment> fragments;
   std::vector<Run> runs;
+  std::vector<uint32_t> run_at;
   bool full = false;
   void clear() {
     fragments.clear();
@@ -682,11 +689,11 @@ __attribute__((target("avx2"))) bool row_avx2(const RowLanes& r, int x0, int x1,
   return any_nearer != 0;
 }
 
-// Splat `index`'s fragments over `area` in pass P (kBoth: its candidates
-// to `out`, as one run). The depth passes mark the blocks of the rows
+// A splat's fragments over `area` in pass P (kBoth: its candidates to
+// `out`, as one run, by its place in the bin's list). The depth passes mark the blocks of the rows
 // where a fragment was nearer than the surface.
 template <Pass P, bool kOrtho>
-void rasterize(uint32_t index, const Splat& sp, const Settings& s, const Rect& area, const Images& im,
+void rasterize(uint32_t place, const Splat& sp, const Settings& s, const Rect& area, const Images& im,
                BlockDepths& blocks, Candidates* out) {
   constexpr bool kDepth = P == Pass::kDepth;
   const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
@@ -737,18 +744,39 @@ void rasterize(uint32_t index, const Splat& sp, const Settings& s, const Rect& a
     flat_min[e] = ya == yb ? std::min(xa, xb) : kInf;
     flat_max[e] = ya == yb ? std::max(xa, xb) : -kInf;
   }
+  // Four rows at a time on SSE lanes (every x86-64 has them; min and max
+  // with std::min's and std::max's operand order): each row's first pixel
+  // and its end past the last, frame pixels (none: x_min > x_max).
+  constexpr int kRows = kBinSide + 4;
+  alignas(16) int32_t row_x0[kRows], row_x1[kRows];
+  {
+    auto floor4 = [](__m128 v) {  // floor_int()
+      const __m128i i = _mm_cvttps_epi32(v);
+      return _mm_add_epi32(i, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i), v)));
+    };
+    const __m128 half = _mm_set1_ps(0.5f);
+    for (int y = lo.y; y < hi.y; y += 4) {
+      const __m128 yc = _mm_add_ps(_mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(y + s.origin.y), _mm_setr_epi32(0, 1, 2, 3))), half);
+      __m128 x_min = _mm_set1_ps(kInf), x_max = _mm_set1_ps(-kInf);
+      for (int e = 0; e < 4; ++e) {
+        const __m128 meets = _mm_and_ps(_mm_cmple_ps(_mm_set1_ps(edge_lo[e]), yc), _mm_cmple_ps(yc, _mm_set1_ps(edge_hi[e])));
+        const __m128 xc = _mm_add_ps(_mm_set1_ps(edge_x[e]), _mm_mul_ps(_mm_sub_ps(yc, _mm_set1_ps(edge_y[e])), _mm_set1_ps(edge_slope[e])));
+        const __m128 lo_e = _mm_min_ps(_mm_min_ps(_mm_set1_ps(flat_min[e]), xc), x_min);
+        const __m128 hi_e = _mm_max_ps(_mm_max_ps(_mm_set1_ps(flat_max[e]), xc), x_max);
+        x_min = _mm_or_ps(_mm_and_ps(meets, lo_e), _mm_andnot_ps(meets, x_min));
+        x_max = _mm_or_ps(_mm_and_ps(meets, hi_e), _mm_andnot_ps(meets, x_max));
+      }
+      const __m128i none = _mm_castps_si128(_mm_cmpnle_ps(x_min, x_max));  // (also NaN)
+      const __m128i x0 = floor4(_mm_sub_ps(x_min, half));
+      const __m128i x1 = _mm_add_epi32(floor4(_mm_sub_ps(x_max, half)), _mm_set1_epi32(2));
+      _mm_store_si128(reinterpret_cast<__m128i*>(row_x0 + (y - lo.y)), _mm_andnot_si128(none, x0));
+      _mm_store_si128(reinterpret_cast<__m128i*>(row_x1 + (y - lo.y)), _mm_andnot_si128(none, x1));
+    }
+  }
   for (int y = lo.y; y < hi.y; ++y) {
     const float yc = float(y + s.origin.y) + 0.5f;
-    float x_min = kInf, x_max = -kInf;
-    for (int e = 0; e < 4; ++e) {
-      const bool meets = edge_lo[e] <= yc && yc <= edge_hi[e];
-      const float xc = edge_x[e] + (yc - edge_y[e]) * edge_slope[e];
-      x_min = meets ? std::min(x_min, std::min(xc, flat_min[e])) : x_min;
-      x_max = meets ? std::max(x_max, std::max(xc, flat_max[e])) : x_max;
-    }
-    if (!(x_min <= x_max)) continue;
-    const int x0 = std::max(lo.x, floor_int(x_min - 0.5f) - s.origin.x);
-    const int x1 = std::min(hi.x, floor_int(x_max - 0.5f) + 2 - s.origin.x);
+    const int x0 = std::max(lo.x, row_x0[y - lo.y] - s.origin.x);
+    const int x1 = std::min(hi.x, row_x1[y - lo.y] - s.origin.x);
     if (x0 >= x1) continue;
     // Room for a whole row (at most the area's width) before it is walked.
     if (frags.n + (x1 - x0) > Fragments::kMax) flush();
@@ -789,25 +817,28 @@ void rasterize(uint32_t index, const Splat& sp, const Settings& s, const Rect& a
   }
   flush();
   if (P == Pass::kBoth && out->fragments.size() > begin)
-    out->runs.push_back({index, uint32_t(begin), uint32_t(out->fragments.size())});
+    out->runs.push_back({place, uint32_t(begin), uint32_t(out->fragments.size())});
 }
 
 // The blend of a bin's candidates against its final surface, splats in
-// point order: the blend pass's tests and float operations, so its bytes.
-void blend_candidates(const std::vector<Splat>& splats, const Settings& s, const Images& im, Candidates& c) {
-  std::sort(c.runs.begin(), c.runs.end(), [](const Candidates::Run& a, const Candidates::Run& b) { return a.splat < b.splat; });
-  for (const Candidates::Run& run : c.runs) {
-    const Splat& sp = splats[run.splat];
+// point order (the bin's list of n): the blend pass's tests and float
+// operations, so its bytes.
+void blend_candidates(const std::vector<Splat>& splats, const uint32_t* list, size_t n, const Settings& s,
+                      const Images& im, Candidates& c) {
+  std::vector<uint32_t>& run_at = c.run_at;  // by place, past the runs: none
+  run_at.assign(n, uint32_t(c.runs.size()));
+  for (size_t r = 0; r < c.runs.size(); ++r) run_at[c.runs[r].place] = uint32_t(r);
+  for (size_t place = 0; place < n; ++place) {
+    if (run_at[place] == c.runs.size()) continue;
+    const Candidates::Run& run = c.runs[run_at[place]];
+    const Splat& sp = splats[list[place]];
     for (uint32_t i = run.begin; i < run.end; ++i) {
       const Candidates::Fragment& f = c.fragments[i];
       const float surface = im.surface[f.q];
-      bool keep;
-      if (s.ortho) {
-        keep = f.depth <= surface || f.depth - sp.offset <= surface;
-      } else {
-        const float behind = f.depth - surface, reach = f.depth * sp.offset;
-        keep = f.depth <= surface || (f.depth - sp.offset <= surface && f.length * behind * behind <= reach * reach);
-      }
+      // (Without branches but the last: their outcomes are a coin's toss.)
+      const float behind = f.depth - surface, reach = f.depth * sp.offset;
+      const bool keep = (f.depth <= surface) |
+                        ((f.depth - sp.offset <= surface) & (s.ortho | (f.length * behind * behind <= reach * reach)));
       if (keep) blend(sp, s, im, f.q, f.a1, f.a2);
     }
   }
@@ -1137,13 +1168,15 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       };
       if (P == Pass::kBlend) return blend_pass();
       // The nearest depth does not depend on the order: near splats first
-      // leave most later fragments behind it, unshaded. Sorted as (depth,
-      // index) pairs read in point order, not through the splats.
-      std::vector<std::pair<float, uint32_t>> near(n);
+      // leave most later fragments behind it, unshaded. Sorted as keys of
+      // the nearest depth (positive, beyond the near plane: its bits sort
+      // as it) over the place in the list (in point order), read in point
+      // order, not through the splats.
+      std::vector<uint64_t> near(n);
       float max_offset = 0.0f;
       for (size_t j = 0; j < n; ++j) {
         const Splat& sp = splats[list[j]];
-        near[j] = {sp.depth_range.x, list[j]};
+        near[j] = uint64_t(std::bit_cast<uint32_t>(sp.depth_range.x)) << 32 | j;
         max_offset = std::max(max_offset, sp.offset);
       }
       std::sort(near.begin(), near.end());
@@ -1158,10 +1191,10 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       for (size_t j = 0; j < n; ++j) {
         // In depth order the splats are far apart in memory: fetched ahead.
         if (j + 8 < n) {
-          const char* ahead = reinterpret_cast<const char*>(&splats[near[j + 8].second]);
+          const char* ahead = reinterpret_cast<const char*>(&splats[list[uint32_t(near[j + 8])]]);
           for (size_t line = 0; line < sizeof(Splat); line += 64) __builtin_prefetch(ahead + line);
         }
-        const uint32_t index = near[j].second;
+        const uint32_t place = uint32_t(near[j]), index = list[place];
         const Splat& sp = splats[index];
         const glm::ivec2 box = glm::min(sp.hi, area.max) - glm::max(sp.lo, area.min);
         painted += size_t(std::max(box.x, 0)) * size_t(std::max(box.y, 0));
@@ -1176,11 +1209,11 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           if (sp.depth_range.x - max_offset > bin_far) break;
           if (sp.depth_range.x - sp.offset > blocks.under(sp.lo, sp.hi)) continue;
         }
-        if (s.ortho) rasterize<P, true>(index, sp, s, area, im, blocks, &candidates);
-        else rasterize<P, false>(index, sp, s, area, im, blocks, &candidates);
+        if (s.ortho) rasterize<P, true>(place, sp, s, area, im, blocks, &candidates);
+        else rasterize<P, false>(place, sp, s, area, im, blocks, &candidates);
       }
       if (P == Pass::kBoth) {
-        if (!candidates.full) return blend_candidates(splats, s, im, candidates);
+        if (!candidates.full) return blend_candidates(splats, list, n, s, im, candidates);
         ++bins_blended_apart;
         blend_pass();
       }
