@@ -964,7 +964,9 @@ Settings settings(const MarkContext& ctx, const ParamValues& p) {
   return s;
 }
 
-// brush_blur.comp over the clip: along x into `sums`, then along y into `out`.
+// brush_blur.comp over the clip: along x into `sums`, then along y into
+// `out`; a pixel's four channels on one group of SSE lanes (each channel's
+// float operations as the shader's, in its order).
 void blur(const Settings& s, const ParamValues& p, const float* color, const float* depth, float* sums, float* out) {
   const int radius = p.get_int("blur_radius");
   const float sigma = std::max(0.5f, 0.5f * float(radius));
@@ -973,22 +975,24 @@ void blur(const Settings& s, const ParamValues& p, const float* color, const flo
   for (int k = -radius; k <= radius; ++k) weight[size_t(k + radius)] = std::exp(-0.5f * float(k * k) / (sigma * sigma));
   const glm::ivec2 size = s.clip.size();
   auto at = [&](int x, int y) { return size_t(y) * size_t(size.x) + size_t(x); };
+  const __m128 rgb_lanes = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)), one_last = _mm_setr_ps(0.0f, 0.0f, 0.0f, 1.0f);
   tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y < rows.end(); ++y)
       for (int x = 0; x < size.x; ++x) {
         const float d = depth[at(x, y)];
-        float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        __m128 sum = _mm_setzero_ps();
         if (!std::isinf(d)) {
           for (int k = -radius; k <= radius; ++k) {
             const size_t q = at(std::clamp(x + k, 0, size.x - 1), y);
             const float dq = depth[q];
             if (std::isinf(dq) || std::abs(dq - d) > tolerance * d) continue;
             const float w = weight[size_t(k + radius)] * color[4 * q + 3];
-            for (int c = 0; c < 3; ++c) sum[c] += color[4 * q + size_t(c)] * w;
-            sum[3] += w;
+            // rgb * w, and w itself (1 * w) in the last lane.
+            const __m128 rgb1 = _mm_or_ps(_mm_and_ps(_mm_loadu_ps(&color[4 * q]), rgb_lanes), one_last);
+            sum = _mm_add_ps(sum, _mm_mul_ps(rgb1, _mm_set1_ps(w)));
           }
         }
-        std::memcpy(&sums[4 * at(x, y)], sum, 16);
+        _mm_storeu_ps(&sums[4 * at(x, y)], sum);
       }
   });
   tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
@@ -1002,13 +1006,15 @@ void blur(const Settings& s, const ParamValues& p, const float* color, const flo
           std::memcpy(o, c, 16);
           continue;
         }
-        float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        __m128 sum4 = _mm_setzero_ps();
         for (int k = -radius; k <= radius; ++k) {
           const size_t q = at(x, std::clamp(y + k, 0, size.y - 1));
           const float dq = depth[q];
           if (std::isinf(dq) || std::abs(dq - d) > tolerance * d) continue;
-          for (int ch = 0; ch < 4; ++ch) sum[ch] += weight[size_t(k + radius)] * sums[4 * q + size_t(ch)];
+          sum4 = _mm_add_ps(sum4, _mm_mul_ps(_mm_set1_ps(weight[size_t(k + radius)]), _mm_loadu_ps(&sums[4 * q])));
         }
+        alignas(16) float sum[4];
+        _mm_store_ps(sum, sum4);
         for (int ch = 0; ch < 3; ++ch) o[ch] = sum[3] > 0.0f ? sum[ch] / sum[3] : c[ch];
         o[3] = c[3];
       }
