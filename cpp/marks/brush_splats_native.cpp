@@ -394,12 +394,13 @@ struct Candidates {
   struct Run {
     uint32_t place, begin, end;  // the splat's place in the bin's list
   };
-  std::vector<Fragment> fragments;
+  std::unique_ptr<Fragment[]> fragments{new Fragment[kMax]};  // (its pages touched as used)
+  size_t count = 0;
   std::vector<Run> runs;
   std::vector<uint32_t> run_at;
   bool full = false;
   void clear() {
-    fragments.clear();
+    count = 0;
     runs.clear();
     full = false;
   }
@@ -535,15 +536,19 @@ void shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
     return;
   }
   // Room for the candidates, or none kept from here on.
-  if (P == Pass::kBoth && !out->full && out->fragments.size() + size_t(n) > Candidates::kMax) out->full = true;
+  if (P == Pass::kBoth && !out->full && out->count + size_t(n) > Candidates::kMax) out->full = true;
+  const bool record = P == Pass::kBoth && !out->full;
+  Candidates::Fragment* kept = record ? out->fragments.get() : nullptr;
+  size_t recorded = record ? out->count : 0;
   for (int j = 0; j < n; ++j) {
     const float a = a1[j], b = sp.two ? a2[j] : 0.0f;
     // (Neither layer reached the cut alone, in the depth pass: both sums are whole.)
     const bool covers = a >= kBrushCut || (sp.two && (b >= kBrushCut || b + a * (1.0f - b) >= kBrushCut));
     if (!covers) continue;
     if (kDepth || f.nearer[j]) im.surface[f.q[j]] = f.depth[j];
-    if (P == Pass::kBoth && !out->full) out->fragments.push_back({f.q[j], f.depth[j], f.length[j], a, b});
+    if (record) kept[recorded++] = {f.q[j], f.depth[j], f.length[j], a, b};
   }
+  if (record) out->count = recorded;
   f.n = 0;
 }
 
@@ -698,7 +703,7 @@ void rasterize(uint32_t place, const Splat& sp, const Settings& s, const Rect& a
   constexpr bool kDepth = P == Pass::kDepth;
   const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
   if (lo.x >= hi.x || lo.y >= hi.y) return;
-  const size_t begin = P == Pass::kBoth ? out->fragments.size() : 0;
+  const size_t begin = P == Pass::kBoth ? out->count : 0;
   Fragments frags;
   // The layers at the first fragments that need the brush (most of a
   // depth pass's splats have none: they lie behind).
@@ -816,8 +821,7 @@ void rasterize(uint32_t place, const Splat& sp, const Settings& s, const Rect& a
     if (P != Pass::kBlend && nearer) blocks.touch(y, x0, x1);
   }
   flush();
-  if (P == Pass::kBoth && out->fragments.size() > begin)
-    out->runs.push_back({place, uint32_t(begin), uint32_t(out->fragments.size())});
+  if (P == Pass::kBoth && out->count > begin) out->runs.push_back({place, uint32_t(begin), uint32_t(out->count)});
 }
 
 // The blend of a bin's candidates against its final surface, splats in
@@ -1157,7 +1161,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       hi = splats[i].hi;
       return lo.x < hi.x && lo.y < hi.y;
     };
-    for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
+    auto bin = [&](const Rect& area, const uint32_t* list, size_t n) {
       BlockDepths blocks;
       blocks.area = area;
       blocks.im = &im;
@@ -1223,6 +1227,22 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         ++bins_blended_apart;
         blend_pass();
       }
+    };
+    // Bins of kBinSide (BlockDepths, the rows' arrays): wider ones (past
+    // 16384 bins, frames over 67M pixels) are cut, their lists filtered.
+    for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
+      if (area.size().x <= kBinSide && area.size().y <= kBinSide) return bin(area, list, n);
+      std::vector<uint32_t> part;
+      for (int y = area.min.y; y < area.max.y; y += kBinSide)
+        for (int x = area.min.x; x < area.max.x; x += kBinSide) {
+          const Rect cut{{x, y}, glm::min(glm::ivec2(x, y) + kBinSide, area.max)};
+          part.clear();
+          for (size_t j = 0; j < n; ++j) {
+            const Splat& sp = splats[list[j]];
+            if (sp.lo.x < cut.max.x && sp.hi.x > cut.min.x && sp.lo.y < cut.max.y && sp.hi.y > cut.min.y) part.push_back(list[j]);
+          }
+          bin(cut, part.data(), part.size());
+        }
     }, kBinSide);
   };
   using DepthPass = std::integral_constant<Pass, Pass::kDepth>;
