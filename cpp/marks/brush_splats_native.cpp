@@ -11,14 +11,19 @@
 //  2. Depth pass: each screen bin (render/screen_bins.h) runs its splats
 //     nearest first (the minimum does not depend on the order); a
 //     fragment's depth comes first (the pixel's ray met with the splat's
-//     plane), and only one nearer than the pixel's nearest so far evaluates
-//     the brush, stopping at the first partial sum that reaches the cut
-//     (sums of Gaussians only grow); once the rest of a bin's splats lie
-//     behind its farthest surface, they are dropped.
-//  3. Blend pass: in point order per bin, fragments within depth_tolerance
-//     radii of that surface (tested before the brush) evaluate the brush
-//     (its sum stopping where the alpha clamps at 1) and blend: colour sum,
-//     transmittance product, as the GL's blending order.
+//     plane), then the brush of those nearer than the pixel's surface so
+//     far or within depth_tolerance radii of it; the nearer ones that cover
+//     move the surface. Those within are kept with their brush
+//     (Candidates, a run per splat): the surface only comes nearer, so a
+//     fragment left behind by more than the tolerance stays so. Once the
+//     rest of a bin's splats lie behind its farthest surface, they are
+//     dropped.
+//  3. Blend (blend_candidates): per bin, in point order, the candidates
+//     still within the tolerance of the final surface blend: colour sum,
+//     transmittance product, as the GL's blending order. A bin with more
+//     candidates than their bound, or a frame of several batches, runs the
+//     blend as a pass of its own over the splats (the same tests and float
+//     operations, so the same bytes).
 //  4. Resolve, blur (with depth occlusion) and upload.
 // The brush: exp(-q^lambda / 2) over q / reach (over sqrt(q / reach) for
 // lambda < 1, steep at 0) fitted once a frame by eight polynomial pieces,
@@ -254,9 +259,12 @@ constexpr int kLanes12 = 12;
 struct Layer {
   float cs[kLanes12], sn[kLanes12];
   float rcx[kLanes12], rcy[kLanes12];
+  float column_cs[3], column_sn[3];  // by column
 };
 Layer layer(const Settings& s, const float* cs, const float* sn) {
   Layer l;
+  std::copy(cs, cs + 3, l.column_cs);
+  std::copy(sn, sn + 3, l.column_sn);
   for (int k = 0; k < kLanes12; ++k) {
     const int c = k < s.gaussians ? s.column[k] : 0;
     l.cs[k] = cs[c];
@@ -387,14 +395,15 @@ enum class Pass { kDepth, kBlend, kBoth };
 // surface. Bounded: a bin with more blends in a pass of its own.
 struct Candidates {
   static constexpr size_t kMax = size_t(1) << 20;  // fragments (20 MiB)
-  struct Fragment {
-    uint32_t q;
-    float depth, length, a1, a2;
-  };
   struct Run {
     uint32_t place, begin, end;  // the splat's place in the bin's list
   };
-  std::unique_ptr<Fragment[]> fragments{new Fragment[kMax]};  // (its pages touched as used)
+  // A fragment's pixel, depth, |p|^2 and the brush of each layer, an array
+  // each (eight lanes load at once); 8 more: the lanes store 8 at a time.
+  // (Their pages are touched as used.)
+  std::unique_ptr<uint32_t[]> q{new uint32_t[kMax + 8]};
+  std::unique_ptr<float[]> depth{new float[kMax + 8]}, length{new float[kMax + 8]};
+  std::unique_ptr<float[]> a1{new float[kMax + 8]}, a2{new float[kMax + 8]};
   size_t count = 0;
   std::vector<Run> runs;
   std::vector<uint32_t> run_at;
@@ -431,11 +440,13 @@ __attribute__((target("avx2"), always_inline)) inline __m256 falloff_avx2(const 
 }
 
 // brush_alpha()'s |R (u, v) - R c| / sigma along x (kY: y) on eight lanes.
+// Its rotated coordinate (R (u, v)).x (kY: .y), shared by a column's Gaussians.
 template <bool kY>
-__attribute__((target("avx2"), always_inline)) inline __m256 q_avx2(__m256 cs, __m256 sn, __m256 u, __m256 v,
-                                                                   float rc, __m256 inv_sigma) {
-  const __m256 along = kY ? _mm256_add_ps(_mm256_mul_ps(sn, u), _mm256_mul_ps(cs, v))
-                          : _mm256_sub_ps(_mm256_mul_ps(cs, u), _mm256_mul_ps(sn, v));
+__attribute__((target("avx2"), always_inline)) inline __m256 along_avx2(__m256 cs, __m256 sn, __m256 u, __m256 v) {
+  return kY ? _mm256_add_ps(_mm256_mul_ps(sn, u), _mm256_mul_ps(cs, v))
+            : _mm256_sub_ps(_mm256_mul_ps(cs, u), _mm256_mul_ps(sn, v));
+}
+__attribute__((target("avx2"), always_inline)) inline __m256 q_avx2(__m256 along, float rc, __m256 inv_sigma) {
   const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
   return _mm256_mul_ps(_mm256_and_ps(_mm256_sub_ps(along, _mm256_set1_ps(rc)), magnitude), inv_sigma);
 }
@@ -451,26 +462,27 @@ __attribute__((target("avx2"))) void brush_alphas_avx2(const Settings& s, const 
   const __m256 inv_sx = _mm256_set1_ps(s.inv_sx), inv_sy = _mm256_set1_ps(s.inv_sy);
   const __m256 reach = _mm256_set1_ps(s.reach), amplitude = _mm256_set1_ps(s.amplitude);
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
-  // Sixteen fragments at a time, as two independent groups of lanes (the
-  // polynomials' chains overlap); the arrays are padded to 16.
-  for (int j = 0; j < n; j += 16) {
-    const __m256 ua = _mm256_load_ps(u + j), va = _mm256_load_ps(v + j);
-    const __m256 ub = _mm256_load_ps(u + j + 8), vb = _mm256_load_ps(v + j + 8);
-    __m256 sum_a = zero, sum_b = zero;
-    for (int k = 0; k < s.gaussians; ++k) {
-      const __m256 cs = _mm256_set1_ps(l.cs[k]), sn = _mm256_set1_ps(l.sn[k]);
-      const __m256 qxa = q_avx2<false>(cs, sn, ua, va, l.rcx[k], inv_sx), qya = q_avx2<true>(cs, sn, ua, va, l.rcy[k], inv_sy);
-      const __m256 qxb = q_avx2<false>(cs, sn, ub, vb, l.rcx[k], inv_sx), qyb = q_avx2<true>(cs, sn, ub, vb, l.rcy[k], inv_sy);
-      const __m256 in_a = _mm256_and_ps(_mm256_cmp_ps(qxa, reach, _CMP_LE_OQ), _mm256_cmp_ps(qya, reach, _CMP_LE_OQ));
-      const __m256 in_b = _mm256_and_ps(_mm256_cmp_ps(qxb, reach, _CMP_LE_OQ), _mm256_cmp_ps(qyb, reach, _CMP_LE_OQ));
-      if (_mm256_movemask_ps(_mm256_or_ps(in_a, in_b)) == 0) continue;
-      const __m256 fxa = falloff_avx2<kD>(s, qxa, in_a), fya = falloff_avx2<kD>(s, qya, in_a);
-      const __m256 fxb = falloff_avx2<kD>(s, qxb, in_b), fyb = falloff_avx2<kD>(s, qyb, in_b);
-      sum_a = _mm256_add_ps(sum_a, _mm256_and_ps(_mm256_mul_ps(fxa, fya), in_a));
-      sum_b = _mm256_add_ps(sum_b, _mm256_and_ps(_mm256_mul_ps(fxb, fyb), in_b));
+  // Eight fragments at a time (the arrays are padded to 8); each column's
+  // rotated coordinates once, for its Gaussians.
+  const int columns = std::min(s.gaussians, 3);
+  for (int j = 0; j < n; j += 8) {
+    const __m256 u8 = _mm256_load_ps(u + j), v8 = _mm256_load_ps(v + j);
+    __m256 ax[3], ay[3];
+    for (int c = 0; c < columns; ++c) {
+      const __m256 cs = _mm256_set1_ps(l.column_cs[c]), sn = _mm256_set1_ps(l.column_sn[c]);
+      ax[c] = along_avx2<false>(cs, sn, u8, v8);
+      ay[c] = along_avx2<true>(cs, sn, u8, v8);
     }
-    _mm256_store_ps(out + j, _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(amplitude, sum_a), zero), one));
-    _mm256_store_ps(out + j + 8, _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(amplitude, sum_b), zero), one));
+    __m256 sum = zero;
+    for (int k = 0; k < s.gaussians; ++k) {
+      const int c = s.column[k];
+      const __m256 qx = q_avx2(ax[c], l.rcx[k], inv_sx), qy = q_avx2(ay[c], l.rcy[k], inv_sy);
+      const __m256 in = _mm256_and_ps(_mm256_cmp_ps(qx, reach, _CMP_LE_OQ), _mm256_cmp_ps(qy, reach, _CMP_LE_OQ));
+      if (_mm256_movemask_ps(in) == 0) continue;
+      const __m256 fx = falloff_avx2<kD>(s, qx, in), fy = falloff_avx2<kD>(s, qy, in);
+      sum = _mm256_add_ps(sum, _mm256_and_ps(_mm256_mul_ps(fx, fy), in));
+    }
+    _mm256_store_ps(out + j, _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(amplitude, sum), zero), one));
   }
 }
 
@@ -510,6 +522,66 @@ inline void blend(const Splat& sp, const Settings& s, const Images& im, size_t q
   im.reveal[q] *= 1.0f - a;
 }
 
+// For each 8-bit mask, the lanes it keeps in order (then zeros): a
+// permutation packing them to the front.
+struct PackTable {
+  alignas(32) int32_t lanes[256][8];
+  constexpr PackTable() : lanes{} {
+    for (int m = 0; m < 256; ++m) {
+      int k = 0;
+      for (int i = 0; i < 8; ++i)
+        if (m >> i & 1) lanes[m][k++] = i;
+    }
+  }
+};
+constexpr PackTable kPack;
+
+// shade()'s coverage test and writes on AVX2 lanes: the same float
+// operations; the covering fragments move the surface (the depth pass;
+// kBoth: those nearer than it) and, with `out`, join the candidates packed
+// by a permutation.
+template <Pass P>
+__attribute__((target("avx2"))) void keep_covering_avx2(const Splat& sp, Fragments& f, const float* a1,
+                                                         const float* a2, const Images& im, Candidates* out) {
+  const int n = f.n;
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256 cut = _mm256_set1_ps(kBrushCut), one = _mm256_set1_ps(1.0f);
+  size_t recorded = out ? out->count : 0;
+  for (int j = 0; j < n; j += 8) {
+    const __m256 a = _mm256_loadu_ps(a1 + j);
+    __m256 covers = _mm256_cmp_ps(a, cut, _CMP_GE_OQ);
+    __m256 b = _mm256_setzero_ps();
+    if (sp.two) {
+      b = _mm256_loadu_ps(a2 + j);
+      const __m256 total = _mm256_add_ps(b, _mm256_mul_ps(a, _mm256_sub_ps(one, b)));
+      covers = _mm256_or_ps(covers, _mm256_or_ps(_mm256_cmp_ps(b, cut, _CMP_GE_OQ), _mm256_cmp_ps(total, cut, _CMP_GE_OQ)));
+    }
+    covers = _mm256_and_ps(covers, _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(n - j), lane)));
+    const int mask = _mm256_movemask_ps(covers);
+    if (mask == 0) continue;
+    int moves = mask;
+    if (P == Pass::kBoth) {  // (nearer: 1 or all bits set)
+      const __m256i nearer = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(f.nearer + j));
+      moves &= ~_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(nearer, _mm256_setzero_si256())));
+    }
+    for (int m = moves; m != 0; m &= m - 1) {
+      const int i = j + __builtin_ctz(unsigned(m));
+      im.surface[f.q[i]] = f.depth[i];
+    }
+    if (!out) continue;
+    const __m256i pack = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPack.lanes[mask]));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out->q.get() + recorded),
+                        _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(f.q + j)), pack));
+    _mm256_storeu_ps(out->depth.get() + recorded, _mm256_permutevar8x32_ps(_mm256_loadu_ps(f.depth + j), pack));
+    _mm256_storeu_ps(out->length.get() + recorded, _mm256_permutevar8x32_ps(_mm256_loadu_ps(f.length + j), pack));
+    _mm256_storeu_ps(out->a1.get() + recorded, _mm256_permutevar8x32_ps(a, pack));
+    _mm256_storeu_ps(out->a2.get() + recorded, _mm256_permutevar8x32_ps(b, pack));
+    recorded += size_t(__builtin_popcount(unsigned(mask)));
+  }
+  if (out) out->count = recorded;
+  f.n = 0;
+}
+
 // The brush of a splat's gathered fragments, then their depth (depth
 // pass), blend, or both: depth, and the candidates that cover.
 template <Pass P>
@@ -518,13 +590,13 @@ void shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
   constexpr bool kDepth = P == Pass::kDepth;
   const int n = f.n;
   if (n == 0) return;
-  for (int j = n; j < ((n + 15) & ~15); ++j) f.u[j] = f.v[j] = 0.0f;  // whole groups of lanes
+  for (int j = n; j < ((n + 7) & ~7); ++j) f.u[j] = f.v[j] = 0.0f;  // whole groups of lanes
   const float stop = kDepth ? kBrushCut : 1.0f;
   alignas(32) float a1[Fragments::kMax], a2[Fragments::kMax];
   brush_alphas(s, first, f.u, f.v, n, stop, a1);
   if (sp.two) {
     alignas(32) float u2[Fragments::kMax], v2[Fragments::kMax];
-    for (int j = 0; j < ((n + 15) & ~15); ++j) {
+    for (int j = 0; j < ((n + 7) & ~7); ++j) {
       u2[j] = (f.u[j] - 0.5f) / s.layer_scale + 0.5f;
       v2[j] = (f.v[j] - 0.5f) / s.layer_scale + 0.5f;
     }
@@ -538,7 +610,7 @@ void shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
   // Room for the candidates, or none kept from here on.
   if (P == Pass::kBoth && !out->full && out->count + size_t(n) > Candidates::kMax) out->full = true;
   const bool record = P == Pass::kBoth && !out->full;
-  Candidates::Fragment* kept = record ? out->fragments.get() : nullptr;
+  if (kHasAvx2) return keep_covering_avx2<P>(sp, f, a1, a2, im, record ? out : nullptr);
   size_t recorded = record ? out->count : 0;
   for (int j = 0; j < n; ++j) {
     const float a = a1[j], b = sp.two ? a2[j] : 0.0f;
@@ -546,7 +618,14 @@ void shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
     const bool covers = a >= kBrushCut || (sp.two && (b >= kBrushCut || b + a * (1.0f - b) >= kBrushCut));
     if (!covers) continue;
     if (kDepth || f.nearer[j]) im.surface[f.q[j]] = f.depth[j];
-    if (record) kept[recorded++] = {f.q[j], f.depth[j], f.length[j], a, b};
+    if (record) {
+      out->q[recorded] = f.q[j];
+      out->depth[recorded] = f.depth[j];
+      out->length[recorded] = f.length[j];
+      out->a1[recorded] = a;
+      out->a2[recorded] = b;
+      ++recorded;
+    }
   }
   if (record) out->count = recorded;
   f.n = 0;
@@ -615,20 +694,6 @@ __attribute__((always_inline)) inline bool row_lanes(const RowLanes& r, int x0, 
   return any_nearer;
 }
 
-// For each 8-bit mask, the lanes it keeps in order (then zeros): a
-// permutation packing them to the front.
-struct PackTable {
-  alignas(32) int32_t lanes[256][8];
-  constexpr PackTable() : lanes{} {
-    for (int m = 0; m < 256; ++m) {
-      int k = 0;
-      for (int i = 0; i < 8; ++i)
-        if (m >> i & 1) lanes[m][k++] = i;
-    }
-  }
-};
-constexpr PackTable kPack;
-
 // row_lanes() on AVX2 lanes: the same float operations in the same order
 // (the max and min with std::max's and std::min's operand order), the kept
 // lanes packed by a permutation.
@@ -636,6 +701,7 @@ template <Pass P>
 __attribute__((target("avx2"))) bool row_avx2(const RowLanes& r, int x0, int x1, Fragments& f) {
   constexpr bool kDepth = P == Pass::kDepth;
   int any_nearer = 0;
+  int kept = f.n;  // (a local: stores to the arrays of f could alias f.n)
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
   const __m256 sign = _mm256_castsi256_ps(_mm256_set1_epi32(int32_t(0x80000000u)));
@@ -680,17 +746,18 @@ __attribute__((target("avx2"))) bool row_avx2(const RowLanes& r, int x0, int x1,
     if (mask == 0) continue;
     const __m256i pack = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPack.lanes[mask]));
     const __m256i q = _mm256_add_epi32(_mm256_set1_epi32(int32_t(r.line + size_t(xs))), lane);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(f.q + f.n), _mm256_permutevar8x32_epi32(q, pack));
-    _mm256_storeu_ps(f.u + f.n, _mm256_permutevar8x32_ps(u, pack));
-    _mm256_storeu_ps(f.v + f.n, _mm256_permutevar8x32_ps(v, pack));
-    _mm256_storeu_ps(f.depth + f.n, _mm256_permutevar8x32_ps(depth, pack));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(f.q + kept), _mm256_permutevar8x32_epi32(q, pack));
+    _mm256_storeu_ps(f.u + kept, _mm256_permutevar8x32_ps(u, pack));
+    _mm256_storeu_ps(f.v + kept, _mm256_permutevar8x32_ps(v, pack));
+    _mm256_storeu_ps(f.depth + kept, _mm256_permutevar8x32_ps(depth, pack));
     if (P == Pass::kBoth) {
-      _mm256_storeu_ps(f.length + f.n, _mm256_permutevar8x32_ps(length, pack));
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(f.nearer + f.n),
+      _mm256_storeu_ps(f.length + kept, _mm256_permutevar8x32_ps(length, pack));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(f.nearer + kept),
                           _mm256_permutevar8x32_epi32(_mm256_castps_si256(nearer), pack));
     }
-    f.n += __builtin_popcount(unsigned(mask));
+    kept += __builtin_popcount(unsigned(mask));
   }
+  f.n = kept;
   return any_nearer != 0;
 }
 
@@ -824,6 +891,44 @@ void rasterize(uint32_t place, const Splat& sp, const Settings& s, const Rect& a
   if (P == Pass::kBoth && out->count > begin) out->runs.push_back({place, uint32_t(begin), uint32_t(out->count)});
 }
 
+// blend_candidates()'s test of one run (one splat's candidates, each on
+// its own pixel) on AVX2 lanes, the same float operations; the kept ones
+// blend one by one, a one-layer brush's rgb and alpha as one SSE sum.
+__attribute__((target("avx2"))) void blend_run_avx2(const Splat& sp, const Settings& s, const Images& im,
+                                                    const Candidates& c, uint32_t begin, uint32_t end) {
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256 offset = _mm256_set1_ps(sp.offset);
+  const __m256 ortho = _mm256_castsi256_ps(_mm256_set1_epi32(s.ortho ? -1 : 0));
+  const __m128 rgb1 = _mm_setr_ps(sp.rgb.r, sp.rgb.g, sp.rgb.b, 1.0f);
+  // (Locals: the stores below must not make the compiler fetch them again.)
+  const uint32_t* const qs = c.q.get();
+  const float *const depths = c.depth.get(), *const lengths = c.length.get(), *const a1 = c.a1.get(), *const a2 = c.a2.get();
+  float *const accum = im.accum, *const reveal = im.reveal;
+  for (uint32_t i = begin; i < end; i += 8) {
+    const __m256 live = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(int32_t(end - i)), lane));
+    const __m256i q = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(qs + i));
+    const __m256 depth = _mm256_loadu_ps(depths + i), length = _mm256_loadu_ps(lengths + i);
+    const __m256 surface = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), im.surface, q, live, 4);
+    const __m256 behind = _mm256_sub_ps(depth, surface), reach = _mm256_mul_ps(depth, offset);
+    const __m256 near = _mm256_or_ps(ortho, _mm256_cmp_ps(_mm256_mul_ps(_mm256_mul_ps(length, behind), behind),
+                                                          _mm256_mul_ps(reach, reach), _CMP_LE_OQ));
+    const __m256 keep = _mm256_or_ps(_mm256_cmp_ps(depth, surface, _CMP_LE_OQ),
+                                     _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(depth, offset), surface, _CMP_LE_OQ), near));
+    for (int m = _mm256_movemask_ps(_mm256_and_ps(keep, live)); m != 0; m &= m - 1) {
+      const uint32_t k = i + uint32_t(__builtin_ctz(unsigned(m)));
+      if (sp.two) {
+        blend(sp, s, im, qs[k], a1[k], a2[k]);
+        continue;
+      }
+      const float a = a1[k];
+      if (!(a >= kBrushCut)) continue;
+      float* acc = accum + 4 * size_t(qs[k]);
+      _mm_storeu_ps(acc, _mm_add_ps(_mm_loadu_ps(acc), _mm_mul_ps(rgb1, _mm_set1_ps(a))));
+      reveal[qs[k]] *= 1.0f - a;
+    }
+  }
+}
+
 // The blend of a bin's candidates against its final surface, splats in
 // point order (the bin's list of n): the blend pass's tests and float
 // operations, so its bytes.
@@ -836,14 +941,17 @@ void blend_candidates(const std::vector<Splat>& splats, const uint32_t* list, si
     if (run_at[place] == c.runs.size()) continue;
     const Candidates::Run& run = c.runs[run_at[place]];
     const Splat& sp = splats[list[place]];
+    if (kHasAvx2) {
+      blend_run_avx2(sp, s, im, c, run.begin, run.end);
+      continue;
+    }
     for (uint32_t i = run.begin; i < run.end; ++i) {
-      const Candidates::Fragment& f = c.fragments[i];
-      const float surface = im.surface[f.q];
+      const float depth = c.depth[i], surface = im.surface[c.q[i]];
       // (Without branches but the last: their outcomes are a coin's toss.)
-      const float behind = f.depth - surface, reach = f.depth * sp.offset;
-      const bool keep = (f.depth <= surface) |
-                        ((f.depth - sp.offset <= surface) & (s.ortho | (f.length * behind * behind <= reach * reach)));
-      if (keep) blend(sp, s, im, f.q, f.a1, f.a2);
+      const float behind = depth - surface, reach = depth * sp.offset;
+      const bool keep = (depth <= surface) |
+                        ((depth - sp.offset <= surface) & (s.ortho | (c.length[i] * behind * behind <= reach * reach)));
+      if (keep) blend(sp, s, im, c.q[i], c.a1[i], c.a2[i]);
     }
   }
 }
