@@ -108,13 +108,17 @@ class BrushSplats final : public Mark {
   }
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override;
-  void draw_gl(const MarkContext& ctx, const ParamValues& p) const;
+  // False where an A-buffer over its budget handed the frame to the native passes.
+  bool draw_gl(const MarkContext& ctx, const ParamValues& p) const;
   void capture_splats(const MarkContext& ctx, const ParamValues& p) const;
 
   // auto: the native passes where GL itself runs on the CPU (llvmpipe),
   // for blur and none; the A-buffer's lists are GL's on every device.
   static bool native(const ParamValues& p) {
-    if (p.get_enum_name("blending") == "a_buffer") return false;
+    return p.get_enum_name("blending") != "a_buffer" && native_blur(p);
+  }
+  // Whether blur blends natively: also an A-buffer's fallback over its budget.
+  static bool native_blur(const ParamValues& p) {
     const std::string r = p.get_enum_name("rasterizer");
     return r == "native" || (r == "auto" && gl::Device::instance().info().software);
   }
@@ -434,8 +438,7 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const
 void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
   if (native(p)) {
     draw_brush_splats_native(ctx, p);
-  } else {
-    draw_gl(ctx, p);
+  } else if (draw_gl(ctx, p)) {
     uint64_t drawn = 0;
     for (const VisibleChunk& v : ctx.chunks) drawn += queue_count(v, p);
     if (ctx.stats) (*ctx.stats)["splats_drawn"] += double(drawn);
@@ -443,7 +446,7 @@ void BrushSplats::draw(const MarkContext& ctx, const ParamValues& p) const {
   if (ctx.capture) capture_splats(ctx, p);
 }
 
-void BrushSplats::draw_gl(const MarkContext& ctx, const ParamValues& p) const {
+bool BrushSplats::draw_gl(const MarkContext& ctx, const ParamValues& p) const {
   // 1. Depth pass: the nearest brush surface per pixel (GL depth, reversed
   // Z, from each fragment's own depth; its linear depth in the segment's).
   const std::optional<ExactRaster> raster = raster_viewport(ctx, p, *this);
@@ -467,7 +470,15 @@ void BrushSplats::draw_gl(const MarkContext& ctx, const ParamValues& p) const {
 
   // 2. The splats near that surface, blended.
   const std::string blending = p.get_enum_name("blending");
-  if (blending != "a_buffer" || !draw_a_buffer(ctx, p, raster)) draw_blended(ctx, p, blending != "none", raster);
+  if (blending == "a_buffer" && draw_a_buffer(ctx, p, raster)) return true;
+  if (blending == "a_buffer" && native_blur(p)) {
+    // Over its budget: blur, by the native passes where they would draw
+    // blur (the whole mark again, over ctx.clip).
+    draw_brush_splats_native(ctx, p);
+    return false;
+  }
+  draw_blended(ctx, p, blending != "none", raster);
+  return true;
 }
 
 // Captured splats, per chunk (chunks are bounded in size), on either path.

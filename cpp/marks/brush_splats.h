@@ -3,7 +3,7 @@
 // which declares the schema) and the same rules on the CPU's threads
 // (marks/brush_splats_native.cpp), which `rasterizer` `auto` takes on
 // software GL devices (llvmpipe) for blur and none blending; the A-buffer
-// stays on GL.
+// stays on GL (its fallback over the budget, blur, is native there too).
 #include "render/mark.h"
 
 namespace pointnpr {
