@@ -1337,7 +1337,12 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       }
     };
     // Bins of kBinSide (BlockDepths, the rows' arrays): wider ones (past
-    // 16384 bins, frames over 67M pixels) are cut, their lists filtered.
+    // 16384 bins, frames over 67M pixels; POINTNPR_NATIVE_MAX_BINS, tests:
+    // past that many) are cut, their lists filtered.
+    static const size_t max_bins = [] {
+      const char* v = std::getenv("POINTNPR_NATIVE_MAX_BINS");
+      return v ? std::clamp<size_t>(std::strtoull(v, nullptr, 10), 1, 16384) : size_t(16384);
+    }();
     for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
       if (area.size().x <= kBinSide && area.size().y <= kBinSide) return bin(area, list, n);
       std::vector<uint32_t> part;
@@ -1351,7 +1356,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           }
           bin(cut, part.data(), part.size());
         }
-    }, kBinSide);
+    }, kBinSide, max_bins);
   };
   using DepthPass = std::integral_constant<Pass, Pass::kDepth>;
   using BlendPass = std::integral_constant<Pass, Pass::kBlend>;

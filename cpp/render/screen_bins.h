@@ -18,13 +18,14 @@ namespace pointnpr {
 
 // `bounds(i, lo, hi)` gives item i's local pixels [lo, hi) (false: none);
 // `visit(area, list, count)` draws the items list[0, count) (item indices,
-// ascending) over the tile `area` of the clip. Bins of `side` pixels (more
-// where there would be over 16384).
+// ascending) over the tile `area` of the clip. Bins of `side` pixels (twice
+// as many, again, where there would be over `max_bins`).
 template <class Bounds, class Visit>
-void for_each_bin_in_order(size_t items, const Rect& clip, Bounds&& bounds, Visit&& visit, int side = 32) {
+void for_each_bin_in_order(size_t items, const Rect& clip, Bounds&& bounds, Visit&& visit, int side = 32,
+                           size_t max_bins = 16384) {
   if (items == 0 || clip.empty()) return;
   const glm::ivec2 size = clip.size();
-  while (size_t((size.x + side - 1) / side) * size_t((size.y + side - 1) / side) > 16384) side *= 2;
+  while (size_t((size.x + side - 1) / side) * size_t((size.y + side - 1) / side) > max_bins) side *= 2;
   const int bins_x = (size.x + side - 1) / side, bins_y = (size.y + side - 1) / side;
   const size_t bins = size_t(bins_x) * size_t(bins_y);
   const size_t blocks = std::clamp<size_t>(items / 2048, 1, 128);

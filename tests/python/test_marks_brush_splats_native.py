@@ -179,3 +179,17 @@ def test_one_pass_with_candidates_draws_the_two_passes_bytes(renderer):
     assert [f["batches"] for f in merged] == [1, 1, 1] and all(f["batches"] > 1 for f in apart)
     assert merged[0]["apart"] == 0 and merged[1]["apart"] > 0 and merged[2]["apart"] > 0
     assert [f["digest"] for f in merged] == [f["digest"] for f in apart]
+
+
+def test_bins_wider_than_their_side_are_cut_to_the_same_bytes(renderer):
+    """Past 16384 bins (frames over 67M pixels) the screen bins grow wider
+    than the 64 pixels the passes' arrays hold, and each is cut into 64-pixel
+    parts with the splats that reach them: forced here at 320 x 224 by
+    POINTNPR_NATIVE_MAX_BINS=2 in another process (two bins, 256 and 64
+    pixels wide, 224 high), the bytes of 64-pixel bins."""
+    from conftest import BUILD_DIR
+    env = dict(os.environ, POINTNPR_NATIVE_MAX_BINS="2")
+    out = subprocess.run([sys.executable, "-c", _PASSES_SCRIPT, os.path.abspath(BUILD_DIR),
+                          os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
+                         timeout=600, env=env)
+    assert [f["digest"] for f in json.loads(out.stdout)] == [f["digest"] for f in _passes(renderer)]
