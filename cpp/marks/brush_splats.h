@@ -20,9 +20,9 @@ double brush_reach(const ParamValues& p);
 // ctx.clip. Every fragment is computed from its frame pixel and flat
 // per-splat values and blended in point order (screen bins), so a tile is
 // the frame's bytes in any process and with any thread count. Against the
-// GL passes it differs in the last bits of the brush (a tabulated
-// exp(-q^lambda / 2)) and on the splats' edges (the quad's coverage by uv
-// in [0, 1] instead of the GL's fixed-point edges).
+// GL passes it differs in the last bits of the brush (exp(-q^lambda / 2)
+// fitted by polynomial pieces) and on the splats' edges (the quad's
+// coverage by uv in [0, 1] instead of the GL's fixed-point edges).
 void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p);
 
 }  // namespace pointnpr

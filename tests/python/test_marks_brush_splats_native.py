@@ -6,7 +6,7 @@ camera; its bytes in another process with one thread, and its tiles
 paths, and its other behaviour tests on whatever auto picks).
 
 Tolerance: the golden images' (a channel within 2/255) on at least 99 % of
-the pixels; the native brush is a tabulated exp(-q^lambda / 2) and the
+the pixels; the native brush is a fitted exp(-q^lambda / 2) and the
 quad's edges are decided by uv in [0, 1] rather than the GL's fixed-point
 edges, so a splat edge pixel now and then falls to the other splat."""
 import hashlib
@@ -104,6 +104,15 @@ print(t._native_digest(pointnpr.Renderer()))
 """
 
 
+def _in_another_process(script, **env):
+    """The stdout of `script` run by this Python with the build and this
+    folder on its path (argv[1], argv[2]) and `env` added to the environment."""
+    from conftest import BUILD_DIR
+    return subprocess.run([sys.executable, "-c", script, os.path.abspath(BUILD_DIR),
+                           os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
+                          timeout=600, env=dict(os.environ, **env)).stdout
+
+
 def _native_digest(renderer):
     cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
     r = _render(renderer, {"rasterizer": "native", "layers": "two", "clusters": True}, cloud)
@@ -111,12 +120,8 @@ def _native_digest(renderer):
 
 
 def test_the_native_path_draws_the_same_bytes_with_one_thread_in_another_process(renderer):
-    from conftest import BUILD_DIR
     assert len(os.sched_getaffinity(0)) > 1  # else this process would run one thread too
-    out = subprocess.run([sys.executable, "-c", _THREADS_SCRIPT, os.path.abspath(BUILD_DIR),
-                          os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
-                         timeout=600)
-    assert out.stdout.strip() == _native_digest(renderer)
+    assert _in_another_process(_THREADS_SCRIPT).strip() == _native_digest(renderer)
 
 
 def test_the_scalar_lanes_draw_the_avx2_lanes_bytes(renderer):
@@ -124,13 +129,8 @@ def test_the_scalar_lanes_draw_the_avx2_lanes_bytes(renderer):
     CPU has them, else on the compiler's scalar and SSE lanes: the same
     float operations in the same order, so the same bytes (forced here by
     POINTNPR_NATIVE_NO_AVX2 in another process)."""
-    from conftest import BUILD_DIR
-    env = dict(os.environ, POINTNPR_NATIVE_NO_AVX2="1")
     script = _THREADS_SCRIPT.replace("os.sched_setaffinity", "0 and os.sched_setaffinity")
-    out = subprocess.run([sys.executable, "-c", script, os.path.abspath(BUILD_DIR),
-                          os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
-                         timeout=600, env=env)
-    assert out.stdout.strip() == _native_digest(renderer)
+    assert _in_another_process(script, POINTNPR_NATIVE_NO_AVX2="1").strip() == _native_digest(renderer)
 
 
 _PASSES_SCRIPT = r"""
@@ -170,12 +170,8 @@ def test_one_pass_with_candidates_draws_the_two_passes_bytes(renderer):
     final surface; a bin with more than its bound of them, and frames of
     several batches (forced here by POINTNPR_NATIVE_BATCH in another
     process), run the blend pass apart: the same bytes either way."""
-    from conftest import BUILD_DIR
-    env = dict(os.environ, POINTNPR_NATIVE_BATCH="50000")
-    out = subprocess.run([sys.executable, "-c", _PASSES_SCRIPT, os.path.abspath(BUILD_DIR),
-                          os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
-                         timeout=600, env=env)
-    apart, merged = json.loads(out.stdout), _passes(renderer)
+    apart = json.loads(_in_another_process(_PASSES_SCRIPT, POINTNPR_NATIVE_BATCH="50000"))
+    merged = _passes(renderer)
     assert [f["batches"] for f in merged] == [1, 1, 1] and all(f["batches"] > 1 for f in apart)
     assert merged[0]["apart"] == 0 and merged[1]["apart"] > 0 and merged[2]["apart"] > 0
     assert [f["digest"] for f in merged] == [f["digest"] for f in apart]
@@ -187,9 +183,5 @@ def test_bins_wider_than_their_side_are_cut_to_the_same_bytes(renderer):
     parts with the splats that reach them: forced here at 320 x 224 by
     POINTNPR_NATIVE_MAX_BINS=2 in another process (two bins, 256 and 64
     pixels wide, 224 high), the bytes of 64-pixel bins."""
-    from conftest import BUILD_DIR
-    env = dict(os.environ, POINTNPR_NATIVE_MAX_BINS="2")
-    out = subprocess.run([sys.executable, "-c", _PASSES_SCRIPT, os.path.abspath(BUILD_DIR),
-                          os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
-                         timeout=600, env=env)
-    assert [f["digest"] for f in json.loads(out.stdout)] == [f["digest"] for f in _passes(renderer)]
+    cut = json.loads(_in_another_process(_PASSES_SCRIPT, POINTNPR_NATIVE_MAX_BINS="2"))
+    assert [f["digest"] for f in cut] == [f["digest"] for f in _passes(renderer)]
