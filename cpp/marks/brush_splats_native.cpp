@@ -489,6 +489,13 @@ __attribute__((target("avx2"))) void brush_alphas_avx2(const Settings& s, const 
 // POINTNPR_NATIVE_NO_AVX2 (tests): the scalar lanes on any CPU.
 const bool kHasAvx2 = __builtin_cpu_supports("avx2") && !std::getenv("POINTNPR_NATIVE_NO_AVX2");
 
+// A size the tests may lower through the environment variable `name`
+// (within [1, fallback]); else `fallback`.
+uint64_t lowered_by_tests(const char* name, uint64_t fallback) {
+  const char* v = std::getenv(name);
+  return v ? std::clamp<uint64_t>(std::strtoull(v, nullptr, 10), 1, fallback) : fallback;
+}
+
 void brush_alphas(const Settings& s, const Layer& l, const float* u, const float* v, int n, float stop, float* out) {
   if (kHasAvx2) {
     switch (s.pieces ? s.degree : 0) {
@@ -893,17 +900,15 @@ void rasterize(uint32_t place, const Splat& sp, const Settings& s, const Rect& a
 
 // blend_candidates()'s test of one run (one splat's candidates, each on
 // its own pixel) on AVX2 lanes, the same float operations; the kept ones
-// blend one by one, a one-layer brush's rgb and alpha as one SSE sum.
+// blend one by one.
 __attribute__((target("avx2"))) void blend_run_avx2(const Splat& sp, const Settings& s, const Images& im,
                                                     const Candidates& c, uint32_t begin, uint32_t end) {
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 offset = _mm256_set1_ps(sp.offset);
   const __m256 ortho = _mm256_castsi256_ps(_mm256_set1_epi32(s.ortho ? -1 : 0));
-  const __m128 rgb1 = _mm_setr_ps(sp.rgb.r, sp.rgb.g, sp.rgb.b, 1.0f);
-  // (Locals: the stores below must not make the compiler fetch them again.)
+  // (Locals: the blend's stores must not make the compiler fetch them again.)
   const uint32_t* const qs = c.q.get();
   const float *const depths = c.depth.get(), *const lengths = c.length.get(), *const a1 = c.a1.get(), *const a2 = c.a2.get();
-  float *const accum = im.accum, *const reveal = im.reveal;
   for (uint32_t i = begin; i < end; i += 8) {
     const __m256 live = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(int32_t(end - i)), lane));
     const __m256i q = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(qs + i));
@@ -916,15 +921,7 @@ __attribute__((target("avx2"))) void blend_run_avx2(const Splat& sp, const Setti
                                      _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(depth, offset), surface, _CMP_LE_OQ), near));
     for (int m = _mm256_movemask_ps(_mm256_and_ps(keep, live)); m != 0; m &= m - 1) {
       const uint32_t k = i + uint32_t(__builtin_ctz(unsigned(m)));
-      if (sp.two) {
-        blend(sp, s, im, qs[k], a1[k], a2[k]);
-        continue;
-      }
-      const float a = a1[k];
-      if (!(a >= kBrushCut)) continue;
-      float* acc = accum + 4 * size_t(qs[k]);
-      _mm_storeu_ps(acc, _mm_add_ps(_mm_loadu_ps(acc), _mm_mul_ps(rgb1, _mm_set1_ps(a))));
-      reveal[qs[k]] *= 1.0f - a;
+      blend(sp, s, im, qs[k], a1[k], a2[k]);
     }
   }
 }
@@ -1225,10 +1222,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   };
   // POINTNPR_NATIVE_BATCH (tests): fewer splats a batch, so that several
   // run the passes apart.
-  static const uint64_t batch_splats = [] {
-    const char* v = std::getenv("POINTNPR_NATIVE_BATCH");
-    return v ? std::clamp<uint64_t>(std::strtoull(v, nullptr, 10), 1, kBatch) : uint64_t(kBatch);
-  }();
+  static const uint64_t batch_splats = lowered_by_tests("POINTNPR_NATIVE_BATCH", kBatch);
   std::vector<std::pair<size_t, size_t>> batches;
   for (size_t b = 0; b < chunks.size();) {
     size_t e = b;
@@ -1339,10 +1333,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     // Bins of kBinSide (BlockDepths, the rows' arrays): wider ones (past
     // 16384 bins, frames over 67M pixels; POINTNPR_NATIVE_MAX_BINS, tests:
     // past that many) are cut, their lists filtered.
-    static const size_t max_bins = [] {
-      const char* v = std::getenv("POINTNPR_NATIVE_MAX_BINS");
-      return v ? std::clamp<size_t>(std::strtoull(v, nullptr, 10), 1, 16384) : size_t(16384);
-    }();
+    static const size_t max_bins = lowered_by_tests("POINTNPR_NATIVE_MAX_BINS", 16384);
     for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
       if (area.size().x <= kBinSide && area.size().y <= kBinSide) return bin(area, list, n);
       std::vector<uint32_t> part;

@@ -18,8 +18,8 @@ namespace pointnpr {
 
 // `bounds(i, lo, hi)` gives item i's local pixels [lo, hi) (false: none);
 // `visit(area, list, count)` draws the items list[0, count) (item indices,
-// ascending) over the tile `area` of the clip. Bins of `side` pixels (twice
-// as many, again, where there would be over `max_bins`).
+// ascending) over the tile `area` of the clip. Bins of `side` pixels,
+// doubled while there would be more than `max_bins` of them.
 template <class Bounds, class Visit>
 void for_each_bin_in_order(size_t items, const Rect& clip, Bounds&& bounds, Visit&& visit, int side = 32,
                            size_t max_bins = 16384) {
