@@ -13,7 +13,9 @@ status=0
 run() {
   local name=$1; shift
   echo "=== $name"
-  if "$@"; then echo "=== $name: ok"; else echo "=== $name: FAILED"; status=1; fi
+  local start=$SECONDS
+  if "$@"; then echo "=== $name: ok ($((SECONDS - start)) s)"
+  else echo "=== $name: FAILED ($((SECONDS - start)) s)"; status=1; fi
 }
 
 export POINTNPR_BUILD_DIR=$root/build
