@@ -43,10 +43,9 @@ seed_files() {
 }
 
 mkdir -p build-fuzz/artifacts
-status=0
-for f in "${formats[@]}"; do
-  seeds=build-fuzz/seeds/$f
-  corpus=build-fuzz/corpus/$f
+# One target's run; its summary goes to stdout, "FAILED" on a finding.
+fuzz_one() {
+  local f=$1 seeds=build-fuzz/seeds/$1 corpus=build-fuzz/corpus/$1 limit max_len
   rm -rf "$seeds"
   if [[ -z $secs ]]; then
     rm -rf "$corpus"  # reproducible: the same inputs every time
@@ -69,9 +68,22 @@ for f in "${formats[@]}"; do
       -artifact_prefix="$root/build-fuzz/artifacts/$f-" >"build-fuzz/fuzz_$f.log" 2>&1; then
     echo "=== fuzz_$f: FAILED (log: build-fuzz/fuzz_$f.log)"
     grep -E "ERROR|SUMMARY|Test unit written|runtime error" "build-fuzz/fuzz_$f.log" | head -20
-    status=1
   else
     echo "=== fuzz_$f: ok, $(grep -Eo 'stat::number_of_executed_units: *[0-9]+' "build-fuzz/fuzz_$f.log" | grep -Eo '[0-9]+$') executions"
   fi
+}
+
+# Each target is one single-threaded process with its own fixed inputs: as
+# many run at once as there are cores, their summaries printed in order.
+slots=$(nproc)
+for f in "${formats[@]}"; do
+  while (($(jobs -rp | wc -l) >= slots)); do wait -n || true; done
+  fuzz_one "$f" >"build-fuzz/fuzz_$f.summary" 2>&1 &
+done
+wait
+status=0
+for f in "${formats[@]}"; do
+  cat "build-fuzz/fuzz_$f.summary"
+  grep -q "^=== fuzz_$f: ok" "build-fuzz/fuzz_$f.summary" || status=1
 done
 exit $status
