@@ -41,6 +41,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <string>
 
 #include <Eigen/Dense>
 #include <immintrin.h>
@@ -112,15 +113,35 @@ struct Settings {
   alignas(32) float poly[kDegree + 1][kPieces] = {};
 };
 
-// One visible chunk's host data (index = first + local into the cloud's arrays).
-struct Chunk {
-  const glm::vec3* positions = nullptr;
+// The camera-independent part of a point's splat (brush_splat() up to the
+// view): its axes in chunk space, world radius, stretch, layers and brush
+// columns' angles. Kept per cloud (GpuCloud::host_slot) while the
+// parameters they follow stay the same, computed for every point at once.
+struct PointFrame {
+  glm::vec3 t{0.0f}, b{0.0f};  // zero: no normal (the view's axes)
+  float radius = 0.0f;         // world, size_scale applied
+  float stretch = 1.0f;
+  float cs[3] = {}, sn[3] = {};
+  bool two = false;
+};
+struct PointFrames {
+  std::string key;  // the parameters they were made with
+  std::vector<PointFrame> frames;  // cloud order
+};
+// What PointFrames are made from (the cloud's arrays, cloud order).
+struct FrameInputs {
   const uint32_t* ids = nullptr;
   const glm::vec3* normals = nullptr;
   const float* r = nullptr;
   const float* eps = nullptr;
   const glm::vec3* axes = nullptr;  // covariance frame's major axes
   const geometry::ClusterShapes* shapes = nullptr;
+};
+
+// One visible chunk's host data (index = first + local into the cloud's arrays).
+struct Chunk {
+  const glm::vec3* positions = nullptr;
+  const PointFrame* frames = nullptr;
   const uint32_t* order = nullptr;  // queue order (chunk-local), or null
   HostColors colors;
   uint32_t first = 0, count = 0;
@@ -169,44 +190,58 @@ void tangent_frame(int kind, glm::vec3 n, const glm::vec3* major, glm::vec3& t, 
   }
 }
 
+// brush_splat()'s camera-independent part.
+PointFrame point_frame(const FrameInputs& in, const Settings& s, uint32_t index) {
+  PointFrame f;
+  float r = s.world_radius;
+  if (s.resolution_size) r = in.r[index] + (s.user_eps ? s.epsilon : in.eps[index]);
+  f.radius = r * s.size_scale;
+  f.two = s.two_layers;
+  glm::vec3 n = as_uploaded(in.normals[index]);
+  const float len = std::sqrt(glm::dot(n, n));
+  if (len > 1e-3f) {
+    n /= len;
+    glm::vec3 major(0.0f);
+    if (s.tangent_frame == 3) major = as_uploaded(in.axes[index]);
+    tangent_frame(s.tangent_frame, n, &major, f.t, f.b);
+    if (s.clusters && in.shapes->size[index] > 0) {
+      f.two = f.two || float(in.shapes->size[index]) < s.small_cluster;
+      const float st = std::min(std::pow(std::max(in.shapes->elongation[index], 1.0f), s.elongation_gain), s.max_stretch);
+      const glm::vec3 axis = as_uploaded(in.shapes->axis[index]);
+      const glm::vec3 along = axis - glm::dot(axis, n) * n;
+      if (st > 1.05f && glm::dot(along, along) > 0.01f) {
+        f.t = normalized(along);
+        f.b = glm::cross(n, f.t);
+        f.stretch = st;
+      }
+    }
+  }
+  const uint32_t id = in.ids[index];
+  float a = s.angle + s.jitter * (2.0f * id_rand(id, 1u, s.seed) - 1.0f);
+  for (int col = 0; col < 3; ++col) {
+    if (col > 0) a += s.jitter * (2.0f * id_rand(id, uint32_t(col + 1), s.seed) - 1.0f);
+    f.cs[col] = std::cos(a);
+    f.sn[col] = std::sin(a);
+  }
+  return f;
+}
+
 // brush_splat() and brush_splats_tiled.vert: false where nothing is drawn.
 bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
   const glm::vec4 v = transform(c.view, c.positions[index]);
   const glm::vec3 center(v);
   const float depth = -v.z;
   if (!(depth >= s.near && depth <= s.far)) return false;
-  float r = s.world_radius;
-  if (s.resolution_size) r = c.r[index] + (s.user_eps ? s.epsilon : c.eps[index]);
-  r *= s.size_scale;
+  const PointFrame& f = c.frames[index];
   const float px_per_unit = s.px_per_unit / (s.ortho ? 1.0f : std::max(depth, 1e-20f));
-  const float radius = std::min(r, s.max_radius_px / px_per_unit);
+  const float radius = std::min(f.radius, s.max_radius_px / px_per_unit);
   if (!(radius > 0.0f)) return false;
-  glm::vec3 n = as_uploaded(c.normals[index]);
-  const float len = std::sqrt(glm::dot(n, n));
   const glm::mat3 to_view(c.view);
-  float stretch = 1.0f;
-  bool two = s.two_layers;
+  const float stretch = f.stretch;
   glm::vec3 tv(1.0f, 0.0f, 0.0f), bv(0.0f, 1.0f, 0.0f);
-  if (len > 1e-3f) {
-    n /= len;
-    glm::vec3 t, b;
-    glm::vec3 major(0.0f);
-    if (s.tangent_frame == 3) major = as_uploaded(c.axes[index]);
-    tangent_frame(s.tangent_frame, n, &major, t, b);
-    tv = normalized(to_view * t);
-    bv = normalized(to_view * b);
-    if (s.clusters && c.shapes->size[index] > 0) {
-      two = two || float(c.shapes->size[index]) < s.small_cluster;
-      const float st = std::min(std::pow(std::max(c.shapes->elongation[index], 1.0f), s.elongation_gain), s.max_stretch);
-      const glm::vec3 axis = as_uploaded(c.shapes->axis[index]);
-      const glm::vec3 along = axis - glm::dot(axis, n) * n;
-      if (st > 1.05f && glm::dot(along, along) > 0.01f) {
-        const glm::vec3 ta = normalized(along);
-        tv = normalized(to_view * ta);
-        bv = normalized(to_view * glm::cross(n, ta));
-        stretch = st;
-      }
-    }
+  if (f.t != glm::vec3(0.0f)) {
+    tv = normalized(to_view * f.t);
+    bv = normalized(to_view * f.b);
   }
   // The whole splat beyond the near plane (the exact path draws no other).
   const float reach_z = (std::abs(tv.z) * stretch + std::abs(bv.z)) * radius;
@@ -241,14 +276,9 @@ bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
   out.depth_range = {depth - reach_z, depth + reach_z};
   out.offset = s.depth_tolerance * radius;
   out.rgb = glm::vec3(c.colors.at(index));
-  out.two = two;
-  const uint32_t id = c.ids[index];
-  float a = s.angle + s.jitter * (2.0f * id_rand(id, 1u, s.seed) - 1.0f);
-  for (int col = 0; col < 3; ++col) {
-    if (col > 0) a += s.jitter * (2.0f * id_rand(id, uint32_t(col + 1), s.seed) - 1.0f);
-    out.cs[col] = std::cos(a);
-    out.sn[col] = std::sin(a);
-  }
+  out.two = f.two;
+  std::copy(f.cs, f.cs + 3, out.cs);
+  std::copy(f.sn, f.sn + 3, out.sn);
   return true;
 }
 
@@ -1139,15 +1169,24 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     return;
   }
   const Settings s = settings(ctx, p);
-  const bool queued = draws_queue(ctx, p);
   const int k = p.get_int("resolution_neighbors");
   const int normal_k = p.get_int("normal_neighbors");
   const bool radius_normals = p.get_enum_name("normals") == "radius_3r";
   const ColorSource source = ColorSource(p.get_enum("color_source"));
   const glm::vec4 constant = p.get_color("color");
 
-  // Host data of every chunk (what the GPU cloud uploaded, from the same
-  // caches), held while drawing.
+  // What the point frames follow (the parameters that reach point_frame()).
+  std::string key;
+  {
+    auto add = [&key](auto v) { key += std::to_string(v) + ' '; };
+    add(normal_k), add(radius_normals), add(s.resolution_size), add(k), add(s.user_eps);
+    for (float f : {s.epsilon, s.world_radius, s.size_scale, s.angle, s.jitter, s.small_cluster, s.elongation_gain,
+                    s.max_stretch})
+      add(std::bit_cast<uint32_t>(f));
+    add(s.tangent_frame), add(s.seed), add(s.two_layers), add(s.clusters), add(p.get_int("cluster_neighbors"));
+  }
+  // Host data of every chunk (the point frames made from the caches the GPU
+  // cloud's uploads come from), held while drawing.
   std::vector<Chunk> chunks(ctx.chunks.size());
   std::vector<std::shared_ptr<const void>> held;
   const PointCloud* last = nullptr;
@@ -1158,37 +1197,51 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     if (!cloud) throw GLError("brush_splats: a visible chunk's cloud is gone");
     if (cloud.get() != last) {
       last = cloud.get();
-      geometry::Analysis& analysis = cloud->analysis();
+      PointFrames& cached = v.gpu->host_slot<PointFrames>("brush_splats point frames");
+      const std::string cloud_key = key + std::to_string(v.gpu->own_normals);
+      if (cached.key != cloud_key || cached.frames.size() != cloud->size()) {
+        cached.key.clear();  // (stale until made)
+        geometry::Analysis& analysis = cloud->analysis();
+        std::vector<std::shared_ptr<const void>> inputs;
+        FrameInputs in;
+        in.ids = cloud->point_index().data();
+        if (v.gpu->own_normals) {
+          in.normals = cloud->normals().data();
+        } else {
+          geometry::NormalOptions o{normal_k, geometry::Orientation::Consistent, {}};
+          if (radius_normals) o.radius_factor = 3.0;
+          auto normals = analysis.normals(o);
+          in.normals = normals->data();
+          inputs.push_back(normals);
+        }
+        if (s.resolution_size) {
+          auto resolution = analysis.local_resolution(k);
+          in.r = resolution->r.data();
+          in.eps = resolution->eps.data();
+          inputs.push_back(resolution);
+        }
+        if (s.tangent_frame == 3) {
+          auto pca = analysis.pca(normal_k);
+          auto axes = std::make_shared<const std::vector<glm::vec3>>(analysis.points().to_original(pca->major));
+          in.axes = axes->data();
+          inputs.push_back(axes);
+        }
+        if (s.clusters) {
+          auto shapes = analysis.cluster_shapes(p.get_int("cluster_neighbors"));
+          in.shapes = shapes.get();
+          inputs.push_back(shapes);
+        }
+        cached.frames.resize(cloud->size());
+        PointFrame* frames = cached.frames.data();
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(cloud->size()), kGrain),
+                          [&](const tbb::blocked_range<uint32_t>& r) {
+                            for (uint32_t j = r.begin(); j < r.end(); ++j) frames[j] = point_frame(in, s, j);
+                          });
+        cached.key = cloud_key;
+      }
       proto = Chunk{};
       proto.positions = cloud->local_positions().data();
-      proto.ids = cloud->point_index().data();
-      if (v.gpu->own_normals) {
-        proto.normals = cloud->normals().data();
-      } else {
-        geometry::NormalOptions o{normal_k, geometry::Orientation::Consistent, {}};
-        if (radius_normals) o.radius_factor = 3.0;
-        auto normals = analysis.normals(o);
-        proto.normals = normals->data();
-        held.push_back(normals);
-      }
-      if (s.resolution_size) {
-        auto resolution = analysis.local_resolution(k);
-        proto.r = resolution->r.data();
-        proto.eps = resolution->eps.data();
-        held.push_back(resolution);
-      }
-      if (s.tangent_frame == 3) {
-        auto pca = analysis.pca(normal_k);
-        auto axes = std::make_shared<const std::vector<glm::vec3>>(analysis.points().to_original(pca->major));
-        proto.axes = axes->data();
-        held.push_back(axes);
-      }
-      if (s.clusters) {
-        auto shapes = analysis.cluster_shapes(p.get_int("cluster_neighbors"));
-        proto.shapes = shapes.get();
-        held.push_back(shapes);
-      }
-      proto.order = queued ? v.gpu->host_queue_order().data() : nullptr;
+      proto.frames = cached.frames.data();
       proto.colors = host_colors(*v.gpu, *cloud, source, constant);
       held.push_back(cloud);
     }

@@ -5,6 +5,7 @@
 // GL thread only.
 #include <map>
 #include <memory>
+#include <string>
 
 #include "gl/objects.h"
 #include "render/attributes.h"
@@ -27,9 +28,20 @@ struct GpuCloud {
   // first use and kept: the native rasterizer reads it there, the upload
   // of AttributeKind::QueueOrder takes it from here (sorted once).
   const std::vector<uint32_t>& host_queue_order() const;
+  // A native mark's host data derived per point and kept between frames
+  // while the cloud lives (marks/*_native.cpp): one T per name, made on
+  // first use; the mark recomputes it in place when its inputs change, so
+  // a parameter tweak never piles up copies.
+  template <class T>
+  T& host_slot(const std::string& name) const {
+    std::shared_ptr<void>& slot = host_slots_[name];
+    if (!slot) slot = std::make_shared<T>();
+    return *std::static_pointer_cast<T>(slot);
+  }
 
  private:
   mutable std::shared_ptr<const std::vector<uint32_t>> queue_order_;
+  mutable std::map<std::string, std::shared_ptr<void>> host_slots_;
 };
 
 class GpuCloudCache {

@@ -119,6 +119,26 @@ def _native_digest(renderer):
     return hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest()
 
 
+def test_the_kept_point_frames_follow_every_parameter_they_are_made_from(renderer, lion):
+    # The camera-independent part of each splat (axes, radius, stretch,
+    # layers, column angles) is kept per cloud between frames; a frame after
+    # a change of any parameter it follows draws a fresh renderer's bytes.
+    def image(r, params):
+        res = _render(r, dict(params, rasterizer="native"), lion)
+        return np.asarray(res.color).tobytes() + np.asarray(res.depth).tobytes()
+
+    before = image(renderer, {})
+    for params in ({"seed": 3}, {"brush_angle": 30.0}, {"angle_jitter": 40.0}, {"tangent_frame": "eberly"},
+                   {"layers": "two"}, {"size_scale": 2.0}, {"epsilon_mode": "user", "epsilon": 0.004},
+                   {"size_mode": "world", "world_radius": 0.01}, {"normals": "radius_3r"}, {"normal_neighbors": 8},
+                   {"resolution_neighbors": 12}, {"clusters": True, "small_cluster": 400},
+                   {"clusters": True, "max_stretch": 1.5}):
+        changed = image(renderer, params)
+        assert changed != before, params
+        assert changed == image(pointnpr.Renderer(), params), params
+        assert image(renderer, {}) == before, params
+
+
 def test_the_native_path_draws_the_same_bytes_with_one_thread_in_another_process(renderer):
     assert len(os.sched_getaffinity(0)) > 1  # else this process would run one thread too
     assert _in_another_process(_THREADS_SCRIPT).strip() == _native_digest(renderer)
