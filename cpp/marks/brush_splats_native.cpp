@@ -63,6 +63,7 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kBatch = 1u << 21;  // splats set up at once (about 300 MiB)
 constexpr uint32_t kGrain = 8192;      // points per setup work item
+constexpr uint64_t kKeptFramesMax = 1u << 22;  // points of a cloud whose point frames are kept (60 B each: 240 MiB)
 constexpr int kTable = 4096;           // brush table intervals
 constexpr int kPieces = 8;             // brush polynomial pieces (one AVX2 register of each coefficient)
 constexpr int kDegree = 7;             // and their highest degree
@@ -124,6 +125,7 @@ struct PointFrame {
   float cs[3] = {}, sn[3] = {};
   bool two = false;
 };
+static_assert(sizeof(PointFrame) == 60);
 struct PointFrames {
   std::string key;  // the parameters they were made with
   std::vector<PointFrame> frames;  // cloud order
@@ -141,7 +143,8 @@ struct FrameInputs {
 // One visible chunk's host data (index = first + local into the cloud's arrays).
 struct Chunk {
   const glm::vec3* positions = nullptr;
-  const PointFrame* frames = nullptr;
+  const PointFrame* frames = nullptr;  // kept; null: made per splat from `in`
+  FrameInputs in;
   const uint32_t* order = nullptr;  // queue order (chunk-local), or null
   HostColors colors;
   uint32_t first = 0, count = 0;
@@ -232,7 +235,7 @@ bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
   const glm::vec3 center(v);
   const float depth = -v.z;
   if (!(depth >= s.near && depth <= s.far)) return false;
-  const PointFrame& f = c.frames[index];
+  const PointFrame f = c.frames ? c.frames[index] : point_frame(c.in, s, index);
   const float px_per_unit = s.px_per_unit / (s.ortho ? 1.0f : std::max(depth, 1e-20f));
   const float radius = std::min(f.radius, s.max_radius_px / px_per_unit);
   if (!(radius > 0.0f)) return false;
@@ -1185,8 +1188,11 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       add(std::bit_cast<uint32_t>(f));
     add(s.tangent_frame), add(s.seed), add(s.two_layers), add(s.clusters), add(p.get_int("cluster_neighbors"));
   }
-  // Host data of every chunk (the point frames made from the caches the GPU
-  // cloud's uploads come from), held while drawing.
+  // Host data of every chunk, held while drawing. Point frames are kept for
+  // clouds of at most kKeptFramesMax points (POINTNPR_NATIVE_KEPT_FRAMES,
+  // tests: fewer); larger ones make them per splat, each frame.
+  static const uint64_t kept_frames_max = lowered_by_tests("POINTNPR_NATIVE_KEPT_FRAMES", kKeptFramesMax);
+  int clouds_with_kept_frames = 0;
   std::vector<Chunk> chunks(ctx.chunks.size());
   std::vector<std::shared_ptr<const void>> held;
   const PointCloud* last = nullptr;
@@ -1197,12 +1203,9 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     if (!cloud) throw GLError("brush_splats: a visible chunk's cloud is gone");
     if (cloud.get() != last) {
       last = cloud.get();
-      PointFrames& cached = v.gpu->host_slot<PointFrames>("brush_splats point frames");
-      const std::string cloud_key = key + std::to_string(v.gpu->own_normals);
-      if (cached.key != cloud_key || cached.frames.size() != cloud->size()) {
-        cached.key.clear();  // (stale until made)
+      // Their inputs (the caches the GPU cloud's uploads come from).
+      auto frame_inputs = [&](std::vector<std::shared_ptr<const void>>& hold) {
         geometry::Analysis& analysis = cloud->analysis();
-        std::vector<std::shared_ptr<const void>> inputs;
         FrameInputs in;
         in.ids = cloud->point_index().data();
         if (v.gpu->own_normals) {
@@ -1212,36 +1215,49 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           if (radius_normals) o.radius_factor = 3.0;
           auto normals = analysis.normals(o);
           in.normals = normals->data();
-          inputs.push_back(normals);
+          hold.push_back(normals);
         }
         if (s.resolution_size) {
           auto resolution = analysis.local_resolution(k);
           in.r = resolution->r.data();
           in.eps = resolution->eps.data();
-          inputs.push_back(resolution);
+          hold.push_back(resolution);
         }
         if (s.tangent_frame == 3) {
           auto pca = analysis.pca(normal_k);
           auto axes = std::make_shared<const std::vector<glm::vec3>>(analysis.points().to_original(pca->major));
           in.axes = axes->data();
-          inputs.push_back(axes);
+          hold.push_back(axes);
         }
         if (s.clusters) {
           auto shapes = analysis.cluster_shapes(p.get_int("cluster_neighbors"));
           in.shapes = shapes.get();
-          inputs.push_back(shapes);
+          hold.push_back(shapes);
         }
-        cached.frames.resize(cloud->size());
-        PointFrame* frames = cached.frames.data();
-        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(cloud->size()), kGrain),
-                          [&](const tbb::blocked_range<uint32_t>& r) {
-                            for (uint32_t j = r.begin(); j < r.end(); ++j) frames[j] = point_frame(in, s, j);
-                          });
-        cached.key = cloud_key;
-      }
+        return in;
+      };
       proto = Chunk{};
+      if (cloud->size() <= kept_frames_max) {
+        PointFrames& kept = v.gpu->host_slot<PointFrames>("brush_splats point frames");
+        const std::string cloud_key = key + std::to_string(v.gpu->own_normals);
+        if (kept.key != cloud_key || kept.frames.size() != cloud->size()) {
+          kept.key.clear();  // (stale until made)
+          std::vector<std::shared_ptr<const void>> inputs;
+          const FrameInputs in = frame_inputs(inputs);
+          kept.frames.resize(cloud->size());
+          PointFrame* frames = kept.frames.data();
+          tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(cloud->size()), kGrain),
+                            [&](const tbb::blocked_range<uint32_t>& r) {
+                              for (uint32_t j = r.begin(); j < r.end(); ++j) frames[j] = point_frame(in, s, j);
+                            });
+          kept.key = cloud_key;
+        }
+        proto.frames = kept.frames.data();
+        ++clouds_with_kept_frames;
+      } else {
+        proto.in = frame_inputs(held);
+      }
       proto.positions = cloud->local_positions().data();
-      proto.frames = cached.frames.data();
       proto.colors = host_colors(*v.gpu, *cloud, source, constant);
       held.push_back(cloud);
     }
@@ -1461,6 +1477,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     (*ctx.stats)["splats_drawn"] += double(drawn);
     (*ctx.stats)["brush_native_setup_ms"] += setup_ms;
     (*ctx.stats)["brush_native_batches"] += double(batches.size());
+    (*ctx.stats)["brush_native_clouds_with_kept_frames"] += double(clouds_with_kept_frames);
     (*ctx.stats)["brush_native_bins_blended_apart"] += double(bins_blended_apart.load());
     (*ctx.stats)["brush_native_depth_ms"] += ms(t0, t1);
     (*ctx.stats)["brush_native_blend_ms"] += ms(t1, t2);

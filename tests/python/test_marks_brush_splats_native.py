@@ -180,6 +180,7 @@ def _passes(renderer):
             r = _render(renderer, params, cloud)
         out.append({"digest": hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest(),
                     "batches": r.stats["brush_native_batches"],
+                    "kept frames": r.stats["brush_native_clouds_with_kept_frames"],
                     "apart": r.stats["brush_native_bins_blended_apart"]})
     return out
 
@@ -195,6 +196,16 @@ def test_one_pass_with_candidates_draws_the_two_passes_bytes(renderer):
     assert [f["batches"] for f in merged] == [1, 1, 1] and all(f["batches"] > 1 for f in apart)
     assert merged[0]["apart"] == 0 and merged[1]["apart"] > 0 and merged[2]["apart"] > 0
     assert [f["digest"] for f in merged] == [f["digest"] for f in apart]
+
+
+def test_clouds_too_large_to_keep_their_point_frames_make_them_per_splat_to_the_same_bytes(renderer):
+    """Point frames are kept for clouds of up to 4M points (60 bytes each);
+    a larger cloud makes them per splat in every frame: forced here for the
+    lion by POINTNPR_NATIVE_KEPT_FRAMES=1 in another process."""
+    made = json.loads(_in_another_process(_PASSES_SCRIPT, POINTNPR_NATIVE_KEPT_FRAMES="1"))
+    kept = _passes(renderer)
+    assert [f["kept frames"] for f in kept] == [1, 1, 1] and [f["kept frames"] for f in made] == [0, 0, 0]
+    assert [f["digest"] for f in made] == [f["digest"] for f in kept]
 
 
 def test_bins_wider_than_their_side_are_cut_to_the_same_bytes(renderer):
