@@ -285,6 +285,154 @@ bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
   return true;
 }
 
+// setup() of eight points on AVX2 lanes: the same float operations in the
+// same order (glm's left-to-right sums; min and max with std::min's and
+// std::max's operand order), so the same splats.
+// Eight lanes of setup()'s steps (setup_avx2).
+#define POINTNPR_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
+POINTNPR_AVX2_INLINE __m256 set8(float v) { return _mm256_set1_ps(v); }
+// m * (x, y, z, 1), row r, as transform(): ((m0 x + m1 y) + m2 z) + m3.
+POINTNPR_AVX2_INLINE __m256 row4_8(const glm::mat4& m, int r, __m256 x, __m256 y, __m256 z) {
+  return _mm256_add_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(set8(m[0][r]), x), _mm256_mul_ps(set8(m[1][r]), y)),
+                                     _mm256_mul_ps(set8(m[2][r]), z)),
+                       set8(m[3][r]));
+}
+// mat3(m) * (x, y, z), row r.
+POINTNPR_AVX2_INLINE __m256 row3_8(const glm::mat4& m, int r, __m256 x, __m256 y, __m256 z) {
+  return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(set8(m[0][r]), x), _mm256_mul_ps(set8(m[1][r]), y)),
+                       _mm256_mul_ps(set8(m[2][r]), z));
+}
+POINTNPR_AVX2_INLINE void normalized8(__m256& x, __m256& y, __m256& z) {
+  const __m256 len = _mm256_sqrt_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(x, x), _mm256_mul_ps(y, y)), _mm256_mul_ps(z, z)));
+  x = _mm256_div_ps(x, len), y = _mm256_div_ps(y, len), z = _mm256_div_ps(z, len);
+}
+// One coordinate of center + (t a + b_axis b) diameter.
+POINTNPR_AVX2_INLINE __m256 corner8(__m256 center, __m256 t, __m256 b_axis, __m256 a, __m256 b, __m256 diameter) {
+  return _mm256_add_ps(center, _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(t, a), _mm256_mul_ps(b_axis, b)), diameter));
+}
+POINTNPR_AVX2_INLINE __m256i floor8(__m256 v) {  // floor_int()
+  const __m256i i = _mm256_cvttps_epi32(v);
+  return _mm256_add_epi32(i, _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(i), v, _CMP_GT_OQ)));
+}
+#undef POINTNPR_AVX2_INLINE
+
+__attribute__((target("avx2"))) void setup_avx2(const Chunk& c, const Settings& s, const uint32_t* index, int n,
+                                                Splat* out) {
+  alignas(32) float px[8] = {}, py[8] = {}, pz[8] = {}, fr[8] = {}, fs[8] = {};
+  alignas(32) float tx[8] = {}, ty[8] = {}, tz[8] = {}, bx[8] = {}, by[8] = {}, bz[8] = {};
+  PointFrame made[8];
+  const PointFrame* f[8];
+  for (int i = 0; i < 8; ++i) {
+    const uint32_t j = index[std::min(i, n - 1)];
+    const glm::vec3& q = c.positions[j];
+    px[i] = q.x, py[i] = q.y, pz[i] = q.z;
+    if (c.frames) {
+      f[i] = &c.frames[j];
+    } else {
+      made[i] = point_frame(c.in, s, j);
+      f[i] = &made[i];
+    }
+    fr[i] = f[i]->radius, fs[i] = f[i]->stretch;
+    tx[i] = f[i]->t.x, ty[i] = f[i]->t.y, tz[i] = f[i]->t.z;
+    bx[i] = f[i]->b.x, by[i] = f[i]->b.y, bz[i] = f[i]->b.z;
+  }
+  const __m256 x = _mm256_load_ps(px), y = _mm256_load_ps(py), z = _mm256_load_ps(pz);
+  const __m256 cx = row4_8(c.view, 0, x, y, z), cy = row4_8(c.view, 1, x, y, z), cz = row4_8(c.view, 2, x, y, z);
+  const __m256 sign = _mm256_castsi256_ps(_mm256_set1_epi32(int32_t(0x80000000u)));
+  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  const __m256 depth = _mm256_xor_ps(cz, sign);
+  __m256 ok = _mm256_and_ps(_mm256_cmp_ps(depth, set8(s.near), _CMP_GE_OQ), _mm256_cmp_ps(depth, set8(s.far), _CMP_LE_OQ));
+  const __m256 per = s.ortho ? set8(1.0f) : _mm256_max_ps(set8(1e-20f), depth);
+  const __m256 px_per_unit = _mm256_div_ps(set8(s.px_per_unit), per);
+  const __m256 radius = _mm256_min_ps(_mm256_div_ps(set8(s.max_radius_px), px_per_unit), _mm256_load_ps(fr));
+  ok = _mm256_and_ps(ok, _mm256_cmp_ps(radius, _mm256_setzero_ps(), _CMP_GT_OQ));
+  // The view's axes where there is no normal (t zero).
+  const __m256 t0x = _mm256_load_ps(tx), t0y = _mm256_load_ps(ty), t0z = _mm256_load_ps(tz);
+  const __m256 no_normal = _mm256_and_ps(
+      _mm256_and_ps(_mm256_cmp_ps(t0x, _mm256_setzero_ps(), _CMP_EQ_OQ), _mm256_cmp_ps(t0y, _mm256_setzero_ps(), _CMP_EQ_OQ)),
+      _mm256_cmp_ps(t0z, _mm256_setzero_ps(), _CMP_EQ_OQ));
+  __m256 tvx = row3_8(c.view, 0, t0x, t0y, t0z), tvy = row3_8(c.view, 1, t0x, t0y, t0z), tvz = row3_8(c.view, 2, t0x, t0y, t0z);
+  normalized8(tvx, tvy, tvz);
+  const __m256 b0x = _mm256_load_ps(bx), b0y = _mm256_load_ps(by), b0z = _mm256_load_ps(bz);
+  __m256 bvx = row3_8(c.view, 0, b0x, b0y, b0z), bvy = row3_8(c.view, 1, b0x, b0y, b0z), bvz = row3_8(c.view, 2, b0x, b0y, b0z);
+  normalized8(bvx, bvy, bvz);
+  const __m256 zero = _mm256_setzero_ps(), one = set8(1.0f);
+  tvx = _mm256_blendv_ps(tvx, one, no_normal), tvy = _mm256_blendv_ps(tvy, zero, no_normal);
+  tvz = _mm256_blendv_ps(tvz, zero, no_normal);
+  bvx = _mm256_blendv_ps(bvx, zero, no_normal), bvy = _mm256_blendv_ps(bvy, one, no_normal);
+  bvz = _mm256_blendv_ps(bvz, zero, no_normal);
+  const __m256 stretch = _mm256_load_ps(fs);
+  const __m256 reach_z = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_and_ps(tvz, magnitude), stretch),
+                                                     _mm256_and_ps(bvz, magnitude)),
+                                       radius);
+  ok = _mm256_andnot_ps(_mm256_cmp_ps(_mm256_sub_ps(depth, reach_z), set8(s.near), _CMP_LT_OQ), ok);
+  // The quad's corners on screen.
+  static constexpr float kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const __m256 diameter = _mm256_mul_ps(set8(2.0f), radius);
+  __m256 wx[4], wy[4];
+  __m256 min_x = set8(kInf), min_y = set8(kInf), max_x = set8(-kInf), max_y = set8(-kInf);
+  for (int k = 0; k < 4; ++k) {
+    const __m256 a = _mm256_mul_ps(set8(kCorner[k][0] - 0.5f), stretch), b = set8(kCorner[k][1] - 0.5f);
+    const __m256 qx = corner8(cx, tvx, bvx, a, b, diameter), qy = corner8(cy, tvy, bvy, a, b, diameter);
+    const __m256 qz = corner8(cz, tvz, bvz, a, b, diameter);
+    const __m256 w = row4_8(s.projection, 3, qx, qy, qz);
+    const __m256 half = set8(0.5f);
+    wx[k] = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_div_ps(row4_8(s.projection, 0, qx, qy, qz), w), half), half),
+                          set8(s.frame.x));
+    wy[k] = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_div_ps(row4_8(s.projection, 1, qx, qy, qz), w), half), half),
+                          set8(s.frame.y));
+    min_x = _mm256_min_ps(wx[k], min_x), max_x = _mm256_max_ps(wx[k], max_x);
+    min_y = _mm256_min_ps(wy[k], min_y), max_y = _mm256_max_ps(wy[k], max_y);
+  }
+  const __m256 lo_x = set8(float(s.clip.min.x + s.origin.x) - 2.0f), hi_x = set8(float(s.clip.max.x + s.origin.x) + 2.0f);
+  const __m256 lo_y = set8(float(s.clip.min.y + s.origin.y) - 2.0f), hi_y = set8(float(s.clip.max.y + s.origin.y) + 2.0f);
+  ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(max_x, lo_x, _CMP_GE_OQ), _mm256_cmp_ps(min_x, hi_x, _CMP_LE_OQ)),
+                                       _mm256_and_ps(_mm256_cmp_ps(max_y, lo_y, _CMP_GE_OQ), _mm256_cmp_ps(min_y, hi_y, _CMP_LE_OQ))));
+  const __m256 half = set8(0.5f);
+  const __m256i ox = _mm256_set1_epi32(s.origin.x), oy = _mm256_set1_epi32(s.origin.y), two = _mm256_set1_epi32(2);
+  alignas(32) int32_t lo[2][8], hi[2][8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lo[0]), _mm256_sub_epi32(floor8(_mm256_sub_ps(_mm256_max_ps(lo_x, min_x), half)), ox));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lo[1]), _mm256_sub_epi32(floor8(_mm256_sub_ps(_mm256_max_ps(lo_y, min_y), half)), oy));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(hi[0]),
+                     _mm256_sub_epi32(_mm256_add_epi32(floor8(_mm256_sub_ps(_mm256_min_ps(hi_x, max_x), half)), two), ox));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(hi[1]),
+                     _mm256_sub_epi32(_mm256_add_epi32(floor8(_mm256_sub_ps(_mm256_min_ps(hi_y, max_y), half)), two), oy));
+  const __m256 u_scale = _mm256_mul_ps(diameter, stretch);
+  alignas(32) float o[22][8];
+  _mm256_store_ps(o[0], cx), _mm256_store_ps(o[1], cy), _mm256_store_ps(o[2], cz);
+  _mm256_store_ps(o[3], _mm256_div_ps(tvx, u_scale)), _mm256_store_ps(o[4], _mm256_div_ps(tvy, u_scale)), _mm256_store_ps(o[5], _mm256_div_ps(tvz, u_scale));
+  _mm256_store_ps(o[6], _mm256_div_ps(bvx, diameter)), _mm256_store_ps(o[7], _mm256_div_ps(bvy, diameter)), _mm256_store_ps(o[8], _mm256_div_ps(bvz, diameter));
+  _mm256_store_ps(o[9], _mm256_sub_ps(_mm256_mul_ps(tvy, bvz), _mm256_mul_ps(bvy, tvz)));  // cross(tv, bv)
+  _mm256_store_ps(o[10], _mm256_sub_ps(_mm256_mul_ps(tvz, bvx), _mm256_mul_ps(bvz, tvx)));
+  _mm256_store_ps(o[11], _mm256_sub_ps(_mm256_mul_ps(tvx, bvy), _mm256_mul_ps(bvx, tvy)));
+  _mm256_store_ps(o[12], _mm256_sub_ps(depth, reach_z)), _mm256_store_ps(o[13], _mm256_add_ps(depth, reach_z));
+  _mm256_store_ps(o[14], _mm256_mul_ps(set8(s.depth_tolerance), radius));
+  for (int k = 0; k < 4; ++k) _mm256_store_ps(o[15 + k], wx[k]);
+  alignas(32) float wys[4][8];
+  for (int k = 0; k < 4; ++k) _mm256_store_ps(wys[k], wy[k]);
+  const int valid = _mm256_movemask_ps(ok);
+  for (int i = 0; i < n; ++i) {
+    Splat& sp = out[i];
+    if (!(valid >> i & 1)) {
+      sp.lo = sp.hi = glm::ivec2(0);
+      continue;
+    }
+    sp.lo = {lo[0][i], lo[1][i]};
+    sp.hi = {hi[0][i], hi[1][i]};
+    sp.center = {o[0][i], o[1][i], o[2][i]};
+    sp.u_axis = {o[3][i], o[4][i], o[5][i]};
+    sp.v_axis = {o[6][i], o[7][i], o[8][i]};
+    sp.normal = {o[9][i], o[10][i], o[11][i]};
+    sp.depth_range = {o[12][i], o[13][i]};
+    sp.offset = o[14][i];
+    for (int k = 0; k < 4; ++k) sp.wx[k] = o[15 + k][i], sp.wy[k] = wys[k][i];
+    sp.rgb = glm::vec3(c.colors.at(index[i]));
+    sp.two = f[i]->two;
+    std::copy(f[i]->cs, f[i]->cs + 3, sp.cs);
+    std::copy(f[i]->sn, f[i]->sn + 3, sp.sn);
+  }
+}
+
 // One layer of a splat's brush, per Gaussian (12 lanes, the last ones
 // never reached): its column's angle and its centre turned by it (R c),
 // so a fragment's q of every Gaussian is a few products without branches.
@@ -1317,6 +1465,15 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         const Item& it = items[n];
         const Chunk& c = chunks[it.chunk];
         Splat* out = splats.data() + slot[n];
+        if (kHasAvx2) {
+          for (uint32_t j = it.begin; j < it.end; j += 8, out += 8) {
+            const int lanes = int(std::min(8u, it.end - j));
+            uint32_t index[8];
+            for (int i = 0; i < lanes; ++i) index[i] = c.first + (c.order ? c.order[j + uint32_t(i)] : j + uint32_t(i));
+            setup_avx2(c, s, index, lanes, out);
+          }
+          continue;
+        }
         for (uint32_t j = it.begin; j < it.end; ++j, ++out)
           if (!setup(c, s, c.first + (c.order ? c.order[j] : j), *out)) out->lo = out->hi = glm::ivec2(0);
       }

@@ -153,6 +153,48 @@ def test_the_scalar_lanes_draw_the_avx2_lanes_bytes(renderer):
     assert _in_another_process(script, POINTNPR_NATIVE_NO_AVX2="1").strip() == _native_digest(renderer)
 
 
+_SETUP_SCRIPT = r"""
+import json, sys
+sys.path.insert(0, sys.argv[1])
+sys.path.insert(0, sys.argv[2])
+import pointnpr
+import test_marks_brush_splats_native as t
+print(json.dumps(t._setup_digests(pointnpr.Renderer())))
+"""
+
+
+def _setup_digests(renderer):
+    """Digests of frames whose splats set up every branch: points without a
+    normal (half of them), perspective and orthographic, the queue's order."""
+    data = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply"))
+    normals = np.random.default_rng(3).normal(size=(data.num_points, 3))
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    normals[::2] = 0.0
+    cloud = pointnpr.PointCloud(np.asarray(data.positions, float), colors=np.asarray(data.attributes["colors"]),
+                                normals=normals.astype(np.float32))
+    view = pointnpr.look_at((2.6, -1.6, 1.5), (-2.9, 3.9, -1.2))
+    out = []
+    for camera, params in (("perspective", {}), ("orthographic", {}),
+                           ("perspective", {"density_mode": "constant_on_screen", "queue_level": 2.0})):
+        scene = pointnpr.Scene()
+        scene.add_segment("scan", pointnpr.Style(mark=("brush_splats", dict(params, rasterizer="native"))),
+                          [(cloud, np.eye(4))])
+        common = dict(clip_start=0.1, clip_end=100.0, width=W, height=H)
+        cam = (pointnpr.Camera.orthographic(view, ortho_scale=6.0, **common) if camera == "orthographic" else
+               pointnpr.Camera.perspective(view, lens=35.0, **common))
+        r = renderer.render(scene, cam, W, H, background=(1, 1, 1, 0))
+        assert (np.asarray(r.color)[..., 3] > 0).mean() > 0.2
+        out.append(hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest())
+    return out
+
+
+def test_the_scalar_setup_makes_the_avx2_setups_splats(renderer):
+    """Splats are set up eight at a time on AVX2 lanes (setup_avx2) where the
+    CPU has them, else one by one: the same bytes, also for points without a
+    normal, orthographic views and the queue's order."""
+    assert json.loads(_in_another_process(_SETUP_SCRIPT, POINTNPR_NATIVE_NO_AVX2="1")) == _setup_digests(renderer)
+
+
 _PASSES_SCRIPT = r"""
 import json, sys
 sys.path.insert(0, sys.argv[1])
