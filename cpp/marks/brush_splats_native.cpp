@@ -1254,10 +1254,13 @@ Settings settings(const MarkContext& ctx, const ParamValues& p) {
   return s;
 }
 
-// brush_blur.comp over the clip: along x into `sums`, then along y into
-// `out`; a pixel's four channels on one group of SSE lanes (each channel's
-// float operations as the shader's, in its order).
-void blur(const Settings& s, const ParamValues& p, const float* color, const float* depth, float* sums, float* out) {
+// brush_blur.comp over the clip: along x into `sums`, then along y back
+// into `color`; a pixel's four channels on one group of SSE lanes (each
+// channel's float operations as the shader's, in its order). Only the
+// covered pixels (each row's span of them) are read and written: the others
+// stay as they are (transparent), and no covered pixel reads their sums.
+void blur(const Settings& s, const ParamValues& p, float* color, const float* depth,
+          const std::vector<glm::ivec2>& row_span, float* sums) {
   const int radius = p.get_int("blur_radius");
   const float sigma = std::max(0.5f, 0.5f * float(radius));
   const float tolerance = float(p.get_float("blur_depth_tolerance"));
@@ -1268,7 +1271,7 @@ void blur(const Settings& s, const ParamValues& p, const float* color, const flo
   const __m128 rgb_lanes = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)), one_last = _mm_setr_ps(0.0f, 0.0f, 0.0f, 1.0f);
   tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y < rows.end(); ++y)
-      for (int x = 0; x < size.x; ++x) {
+      for (int x = row_span[size_t(y)].x; x <= row_span[size_t(y)].y; ++x) {
         const float d = depth[at(x, y)];
         __m128 sum = _mm_setzero_ps();
         if (!std::isinf(d)) {
@@ -1287,15 +1290,11 @@ void blur(const Settings& s, const ParamValues& p, const float* color, const flo
   });
   tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y < rows.end(); ++y)
-      for (int x = 0; x < size.x; ++x) {
+      for (int x = row_span[size_t(y)].x; x <= row_span[size_t(y)].y; ++x) {
         const size_t i = at(x, y);
         const float d = depth[i];
-        const float* c = &color[4 * i];
-        float* o = &out[4 * i];
-        if (std::isinf(d)) {
-          std::memcpy(o, c, 16);
-          continue;
-        }
+        float* c = &color[4 * i];  // (read before written: the pixel's own)
+        if (std::isinf(d)) continue;
         __m128 sum4 = _mm_setzero_ps();
         for (int k = -radius; k <= radius; ++k) {
           const size_t q = at(x, std::clamp(y + k, 0, size.y - 1));
@@ -1305,8 +1304,7 @@ void blur(const Settings& s, const ParamValues& p, const float* color, const flo
         }
         alignas(16) float sum[4];
         _mm_store_ps(sum, sum4);
-        for (int ch = 0; ch < 3; ++ch) o[ch] = sum[3] > 0.0f ? sum[ch] / sum[3] : c[ch];
-        o[3] = c[3];
+        for (int ch = 0; ch < 3; ++ch) c[ch] = sum[3] > 0.0f ? sum[ch] / sum[3] : c[ch];
       }
   });
 }
@@ -1620,11 +1618,9 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         }
       }
   });
+  if (p.get_enum_name("blending") != "none" && p.get_int("blur_radius") > 0)
+    blur(s, p, color, depth, row_span, host.sums.data());
   const float* result = color;
-  if (p.get_enum_name("blending") != "none" && p.get_int("blur_radius") > 0) {
-    blur(s, p, color, depth, host.sums.data(), host.accum.data());
-    result = host.accum.data();
-  }
   const auto t3 = Clock::now();
   upload_cpu_mark(ctx.targets, clip, result, depth, row_span, ctx.coverage, "brush_splats");
   if (ctx.stats) {
