@@ -7,7 +7,9 @@
 //  1. Setup: every splat (of the chunk's resolution queue when it is on)
 //     as brush_common.glsl's brush_splat() and the tiled vertex shader
 //     make it: plane, axes, depth range, colour, column angles, and the
-//     box of pixels its quad can cover. Batches of at most kBatch splats.
+//     box of pixels its quad can cover. Batches of at most kBatch splats,
+//     eight at a time on AVX2 lanes; the camera-independent part (point
+//     frames) kept per cloud between frames.
 //  2. Depth pass: each screen bin (render/screen_bins.h) runs its splats
 //     nearest first (the minimum does not depend on the order); a
 //     fragment's depth comes first (the pixel's ray met with the splat's
