@@ -287,9 +287,6 @@ bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
   return true;
 }
 
-// setup() of eight points on AVX2 lanes: the same float operations in the
-// same order (glm's left-to-right sums; min and max with std::min's and
-// std::max's operand order), so the same splats.
 // Eight lanes of setup()'s steps (setup_avx2).
 #define POINTNPR_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
 POINTNPR_AVX2_INLINE __m256 set8(float v) { return _mm256_set1_ps(v); }
@@ -305,7 +302,8 @@ POINTNPR_AVX2_INLINE __m256 row3_8(const glm::mat4& m, int r, __m256 x, __m256 y
                        _mm256_mul_ps(set8(m[2][r]), z));
 }
 POINTNPR_AVX2_INLINE void normalized8(__m256& x, __m256& y, __m256& z) {
-  const __m256 len = _mm256_sqrt_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(x, x), _mm256_mul_ps(y, y)), _mm256_mul_ps(z, z)));
+  const __m256 dot = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(x, x), _mm256_mul_ps(y, y)), _mm256_mul_ps(z, z));
+  const __m256 len = _mm256_sqrt_ps(dot);
   x = _mm256_div_ps(x, len), y = _mm256_div_ps(y, len), z = _mm256_div_ps(z, len);
 }
 // One coordinate of center + (t a + b_axis b) diameter.
@@ -316,8 +314,12 @@ POINTNPR_AVX2_INLINE __m256i floor8(__m256 v) {  // floor_int()
   const __m256i i = _mm256_cvttps_epi32(v);
   return _mm256_add_epi32(i, _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(i), v, _CMP_GT_OQ)));
 }
+POINTNPR_AVX2_INLINE void store8(int32_t* to, __m256i v) { _mm256_store_si256(reinterpret_cast<__m256i*>(to), v); }
 #undef POINTNPR_AVX2_INLINE
 
+// setup() of eight points on AVX2 lanes: the same float operations in the
+// same order (glm's left-to-right sums; min and max with std::min's and
+// std::max's operand order), so the same splats.
 __attribute__((target("avx2"))) void setup_avx2(const Chunk& c, const Settings& s, const uint32_t* index, int n,
                                                 Splat* out) {
   alignas(32) float px[8] = {}, py[8] = {}, pz[8] = {}, fr[8] = {}, fs[8] = {};
@@ -343,22 +345,25 @@ __attribute__((target("avx2"))) void setup_avx2(const Chunk& c, const Settings& 
   const __m256 sign = _mm256_castsi256_ps(_mm256_set1_epi32(int32_t(0x80000000u)));
   const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
   const __m256 depth = _mm256_xor_ps(cz, sign);
-  __m256 ok = _mm256_and_ps(_mm256_cmp_ps(depth, set8(s.near), _CMP_GE_OQ), _mm256_cmp_ps(depth, set8(s.far), _CMP_LE_OQ));
+  __m256 ok = _mm256_and_ps(_mm256_cmp_ps(depth, set8(s.near), _CMP_GE_OQ),
+                            _mm256_cmp_ps(depth, set8(s.far), _CMP_LE_OQ));
   const __m256 per = s.ortho ? set8(1.0f) : _mm256_max_ps(set8(1e-20f), depth);
   const __m256 px_per_unit = _mm256_div_ps(set8(s.px_per_unit), per);
   const __m256 radius = _mm256_min_ps(_mm256_div_ps(set8(s.max_radius_px), px_per_unit), _mm256_load_ps(fr));
   ok = _mm256_and_ps(ok, _mm256_cmp_ps(radius, _mm256_setzero_ps(), _CMP_GT_OQ));
   // The view's axes where there is no normal (t zero).
   const __m256 t0x = _mm256_load_ps(tx), t0y = _mm256_load_ps(ty), t0z = _mm256_load_ps(tz);
+  const __m256 zero = _mm256_setzero_ps(), one = set8(1.0f);
   const __m256 no_normal = _mm256_and_ps(
-      _mm256_and_ps(_mm256_cmp_ps(t0x, _mm256_setzero_ps(), _CMP_EQ_OQ), _mm256_cmp_ps(t0y, _mm256_setzero_ps(), _CMP_EQ_OQ)),
-      _mm256_cmp_ps(t0z, _mm256_setzero_ps(), _CMP_EQ_OQ));
-  __m256 tvx = row3_8(c.view, 0, t0x, t0y, t0z), tvy = row3_8(c.view, 1, t0x, t0y, t0z), tvz = row3_8(c.view, 2, t0x, t0y, t0z);
+      _mm256_and_ps(_mm256_cmp_ps(t0x, zero, _CMP_EQ_OQ), _mm256_cmp_ps(t0y, zero, _CMP_EQ_OQ)),
+      _mm256_cmp_ps(t0z, zero, _CMP_EQ_OQ));
+  __m256 tvx = row3_8(c.view, 0, t0x, t0y, t0z), tvy = row3_8(c.view, 1, t0x, t0y, t0z);
+  __m256 tvz = row3_8(c.view, 2, t0x, t0y, t0z);
   normalized8(tvx, tvy, tvz);
   const __m256 b0x = _mm256_load_ps(bx), b0y = _mm256_load_ps(by), b0z = _mm256_load_ps(bz);
-  __m256 bvx = row3_8(c.view, 0, b0x, b0y, b0z), bvy = row3_8(c.view, 1, b0x, b0y, b0z), bvz = row3_8(c.view, 2, b0x, b0y, b0z);
+  __m256 bvx = row3_8(c.view, 0, b0x, b0y, b0z), bvy = row3_8(c.view, 1, b0x, b0y, b0z);
+  __m256 bvz = row3_8(c.view, 2, b0x, b0y, b0z);
   normalized8(bvx, bvy, bvz);
-  const __m256 zero = _mm256_setzero_ps(), one = set8(1.0f);
   tvx = _mm256_blendv_ps(tvx, one, no_normal), tvy = _mm256_blendv_ps(tvy, zero, no_normal);
   tvz = _mm256_blendv_ps(tvz, zero, no_normal);
   bvx = _mm256_blendv_ps(bvx, zero, no_normal), bvy = _mm256_blendv_ps(bvy, one, no_normal);
@@ -386,24 +391,26 @@ __attribute__((target("avx2"))) void setup_avx2(const Chunk& c, const Settings& 
     min_x = _mm256_min_ps(wx[k], min_x), max_x = _mm256_max_ps(wx[k], max_x);
     min_y = _mm256_min_ps(wy[k], min_y), max_y = _mm256_max_ps(wy[k], max_y);
   }
-  const __m256 lo_x = set8(float(s.clip.min.x + s.origin.x) - 2.0f), hi_x = set8(float(s.clip.max.x + s.origin.x) + 2.0f);
-  const __m256 lo_y = set8(float(s.clip.min.y + s.origin.y) - 2.0f), hi_y = set8(float(s.clip.max.y + s.origin.y) + 2.0f);
-  ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(max_x, lo_x, _CMP_GE_OQ), _mm256_cmp_ps(min_x, hi_x, _CMP_LE_OQ)),
-                                       _mm256_and_ps(_mm256_cmp_ps(max_y, lo_y, _CMP_GE_OQ), _mm256_cmp_ps(min_y, hi_y, _CMP_LE_OQ))));
+  const __m256 lo_x = set8(float(s.clip.min.x + s.origin.x) - 2.0f);
+  const __m256 hi_x = set8(float(s.clip.max.x + s.origin.x) + 2.0f);
+  const __m256 lo_y = set8(float(s.clip.min.y + s.origin.y) - 2.0f);
+  const __m256 hi_y = set8(float(s.clip.max.y + s.origin.y) + 2.0f);
+  ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(max_x, lo_x, _CMP_GE_OQ), _mm256_cmp_ps(min_x, hi_x, _CMP_LE_OQ)));
+  ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(max_y, lo_y, _CMP_GE_OQ), _mm256_cmp_ps(min_y, hi_y, _CMP_LE_OQ)));
   const __m256 half = set8(0.5f);
   const __m256i ox = _mm256_set1_epi32(s.origin.x), oy = _mm256_set1_epi32(s.origin.y), two = _mm256_set1_epi32(2);
   alignas(32) int32_t lo[2][8], hi[2][8];
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lo[0]), _mm256_sub_epi32(floor8(_mm256_sub_ps(_mm256_max_ps(lo_x, min_x), half)), ox));
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lo[1]), _mm256_sub_epi32(floor8(_mm256_sub_ps(_mm256_max_ps(lo_y, min_y), half)), oy));
-  _mm256_store_si256(reinterpret_cast<__m256i*>(hi[0]),
-                     _mm256_sub_epi32(_mm256_add_epi32(floor8(_mm256_sub_ps(_mm256_min_ps(hi_x, max_x), half)), two), ox));
-  _mm256_store_si256(reinterpret_cast<__m256i*>(hi[1]),
-                     _mm256_sub_epi32(_mm256_add_epi32(floor8(_mm256_sub_ps(_mm256_min_ps(hi_y, max_y), half)), two), oy));
+  store8(lo[0], _mm256_sub_epi32(floor8(_mm256_sub_ps(_mm256_max_ps(lo_x, min_x), half)), ox));
+  store8(lo[1], _mm256_sub_epi32(floor8(_mm256_sub_ps(_mm256_max_ps(lo_y, min_y), half)), oy));
+  store8(hi[0], _mm256_sub_epi32(_mm256_add_epi32(floor8(_mm256_sub_ps(_mm256_min_ps(hi_x, max_x), half)), two), ox));
+  store8(hi[1], _mm256_sub_epi32(_mm256_add_epi32(floor8(_mm256_sub_ps(_mm256_min_ps(hi_y, max_y), half)), two), oy));
   const __m256 u_scale = _mm256_mul_ps(diameter, stretch);
   alignas(32) float o[22][8];
   _mm256_store_ps(o[0], cx), _mm256_store_ps(o[1], cy), _mm256_store_ps(o[2], cz);
-  _mm256_store_ps(o[3], _mm256_div_ps(tvx, u_scale)), _mm256_store_ps(o[4], _mm256_div_ps(tvy, u_scale)), _mm256_store_ps(o[5], _mm256_div_ps(tvz, u_scale));
-  _mm256_store_ps(o[6], _mm256_div_ps(bvx, diameter)), _mm256_store_ps(o[7], _mm256_div_ps(bvy, diameter)), _mm256_store_ps(o[8], _mm256_div_ps(bvz, diameter));
+  _mm256_store_ps(o[3], _mm256_div_ps(tvx, u_scale)), _mm256_store_ps(o[4], _mm256_div_ps(tvy, u_scale));
+  _mm256_store_ps(o[5], _mm256_div_ps(tvz, u_scale));
+  _mm256_store_ps(o[6], _mm256_div_ps(bvx, diameter)), _mm256_store_ps(o[7], _mm256_div_ps(bvy, diameter));
+  _mm256_store_ps(o[8], _mm256_div_ps(bvz, diameter));
   _mm256_store_ps(o[9], _mm256_sub_ps(_mm256_mul_ps(tvy, bvz), _mm256_mul_ps(bvy, tvz)));  // cross(tv, bv)
   _mm256_store_ps(o[10], _mm256_sub_ps(_mm256_mul_ps(tvz, bvx), _mm256_mul_ps(bvz, tvx)));
   _mm256_store_ps(o[11], _mm256_sub_ps(_mm256_mul_ps(tvx, bvy), _mm256_mul_ps(bvx, tvy)));
