@@ -1263,58 +1263,162 @@ Settings settings(const MarkContext& ctx, const ParamValues& p) {
   return s;
 }
 
-// brush_blur.comp over the clip: along x into `sums`, then along y back
-// into `color`; a pixel's four channels on one group of SSE lanes (each
-// channel's float operations as the shader's, in its order). Only the
-// covered pixels (each row's span of them) are read and written: the others
-// stay as they are (transparent), and no covered pixel reads their sums.
+// The blur's numbers (brush_blur.comp): Gaussian taps, depth occlusion.
+struct BlurTaps {
+  int radius = 0;
+  float tolerance = 0.0f;
+  std::vector<float> weight;  // 2 radius + 1
+};
+
+// A neighbour at depth dq counts for a pixel at depth d (not infinite, not
+// beyond the tolerance; as brush_blur.comp).
+bool blur_counts(float dq, float d, float tolerance) {
+  return !(std::isinf(dq) || std::abs(dq - d) > tolerance * d);
+}
+
+// Eight pixels' neighbour test on AVX2 lanes: blur_counts().
+__attribute__((target("avx2"), always_inline)) inline __m256 blur_counts8(__m256 dq, __m256 d, __m256 tolerance) {
+  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  const __m256 inf = _mm256_set1_ps(kInf);
+  const __m256 finite = _mm256_cmp_ps(_mm256_and_ps(dq, magnitude), inf, _CMP_NEQ_UQ);
+  const __m256 beyond = _mm256_cmp_ps(_mm256_and_ps(_mm256_sub_ps(dq, d), magnitude), _mm256_mul_ps(tolerance, d),
+                                      _CMP_GT_OQ);
+  return _mm256_andnot_ps(beyond, finite);
+}
+
+// The horizontal pass for pixels [x0, x0 + 8) of a row, none within the
+// radius of the row's ends: rgb * w and w summed per pixel, tap by tap (the
+// scalar pass's order), into the planar sums. The interleaved colour is
+// read four registers at a time and transposed; its lanes hold the pixels
+// in the order 0 2 4 6 1 3 5 7, and the depths are read in that order too.
+__attribute__((target("avx2"))) void blur_x_avx2(const BlurTaps& taps, const float* color, const float* depth, int x0,
+                                                 float* const* sums) {
+  const __m256i order = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7), back = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+  const __m256 d = _mm256_permutevar8x32_ps(_mm256_loadu_ps(depth + x0), order);
+  const __m256 tolerance = _mm256_set1_ps(taps.tolerance);
+  const __m256 live = _mm256_cmp_ps(_mm256_and_ps(d, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff))),
+                                    _mm256_set1_ps(kInf), _CMP_NEQ_UQ);
+  __m256 sum[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+  for (int k = -taps.radius; k <= taps.radius; ++k) {
+    const int x = x0 + k;
+    const __m256 counts = blur_counts8(_mm256_permutevar8x32_ps(_mm256_loadu_ps(depth + x), order), d, tolerance);
+    const float* c = color + 4 * x;
+    const __m256 v0 = _mm256_loadu_ps(c), v1 = _mm256_loadu_ps(c + 8), v2 = _mm256_loadu_ps(c + 16),
+                 v3 = _mm256_loadu_ps(c + 24);
+    const __m256 t0 = _mm256_unpacklo_ps(v0, v1), t1 = _mm256_unpackhi_ps(v0, v1);
+    const __m256 t2 = _mm256_unpacklo_ps(v2, v3), t3 = _mm256_unpackhi_ps(v2, v3);
+    const __m256 channel[3] = {_mm256_shuffle_ps(t0, t2, 0x44), _mm256_shuffle_ps(t0, t2, 0xee),
+                               _mm256_shuffle_ps(t1, t3, 0x44)};
+    const __m256 w = _mm256_mul_ps(_mm256_set1_ps(taps.weight[size_t(k + taps.radius)]), _mm256_shuffle_ps(t1, t3, 0xee));
+    for (int ch = 0; ch < 3; ++ch) sum[ch] = _mm256_add_ps(sum[ch], _mm256_and_ps(counts, _mm256_mul_ps(channel[ch], w)));
+    sum[3] = _mm256_add_ps(sum[3], _mm256_and_ps(counts, w));
+  }
+  for (int ch = 0; ch < 4; ++ch)
+    _mm256_storeu_ps(sums[ch] + x0, _mm256_permutevar8x32_ps(_mm256_and_ps(live, sum[ch]), back));
+}
+
+// The vertical pass for pixels [x0, x0 + 8) of row y (frame of `width` x
+// `height`): the planar sums of the rows within the radius, then each
+// covered pixel's rgb as their ratio (alpha unchanged), in place.
+__attribute__((target("avx2"))) void blur_y_avx2(const BlurTaps& taps, float* color, const float* depth,
+                                                 const float* const* sums, int x0, int y, int width, int height) {
+  const size_t i = size_t(y) * size_t(width) + size_t(x0);
+  const __m256 d = _mm256_loadu_ps(depth + i);
+  const __m256 tolerance = _mm256_set1_ps(taps.tolerance);
+  __m256 sum[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+  for (int k = -taps.radius; k <= taps.radius; ++k) {
+    const size_t q = size_t(std::clamp(y + k, 0, height - 1)) * size_t(width) + size_t(x0);
+    const __m256 counts = blur_counts8(_mm256_loadu_ps(depth + q), d, tolerance);
+    const __m256 w = _mm256_set1_ps(taps.weight[size_t(k + taps.radius)]);
+    for (int ch = 0; ch < 4; ++ch)
+      sum[ch] = _mm256_add_ps(sum[ch], _mm256_and_ps(counts, _mm256_mul_ps(w, _mm256_loadu_ps(sums[ch] + q))));
+  }
+  const __m256 live = _mm256_cmp_ps(_mm256_and_ps(d, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff))),
+                                    _mm256_set1_ps(kInf), _CMP_NEQ_UQ);
+  const int mask = _mm256_movemask_ps(_mm256_and_ps(live, _mm256_cmp_ps(sum[3], _mm256_setzero_ps(), _CMP_GT_OQ)));
+  if (mask == 0) return;
+  alignas(32) float ratio[3][8];
+  for (int ch = 0; ch < 3; ++ch) _mm256_store_ps(ratio[ch], _mm256_div_ps(sum[ch], sum[3]));
+  for (int m = mask; m != 0; m &= m - 1) {
+    const int p = __builtin_ctz(unsigned(m));
+    float* c = color + 4 * (i + size_t(p));
+    for (int ch = 0; ch < 3; ++ch) c[ch] = ratio[ch][p];
+  }
+}
+
+// brush_blur.comp over the clip: along x into `sums` (planar: one plane per
+// channel, rgb * w and w), then along y back into `color` (each channel's
+// float operations as the shader's, in its order; eight pixels at a time on
+// AVX2 lanes where the CPU has them, the same operations). Only the covered
+// pixels (each row's span of them) are read and written: the others stay as
+// they are (transparent), and no covered pixel reads their sums.
 void blur(const Settings& s, const ParamValues& p, float* color, const float* depth,
           const std::vector<glm::ivec2>& row_span, float* sums) {
-  const int radius = p.get_int("blur_radius");
-  const float sigma = std::max(0.5f, 0.5f * float(radius));
-  const float tolerance = float(p.get_float("blur_depth_tolerance"));
-  std::vector<float> weight(size_t(2 * radius + 1));
-  for (int k = -radius; k <= radius; ++k) weight[size_t(k + radius)] = std::exp(-0.5f * float(k * k) / (sigma * sigma));
+  BlurTaps taps;
+  taps.radius = p.get_int("blur_radius");
+  const float sigma = std::max(0.5f, 0.5f * float(taps.radius));
+  taps.tolerance = float(p.get_float("blur_depth_tolerance"));
+  const int radius = taps.radius;
+  taps.weight.resize(size_t(2 * radius + 1));
+  for (int k = -radius; k <= radius; ++k) taps.weight[size_t(k + radius)] = std::exp(-0.5f * float(k * k) / (sigma * sigma));
   const glm::ivec2 size = s.clip.size();
+  const size_t pixels = size_t(size.x) * size_t(size.y);
+  float* const planes[4] = {sums, sums + pixels, sums + 2 * pixels, sums + 3 * pixels};
   auto at = [&](int x, int y) { return size_t(y) * size_t(size.x) + size_t(x); };
-  const __m128 rgb_lanes = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)), one_last = _mm_setr_ps(0.0f, 0.0f, 0.0f, 1.0f);
   tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y < rows.end(); ++y)
-      for (int x = row_span[size_t(y)].x; x <= row_span[size_t(y)].y; ++x) {
-        const float d = depth[at(x, y)];
-        __m128 sum = _mm_setzero_ps();
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      const glm::ivec2 span = row_span[size_t(y)];
+      const float* color_row = color + 4 * at(0, y);
+      const float* depth_row = depth + at(0, y);
+      for (int x = span.x; x <= span.y;) {
+        // Eight at a time where no tap reaches past the row's ends.
+        if (kHasAvx2 && x + 8 <= span.y + 1 && x - radius >= 0 && x + 7 + radius <= size.x - 1) {
+          float* const row_planes[4] = {planes[0] + at(0, y), planes[1] + at(0, y), planes[2] + at(0, y),
+                                        planes[3] + at(0, y)};
+          blur_x_avx2(taps, color_row, depth_row, x, row_planes);
+          x += 8;
+          continue;
+        }
+        const float d = depth_row[x];
+        float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
         if (!std::isinf(d)) {
           for (int k = -radius; k <= radius; ++k) {
-            const size_t q = at(std::clamp(x + k, 0, size.x - 1), y);
-            const float dq = depth[q];
-            if (std::isinf(dq) || std::abs(dq - d) > tolerance * d) continue;
-            const float w = weight[size_t(k + radius)] * color[4 * q + 3];
-            // rgb * w, and w itself (1 * w) in the last lane.
-            const __m128 rgb1 = _mm_or_ps(_mm_and_ps(_mm_loadu_ps(&color[4 * q]), rgb_lanes), one_last);
-            sum = _mm_add_ps(sum, _mm_mul_ps(rgb1, _mm_set1_ps(w)));
+            const int q = std::clamp(x + k, 0, size.x - 1);
+            if (!blur_counts(depth_row[q], d, taps.tolerance)) continue;
+            const float w = taps.weight[size_t(k + radius)] * color_row[4 * q + 3];
+            for (int ch = 0; ch < 3; ++ch) sum[ch] += color_row[4 * q + ch] * w;
+            sum[3] += w;
           }
         }
-        _mm_storeu_ps(&sums[4 * at(x, y)], sum);
+        for (int ch = 0; ch < 4; ++ch) planes[ch][at(x, y)] = sum[ch];
+        ++x;
       }
+    }
   });
   tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y < rows.end(); ++y)
-      for (int x = row_span[size_t(y)].x; x <= row_span[size_t(y)].y; ++x) {
-        const size_t i = at(x, y);
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      const glm::ivec2 span = row_span[size_t(y)];
+      for (int x = span.x; x <= span.y;) {
+        if (kHasAvx2 && x + 8 <= span.y + 1) {
+          blur_y_avx2(taps, color, depth, planes, x, y, size.x, size.y);
+          x += 8;
+          continue;
+        }
+        const int px = x++;
+        const size_t i = at(px, y);
         const float d = depth[i];
         float* c = &color[4 * i];  // (read before written: the pixel's own)
         if (std::isinf(d)) continue;
-        __m128 sum4 = _mm_setzero_ps();
+        float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
         for (int k = -radius; k <= radius; ++k) {
-          const size_t q = at(x, std::clamp(y + k, 0, size.y - 1));
-          const float dq = depth[q];
-          if (std::isinf(dq) || std::abs(dq - d) > tolerance * d) continue;
-          sum4 = _mm_add_ps(sum4, _mm_mul_ps(_mm_set1_ps(weight[size_t(k + radius)]), _mm_loadu_ps(&sums[4 * q])));
+          const size_t q = at(px, std::clamp(y + k, 0, size.y - 1));
+          if (!blur_counts(depth[q], d, taps.tolerance)) continue;
+          const float w = taps.weight[size_t(k + radius)];
+          for (int ch = 0; ch < 4; ++ch) sum[ch] += w * planes[ch][q];
         }
-        alignas(16) float sum[4];
-        _mm_store_ps(sum, sum4);
         for (int ch = 0; ch < 3; ++ch) c[ch] = sum[3] > 0.0f ? sum[ch] / sum[3] : c[ch];
       }
+    }
   });
 }
 

@@ -165,7 +165,8 @@ print(json.dumps(t._setup_digests(pointnpr.Renderer())))
 
 def _setup_digests(renderer):
     """Digests of frames whose splats set up every branch: points without a
-    normal (half of them), perspective and orthographic, the queue's order."""
+    normal (half of them), perspective and orthographic, the queue's order;
+    and a wide blur of a view the scan fills past the image's edges."""
     data = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply"))
     normals = np.random.default_rng(3).normal(size=(data.num_points, 3))
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
@@ -175,23 +176,28 @@ def _setup_digests(renderer):
     view = pointnpr.look_at((2.6, -1.6, 1.5), (-2.9, 3.9, -1.2))
     out = []
     for camera, params in (("perspective", {}), ("orthographic", {}),
-                           ("perspective", {"density_mode": "constant_on_screen", "queue_level": 2.0})):
+                           ("perspective", {"density_mode": "constant_on_screen", "queue_level": 2.0}),
+                           ("close", {"blur_radius": 6})):
         scene = pointnpr.Scene()
         scene.add_segment("scan", pointnpr.Style(mark=("brush_splats", dict(params, rasterizer="native"))),
                           [(cloud, np.eye(4))])
         common = dict(clip_start=0.1, clip_end=100.0, width=W, height=H)
         cam = (pointnpr.Camera.orthographic(view, ortho_scale=6.0, **common) if camera == "orthographic" else
-               pointnpr.Camera.perspective(view, lens=35.0, **common))
+               pointnpr.Camera.perspective(view, lens=120.0 if camera == "close" else 35.0, **common))
         r = renderer.render(scene, cam, W, H, background=(1, 1, 1, 0))
-        assert (np.asarray(r.color)[..., 3] > 0).mean() > 0.2
+        covered = np.asarray(r.color)[..., 3] > 0
+        assert covered.mean() > 0.2
+        if camera == "close":  # (the blur's taps reach past the image's edges)
+            assert covered[:, 0].any() and covered[:, -1].any()
         out.append(hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest())
     return out
 
 
-def test_the_scalar_setup_makes_the_avx2_setups_splats(renderer):
-    """Splats are set up eight at a time on AVX2 lanes (setup_avx2) where the
-    CPU has them, else one by one: the same bytes, also for points without a
-    normal, orthographic views and the queue's order."""
+def test_the_scalar_setup_and_blur_make_the_avx2_bytes(renderer):
+    """Splats are set up, and the blur runs, eight at a time on AVX2 lanes
+    (setup_avx2, blur_x_avx2, blur_y_avx2) where the CPU has them, else one
+    by one: the same bytes, also for points without a normal, orthographic
+    views, the queue's order and a blur at the image's edges."""
     assert json.loads(_in_another_process(_SETUP_SCRIPT, POINTNPR_NATIVE_NO_AVX2="1")) == _setup_digests(renderer)
 
 
