@@ -509,22 +509,29 @@ struct Images {
   glm::ivec2 min;
 };
 
-// The farthest surface of each 8 x 8 block of a bin, recomputed lazily
-// where fragments were kept since: a splat whose nearest depth lies behind
-// the farthest surface under its box has no fragment nearer than the
-// surface (depth pass), or near it (blend: behind by more than its offset).
+// The farthest surface of each 8 x 8 block of a bin, or a bound beyond
+// it: a splat whose nearest depth lies behind it under its box has no
+// fragment nearer than the surface (depth pass), or near it (blend: behind
+// by more than its offset), so it is dropped. The surface only comes
+// nearer, so a block's farthest depth stays a bound; it is recomputed once
+// kRescan of its rows were touched since (for small splats a rescan costs
+// about what rasterizing one does), which drops no splat that the exact
+// farthest surface would keep and so changes no byte, only the work.
 struct BlockDepths {
   static constexpr int kSide = 8, kBlocks = kBinSide / kSide;  // blocks per axis
   static_assert(kBlocks * kBlocks == 64);
+  static constexpr uint8_t kRescan = 4;
   float far[kBlocks * kBlocks];
-  uint64_t stale = ~uint64_t(0);
+  uint8_t touched[kBlocks * kBlocks];  // rows touched since the last scan (kRescan: scan at the next look)
   Rect area;
   const Images* im = nullptr;
 
+  BlockDepths() { rescan_all(); }
+  void rescan_all() { std::fill(touched, touched + kBlocks * kBlocks, kRescan); }
   float block(int bx, int by) {
     const int b = by * kBlocks + bx;
-    if (stale >> b & 1) {
-      stale &= ~(uint64_t(1) << b);
+    if (touched[b] >= kRescan) {
+      touched[b] = 0;
       const int x0 = area.min.x + bx * kSide, x1 = std::min(x0 + kSide, area.max.x);
       const int y0 = area.min.y + by * kSide, y1 = std::min(y0 + kSide, area.max.y);
       __m128 m4 = _mm_set1_ps(-kInf);  // (SSE: every x86-64 has it)
@@ -550,10 +557,12 @@ struct BlockDepths {
       for (int bx = lo.x / kSide; bx <= (hi.x - 1) / kSide; ++bx) m = std::max(m, block(bx, by));
     return m;
   }
-  void touch(int y, int x0, int x1) {  // row y's pixels [x0, x1) may have changed
+  void touch(int y, int x0, int x1) {  // row y's pixels [x0, x1) may have come nearer
     const int by = (y - area.min.y) / kSide;
-    for (int bx = (x0 - area.min.x) / kSide; bx <= (x1 - 1 - area.min.x) / kSide; ++bx)
-      stale |= uint64_t(1) << (by * kBlocks + bx);
+    for (int bx = (x0 - area.min.x) / kSide; bx <= (x1 - 1 - area.min.x) / kSide; ++bx) {
+      uint8_t& t = touched[by * kBlocks + bx];
+      t = uint8_t(std::min(t + 1, int(kRescan)));
+    }
   }
 };
 
@@ -1607,7 +1616,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       // The blend pass: in point order, splats behind the surface by more
       // than their offset dropped.
       auto blend_pass = [&] {
-        blocks.stale = ~uint64_t(0);
+        blocks.rescan_all();
         for (size_t j = 0; j < n; ++j) {
           const Splat& sp = splats[list[j]];
           if (sp.depth_range.x - sp.offset > blocks.under(sp.lo, sp.hi)) continue;

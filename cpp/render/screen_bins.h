@@ -5,7 +5,9 @@
 // on one thread, so per-pixel sums come out the same whatever the thread
 // count or timing (the GL's blending order, primitive after primitive).
 #include <algorithm>
+#include <bit>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -18,14 +20,16 @@ namespace pointnpr {
 
 // `bounds(i, lo, hi)` gives item i's local pixels [lo, hi) (false: none);
 // `visit(area, list, count)` draws the items list[0, count) (item indices,
-// ascending) over the tile `area` of the clip. Bins of `side` pixels,
-// doubled while there would be more than `max_bins` of them.
+// ascending) over the tile `area` of the clip. Bins of `side` pixels (a
+// power of two), doubled while there would be more than `max_bins` of them.
 template <class Bounds, class Visit>
 void for_each_bin_in_order(size_t items, const Rect& clip, Bounds&& bounds, Visit&& visit, int side = 32,
                            size_t max_bins = 16384) {
   if (items == 0 || clip.empty()) return;
+  if (!std::has_single_bit(unsigned(side))) throw std::invalid_argument("screen bins: side not a power of two");
   const glm::ivec2 size = clip.size();
   while (size_t((size.x + side - 1) / side) * size_t((size.y + side - 1) / side) > max_bins) side *= 2;
+  const int shift = std::countr_zero(unsigned(side));  // (a bin by shifts: two per item and pass, no division)
   const int bins_x = (size.x + side - 1) / side, bins_y = (size.y + side - 1) / side;
   const size_t bins = size_t(bins_x) * size_t(bins_y);
   const size_t blocks = std::clamp<size_t>(items / 2048, 1, 128);
@@ -38,7 +42,7 @@ void for_each_bin_in_order(size_t items, const Rect& clip, Bounds&& bounds, Visi
       lo = glm::max(lo, clip.min);
       hi = glm::min(hi, clip.max);
       if (lo.x >= hi.x || lo.y >= hi.y) continue;
-      const glm::ivec2 b0 = (lo - clip.min) / side, b1 = (hi - 1 - clip.min) / side;
+      const glm::ivec2 b0 = (lo - clip.min) >> shift, b1 = (hi - 1 - clip.min) >> shift;
       for (int by = b0.y; by <= b1.y; ++by)
         for (int bx = b0.x; bx <= b1.x; ++bx) add(i, size_t(by) * size_t(bins_x) + size_t(bx));
     }
