@@ -9,10 +9,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 filter=${1:-'Io*'}
 
-# -O1 -g1: readable stacks (file and line), quicker to build (the line
-# tables alone build in two thirds of the time of full debug information). GCC's -Wmaybe-uninitialized
-# gives false positives under -fsanitize=address (in std::regex/std::function
-# here), so that one warning is off in this build only; -Werror stays.
+# -O1 -g1: readable stacks (file and line), quicker to build (line tables
+# build in two thirds of the time of full debug information). GCC's
+# -Wmaybe-uninitialized gives false positives under -fsanitize=address (in
+# std::regex/std::function here), so that one warning is off in this build
+# only; -Werror stays.
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOINTNPR_SANITIZE=ON \
   -DPOINTNPR_BUILD_BENCH=OFF -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
   -DCMAKE_CXX_FLAGS="-Wno-maybe-uninitialized" >/dev/null

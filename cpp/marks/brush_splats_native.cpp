@@ -1285,14 +1285,17 @@ bool blur_counts(float dq, float d, float tolerance) {
   return !(std::isinf(dq) || std::abs(dq - d) > tolerance * d);
 }
 
+// !std::isinf(v) on eight lanes (NaN counts as not infinite, as there).
+__attribute__((target("avx2"), always_inline)) inline __m256 not_inf8(__m256 v) {
+  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  return _mm256_cmp_ps(_mm256_and_ps(v, magnitude), _mm256_set1_ps(kInf), _CMP_NEQ_UQ);
+}
 // Eight pixels' neighbour test on AVX2 lanes: blur_counts().
 __attribute__((target("avx2"), always_inline)) inline __m256 blur_counts8(__m256 dq, __m256 d, __m256 tolerance) {
   const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-  const __m256 inf = _mm256_set1_ps(kInf);
-  const __m256 finite = _mm256_cmp_ps(_mm256_and_ps(dq, magnitude), inf, _CMP_NEQ_UQ);
   const __m256 beyond = _mm256_cmp_ps(_mm256_and_ps(_mm256_sub_ps(dq, d), magnitude), _mm256_mul_ps(tolerance, d),
                                       _CMP_GT_OQ);
-  return _mm256_andnot_ps(beyond, finite);
+  return _mm256_andnot_ps(beyond, not_inf8(dq));
 }
 
 // The horizontal pass for pixels [x0, x0 + 8) of a row, none within the
@@ -1305,8 +1308,7 @@ __attribute__((target("avx2"))) void blur_x_avx2(const BlurTaps& taps, const flo
   const __m256i order = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7), back = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
   const __m256 d = _mm256_permutevar8x32_ps(_mm256_loadu_ps(depth + x0), order);
   const __m256 tolerance = _mm256_set1_ps(taps.tolerance);
-  const __m256 live = _mm256_cmp_ps(_mm256_and_ps(d, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff))),
-                                    _mm256_set1_ps(kInf), _CMP_NEQ_UQ);
+  const __m256 live = not_inf8(d);
   __m256 sum[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
   for (int k = -taps.radius; k <= taps.radius; ++k) {
     const int x = x0 + k;
@@ -1342,8 +1344,7 @@ __attribute__((target("avx2"))) void blur_y_avx2(const BlurTaps& taps, float* co
     for (int ch = 0; ch < 4; ++ch)
       sum[ch] = _mm256_add_ps(sum[ch], _mm256_and_ps(counts, _mm256_mul_ps(w, _mm256_loadu_ps(sums[ch] + q))));
   }
-  const __m256 live = _mm256_cmp_ps(_mm256_and_ps(d, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff))),
-                                    _mm256_set1_ps(kInf), _CMP_NEQ_UQ);
+  const __m256 live = not_inf8(d);
   const int mask = _mm256_movemask_ps(_mm256_and_ps(live, _mm256_cmp_ps(sum[3], _mm256_setzero_ps(), _CMP_GT_OQ)));
   if (mask == 0) return;
   alignas(32) float ratio[3][8];

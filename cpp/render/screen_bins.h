@@ -7,13 +7,13 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
-#include <stdexcept>
 #include <vector>
 
 #include <glm/glm.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/error.h"
 #include "render/filter.h"  // Rect
 
 namespace pointnpr {
@@ -26,7 +26,7 @@ template <class Bounds, class Visit>
 void for_each_bin_in_order(size_t items, const Rect& clip, Bounds&& bounds, Visit&& visit, int side = 32,
                            size_t max_bins = 16384) {
   if (items == 0 || clip.empty()) return;
-  if (!std::has_single_bit(unsigned(side))) throw std::invalid_argument("screen bins: side not a power of two");
+  if (!std::has_single_bit(unsigned(side))) throw Error("screen bins: side not a power of two");
   const glm::ivec2 size = clip.size();
   while (size_t((size.x + side - 1) / side) * size_t((size.y + side - 1) / side) > max_bins) side *= 2;
   const int shift = std::countr_zero(unsigned(side));  // (a bin by shifts: two per item and pass, no division)

@@ -113,10 +113,15 @@ def _in_another_process(script, **env):
                           timeout=600, env=dict(os.environ, **env)).stdout
 
 
+def _digest(result):
+    """The bytes of a frame's colour and depth, as a digest."""
+    return hashlib.sha256(np.asarray(result.color).tobytes() + np.asarray(result.depth).tobytes()).hexdigest()
+
+
 def _native_digest(renderer):
     cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
     r = _render(renderer, {"rasterizer": "native", "layers": "two", "clusters": True}, cloud)
-    return hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest()
+    return _digest(r)
 
 
 def test_the_kept_point_frames_follow_every_parameter_they_are_made_from(renderer, lion):
@@ -124,8 +129,7 @@ def test_the_kept_point_frames_follow_every_parameter_they_are_made_from(rendere
     # layers, column angles) is kept per cloud between frames; a frame after
     # a change of any parameter it follows draws a fresh renderer's bytes.
     def image(r, params):
-        res = _render(r, dict(params, rasterizer="native"), lion)
-        return np.asarray(res.color).tobytes() + np.asarray(res.depth).tobytes()
+        return _digest(_render(r, dict(params, rasterizer="native"), lion))
 
     before = image(renderer, {})
     for params in ({"seed": 3}, {"brush_angle": 30.0}, {"angle_jitter": 40.0}, {"tangent_frame": "eberly"},
@@ -153,14 +157,12 @@ def test_the_scalar_lanes_draw_the_avx2_lanes_bytes(renderer):
     assert _in_another_process(script, POINTNPR_NATIVE_NO_AVX2="1").strip() == _native_digest(renderer)
 
 
-_SETUP_SCRIPT = r"""
-import json, sys
-sys.path.insert(0, sys.argv[1])
-sys.path.insert(0, sys.argv[2])
-import pointnpr
-import test_marks_brush_splats_native as t
-print(json.dumps(t._setup_digests(pointnpr.Renderer())))
-"""
+def _json_script(function):
+    """A script for _in_another_process() printing, as JSON, what this
+    module's `function` returns for a new renderer."""
+    return "\n".join(["import json, sys", "sys.path.insert(0, sys.argv[1])", "sys.path.insert(0, sys.argv[2])",
+                      "import pointnpr", "import test_marks_brush_splats_native as t",
+                      "print(json.dumps(t.%s(pointnpr.Renderer())))" % function])
 
 
 def _setup_digests(renderer):
@@ -189,7 +191,7 @@ def _setup_digests(renderer):
         assert covered.mean() > 0.2
         if camera == "close":  # (the blur's taps reach past the image's edges)
             assert covered[:, 0].any() and covered[:, -1].any()
-        out.append(hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest())
+        out.append(_digest(r))
     return out
 
 
@@ -198,17 +200,7 @@ def test_the_scalar_setup_and_blur_make_the_avx2_bytes(renderer):
     (setup_avx2, blur_x_avx2, blur_y_avx2) where the CPU has them, else one
     by one: the same bytes, also for points without a normal, orthographic
     views, the queue's order and a blur at the image's edges."""
-    assert json.loads(_in_another_process(_SETUP_SCRIPT, POINTNPR_NATIVE_NO_AVX2="1")) == _setup_digests(renderer)
-
-
-_PASSES_SCRIPT = r"""
-import json, sys
-sys.path.insert(0, sys.argv[1])
-sys.path.insert(0, sys.argv[2])
-import pointnpr
-import test_marks_brush_splats_native as t
-print(json.dumps(t._passes(pointnpr.Renderer())))
-"""
+    assert json.loads(_in_another_process(_json_script("_setup_digests"), POINTNPR_NATIVE_NO_AVX2="1")) == _setup_digests(renderer)
 
 
 def _passes(renderer):
@@ -226,7 +218,7 @@ def _passes(renderer):
             r = renderer.render(scene, cam, W, H, background=(1, 1, 1, 0))
         else:
             r = _render(renderer, params, cloud)
-        out.append({"digest": hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest(),
+        out.append({"digest": _digest(r),
                     "batches": r.stats["brush_native_batches"],
                     "kept frames": r.stats["brush_native_clouds_with_kept_frames"],
                     "apart": r.stats["brush_native_bins_blended_apart"]})
@@ -239,7 +231,7 @@ def test_one_pass_with_candidates_draws_the_two_passes_bytes(renderer):
     final surface; a bin with more than its bound of them, and frames of
     several batches (forced here by POINTNPR_NATIVE_BATCH in another
     process), run the blend pass apart: the same bytes either way."""
-    apart = json.loads(_in_another_process(_PASSES_SCRIPT, POINTNPR_NATIVE_BATCH="50000"))
+    apart = json.loads(_in_another_process(_json_script("_passes"), POINTNPR_NATIVE_BATCH="50000"))
     merged = _passes(renderer)
     assert [f["batches"] for f in merged] == [1, 1, 1] and all(f["batches"] > 1 for f in apart)
     assert merged[0]["apart"] == 0 and merged[1]["apart"] > 0 and merged[2]["apart"] > 0
@@ -250,7 +242,7 @@ def test_clouds_too_large_to_keep_their_point_frames_make_them_per_splat_to_the_
     """Point frames are kept for clouds of up to 4M points (60 bytes each);
     a larger cloud makes them per splat in every frame: forced here for the
     lion by POINTNPR_NATIVE_KEPT_FRAMES=1 in another process."""
-    made = json.loads(_in_another_process(_PASSES_SCRIPT, POINTNPR_NATIVE_KEPT_FRAMES="1"))
+    made = json.loads(_in_another_process(_json_script("_passes"), POINTNPR_NATIVE_KEPT_FRAMES="1"))
     kept = _passes(renderer)
     assert [f["kept frames"] for f in kept] == [1, 1, 1] and [f["kept frames"] for f in made] == [0, 0, 0]
     assert [f["digest"] for f in made] == [f["digest"] for f in kept]
@@ -262,5 +254,5 @@ def test_bins_wider_than_their_side_are_cut_to_the_same_bytes(renderer):
     parts with the splats that reach them: forced here at 320 x 224 by
     POINTNPR_NATIVE_MAX_BINS=2 in another process (two bins, 256 and 64
     pixels wide, 224 high), the bytes of 64-pixel bins."""
-    cut = json.loads(_in_another_process(_PASSES_SCRIPT, POINTNPR_NATIVE_MAX_BINS="2"))
+    cut = json.loads(_in_another_process(_json_script("_passes"), POINTNPR_NATIVE_MAX_BINS="2"))
     assert [f["digest"] for f in cut] == [f["digest"] for f in _passes(renderer)]
