@@ -63,6 +63,8 @@ namespace pointnpr {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
+// AVX2 helpers inlined into their AVX2 callers.
+#define POINTNPR_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
 constexpr uint32_t kBatch = 1u << 21;  // splats set up at once (about 300 MiB)
 constexpr uint32_t kGrain = 8192;      // points per setup work item
 constexpr uint64_t kKeptFramesMax = 1u << 22;  // points of a cloud whose point frames are kept (60 B each: 240 MiB)
@@ -166,6 +168,15 @@ struct Splat {
   bool two = false;
   glm::ivec2 lo{0}, hi{0};  // local pixels the quad can cover, [lo, hi)
   float wx[4] = {}, wy[4] = {};  // the quad's corners on screen (frame pixels), in order around it
+};
+// What the bins read of every splat (its box, nearest depth, offset),
+// beside the splats: their tests and sort run over 24 bytes a splat, not
+// the 148 of a Splat, which only the splats they keep fetch.
+struct SplatKey {
+  glm::ivec2 lo{0}, hi{0};
+  float near = 0.0f, offset = 0.0f;
+  explicit SplatKey(const Splat& sp) : lo(sp.lo), hi(sp.hi), near(sp.depth_range.x), offset(sp.offset) {}
+  SplatKey() = default;
 };
 
 // Householder, Eberly, square plate, covariance (brush_common.glsl).
@@ -288,7 +299,6 @@ bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
 }
 
 // Eight lanes of setup()'s steps (setup_avx2).
-#define POINTNPR_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
 POINTNPR_AVX2_INLINE __m256 set8(float v) { return _mm256_set1_ps(v); }
 // m * (x, y, z, 1), row r, as transform(): ((m0 x + m1 y) + m2 z) + m3.
 POINTNPR_AVX2_INLINE __m256 row4_8(const glm::mat4& m, int r, __m256 x, __m256 y, __m256 z) {
@@ -315,7 +325,6 @@ POINTNPR_AVX2_INLINE __m256i floor8(__m256 v) {  // floor_int()
   return _mm256_add_epi32(i, _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(i), v, _CMP_GT_OQ)));
 }
 POINTNPR_AVX2_INLINE void store8(int32_t* to, __m256i v) { _mm256_store_si256(reinterpret_cast<__m256i*>(to), v); }
-#undef POINTNPR_AVX2_INLINE
 
 // setup() of eight points on AVX2 lanes: the same float operations in the
 // same order (glm's left-to-right sums; min and max with std::min's and
@@ -904,7 +913,7 @@ __attribute__((always_inline)) inline bool row_lanes(const RowLanes& r, int x0, 
 // (the max and min with std::max's and std::min's operand order), the kept
 // lanes packed by a permutation.
 template <Pass P>
-__attribute__((target("avx2"))) bool row_avx2(const RowLanes& r, int x0, int x1, Fragments& f) {
+__attribute__((target("avx2"))) inline bool row_avx2(const RowLanes& r, int x0, int x1, Fragments& f) {
   constexpr bool kDepth = P == Pass::kDepth;
   int any_nearer = 0;
   int kept = f.n;  // (a local: stores to the arrays of f could alias f.n)
@@ -970,9 +979,16 @@ __attribute__((target("avx2"))) bool row_avx2(const RowLanes& r, int x0, int x1,
 // A splat's fragments over `area` in pass P (kBoth: its candidates to
 // `out`, as one run, by its place in the bin's list). The depth passes mark the blocks of the rows
 // where a fragment was nearer than the surface.
-template <Pass P, bool kOrtho>
-void rasterize(uint32_t place, const Splat& sp, const Settings& s, const Rect& area, const Images& im,
-               BlockDepths& blocks, Candidates* out) {
+// (kAvx2: flattened into rasterize_avx2, the rows' lanes too, their
+// constants set once a splat, not once a row: most splats are a few
+// pixels wide and high.)
+// (GCC, flattening, takes `second` for unset where only sp.two reads it, set then.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+template <Pass P, bool kOrtho, bool kAvx2>
+void rasterize_splat(uint32_t place, const Splat& sp, const Settings& s,
+                                                           const Rect& area, const Images& im, BlockDepths& blocks,
+                                                           Candidates* out) {
   constexpr bool kDepth = P == Pass::kDepth;
   const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
   if (lo.x >= hi.x || lo.y >= hi.y) return;
@@ -1090,11 +1106,49 @@ void rasterize(uint32_t place, const Splat& sp, const Settings& s, const Rect& a
     const float d0 = glm::dot(hr, sp.normal), u0 = glm::dot(hr, sp.u_axis), v0 = glm::dot(hr, sp.v_axis);
     const RowLanes r{plane, d0, dx, u0, ux, v0, vx, cu, cv, near_d, far_d, sp.offset, hx, hr,
                      s.origin.x, im.surface + line, line};
-    const bool nearer = kHasAvx2 ? row_avx2<P>(r, x0, x1, frags) : row_lanes<P>(r, x0, x1, frags);
+    bool nearer;
+    if constexpr (kAvx2) nearer = row_avx2<P>(r, x0, x1, frags);
+    else nearer = row_lanes<P>(r, x0, x1, frags);
     if (P != Pass::kBlend && nearer) blocks.touch(y, x0, x1);
   }
   flush();
   if (P == Pass::kBoth && out->count > begin) out->runs.push_back({place, uint32_t(begin), uint32_t(out->count)});
+}
+template <Pass P, bool kOrtho>
+__attribute__((target("avx2"), flatten)) void rasterize_avx2(uint32_t place, const Splat& sp, const Settings& s, const Rect& area,
+                                                    const Images& im, BlockDepths& blocks, Candidates* out) {
+  rasterize_splat<P, kOrtho, true>(place, sp, s, area, im, blocks, out);
+}
+#pragma GCC diagnostic pop
+template <Pass P, bool kOrtho>
+void rasterize(uint32_t place, const Splat& sp, const Settings& s, const Rect& area, const Images& im,
+               BlockDepths& blocks, Candidates* out) {
+  if (kHasAvx2) return rasterize_avx2<P, kOrtho>(place, sp, s, area, im, blocks, out);
+  rasterize_splat<P, kOrtho, false>(place, sp, s, area, im, blocks, out);
+}
+
+// std::sort's order of keys (float bits << 32 | place, in ascending place:
+// unique) by a stable radix sort on their high 32 bits, a byte a pass,
+// skipping the bytes all share; a bin's few thousand keys sort several
+// times faster so.
+void sort_depth_keys(std::vector<uint64_t>& keys, std::vector<uint64_t>& scratch) {
+  const size_t n = keys.size();
+  if (n < 256) return std::sort(keys.begin(), keys.end());
+  scratch.resize(n);
+  uint32_t counts[4][256] = {};
+  for (const uint64_t k : keys)
+    for (int b = 0; b < 4; ++b) ++counts[b][(k >> (32 + 8 * b)) & 255];
+  uint64_t *from = keys.data(), *to = scratch.data();
+  for (int b = 0; b < 4; ++b) {
+    const int shift = 32 + 8 * b;
+    if (counts[b][(from[0] >> shift) & 255] == n) continue;
+    uint32_t at[256];
+    uint32_t sum = 0;
+    for (int d = 0; d < 256; ++d) at[d] = sum, sum += counts[b][d];
+    for (size_t i = 0; i < n; ++i) to[at[(from[i] >> shift) & 255]++] = from[i];
+    std::swap(from, to);
+  }
+  if (from != keys.data()) std::copy(from, from + n, keys.data());
 }
 
 // blend_candidates()'s test of one run (one splat's candidates, each on
@@ -1158,6 +1212,7 @@ void blend_candidates(const std::vector<Splat>& splats, const uint32_t* list, si
 struct HostImages {
   std::vector<float> surface, accum, reveal, sums, color;
   std::vector<Splat> splats;  // a batch's (at most kBatch)
+  std::vector<SplatKey> keys;  // theirs
 };
 HostImages& host_images(size_t pixels) {
   thread_local HostImages images;
@@ -1432,6 +1487,7 @@ void blur(const Settings& s, const ParamValues& p, float* color, const float* de
   });
 }
 
+#undef POINTNPR_AVX2_INLINE
 }  // namespace
 
 void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
@@ -1448,9 +1504,9 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   const glm::vec4 constant = p.get_color("color");
 
   // What the point frames follow (the parameters that reach point_frame()).
-  std::string key;
+  std::string frames_key;
   {
-    auto add = [&key](auto v) { key += std::to_string(v) + ' '; };
+    auto add = [&frames_key](auto v) { frames_key += std::to_string(v) + ' '; };
     add(normal_k), add(radius_normals), add(s.resolution_size), add(k), add(s.user_eps);
     for (float f : {s.epsilon, s.world_radius, s.size_scale, s.angle, s.jitter, s.small_cluster, s.elongation_gain,
                     s.max_stretch})
@@ -1508,7 +1564,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       proto = Chunk{};
       if (cloud->size() <= kept_frames_max) {
         PointFrames& kept = v.gpu->host_slot<PointFrames>("brush_splats point frames");
-        const std::string cloud_key = key + std::to_string(v.gpu->own_normals);
+        const std::string cloud_key = frames_key + std::to_string(v.gpu->own_normals);
         if (kept.key != cloud_key || kept.frames.size() != cloud->size()) {
           kept.key.clear();  // (stale until made)
           std::vector<std::shared_ptr<const void>> inputs;
@@ -1570,6 +1626,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     b = e;
   }
   std::vector<Splat>& splats = host.splats;
+  std::vector<SplatKey>& keys = host.keys;
   double setup_ms = 0.0;
   auto set_up = [&](size_t b, size_t e) {
     const auto ts = Clock::now();
@@ -1581,6 +1638,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     std::vector<size_t> slot(items.size() + 1, 0);
     for (size_t n = 0; n < items.size(); ++n) slot[n + 1] = slot[n] + (items[n].end - items[n].begin);
     splats.resize(slot.back());
+    keys.resize(slot.back());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t n = r.begin(); n < r.end(); ++n) {
         const Item& it = items[n];
@@ -1593,11 +1651,12 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
             for (int i = 0; i < lanes; ++i) index[i] = c.first + (c.order ? c.order[j + uint32_t(i)] : j + uint32_t(i));
             setup_avx2(c, s, index, lanes, out);
           }
-          continue;
+        } else {
+          for (uint32_t j = it.begin; j < it.end; ++j, ++out)
+            if (!setup(c, s, c.first + (c.order ? c.order[j] : j), *out)) out->lo = out->hi = glm::ivec2(0);
         }
-        for (uint32_t j = it.begin; j < it.end; ++j, ++out)
-          if (!setup(c, s, c.first + (c.order ? c.order[j] : j), *out)) out->lo = out->hi = glm::ivec2(0);
       }
+      for (size_t i = slot[r.begin()]; i < slot[r.end()]; ++i) keys[i] = SplatKey(splats[i]);
     });
     setup_ms += std::chrono::duration<double, std::milli>(Clock::now() - ts).count();
   };
@@ -1606,8 +1665,8 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   auto pass = [&](auto which) {
     constexpr Pass P = decltype(which)::value;
     auto bounds = [&](size_t i, glm::ivec2& lo, glm::ivec2& hi) {
-      lo = splats[i].lo;
-      hi = splats[i].hi;
+      lo = keys[i].lo;
+      hi = keys[i].hi;
       return lo.x < hi.x && lo.y < hi.y;
     };
     auto bin = [&](const Rect& area, const uint32_t* list, size_t n) {
@@ -1619,8 +1678,9 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       auto blend_pass = [&] {
         blocks.rescan_all();
         for (size_t j = 0; j < n; ++j) {
+          const SplatKey& key = keys[list[j]];
+          if (key.near - key.offset > blocks.under(key.lo, key.hi)) continue;
           const Splat& sp = splats[list[j]];
-          if (sp.depth_range.x - sp.offset > blocks.under(sp.lo, sp.hi)) continue;
           if (s.ortho) rasterize<Pass::kBlend, true>(list[j], sp, s, area, im, blocks, nullptr);
           else rasterize<Pass::kBlend, false>(list[j], sp, s, area, im, blocks, nullptr);
         }
@@ -1631,14 +1691,20 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       // the nearest depth (positive, beyond the near plane: its bits sort
       // as it) over the place in the list (in point order), read in point
       // order, not through the splats.
-      std::vector<uint64_t> near(n);
+      thread_local std::vector<uint64_t> near, sort_scratch;
+      near.resize(n);
       float max_offset = 0.0f;
       for (size_t j = 0; j < n; ++j) {
-        const Splat& sp = splats[list[j]];
-        near[j] = uint64_t(std::bit_cast<uint32_t>(sp.depth_range.x)) << 32 | j;
-        max_offset = std::max(max_offset, sp.offset);
+        const SplatKey& key = keys[list[j]];
+        near[j] = uint64_t(std::bit_cast<uint32_t>(key.near)) << 32 | j;
+        max_offset = std::max(max_offset, key.offset);
       }
-      std::sort(near.begin(), near.end());
+      sort_depth_keys(near, sort_scratch);
+      // Their keys in that order, gathered at once (independent loads,
+      // many in flight): the loop below would wait for each in turn.
+      thread_local std::vector<SplatKey> sorted;
+      sorted.resize(n);
+      for (size_t j = 0; j < n; ++j) sorted[j] = keys[list[uint32_t(near[j])]];
       thread_local Candidates candidates;
       candidates.clear();
       // Once the splats since cover the bin's area (so the scan costs at
@@ -1654,20 +1720,21 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           for (size_t line = 0; line < sizeof(Splat); line += 64) __builtin_prefetch(ahead + line);
         }
         const uint32_t place = uint32_t(near[j]), index = list[place];
-        const Splat& sp = splats[index];
-        const glm::ivec2 box = glm::min(sp.hi, area.max) - glm::max(sp.lo, area.min);
+        const SplatKey& key = sorted[j];
+        const glm::ivec2 box = glm::min(key.hi, area.max) - glm::max(key.lo, area.min);
         painted += size_t(std::max(box.x, 0)) * size_t(std::max(box.y, 0));
         if (painted >= bin_area) {
           painted = 0;
           bin_far = blocks.under(area.min, area.max);
         }
         if (P == Pass::kDepth) {
-          if (sp.depth_range.x >= bin_far) break;
-          if (sp.depth_range.x >= blocks.under(sp.lo, sp.hi)) continue;
+          if (key.near >= bin_far) break;
+          if (key.near >= blocks.under(key.lo, key.hi)) continue;
         } else {
-          if (sp.depth_range.x - max_offset > bin_far) break;
-          if (sp.depth_range.x - sp.offset > blocks.under(sp.lo, sp.hi)) continue;
+          if (key.near - max_offset > bin_far) break;
+          if (key.near - key.offset > blocks.under(key.lo, key.hi)) continue;
         }
+        const Splat& sp = splats[index];
         if (s.ortho) rasterize<P, true>(place, sp, s, area, im, blocks, &candidates);
         else rasterize<P, false>(place, sp, s, area, im, blocks, &candidates);
       }
@@ -1689,8 +1756,8 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           const Rect cut{{x, y}, glm::min(glm::ivec2(x, y) + kBinSide, area.max)};
           part.clear();
           for (size_t j = 0; j < n; ++j) {
-            const Splat& sp = splats[list[j]];
-            if (sp.lo.x < cut.max.x && sp.hi.x > cut.min.x && sp.lo.y < cut.max.y && sp.hi.y > cut.min.y) part.push_back(list[j]);
+            const SplatKey& key = keys[list[j]];
+            if (key.lo.x < cut.max.x && key.hi.x > cut.min.x && key.lo.y < cut.max.y && key.hi.y > cut.min.y) part.push_back(list[j]);
           }
           bin(cut, part.data(), part.size());
         }
