@@ -242,6 +242,16 @@ PointFrame point_frame(const FrameInputs& in, const Settings& s, uint32_t index)
   return f;
 }
 
+// A splat's box holds the pixels whose centre lies within kBoxMargin of
+// its quad's corners' box on screen: the ray through a centre farther out
+// cannot meet the quad (the uv test's rounding moves it by far less), and
+// a box so tight lets most splats of a pixel or two be dropped before
+// they are rasterized (an empty box: no pixel centre at all). The first
+// centre at or past v - margin is ceil(v - 0.5 - margin) = -floor(kBoxLo
+// - v); the last at or before v + margin is floor(v - kBoxHi).
+constexpr float kBoxMargin = 1.0f / 16.0f;
+constexpr float kBoxLo = 0.5f + kBoxMargin, kBoxHi = 0.5f - kBoxMargin;  // (exact)
+
 // brush_splat() and brush_splats_tiled.vert: false where nothing is drawn.
 bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
   const glm::vec4 v = transform(c.view, c.positions[index]);
@@ -280,11 +290,11 @@ bool setup(const Chunk& c, const Settings& s, uint32_t index, Splat& out) {
   const float lo_x = float(s.clip.min.x + s.origin.x) - 2.0f, hi_x = float(s.clip.max.x + s.origin.x) + 2.0f;
   const float lo_y = float(s.clip.min.y + s.origin.y) - 2.0f, hi_y = float(s.clip.max.y + s.origin.y) + 2.0f;
   if (!(max_x >= lo_x && min_x <= hi_x && max_y >= lo_y && min_y <= hi_y)) return false;  // also NaN
-  // Pixels whose centre can lie in the box (one more each side: the uv
-  // test decides), clamped to the clip (no int overflow).
-  out.lo = {floor_int(std::max(min_x, lo_x) - 0.5f) - s.origin.x, floor_int(std::max(min_y, lo_y) - 0.5f) - s.origin.y};
-  out.hi = {floor_int(std::min(max_x, hi_x) - 0.5f) + 2 - s.origin.x,
-            floor_int(std::min(max_y, hi_y) - 0.5f) + 2 - s.origin.y};
+  // Pixels whose centre lies in the box or within kBoxMargin of it (the
+  // uv test decides), clamped to the clip (no int overflow).
+  out.lo = {-floor_int(kBoxLo - std::max(min_x, lo_x)) - s.origin.x, -floor_int(kBoxLo - std::max(min_y, lo_y)) - s.origin.y};
+  out.hi = {floor_int(std::min(max_x, hi_x) - kBoxHi) + 1 - s.origin.x,
+            floor_int(std::min(max_y, hi_y) - kBoxHi) + 1 - s.origin.y};
   out.center = center;
   out.u_axis = tv / (2.0f * radius * stretch);
   out.v_axis = bv / (2.0f * radius);
@@ -406,13 +416,14 @@ __attribute__((target("avx2"))) void setup_avx2(const Chunk& c, const Settings& 
   const __m256 hi_y = set8(float(s.clip.max.y + s.origin.y) + 2.0f);
   ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(max_x, lo_x, _CMP_GE_OQ), _mm256_cmp_ps(min_x, hi_x, _CMP_LE_OQ)));
   ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(max_y, lo_y, _CMP_GE_OQ), _mm256_cmp_ps(min_y, hi_y, _CMP_LE_OQ)));
-  const __m256 half = set8(0.5f);
-  const __m256i ox = _mm256_set1_epi32(s.origin.x), oy = _mm256_set1_epi32(s.origin.y), two = _mm256_set1_epi32(2);
+  const __m256 box_lo = set8(kBoxLo), box_hi = set8(kBoxHi);
+  const __m256i ox = _mm256_set1_epi32(s.origin.x), oy = _mm256_set1_epi32(s.origin.y), one_i = _mm256_set1_epi32(1);
+  const __m256i zero_i = _mm256_setzero_si256();
   alignas(32) int32_t lo[2][8], hi[2][8];
-  store8(lo[0], _mm256_sub_epi32(floor8(_mm256_sub_ps(_mm256_max_ps(lo_x, min_x), half)), ox));
-  store8(lo[1], _mm256_sub_epi32(floor8(_mm256_sub_ps(_mm256_max_ps(lo_y, min_y), half)), oy));
-  store8(hi[0], _mm256_sub_epi32(_mm256_add_epi32(floor8(_mm256_sub_ps(_mm256_min_ps(hi_x, max_x), half)), two), ox));
-  store8(hi[1], _mm256_sub_epi32(_mm256_add_epi32(floor8(_mm256_sub_ps(_mm256_min_ps(hi_y, max_y), half)), two), oy));
+  store8(lo[0], _mm256_sub_epi32(_mm256_sub_epi32(zero_i, floor8(_mm256_sub_ps(box_lo, _mm256_max_ps(lo_x, min_x)))), ox));
+  store8(lo[1], _mm256_sub_epi32(_mm256_sub_epi32(zero_i, floor8(_mm256_sub_ps(box_lo, _mm256_max_ps(lo_y, min_y)))), oy));
+  store8(hi[0], _mm256_sub_epi32(_mm256_add_epi32(floor8(_mm256_sub_ps(_mm256_min_ps(hi_x, max_x), box_hi)), one_i), ox));
+  store8(hi[1], _mm256_sub_epi32(_mm256_add_epi32(floor8(_mm256_sub_ps(_mm256_min_ps(hi_y, max_y), box_hi)), one_i), oy));
   const __m256 u_scale = _mm256_mul_ps(diameter, stretch);
   alignas(32) float o[22][8];
   _mm256_store_ps(o[0], cx), _mm256_store_ps(o[1], cy), _mm256_store_ps(o[2], cz);
@@ -565,6 +576,26 @@ struct BlockDepths {
     for (int by = lo.y / kSide; by <= (hi.y - 1) / kSide; ++by)
       for (int bx = lo.x / kSide; bx <= (hi.x - 1) / kSide; ++bx) m = std::max(m, block(bx, by));
     return m;
+  }
+  // The farthest surface under the pixels [lo, hi) exactly, for boxes at
+  // most 8 pixels wide (the area's rows hold them; the images have a
+  // lane's slack past their end).
+  float under_exactly(glm::ivec2 lo, glm::ivec2 hi) const {
+    lo = glm::max(lo, area.min);
+    hi = glm::min(hi, area.max);
+    const __m128i lane = _mm_setr_epi32(0, 1, 2, 3), width = _mm_set1_epi32(hi.x - lo.x);
+    const __m128 first = _mm_castsi128_ps(_mm_cmpgt_epi32(width, lane));
+    const __m128 second = _mm_castsi128_ps(_mm_cmpgt_epi32(width, _mm_add_epi32(lane, _mm_set1_epi32(4))));
+    const __m128 none = _mm_set1_ps(-kInf);
+    __m128 m = none;
+    for (int y = lo.y; y < hi.y; ++y) {
+      const float* line = im->surface + size_t(y - im->min.y) * size_t(im->stride) + size_t(lo.x - im->min.x);
+      m = _mm_max_ps(m, _mm_or_ps(_mm_and_ps(first, _mm_loadu_ps(line)), _mm_andnot_ps(first, none)));
+      m = _mm_max_ps(m, _mm_or_ps(_mm_and_ps(second, _mm_loadu_ps(line + 4)), _mm_andnot_ps(second, none)));
+    }
+    m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+    m = _mm_max_ps(m, _mm_shuffle_ps(m, m, 1));
+    return _mm_cvtss_f32(m);
   }
   void touch(int y, int x0, int x1) {  // row y's pixels [x0, x1) may have come nearer
     const int by = (y - area.min.y) / kSide;
@@ -1159,6 +1190,7 @@ __attribute__((target("avx2"))) void blend_run_avx2(const Splat& sp, const Setti
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 offset = _mm256_set1_ps(sp.offset);
   const __m256 ortho = _mm256_castsi256_ps(_mm256_set1_epi32(s.ortho ? -1 : 0));
+  const __m128 rgb1 = _mm_setr_ps(sp.rgb.r, sp.rgb.g, sp.rgb.b, 1.0f);
   // (Locals: the blend's stores must not make the compiler fetch them again.)
   const uint32_t* const qs = c.q.get();
   const float *const depths = c.depth.get(), *const lengths = c.length.get(), *const a1 = c.a1.get(), *const a2 = c.a2.get();
@@ -1172,9 +1204,23 @@ __attribute__((target("avx2"))) void blend_run_avx2(const Splat& sp, const Setti
                                                           _mm256_mul_ps(reach, reach), _CMP_LE_OQ));
     const __m256 keep = _mm256_or_ps(_mm256_cmp_ps(depth, surface, _CMP_LE_OQ),
                                      _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(depth, offset), surface, _CMP_LE_OQ), near));
-    for (int m = _mm256_movemask_ps(_mm256_and_ps(keep, live)); m != 0; m &= m - 1) {
+    const int kept = _mm256_movemask_ps(_mm256_and_ps(keep, live));
+    if (sp.two) {
+      for (int m = kept; m != 0; m &= m - 1) {
+        const uint32_t k = i + uint32_t(__builtin_ctz(unsigned(m)));
+        blend(sp, s, im, qs[k], a1[k], a2[k]);
+      }
+      continue;
+    }
+    // blend() of one layer: the colour sum's four channels at once (a times
+    // 1 is a: the same sums).
+    for (int m = kept; m != 0; m &= m - 1) {
       const uint32_t k = i + uint32_t(__builtin_ctz(unsigned(m)));
-      blend(sp, s, im, qs[k], a1[k], a2[k]);
+      const float a = a1[k];
+      if (!(a >= kBrushCut)) continue;
+      float* acc = im.accum + 4 * size_t(qs[k]);
+      _mm_storeu_ps(acc, _mm_add_ps(_mm_loadu_ps(acc), _mm_mul_ps(rgb1, _mm_set1_ps(a))));
+      im.reveal[qs[k]] *= 1.0f - a;
     }
   }
 }
@@ -1692,19 +1738,20 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       // as it) over the place in the list (in point order), read in point
       // order, not through the splats.
       thread_local std::vector<uint64_t> near, sort_scratch;
+      thread_local std::vector<SplatKey> listed, sorted;  // the bin's keys in list, then depth order
       near.resize(n);
+      listed.resize(n);
       float max_offset = 0.0f;
       for (size_t j = 0; j < n; ++j) {
-        const SplatKey& key = keys[list[j]];
+        const SplatKey& key = listed[j] = keys[list[j]];
         near[j] = uint64_t(std::bit_cast<uint32_t>(key.near)) << 32 | j;
         max_offset = std::max(max_offset, key.offset);
       }
       sort_depth_keys(near, sort_scratch);
-      // Their keys in that order, gathered at once (independent loads,
-      // many in flight): the loop below would wait for each in turn.
-      thread_local std::vector<SplatKey> sorted;
+      // Their keys in that order, gathered at once (from the bin's copy):
+      // the loop below reads them in turn.
       sorted.resize(n);
-      for (size_t j = 0; j < n; ++j) sorted[j] = keys[list[uint32_t(near[j])]];
+      for (size_t j = 0; j < n; ++j) sorted[j] = listed[uint32_t(near[j])];
       thread_local Candidates candidates;
       candidates.clear();
       // Once the splats since cover the bin's area (so the scan costs at
@@ -1727,12 +1774,16 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           painted = 0;
           bin_far = blocks.under(area.min, area.max);
         }
+        // Behind the blocks' bound, or (narrow boxes) behind the surface under the box.
+        const bool narrow = box.x <= 8;
         if (P == Pass::kDepth) {
           if (key.near >= bin_far) break;
           if (key.near >= blocks.under(key.lo, key.hi)) continue;
+          if (narrow && key.near >= blocks.under_exactly(key.lo, key.hi)) continue;
         } else {
           if (key.near - max_offset > bin_far) break;
           if (key.near - key.offset > blocks.under(key.lo, key.hi)) continue;
+          if (narrow && key.near - key.offset > blocks.under_exactly(key.lo, key.hi)) continue;
         }
         const Splat& sp = splats[index];
         if (s.ortho) rasterize<P, true>(place, sp, s, area, im, blocks, &candidates);
