@@ -52,6 +52,7 @@
 
 #include "core/error.h"
 #include "core/hash.h"
+#include "core/radix_sort.h"
 #include "geometry/analysis.h"
 #include "marks/brush_splats.h"
 #include "marks/points.h"
@@ -1158,30 +1159,6 @@ void rasterize(uint32_t place, const Splat& sp, const Settings& s, const Rect& a
   rasterize_splat<P, kOrtho, false>(place, sp, s, area, im, blocks, out);
 }
 
-// std::sort's order of keys (float bits << 32 | place, in ascending place:
-// unique) by a stable radix sort on their high 32 bits, a byte a pass,
-// skipping the bytes all share; a bin's few thousand keys sort several
-// times faster so.
-void sort_depth_keys(std::vector<uint64_t>& keys, std::vector<uint64_t>& scratch) {
-  const size_t n = keys.size();
-  if (n < 256) return std::sort(keys.begin(), keys.end());
-  scratch.resize(n);
-  uint32_t counts[4][256] = {};
-  for (const uint64_t k : keys)
-    for (int b = 0; b < 4; ++b) ++counts[b][(k >> (32 + 8 * b)) & 255];
-  uint64_t *from = keys.data(), *to = scratch.data();
-  for (int b = 0; b < 4; ++b) {
-    const int shift = 32 + 8 * b;
-    if (counts[b][(from[0] >> shift) & 255] == n) continue;
-    uint32_t at[256];
-    uint32_t sum = 0;
-    for (int d = 0; d < 256; ++d) at[d] = sum, sum += counts[b][d];
-    for (size_t i = 0; i < n; ++i) to[at[(from[i] >> shift) & 255]++] = from[i];
-    std::swap(from, to);
-  }
-  if (from != keys.data()) std::copy(from, from + n, keys.data());
-}
-
 // blend_candidates()'s test of one run (one splat's candidates, each on
 // its own pixel) on AVX2 lanes, the same float operations; the kept ones
 // blend one by one.
@@ -1747,7 +1724,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         near[j] = uint64_t(std::bit_cast<uint32_t>(key.near)) << 32 | j;
         max_offset = std::max(max_offset, key.offset);
       }
-      sort_depth_keys(near, sort_scratch);
+      stable_sort_by_high_words(near, sort_scratch);  // (ties: in list order, as std::sort)
       // Their keys in that order, gathered at once (from the bin's copy):
       // the loop below reads them in turn.
       sorted.resize(n);
