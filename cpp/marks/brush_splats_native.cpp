@@ -1009,18 +1009,17 @@ __attribute__((target("avx2"))) inline bool row_avx2(const RowLanes& r, int x0, 
 }
 
 // A splat's fragments over `area` in pass P (kBoth: its candidates to
-// `out`, as one run, by its place in the bin's list). The depth passes mark the blocks of the rows
-// where a fragment was nearer than the surface.
-// (kAvx2: flattened into rasterize_avx2, the rows' lanes too, their
-// constants set once a splat, not once a row: most splats are a few
-// pixels wide and high.)
+// `out`, as one run, by its place in the bin's list). The depth passes
+// mark the blocks of the rows where a fragment was nearer than the
+// surface. kAvx2: flattened into rasterize_avx2 with the rows' lanes, so
+// their constants are set once a splat, not once a row (most splats are
+// a few pixels wide and high).
 // (GCC, flattening, takes `second` for unset where only sp.two reads it, set then.)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 template <Pass P, bool kOrtho, bool kAvx2>
-void rasterize_splat(uint32_t place, const Splat& sp, const Settings& s,
-                                                           const Rect& area, const Images& im, BlockDepths& blocks,
-                                                           Candidates* out) {
+void rasterize_splat(uint32_t place, const Splat& sp, const Settings& s, const Rect& area, const Images& im,
+                     BlockDepths& blocks, Candidates* out) {
   constexpr bool kDepth = P == Pass::kDepth;
   const glm::ivec2 lo = glm::max(sp.lo, area.min), hi = glm::min(sp.hi, area.max);
   if (lo.x >= hi.x || lo.y >= hi.y) return;
@@ -1147,8 +1146,9 @@ void rasterize_splat(uint32_t place, const Splat& sp, const Settings& s,
   if (P == Pass::kBoth && out->count > begin) out->runs.push_back({place, uint32_t(begin), uint32_t(out->count)});
 }
 template <Pass P, bool kOrtho>
-__attribute__((target("avx2"), flatten)) void rasterize_avx2(uint32_t place, const Splat& sp, const Settings& s, const Rect& area,
-                                                    const Images& im, BlockDepths& blocks, Candidates* out) {
+__attribute__((target("avx2"), flatten)) void rasterize_avx2(uint32_t place, const Splat& sp, const Settings& s,
+                                                             const Rect& area, const Images& im, BlockDepths& blocks,
+                                                             Candidates* out) {
   rasterize_splat<P, kOrtho, true>(place, sp, s, area, im, blocks, out);
 }
 #pragma GCC diagnostic pop
