@@ -9,32 +9,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build_wheel.sh
-# The cp313 wheel (Blender 5.1+) where scripts/build.sh built its module
-# (.venv-py313, scripts/install_deps.sh --tests); POINTNPR_REQUIRE_CP313=1
-# (scripts/test.sh, when a 3.13 is here) makes its absence an error.
-cp313=0
-if [[ -x .venv-py313/bin/python && -d build/pointnpr-cp313 ]]; then
-  PYTHON=.venv-py313/bin/python bash scripts/build_wheel.sh
-  cp313=1
-elif [[ "${POINTNPR_REQUIRE_CP313:-0}" == 1 ]]; then
-  echo "build_extension: no cp313 module (build/pointnpr-cp313 from .venv-py313): run scripts/install_deps.sh --tests and scripts/build.sh" >&2
-  exit 1
-fi
+# The cp313 wheel (Blender 5.1+): scripts/build.sh builds its module every time.
+ABI=cp313 bash scripts/build_wheel.sh
 cmake --build build --target pointnpr_package >/dev/null
-CP313=$cp313 /usr/bin/python3 - <<'PY'
-import glob, os, re, tomllib, zipfile
+/usr/bin/python3 - <<'PY'
+import glob, os, tomllib, zipfile
 
 dist = "build/dist"
 source = "python_addon/extension"
 with open(os.path.join(source, "blender_manifest.toml"), encoding="utf-8") as f:
     manifest_text = f.read()
-if os.environ["CP313"] != "1":
-    # Without the cp313 wheel the extension admits Blender 4.2 to 5.0 only
-    # rather than install in 5.1+ and fail to import there.
-    manifest_text = re.sub(r'^  "[^"]*-cp313-[^"]*",\n', "", manifest_text, flags=re.M)
-    manifest_text = manifest_text.replace('blender_version_min = "4.2.0"\n',
-                                          'blender_version_min = "4.2.0"\nblender_version_max = "5.1.0"\n')
-    print("build_extension: no cp313 wheel: the extension admits Blender 4.2 to 5.0 (Python 3.11) only")
 manifest = tomllib.loads(manifest_text)
 version = manifest["version"]
 # Every wheel the manifest names must be there; the build fails otherwise.

@@ -1,23 +1,26 @@
 #!/usr/bin/env bash
 # Builds the self-contained wheel of the core into build/dist/:
 #   pointnpr-<version>-cp3XX-cp3XX-manylinux_2_35_x86_64.whl
-# For Debian's python3 the wheel is packed from scripts/build.sh's
-# build/pointnpr (scripts/pack_wheel.py: nothing compiled twice); for
-# another interpreter, or with POINTNPR_WHEEL_WITH=pip, `pip wheel .`
-# (pyproject.toml, scikit-build-core) builds it. auditwheel then copies every
-# shared library the module needs into the wheel (pointnpr.libs/, renamed
-# with a hash so they cannot clash with Blender's own copies) and points the
-# module's RPATH at them. libEGL/libGL/libOpenGL stay the system's: they
-# pick the GPU driver. The repair (~1 min, ~125 MB) is skipped when the
-# module and package did not change since the last one.
-#   PYTHON=.venv-py313/bin/python scripts/build_wheel.sh   (the cp313 wheel,
-#   packed from build/pointnpr-cp313: scripts/build.sh builds that module
-#   when .venv-py313 exists; another interpreter is built by pip in
-#   build-<abi>/, which needs its headers and a pybind11 that supports it)
+# For Debian's python3 (cp311) and for cp313 (ABI=cp313: the module
+# scripts/build.sh builds from Debian 13's headers) the wheel is packed from
+# build/pointnpr or build/pointnpr-cp313 (scripts/pack_wheel.py: nothing
+# compiled twice); with PYTHON=<another interpreter>, or with
+# POINTNPR_WHEEL_WITH=pip, `pip wheel .` (pyproject.toml, scikit-build-core)
+# builds it. auditwheel then copies every shared library the module needs
+# into the wheel (pointnpr.libs/, renamed with a hash so they cannot clash
+# with Blender's own copies) and points the module's RPATH at them;
+# scripts/graft_libs.py adds glib, which auditwheel's manylinux policy
+# assumes every system has and a render-farm image or a container may not.
+# libEGL/libGL/libOpenGL stay the system's: they pick the GPU driver. The
+# repair (~1 min, ~125 MB) is skipped when the module and package did not
+# change since the last one.
+#   ABI=cp313 scripts/build_wheel.sh   (the cp313 wheel, for Blender 5.1+)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python=${PYTHON:-/usr/bin/python3}
-abi=$("$python" -c 'import sys; print("cp%d%d" % sys.version_info[:2])')
+if [[ -n ${ABI:-} ]]; then abi=$ABI; else
+  abi=$("$python" -c 'import sys; print("cp%d%d" % sys.version_info[:2])')
+fi
 dist=build/dist
 mkdir -p "$dist/raw"
 
@@ -29,12 +32,13 @@ if [[ ! -x $tools/bin/auditwheel ]]; then
 fi
 
 rm -f "$dist"/raw/pointnpr-*-"$abi"-*.whl
-if [[ "$python" == /usr/bin/python3 && "${POINTNPR_WHEEL_WITH:-}" != pip ]]; then
+if [[ $abi == cp313 && "${POINTNPR_WHEEL_WITH:-}" != pip ]]; then
+  [[ -d build/pointnpr-cp313 ]] || { echo "build_wheel: no build/pointnpr-cp313 (scripts/build.sh)" >&2; exit 1; }
+  cmake --build build --target _pointnpr_cp313 pointnpr_package_cp313 >/dev/null
+  /usr/bin/python3 scripts/pack_wheel.py build/pointnpr-cp313 "$dist/raw" cp313 >/dev/null
+elif [[ "$python" == /usr/bin/python3 && "${POINTNPR_WHEEL_WITH:-}" != pip ]]; then
   cmake --build build --target _pointnpr pointnpr_package >/dev/null
   "$python" scripts/pack_wheel.py build/pointnpr "$dist/raw" >/dev/null
-elif [[ $abi == cp313 && -d build/pointnpr-cp313 && "${POINTNPR_WHEEL_WITH:-}" != pip ]]; then
-  cmake --build build --target _pointnpr_cp313 pointnpr_package_cp313 >/dev/null
-  "$python" scripts/pack_wheel.py build/pointnpr-cp313 "$dist/raw" >/dev/null
 else
   # (pip 23.0 spells -C as --config-settings)
   # build-<abi> sits beside build/, so with ccache (CCACHE_BASEDIR) the
@@ -47,9 +51,11 @@ raw=$(ls "$dist"/raw/pointnpr-*-"$abi"-"$abi"-linux_x86_64.whl)
 
 # The raw wheel's content (names and CRCs, not timestamps) decides whether
 # the previous repair still stands.
-digest=$("$python" -c 'import sys, zipfile, hashlib
+# graft_libs.py's recipe is part of the stamp: a change there repairs again.
+digest=$(/usr/bin/python3 -c 'import sys, zipfile, hashlib
 z = zipfile.ZipFile(sys.argv[1])
 print(hashlib.sha256(repr(sorted((i.filename, i.CRC) for i in z.infolist() if ".dist-info/RECORD" not in i.filename)).encode()).hexdigest())' "$raw")
+digest="$digest $(sha256sum scripts/graft_libs.py | cut -c1-16)"
 stamp=$dist/.repaired-$abi
 repaired=$(ls "$dist"/pointnpr-*-"$abi"-"$abi"-manylinux_*.whl 2>/dev/null || true)
 if [[ -n "$repaired" && -f $stamp && $(cat "$stamp") == "$digest" ]]; then
@@ -59,6 +65,9 @@ fi
 rm -f "$dist"/pointnpr-*-"$abi"-"$abi"-manylinux_*.whl "$stamp"
 PATH=$PWD/$tools/bin:$PATH auditwheel repair -w "$dist" --plat manylinux_2_35_x86_64 \
   --exclude libEGL.so.1 --exclude libGL.so.1 --exclude libOpenGL.so.0 \
-  --exclude libGLX.so.0 --exclude libGLdispatch.so.0 "$raw" >/dev/null
+  --exclude libGLX.so.0 --exclude libGLdispatch.so.0 "$raw" >"$dist/auditwheel-$abi.log" 2>&1 ||
+  { tail -n 20 "$dist/auditwheel-$abi.log" >&2; echo "build_wheel: auditwheel repair failed" >&2; exit 1; }
+repaired=$(ls "$dist"/pointnpr-*-"$abi"-"$abi"-manylinux_*.whl)
+PATH=$PWD/$tools/bin:$PATH "$tools/bin/python" scripts/graft_libs.py "$repaired"
 echo "$digest" >"$stamp"
 ls -l "$dist"/pointnpr-*-"$abi"-"$abi"-manylinux_*.whl

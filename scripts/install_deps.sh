@@ -9,10 +9,12 @@ packages=(
   libglm-dev libeigen3-dev libnanoflann-dev libtbb-dev
   libopenimageio-dev openimageio-tools
   libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 libgles-dev
+  dpkg-dev  # dpkg-deb, dpkg-architecture: scripts/fetch_python313.sh (the cp313 module's headers)
 )
 if [[ "${1:-}" == "--tests" ]]; then
   packages+=(libgtest-dev libgmock-dev googletest libbenchmark-dev python3-pytest xvfb xauth glslang-tools)
   packages+=(clang libclang-rt-14-dev)  # scripts/fuzz_smoke.sh (libFuzzer)
+  packages+=(debootstrap)  # scripts/debian13_root.sh: the Debian 13 root of the Python 3.13 (Blender 5.1+) suites
   packages+=(python3-venv)  # .venv-test (test oracles), the bpy venvs, the wheel's build tools and clean-venv test
 fi
 if [[ "${1:-}" == "--bench" ]]; then
@@ -32,13 +34,16 @@ test_venv() {
 }
 
 # The Blender suite also runs in bpy (Blender as a Python module) from PyPI,
-# one venv per Blender line, newest patch of each, pinned; numpy and pytest
+# one venv per Blender line of tests/blender/versions.txt that runs on this
+# host (Python 3.11; the 3.13 ones run in scripts/debian13_root.sh's root),
+# newest patch of each, pinned; numpy and pytest
 # as the official Blender of that line ships them. pip's cache (~/.cache/pip)
 # keeps the ~350 MB wheels between runs.
 bpy_venvs() {
-  local line pin
-  for line in 4.2=4.2.23 4.5=4.5.15 5.0=5.0.1; do
-    pin=${line#*=}; line=${line%=*}
+  local line pin python how
+  while read -r line pin python how _; do
+    [[ $how == host && $pin == bpy==* ]] || continue
+    pin=${pin#bpy==}
     local venv=.venv-bpy-$line
     if [[ -x $venv/bin/python ]] && "$venv/bin/python" -c "import importlib.metadata as m, sys
 sys.exit(m.version('bpy') != '$pin' or m.version('numpy') != '1.26.4' or m.version('pytest') != '8.3.4')" 2>/dev/null; then
@@ -47,38 +52,7 @@ sys.exit(m.version('bpy') != '$pin' or m.version('numpy') != '1.26.4' or m.versi
     echo "install_deps: $venv (bpy $pin from PyPI)"
     /usr/bin/python3 -m venv "$venv"
     "$venv/bin/python" -m pip install -q "bpy==$pin" numpy==1.26.4 pytest==8.3.4
-  done
-}
-
-# Blender 5.1+ embed Python 3.13: the cp313 module (cpp/CMakeLists.txt,
-# POINTNPR_PYTHON313) needs a 3.13 interpreter, which Debian 12 does not
-# package. When one is here (POINTNPR_PYTHON313, python3.13 on PATH, or
-# pyenv's), .venv-py313 gets pybind11 >= 2.13 (build time only; Debian's
-# 2.10 predates 3.13) and numpy for the wheel's test; scripts/build.sh then
-# builds the cp313 module. Without one, the extension admits Blender 4.2 to
-# 5.0 only (scripts/build_extension.sh says so).
-find_python313() {
-  local candidate
-  for candidate in "${POINTNPR_PYTHON313:-}" "$(command -v python3.13 || true)" \
-                   "$HOME"/.pyenv/versions/3.13*/bin/python3.13; do
-    if [[ -n $candidate && -x $candidate ]] &&
-       "$candidate" -c 'import sys, venv; sys.exit(sys.version_info[:2] != (3, 13))' 2>/dev/null; then
-      echo "$candidate"
-      return
-    fi
-  done
-}
-py313_venv() {
-  local python
-  python=$(find_python313)
-  if [[ -z $python ]]; then
-    echo "install_deps: no Python 3.13 found: the extension will admit Blender 4.2 to 5.0 only (no cp313 wheel)"
-    return
-  fi
-  if [[ ! -x .venv-py313/bin/python ]]; then
-    "$python" -m venv .venv-py313
-  fi
-  .venv-py313/bin/python -m pip install -q pybind11==2.13.6 numpy==2.1.3
+  done < <(grep -v '^#' tests/blender/versions.txt)
 }
 
 missing=()
@@ -99,5 +73,4 @@ if [[ "${1:-}" == "--tests" ]]; then
   cd "$(dirname "$0")/.."
   test_venv
   bpy_venvs
-  py313_venv
 fi

@@ -2,10 +2,12 @@
 build/pointnpr) into a wheel, with the metadata of pyproject.toml: the same
 files `pip wheel .` installs, without configuring and compiling again.
 
-    python3 scripts/pack_wheel.py <package dir> <out dir>     -> prints the wheel's path
+    python3 scripts/pack_wheel.py <package dir> <out dir> [cpXY]     -> prints the wheel's path
 
 The tag is the interpreter's (cp311-cp311-linux_x86_64 for Debian's
-python3); auditwheel (scripts/build_wheel.sh) then makes it manylinux.
+python3), or the ABI given (cp313: the module built from Debian 13's headers,
+with no 3.13 interpreter here); auditwheel (scripts/build_wheel.sh) then
+makes it manylinux.
 """
 import base64
 import hashlib
@@ -23,12 +25,12 @@ def _record_line(name, data):
     return "%s,sha256=%s,%d" % (name, digest, len(data))
 
 
-def main(package_dir, out_dir):
+def main(package_dir, out_dir, abi=None):
     with open(os.path.join(ROOT, "pyproject.toml"), "rb") as f:
         project = tomllib.load(f)["project"]
     name, version = project["name"], project["version"]
-    abi = "cp%d%d" % sys.version_info[:2]
-    suffix = sysconfig.get_config_var("EXT_SUFFIX")
+    abi = abi or "cp%d%d" % sys.version_info[:2]
+    suffix = ".cpython-%s-%s.so" % (abi[2:], sysconfig.get_config_var("MULTIARCH"))
     if not any(f.startswith("_pointnpr") and f.endswith(suffix) for f in os.listdir(package_dir)):
         raise SystemExit("pack_wheel: no _pointnpr%s in %s (built for another Python?)" % (suffix, package_dir))
     tag = "%s-%s-%s" % (abi, abi, sysconfig.get_platform().replace("-", "_").replace(".", "_"))
@@ -64,6 +66,6 @@ def main(package_dir, out_dir):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
+    if len(sys.argv) not in (3, 4):
         raise SystemExit(__doc__)
-    main(sys.argv[1], sys.argv[2])
+    main(*sys.argv[1:])

@@ -32,31 +32,51 @@ if compgen -G "tests/blender/test_*.py" >/dev/null; then
   run "Blender tests (blender -b)" blender -b --factory-startup --python-exit-code 1 \
     --python tests/blender/run.py -- "$root/build"
 fi
-# The self-contained wheel and the extension zip (auditwheel ~1 min, skipped
-# when the package did not change), then the wheel alone in a clean venv.
-# With a Python 3.13 here (.venv-py313) the cp313 wheel is required and tested too.
-if [[ -x .venv-py313/bin/python ]]; then export POINTNPR_REQUIRE_CP313=1; fi
-run "Wheel and extension zip (scripts/build_extension.sh)" bash scripts/build_extension.sh
-run "Wheel in a clean venv, Debian's OpenImageIO hidden (pytest tests/wheel)" \
-  "$python" -m pytest -q -p no:cacheprovider tests/wheel
-# The Blender suite in bpy 4.2 / 4.5 / 5.0 from PyPI (scripts/install_deps.sh
-# --tests made the venvs), the extension zip installed by Blender's operator.
-# A missing venv or zip, or a run that did not test that version, fails.
+# The Blender 5.1+ suites (Python 3.13) run in a Debian 13 root: made once
+# under build/ (about 40 s), with a venv per line of tests/blender/versions.txt.
+versions() { grep -v '^#' tests/blender/versions.txt | awk -v how="$1" 'NF && $4 == how {print $1, $2}'; }
+debian13_setup() {
+  bash scripts/debian13_root.sh make || return 1
+  local line pin
+  while read -r line pin; do bash scripts/debian13_root.sh venv "$line" "${pin#bpy==}" || return 1; done < <(versions debian13)
+}
+run "Debian 13 root and its bpy venvs (scripts/debian13_root.sh)" debian13_setup
+# The self-contained wheels (cp311, cp313) and the extension zip (auditwheel
+# ~1 min a wheel, skipped when the package did not change), then each wheel
+# alone in a clean venv: cp311 here with Debian's OpenImageIO hidden, cp313
+# in the Debian 13 root, which has neither Debian 12's libraries nor glib.
+run "Wheels and extension zip (scripts/build_extension.sh)" bash scripts/build_extension.sh
+run "Wheels in clean venvs (pytest tests/wheel)" "$python" -m pytest -q -p no:cacheprovider tests/wheel
+# The Blender suite in bpy from PyPI, the extension zip installed by
+# Blender's own operator: 4.2 to 5.0 in venvs here (scripts/install_deps.sh
+# --tests), 5.1+ in the Debian 13 root. A missing venv or zip, or a run that
+# did not test that version, fails.
 bpy_suite() {
-  local line=$1 venv=.venv-bpy-$1 log=build/blender-tests-bpy-$1.log zip
+  local line=$1 how=$2 log=build/blender-tests-bpy-$1.log zip python
   zip=$(ls build/dist/pointnpr-extension-*.zip 2>/dev/null | head -1)
-  [[ -x $venv/bin/python ]] || { echo "$venv missing: run scripts/install_deps.sh --tests"; return 1; }
   [[ -n $zip ]] || { echo "no extension zip in build/dist (scripts/build_extension.sh)"; return 1; }
-  "$venv/bin/python" tests/blender/run.py --extension "$zip" -- "$root/build" -q >"$log" 2>&1
+  local launch=()
+  if [[ $how == host ]]; then
+    python=.venv-bpy-$line/bin/python
+    [[ -x $python ]] || { echo "$python missing: run scripts/install_deps.sh --tests"; return 1; }
+  else
+    python=/opt/venv-bpy-$line/bin/python
+    [[ -x build/debian13-root$python ]] || { echo "$python missing in the Debian 13 root"; return 1; }
+    launch=(bash scripts/debian13_root.sh run)
+  fi
+  "${launch[@]}" "$python" tests/blender/run.py --extension "$root/$zip" -- "$root/build" -q >"$log" 2>&1
   local code=$?
   tail -n 15 "$log"
   grep -q "^PointNPR tests in Blender $line\." "$log" || { echo "bpy $line did not run the suite"; return 1; }
   grep -Eq "^[0-9]+ passed" "$log" || { echo "bpy $line: no test passed"; return 1; }
   return $code
 }
-for line in 4.2 4.5 5.0; do
-  run "Blender tests (bpy $line from PyPI, extension installed)" bpy_suite "$line"
-done
+while read -r line pin; do
+  run "Blender tests (bpy ${pin#bpy==} from PyPI, extension installed)" bpy_suite "$line" host
+done < <(versions host | grep -v ' debian$')
+while read -r line pin; do
+  run "Blender tests (bpy ${pin#bpy==} from PyPI in the Debian 13 root, extension installed)" bpy_suite "$line" debian13
+done < <(versions debian13)
 if [[ -f tests/viewport/viewport_test.py ]]; then
   run "Viewport test (Xvfb)" xvfb-run -a -s "-screen 0 1280x800x24" \
     blender --factory-startup --enable-event-simulate --python-exit-code 1 --python tests/viewport/viewport_test.py -- \

@@ -15,6 +15,9 @@ def pytest_configure(config):
     # Each install path is tested on the Blenders that use it (run.py).
     config.addinivalue_line("markers", "legacy_addon: the legacy add-on zip (Blender 3.4-4.1)")
     config.addinivalue_line("markers", "extension: the extension zip (Blender 4.2+)")
+    # An API Blender deprecates (e.g. 5.2's Scene.compositing_node_group)
+    # fails the suite on that version instead of printing a warning.
+    config.addinivalue_line("filterwarnings", "error::DeprecationWarning")
 
 
 @pytest.fixture

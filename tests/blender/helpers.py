@@ -81,7 +81,9 @@ def reset_scene():
     scene.world.color = (0.0, 0.0, 0.0)
     scene.frame_start, scene.frame_end = 1, 10
     scene.frame_set(1)
-    if hasattr(scene, "compositing_node_group"):  # Blender 5.0+
+    if hasattr(scene, "compositor_effects"):  # Blender 5.2+
+        scene.compositor_effects.clear()
+    elif hasattr(scene, "compositing_node_group"):  # Blender 5.0, 5.1
         scene.compositing_node_group = None
     else:
         scene.use_nodes = False
@@ -232,13 +234,20 @@ def fcurves(id_block):
 
 def compositor_tree(scene):
     """The scene's compositing node tree, emptied, with an image output
-    linked from nothing yet: (tree, output node). Blender 5.0 keeps it in a
-    node group (Scene.compositing_node_group, a Group Output), earlier
-    versions on the scene (Scene.node_tree, a Composite node)."""
-    if hasattr(scene, "compositing_node_group"):
+    linked from nothing yet: (tree, output node). Blender 5.0 and 5.1 keep
+    it in a node group (Scene.compositing_node_group, a Group Output), 5.2
+    and later in the node group of a compositor effect (Scene.compositor_effects,
+    where compositing_node_group is deprecated), earlier versions on the
+    scene (Scene.node_tree, a Composite node)."""
+    effects = getattr(scene, "compositor_effects", None)
+    if effects is not None or hasattr(scene, "compositing_node_group"):
         tree = bpy.data.node_groups.new("Compositing", "CompositorNodeTree")
         tree.interface.new_socket("Image", in_out='OUTPUT', socket_type='NodeSocketColor')
-        scene.compositing_node_group = tree
+        if effects is not None:
+            effects.clear()
+            effects.new("Compositing").node_group = tree
+        else:
+            scene.compositing_node_group = tree
         tree.nodes.clear()
         return tree, tree.nodes.new("NodeGroupOutput")
     scene.use_nodes = True

@@ -184,6 +184,13 @@ def test_extension_installs_enables_and_migrates_a_legacy_file(tmp_path):
     assert "MIGRATED PointNPRMarkPointsNode gl_points constant" in out, out[-3000:]
 
 
+def _tested_blenders():
+    """The Blender lines of tests/blender/versions.txt, as (major, minor)."""
+    with open(os.path.join(os.path.dirname(__file__), "versions.txt"), encoding="utf-8") as f:
+        lines = [line.split()[0] for line in f if line.strip() and not line.startswith("#")]
+    return [tuple(int(v) for v in line.split(".")) for line in lines]
+
+
 @pytest.mark.extension
 def test_extension_zip_passes_blenders_own_validation():
     """Blender's extension tool (what `blender --command extension validate`
@@ -206,15 +213,14 @@ def test_extension_zip_passes_blenders_own_validation():
     assert manifest["id"] == "pointnpr" and manifest["type"] == "add-on"
     assert manifest["blender_version_min"] == "4.2.0" and manifest["platforms"] == ["linux-x64"]
     assert "files" in manifest["permissions"]
-    # One wheel per CPython ABI of the Blenders the manifest admits: 3.11
-    # (4.2 to 5.0) and, where the build had a Python 3.13, 3.13 (5.1 and
-    # later, no upper bound); without it the manifest stops before 5.1.
+    # One wheel per CPython ABI: 3.11 (Blender 4.2 to 5.0) and 3.13 (5.1 and
+    # later), always both; and no maximum that shuts out a tested Blender.
     assert manifest["wheels"] and all(w[2:] in names for w in manifest["wheels"]), (manifest["wheels"], names)
     abis = {w.split("-")[2] for w in manifest["wheels"]}
-    if os.environ.get("POINTNPR_REQUIRE_CP313") == "1":
-        assert abis == {"cp311", "cp313"} and "blender_version_max" not in manifest, manifest
-    elif abis == {"cp311"}:
-        assert manifest["blender_version_max"] == "5.1.0"
-    else:
-        assert abis == {"cp311", "cp313"} and "blender_version_max" not in manifest, manifest
+    assert abis == {"cp311", "cp313"}, manifest["wheels"]
+    newest = max(_tested_blenders())
+    assert newest >= (5, 3), newest
+    if "blender_version_max" in manifest:  # exclusive: every patch of the newest line stays in
+        maximum = tuple(int(v) for v in manifest["blender_version_max"].split("."))
+        assert maximum[:2] > newest, (manifest["blender_version_max"], newest)
     assert "__init__.py" in names

@@ -1,8 +1,12 @@
-"""The self-contained wheel (scripts/build_wheel.sh) imports, renders and
-writes an image in a clean venv (no system site packages) in a process
-where Debian's OpenImageIO, OpenEXR, Imath, OpenColorIO and TBB cannot be
-loaded: a private mount namespace (unshare -m) binds /dev/null over each of
-those files, so a module still needing them fails to import.
+"""The self-contained wheels (scripts/build_wheel.sh) import, render and
+write an image in a clean venv (no system site packages) where the build's
+libraries cannot be loaded:
+- cp311 (Blender 4.2 to 5.0) here, in a process where Debian's OpenImageIO,
+  OpenEXR, Imath, OpenColorIO and TBB cannot be loaded: a private mount
+  namespace (unshare -m) binds /dev/null over each of those files, so a
+  module still needing them fails to import;
+- cp313 (Blender 5.1+) in the Debian 13 root (scripts/debian13_root.sh),
+  which has none of Debian 12's libraries and no glib: a bare system.
 
     scripts/build_extension.sh && python3 -m pytest -q tests/wheel
 """
@@ -19,15 +23,13 @@ import pytest
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DIST = os.path.join(REPO, "build", "dist")
-# The interpreter each wheel is tested with: Debian's 3.11 (Blender 4.2 to
-# 5.0), and 3.13 (Blender 5.1+) where scripts/install_deps.sh --tests found
-# one; scripts/test.sh then sets POINTNPR_REQUIRE_CP313, so a missing cp313
-# wheel fails rather than goes untested.
-PY313 = os.path.join(REPO, ".venv-py313", "bin", "python")
-INTERPRETERS = {"cp311": "/usr/bin/python3"}
-if os.environ.get("POINTNPR_REQUIRE_CP313") == "1" or os.path.exists(PY313):
-    INTERPRETERS["cp313"] = PY313
-NUMPY = {"cp311": "numpy==1.26.4", "cp313": "numpy==2.1.3"}
+# How each wheel's clean venv is made and run: cp311 with Debian's python3
+# here, cp313 with python3.13 in the Debian 13 root (its venv in build/, which
+# the root sees at the same path).
+ROOT13 = os.path.join(REPO, "build", "debian13-root")
+IN_ROOT13 = ["bash", os.path.join(REPO, "scripts", "debian13_root.sh"), "run"]
+INTERPRETERS = {"cp311": ["/usr/bin/python3"], "cp313": IN_ROOT13 + ["python3.13"]}
+NUMPY = {"cp311": "numpy==1.26.4", "cp313": "numpy==2.3.5"}
 # Debian's libraries the compiled module reaches (directly or through OIIO).
 HIDDEN_NAMES = r"lib(OpenImageIO|OpenImageIO_Util|OpenEXR|OpenEXRCore|Imath|Iex|IlmThread|OpenColorIO|tbb)[-.]"
 LIBDIR = "/usr/lib/x86_64-linux-gnu"
@@ -82,19 +84,28 @@ def _hiding(command):
 
 @pytest.fixture(scope="module", params=sorted(INTERPRETERS))
 def venv(request, tmp_path_factory):
-    """A clean venv (no system site packages) with the wheel of an ABI and numpy."""
+    """A clean venv (no system site packages) with the wheel of an ABI and
+    numpy: the command that runs its python, and a scratch folder it sees."""
     abi = request.param
-    path = tmp_path_factory.mktemp("wheel-" + abi) / "venv"
-    subprocess.run([INTERPRETERS[abi], "-m", "venv", str(path)], check=True)
-    python = str(path / "bin" / "python")
-    out = subprocess.run([python, "-c", "import sys; print(sys.flags.no_site, sys.path)"],
+    if abi == "cp313":
+        assert os.path.isfile(os.path.join(ROOT13, ".recipe")), "scripts/debian13_root.sh make"
+        scratch = os.path.join(REPO, "build", "wheel-test-cp313")
+        subprocess.run(["rm", "-rf", scratch], check=True)
+        os.makedirs(scratch)
+        prefix = IN_ROOT13
+    else:
+        scratch, prefix = str(tmp_path_factory.mktemp("wheel-" + abi)), []
+    path = os.path.join(scratch, "venv")
+    subprocess.run(INTERPRETERS[abi] + ["-m", "venv", path], check=True)
+    python = prefix + [os.path.join(path, "bin", "python")]
+    out = subprocess.run(python + ["-c", "import sys; print(sys.flags.no_site, sys.path)"],
                          capture_output=True, text=True, check=True).stdout
     assert "/usr/lib/python3/dist-packages" not in out, out
-    version = subprocess.run([python, "-c", "import sys; print('cp%d%d' % sys.version_info[:2])"],
+    version = subprocess.run(python + ["-c", "import sys; print('cp%d%d' % sys.version_info[:2])"],
                              capture_output=True, text=True, check=True).stdout.strip()
     assert version == abi, (version, abi)
-    subprocess.run([python, "-m", "pip", "install", "-q", _wheel(abi), NUMPY[abi]], check=True)
-    return python
+    subprocess.run(python + ["-m", "pip", "install", "-q", _wheel(abi), NUMPY[abi]], check=True)
+    return abi, python, scratch
 
 
 def test_hiding_really_hides_debians_openimageio():
@@ -104,20 +115,34 @@ def test_hiding_really_hides_debians_openimageio():
     assert proc.returncode != 0 and "OSError" in proc.stderr, proc.stderr[-2000:]
 
 
+def test_the_debian13_root_is_a_bare_system():
+    """What the cp313 test proves rests on this: the root has no glib and
+    none of the Debian 12 libraries the module was linked against."""
+    found = [os.path.join(r, f) for r, _, fs in os.walk(os.path.join(ROOT13, "usr", "lib"))
+             for f in fs if re.match(r"lib(glib|gobject|gthread)-2\.0\.so|" + HIDDEN_NAMES, f)]
+    assert not found, found
+
+
 def test_wheel_renders_and_writes_an_image_without_debians_libraries(venv, tmp_path):
-    image = str(tmp_path / "frame.png")
-    script = tmp_path / "check.py"
-    script.write_text(CHECK)
-    proc = subprocess.run(_hiding([venv, str(script), image]), capture_output=True, text=True, timeout=300,
-                          cwd=str(tmp_path))
+    abi, python, scratch = venv
+    image = os.path.join(scratch, "frame.png")
+    script = os.path.join(scratch, "check.py")
+    with open(script, "w") as f:
+        f.write(CHECK)
+    command = python + [script, image]
+    proc = subprocess.run(_hiding(command) if abi == "cp311" else command, capture_output=True, text=True,
+                          timeout=300, cwd=scratch)
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-3000:]
     result = json.loads(proc.stdout.split("RESULT ", 1)[1])
     site = os.path.dirname(os.path.dirname(result["package"]))
-    assert site.startswith(str(tmp_path.parent)) and site.endswith("site-packages"), result["package"]
+    assert site.startswith(scratch) and site.endswith("site-packages"), result["package"]
     hidden = set(_hidden_files())
     assert not hidden & set(result["maps"]), sorted(hidden & set(result["maps"]))
     vendored = [m for m in result["maps"] if "/pointnpr.libs/" in m]
     assert any(os.path.basename(m).startswith("libOpenImageIO-") for m in vendored), result["maps"]
+    # glib comes from the wheel (scripts/graft_libs.py), never the system.
+    glib = [m for m in result["maps"] if re.search(r"/lib(glib|gobject)-2\.0", m)]
+    assert glib and all("/pointnpr.libs/" in m for m in glib), glib
     # The picture, read back from the file: 160x120, the red near plane in
     # the middle, the blue far one around it.
     assert result["shape"][:2] == [120, 160] and os.path.getsize(image) > 0
@@ -127,7 +152,7 @@ def test_wheel_renders_and_writes_an_image_without_debians_libraries(venv, tmp_p
     assert b > 0.1 and b > 2 * r, result["side"]
     # Same pixels as the module built against Debian's libraries.
     env = dict(os.environ, PYTHONPATH=os.path.join(REPO, "build"))
-    reference = subprocess.run(["/usr/bin/python3", str(script), str(tmp_path / "reference.png")], env=env,
+    reference = subprocess.run(["/usr/bin/python3", script, str(tmp_path / "reference.png")], env=env,
                                capture_output=True, text=True, timeout=300, check=True).stdout
     assert json.loads(reference.split("RESULT ", 1)[1])["digest"] == result["digest"]
 
