@@ -505,6 +505,33 @@ def test_geometry_nodes_point_cloud_is_rendered(tmp_path):
     assert is_color(px[CENTRE], RED), px[CENTRE]
 
 
+def test_a_pointcloud_object_is_a_segment_member(tmp_path):
+    """Blender's own PointCloud object (not a mesh) is a member of its
+    collection's segment: made directly where Python can give a PointCloud
+    points (PointCloud.resize, Blender 5.1+), through geometry nodes before."""
+    scene, near, far = helpers.two_planes_scene()
+    old = bpy.data.objects["NearPoints"]
+    if hasattr(bpy.types.PointCloud, "resize"):
+        positions = helpers.grid_points(1.0, 0.05, 2.0).astype(np.float32)
+        cloud = bpy.data.pointclouds.new("NearCloud")
+        cloud.resize(len(positions))
+        cloud.attributes["position"].data.foreach_set("vector", positions.ravel())
+        bpy.data.objects.remove(old)
+        obj = bpy.data.objects.new("NearCloud", cloud)
+        near.objects.link(obj)
+        assert obj.type == 'POINTCLOUD'
+    else:
+        obj = old
+        _mesh_to_points_modifier(obj)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    types = {(o.type, o.name) for o, _m, _owner in sync.visible_instances(depsgraph)}
+    assert ('POINTCLOUD', obj.name) in types, types
+    assert sync.build_scene(depsgraph, 1.0).segment_names == ["Near", "Far"]
+    px, _ = helpers.render_pixels(tmp_path, "pointcloud.png")
+    assert is_color(px[CENTRE], RED), px[CENTRE]
+    assert is_color(px[FAR_ONLY], BLUE), px[FAR_ONLY]
+
+
 def test_passes_written_with_foreach_set(tmp_path):
     helpers.two_planes_scene()
     bpy.context.scene.view_layers[0].use_pass_z = True
