@@ -183,8 +183,6 @@ void Device::thread_main(std::promise<void> ready) {
       const char* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
       if (e && std::strcmp(e, "GL_NV_shader_atomic_int64") == 0) info_.int64_atomics = true;
     }
-    const char* no64 = std::getenv("POINTNPR_DISABLE_INT64_ATOMICS");
-    if (no64 && *no64 && std::string(no64) != "0") info_.int64_atomics = false;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &info_.max_texture_size);
     display_ = display;
     context_ = context;

@@ -104,6 +104,7 @@ struct Settings {
   bool clusters = false;
   float small_cluster = 0.0f, elongation_gain = 0.0f, max_stretch = 1.0f;
   float depth_tolerance = 1.0f;
+  bool avx2 = false;  // the AVX2 lanes (the CPU has them, and the call did not ask for the scalar ones)
   // The brush (brush_texture.glsl): centres on the grid and their column.
   int gaussians = 9;
   float cx[9] = {}, cy[9] = {};
@@ -726,18 +727,10 @@ __attribute__((target("avx2"))) void brush_alphas_avx2(const Settings& s, const 
   }
 }
 
-// POINTNPR_NATIVE_NO_AVX2 (tests): the scalar lanes on any CPU.
-const bool kHasAvx2 = __builtin_cpu_supports("avx2") && !std::getenv("POINTNPR_NATIVE_NO_AVX2");
-
-// A size the tests may lower through the environment variable `name`
-// (within [1, fallback]); else `fallback`.
-uint64_t lowered_by_tests(const char* name, uint64_t fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::clamp<uint64_t>(std::strtoull(v, nullptr, 10), 1, fallback) : fallback;
-}
+const bool kCpuHasAvx2 = __builtin_cpu_supports("avx2");
 
 void brush_alphas(const Settings& s, const Layer& l, const float* u, const float* v, int n, float stop, float* out) {
-  if (kHasAvx2) {
+  if (s.avx2) {
     switch (s.pieces ? s.degree : 0) {
       case 3: return brush_alphas_avx2<3>(s, l, u, v, n, out);
       case 4: return brush_alphas_avx2<4>(s, l, u, v, n, out);
@@ -857,7 +850,7 @@ void shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
   // Room for the candidates, or none kept from here on.
   if (P == Pass::kBoth && !out->full && out->count + size_t(n) > Candidates::kMax) out->full = true;
   const bool record = P == Pass::kBoth && !out->full;
-  if (kHasAvx2) return keep_covering_avx2<P>(sp, f, a1, a2, im, record ? out : nullptr);
+  if (s.avx2) return keep_covering_avx2<P>(sp, f, a1, a2, im, record ? out : nullptr);
   size_t recorded = record ? out->count : 0;
   for (int j = 0; j < n; ++j) {
     const float a = a1[j], b = sp.two ? a2[j] : 0.0f;
@@ -1155,7 +1148,7 @@ __attribute__((target("avx2"), flatten)) void rasterize_avx2(uint32_t place, con
 template <Pass P, bool kOrtho>
 void rasterize(uint32_t place, const Splat& sp, const Settings& s, const Rect& area, const Images& im,
                BlockDepths& blocks, Candidates* out) {
-  if (kHasAvx2) return rasterize_avx2<P, kOrtho>(place, sp, s, area, im, blocks, out);
+  if (s.avx2) return rasterize_avx2<P, kOrtho>(place, sp, s, area, im, blocks, out);
   rasterize_splat<P, kOrtho, false>(place, sp, s, area, im, blocks, out);
 }
 
@@ -1214,7 +1207,7 @@ void blend_candidates(const std::vector<Splat>& splats, const uint32_t* list, si
     if (run_at[place] == c.runs.size()) continue;
     const Candidates::Run& run = c.runs[run_at[place]];
     const Splat& sp = splats[list[place]];
-    if (kHasAvx2) {
+    if (s.avx2) {
       blend_run_avx2(sp, s, im, c, run.begin, run.end);
       continue;
     }
@@ -1285,6 +1278,7 @@ void fit_pieces(Settings& s, double lambda) {
 Settings settings(const MarkContext& ctx, const ParamValues& p) {
   const Camera& cam = *ctx.camera;
   Settings s;
+  s.avx2 = kCpuHasAvx2 && !ctx.native.scalar_lanes;
   const glm::ivec2 frame = frame_size(ctx.targets);
   s.frame = glm::vec2(frame);
   s.origin = ctx.targets.origin;
@@ -1460,7 +1454,7 @@ void blur(const Settings& s, const ParamValues& p, float* color, const float* de
       const float* depth_row = depth + at(0, y);
       for (int x = span.x; x <= span.y;) {
         // Eight at a time where no tap reaches past the row's ends.
-        if (kHasAvx2 && x + 8 <= span.y + 1 && x - radius >= 0 && x + 7 + radius <= size.x - 1) {
+        if (s.avx2 && x + 8 <= span.y + 1 && x - radius >= 0 && x + 7 + radius <= size.x - 1) {
           float* const row_planes[4] = {planes[0] + at(0, y), planes[1] + at(0, y), planes[2] + at(0, y),
                                         planes[3] + at(0, y)};
           blur_x_avx2(taps, color_row, depth_row, x, row_planes);
@@ -1487,7 +1481,7 @@ void blur(const Settings& s, const ParamValues& p, float* color, const float* de
     for (int y = rows.begin(); y < rows.end(); ++y) {
       const glm::ivec2 span = row_span[size_t(y)];
       for (int x = span.x; x <= span.y;) {
-        if (kHasAvx2 && x + 8 <= span.y + 1) {
+        if (s.avx2 && x + 8 <= span.y + 1) {
           blur_y_avx2(taps, color, depth, planes, x, y, size.x, size.y);
           x += 8;
           continue;
@@ -1537,9 +1531,9 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     add(s.tangent_frame), add(s.seed), add(s.two_layers), add(s.clusters), add(p.get_int("cluster_neighbors"));
   }
   // Host data of every chunk, held while drawing. Point frames are kept for
-  // clouds of at most kKeptFramesMax points (POINTNPR_NATIVE_KEPT_FRAMES,
+  // clouds of at most kKeptFramesMax points (NativeLimits::kept_frames_max,
   // tests: fewer); larger ones make them per splat, each frame.
-  static const uint64_t kept_frames_max = lowered_by_tests("POINTNPR_NATIVE_KEPT_FRAMES", kKeptFramesMax);
+  const uint64_t kept_frames_max = NativeLimits::lowered(ctx.native.kept_frames_max, kKeptFramesMax);
   int clouds_with_kept_frames = 0;
   std::vector<Chunk> chunks(ctx.chunks.size());
   std::vector<std::shared_ptr<const void>> held;
@@ -1637,9 +1631,9 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   struct Item {
     uint32_t chunk, begin, end;
   };
-  // POINTNPR_NATIVE_BATCH (tests): fewer splats a batch, so that several
+  // NativeLimits::batch_splats (tests): fewer splats a batch, so that several
   // run the passes apart.
-  static const uint64_t batch_splats = lowered_by_tests("POINTNPR_NATIVE_BATCH", kBatch);
+  const uint64_t batch_splats = NativeLimits::lowered(ctx.native.batch_splats, kBatch);
   std::vector<std::pair<size_t, size_t>> batches;
   for (size_t b = 0; b < chunks.size();) {
     size_t e = b;
@@ -1667,7 +1661,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         const Item& it = items[n];
         const Chunk& c = chunks[it.chunk];
         Splat* out = splats.data() + slot[n];
-        if (kHasAvx2) {
+        if (s.avx2) {
           for (uint32_t j = it.begin; j < it.end; j += 8, out += 8) {
             const int lanes = int(std::min(8u, it.end - j));
             uint32_t index[8];
@@ -1773,9 +1767,9 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       }
     };
     // Bins of kBinSide (BlockDepths, the rows' arrays): wider ones (past
-    // 16384 bins, frames over 67M pixels; POINTNPR_NATIVE_MAX_BINS, tests:
+    // 16384 bins, frames over 67M pixels; NativeLimits::max_bins, tests:
     // past that many) are cut, their lists filtered.
-    static const size_t max_bins = lowered_by_tests("POINTNPR_NATIVE_MAX_BINS", 16384);
+    const size_t max_bins = NativeLimits::lowered(ctx.native.max_bins, 16384);
     for_each_bin_in_order(splats.size(), clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
       if (area.size().x <= kBinSide && area.size().y <= kBinSide) return bin(area, list, n);
       std::vector<uint32_t> part;
@@ -1848,6 +1842,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
     (*ctx.stats)["splats_drawn"] += double(drawn);
     (*ctx.stats)["brush_native_setup_ms"] += setup_ms;
     (*ctx.stats)["brush_native_batches"] += double(batches.size());
+    (*ctx.stats)["brush_native_avx2"] = s.avx2 ? 1.0 : 0.0;
     (*ctx.stats)["brush_native_clouds_with_kept_frames"] += double(clouds_with_kept_frames);
     (*ctx.stats)["brush_native_bins_blended_apart"] += double(bins_blended_apart.load());
     (*ctx.stats)["brush_native_depth_ms"] += ms(t0, t1);

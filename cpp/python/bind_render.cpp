@@ -291,6 +291,30 @@ py::array_t<T> result_view(const std::vector<T>& data, int h, int w, int channel
 
 }  // namespace
 
+// render(native_limits={...}): the native backends' limits for one call
+// (render/native_limits.h), for tests; an unknown key or a negative limit is an error.
+NativeLimits native_limits_from(const py::dict& given) {
+  NativeLimits limits;
+  for (const auto& [key, value] : given) {
+    const std::string name = py::str(key);
+    if (name == "scalar_lanes") {
+      limits.scalar_lanes = value.cast<bool>();
+      continue;
+    }
+    uint64_t* field = name == "kept_frames_max" ? &limits.kept_frames_max
+                      : name == "batch_splats"  ? &limits.batch_splats
+                      : name == "max_bins"      ? &limits.max_bins
+                                                : nullptr;
+    if (!field)
+      throw ParameterError("native_limits: unknown limit '" + name +
+                           "' (scalar_lanes, kept_frames_max, batch_splats, max_bins)");
+    const long long v = value.cast<long long>();
+    if (v < 0) throw ParameterError("native_limits: " + name + " must be 0 (the backend's own) or a count");
+    *field = uint64_t(v);
+  }
+  return limits;
+}
+
 void bind_render(py::module_& m) {
   py::register_exception<RenderCancelled>(m, "RenderCancelled", m.attr("Cancelled").ptr());
 
@@ -496,8 +520,11 @@ void bind_render(py::module_& m) {
       }))
       .def("render", [](Renderer& self, const Scene& scene, const Camera& camera, int width, int height, double time,
                         const py::object& composite, const py::object& background, const py::object& progress,
-                        bool capture_marks, double memory_budget_gb, int tile_size, long long point_budget) {
+                        bool capture_marks, double memory_budget_gb, int tile_size, long long point_budget,
+                        const py::dict& native_limits, bool int64_atomics) {
         RenderSettings s;
+        s.native = native_limits_from(native_limits);
+        s.int64_atomics = int64_atomics;
         if (point_budget < 0)
           throw ParameterError("point_budget must be 0 (every point) or a number of points, got " +
                                std::to_string(point_budget));
@@ -531,7 +558,8 @@ void bind_render(py::module_& m) {
       }, py::arg("scene"), py::arg("camera"), py::arg("width"), py::arg("height"), py::arg("time") = 0.0,
          py::arg("composite") = py::none(), py::arg("background") = std::vector<double>{0, 0, 0, 0},
          py::arg("progress") = py::none(), py::arg("capture_marks") = false, py::arg("memory_budget_gb") = 0.0,
-         py::arg("tile_size") = 0, py::arg("point_budget") = 0)
+         py::arg("tile_size") = 0, py::arg("point_budget") = 0, py::arg("native_limits") = py::dict(),
+         py::arg("int64_atomics") = true)
       .def("cached_clouds", &Renderer::cached_clouds, py::call_guard<py::gil_scoped_release>())
       .def("uploaded_attributes", [](const Renderer& r, const PointCloud& c) {
         return attribute_names(r.uploaded_attributes(c.id()));

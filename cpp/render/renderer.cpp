@@ -228,7 +228,7 @@ struct Renderer::Impl {
     meshes.collect_garbage();
     frame_warnings = FrameWarnings();
     frame = {s.width, s.height};
-    ensure_targets(plan.region_size, gl::Device::instance().info().int64_atomics);
+    ensure_targets(plan.region_size, gl::Device::instance().info().int64_atomics && s.int64_atomics);
     const size_t pixels = size_t(s.width) * size_t(s.height);
     result.width = s.width;
     result.height = s.height;
@@ -449,6 +449,7 @@ struct Renderer::Impl {
     mark.depth_max = std::max(visible.depth_max, visible.depth_min);
     mark.time = s.time;
     mark.segment_seed = uint32_t(index) * 2654435761u;
+    mark.native = s.native;
     mark.stats = &result.stats;
     mark.warnings = &result.warnings;
     mark.capture = s.capture_marks ? &result.marks : nullptr;

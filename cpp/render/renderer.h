@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "render/native_limits.h"
 #include "render/style.h"
 #include "scene/camera.h"
 
@@ -39,6 +40,11 @@ struct RenderSettings {
   // Most points the frame's marks draw (render/point_budget.h: each visible
   // chunk a prefix of its resolution queue, one density on screen); 0 = all.
   uint64_t point_budget = 0;
+  // The native mark backends' limits (render/native_limits.h; tests lower them).
+  NativeLimits native;
+  // 64-bit atomics where the GL device has them (one depth-and-index key a
+  // pixel); false takes the 32-bit two-pass path on any device (tests, GPU checks).
+  bool int64_atomics = true;
   // Called between segments and tiles on the calling thread; returning false cancels.
   std::function<bool(double fraction, const std::string& what)> progress;
 };

@@ -10,7 +10,6 @@ the pixels; the native brush is a fitted exp(-q^lambda / 2) and the
 quad's edges are decided by uv in [0, 1] rather than the GL's fixed-point
 edges, so a splat edge pixel now and then falls to the other splat."""
 import hashlib
-import json
 import os
 import subprocess
 import sys
@@ -104,13 +103,13 @@ print(t._native_digest(pointnpr.Renderer()))
 """
 
 
-def _in_another_process(script, **env):
+def _in_another_process(script):
     """The stdout of `script` run by this Python with the build and this
-    folder on its path (argv[1], argv[2]) and `env` added to the environment."""
+    folder on its path (argv[1], argv[2])."""
     from conftest import BUILD_DIR
     return subprocess.run([sys.executable, "-c", script, os.path.abspath(BUILD_DIR),
                            os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
-                          timeout=600, env=dict(os.environ, **env)).stdout
+                          timeout=600).stdout
 
 
 def _digest(result):
@@ -151,21 +150,30 @@ def test_the_native_path_draws_the_same_bytes_with_one_thread_in_another_process
 def test_the_scalar_lanes_draw_the_avx2_lanes_bytes(renderer):
     """The brush, the rows and their fragments run on AVX2 lanes where the
     CPU has them, else on the compiler's scalar and SSE lanes: the same
-    float operations in the same order, so the same bytes (forced here by
-    POINTNPR_NATIVE_NO_AVX2 in another process)."""
-    script = _THREADS_SCRIPT.replace("os.sched_setaffinity", "0 and os.sched_setaffinity")
-    assert _in_another_process(script, POINTNPR_NATIVE_NO_AVX2="1").strip() == _native_digest(renderer)
+    float operations in the same order, so the same bytes (the scalar lanes
+    forced here by native_limits, in the same renderer)."""
+    cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
+    params = {"rasterizer": "native", "layers": "two", "clusters": True}
+    scalar = _render(renderer, params, cloud, native_limits={"scalar_lanes": True})
+    assert scalar.stats["brush_native_avx2"] == 0
+    lanes = _render(renderer, params, pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud())
+    with open("/proc/cpuinfo") as f:
+        assert lanes.stats["brush_native_avx2"] == (" avx2" in f.read())
+    assert _digest(scalar) == _digest(lanes)
 
 
-def _json_script(function):
-    """A script for _in_another_process() printing, as JSON, what this
-    module's `function` returns for a new renderer."""
-    return "\n".join(["import json, sys", "sys.path.insert(0, sys.argv[1])", "sys.path.insert(0, sys.argv[2])",
-                      "import pointnpr", "import test_marks_brush_splats_native as t",
-                      "print(json.dumps(t.%s(pointnpr.Renderer())))" % function])
+def test_native_limits_are_checked():
+    with pytest.raises(pointnpr.ParameterError, match="unknown limit 'batch'"):
+        _render(pointnpr.Renderer(), {"rasterizer": "native"}, _tiny_cloud(), native_limits={"batch": 3})
+    with pytest.raises(pointnpr.ParameterError, match="max_bins must be 0"):
+        _render(pointnpr.Renderer(), {"rasterizer": "native"}, _tiny_cloud(), native_limits={"max_bins": -1})
 
 
-def _setup_digests(renderer):
+def _tiny_cloud():
+    return pointnpr.PointCloud(np.random.default_rng(0).uniform(-0.5, 0.5, (100, 3)))
+
+
+def _setup_digests(renderer, limits=None):
     """Digests of frames whose splats set up every branch: points without a
     normal (half of them), perspective and orthographic, the queue's order;
     and a wide blur of a view the scan fills past the image's edges."""
@@ -186,7 +194,7 @@ def _setup_digests(renderer):
         common = dict(clip_start=0.1, clip_end=100.0, width=W, height=H)
         cam = (pointnpr.Camera.orthographic(view, ortho_scale=6.0, **common) if camera == "orthographic" else
                pointnpr.Camera.perspective(view, lens=120.0 if camera == "close" else 35.0, **common))
-        r = renderer.render(scene, cam, W, H, background=(1, 1, 1, 0))
+        r = renderer.render(scene, cam, W, H, background=(1, 1, 1, 0), native_limits=limits or {})
         covered = np.asarray(r.color)[..., 3] > 0
         assert covered.mean() > 0.2
         if camera == "close":  # (the blur's taps reach past the image's edges)
@@ -200,10 +208,10 @@ def test_the_scalar_setup_and_blur_make_the_avx2_bytes(renderer):
     (setup_avx2, blur_x_avx2, blur_y_avx2) where the CPU has them, else one
     by one: the same bytes, also for points without a normal, orthographic
     views, the queue's order and a blur at the image's edges."""
-    assert json.loads(_in_another_process(_json_script("_setup_digests"), POINTNPR_NATIVE_NO_AVX2="1")) == _setup_digests(renderer)
+    assert _setup_digests(renderer, {"scalar_lanes": True}) == _setup_digests(renderer)
 
 
-def _passes(renderer):
+def _passes(renderer, limits=None):
     """Digests and pass statistics of frames whose bins fit their candidates,
     and of one (big splats on a small frame) where some bins hold more."""
     cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
@@ -215,9 +223,9 @@ def _passes(renderer):
             scene.add_segment("scan", pointnpr.Style(mark=("brush_splats", params)), [(cloud, np.eye(4))])
             cam = pointnpr.Camera.orthographic(pointnpr.look_at((2.6, -1.6, 1.5), (-2.9, 3.9, -1.2)), ortho_scale=4.0,
                                                clip_start=0.1, clip_end=100.0, width=W, height=H)
-            r = renderer.render(scene, cam, W, H, background=(1, 1, 1, 0))
+            r = renderer.render(scene, cam, W, H, background=(1, 1, 1, 0), native_limits=limits or {})
         else:
-            r = _render(renderer, params, cloud)
+            r = _render(renderer, params, cloud, native_limits=limits or {})
         out.append({"digest": _digest(r),
                     "batches": r.stats["brush_native_batches"],
                     "kept frames": r.stats["brush_native_clouds_with_kept_frames"],
@@ -229,9 +237,9 @@ def test_one_pass_with_candidates_draws_the_two_passes_bytes(renderer):
     """With one batch of splats, each bin's depth pass keeps the fragments
     near its surface, with their brush, and blends those that stay near the
     final surface; a bin with more than its bound of them, and frames of
-    several batches (forced here by POINTNPR_NATIVE_BATCH in another
-    process), run the blend pass apart: the same bytes either way."""
-    apart = json.loads(_in_another_process(_json_script("_passes"), POINTNPR_NATIVE_BATCH="50000"))
+    several batches (forced here by native_limits' batch_splats), run the
+    blend pass apart: the same bytes either way."""
+    apart = _passes(renderer, {"batch_splats": 50000})
     merged = _passes(renderer)
     assert [f["batches"] for f in merged] == [1, 1, 1] and all(f["batches"] > 1 for f in apart)
     assert merged[0]["apart"] == 0 and merged[1]["apart"] > 0 and merged[2]["apart"] > 0
@@ -241,8 +249,8 @@ def test_one_pass_with_candidates_draws_the_two_passes_bytes(renderer):
 def test_clouds_too_large_to_keep_their_point_frames_make_them_per_splat_to_the_same_bytes(renderer):
     """Point frames are kept for clouds of up to 4M points (60 bytes each);
     a larger cloud makes them per splat in every frame: forced here for the
-    lion by POINTNPR_NATIVE_KEPT_FRAMES=1 in another process."""
-    made = json.loads(_in_another_process(_json_script("_passes"), POINTNPR_NATIVE_KEPT_FRAMES="1"))
+    lion by native_limits' kept_frames_max = 1."""
+    made = _passes(renderer, {"kept_frames_max": 1})
     kept = _passes(renderer)
     assert [f["kept frames"] for f in kept] == [1, 1, 1] and [f["kept frames"] for f in made] == [0, 0, 0]
     assert [f["digest"] for f in made] == [f["digest"] for f in kept]
@@ -252,7 +260,7 @@ def test_bins_wider_than_their_side_are_cut_to_the_same_bytes(renderer):
     """Past 16384 bins (frames over 67M pixels) the screen bins grow wider
     than the 64 pixels the passes' arrays hold, and each is cut into 64-pixel
     parts with the splats that reach them: forced here at 320 x 224 by
-    POINTNPR_NATIVE_MAX_BINS=2 in another process (two bins, 256 and 64
-    pixels wide, 224 high), the bytes of 64-pixel bins."""
-    cut = json.loads(_in_another_process(_json_script("_passes"), POINTNPR_NATIVE_MAX_BINS="2"))
+    native_limits' max_bins = 2 (two bins, 256 and 64 pixels wide, 224
+    high), the bytes of 64-pixel bins."""
+    cut = _passes(renderer, {"max_bins": 2})
     assert [f["digest"] for f in cut] == [f["digest"] for f in _passes(renderer)]
