@@ -43,7 +43,7 @@ synced = sync.build_scene(depsgraph, engine.scene_frame(scene))
 t_sync = time.perf_counter() - t0
 composite = sync.scene_settings(scene)
 result = engine.renderer().render(synced.scene, camera, width, height, time=engine.scene_time(scene),
-                                  composite=composite, background=engine.background(scene))
+                                  composite=composite, background=engine.background(scene), stage_timings=True)
 print(f"first frame (uploads, shader compiles): {cold * 1000:.0f} ms")
 print(f"warm frames: median {statistics.median(warm) * 1000:.0f} ms, min {min(warm) * 1000:.0f} ms "
       f"over {len(warm)} frames (bpy.ops.render.render: sync + core + passes)")

@@ -43,7 +43,7 @@ def camera(w, h):
 def render(renderer, style, cloud, w, h, background=(1, 1, 1, 1)):
     scene = pointnpr.Scene()
     scene.add_segment("scan", style, [(cloud, np.eye(4))])
-    return renderer.render(scene, camera(w, h), w, h, background=background)
+    return renderer.render(scene, camera(w, h), w, h, background=background, stage_timings=True)
 
 
 STYLES = {"points": pointnpr.Style(mark=("points", {"point_size": 2.0})),

@@ -94,7 +94,7 @@ def main():
         for _ in range(FRAMES):
             for name, scene in scenes.items():
                 t0 = time.perf_counter()
-                r = renderer.render(scene, camera, W, H)
+                r = renderer.render(scene, camera, W, H, stage_timings=True)
                 times[name].append(1000 * (time.perf_counter() - t0))
                 mark_ms[name].append(r.stats["mark_ms"])
                 strokes[name] = int(r.stats.get("strokes_drawn", r.stats.get("stipples_drawn",

@@ -77,7 +77,7 @@ def main():
     marks = {name: [] for name, _s in cases}
     stats = {}
     for name, s in cases:  # warm-up: uploads, shader compiles, sampling
-        r = renderer.render(s, camera, W, H)
+        r = renderer.render(s, camera, W, H, stage_timings=True)
         if len(sys.argv) > 2 and name == cases[2][0]:  # a picture of the composition
             pointnpr.save_image(sys.argv[2], np.ascontiguousarray(np.asarray(r.color)[..., :3]), srgb=True)
         stats[name] = (r.stats.get("triangles_drawn", 0), r.stats.get("points_drawn", 0),
@@ -85,7 +85,7 @@ def main():
     for _ in range(FRAMES):
         for name, s in cases:
             t0 = time.perf_counter()
-            r = renderer.render(s, camera, W, H)
+            r = renderer.render(s, camera, W, H, stage_timings=True)
             times[name].append((time.perf_counter() - t0) * 1000.0)
             marks[name].append(r.stats["mark_ms"])
     base = np.median(times["lion alone"])

@@ -67,6 +67,7 @@ const Terrain& terrain() {
 
 RenderSettings frame_settings() {
   RenderSettings s;
+  s.stage_timings = true;  // mark_ms holds the GPU's work
   s.width = kWidth;
   s.height = kHeight;
   return s;

@@ -58,6 +58,7 @@ enum class RasterizerKind { Compute = 0, GlPoints = 1, Native = 2 };
 
 RenderSettings frame_settings(const char* mode) {
   RenderSettings s;
+  s.stage_timings = true;  // the stages' *_ms hold the GPU's work
   s.width = 1920;
   s.height = 1080;
   const auto& items = composite_schema().params[0].items;

@@ -19,7 +19,7 @@ for cname, cloud, cam in bm.clouds():
     t = {n: [] for n in styles}; m = {n: [] for n in styles}; c = {n: [] for n in styles}
     for _ in range(3):
         for n, sc in scenes.items():
-            c0 = time.process_time(); t0 = time.perf_counter(); res = r.render(sc, cam, bm.W, bm.H)
+            c0 = time.process_time(); t0 = time.perf_counter(); res = r.render(sc, cam, bm.W, bm.H, stage_timings=True)
             t[n].append(1000*(time.perf_counter()-t0)); c[n].append(1000*(time.process_time()-c0)); m[n].append(res.stats["mark_ms"])
     base = np.median(t["points"])
     for n in styles:

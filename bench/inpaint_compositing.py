@@ -78,7 +78,7 @@ def render(renderer, clouds, cam, splat, filters, mode, inpaint):
         style = pointnpr.Style(mark=("points", {"point_size": splat}), filters=filters, inpaint=inpaint or None)
         scene.add_segment("AB"[k], style, [c])
     t0 = time.perf_counter()
-    r = renderer.render(scene, cam, W, H, composite={"mode": mode})
+    r = renderer.render(scene, cam, W, H, composite={"mode": mode}, stage_timings=True)
     return np.asarray(r.segment_index).copy(), (time.perf_counter() - t0) * 1000, r.stats.get("inpaint_ms", 0.0)
 
 

@@ -36,7 +36,7 @@ def main():
             runs = []
             for _ in range(3):
                 t = time.perf_counter()
-                res = renderer.render(scene, cam, W, H, tile_size=size)
+                res = renderer.render(scene, cam, W, H, tile_size=size, stage_timings=True)
                 runs.append((time.perf_counter() - t, res.stats["mark_ms"], res))
             runs.sort(key=lambda r: r[0])
             results[size] = runs[1]

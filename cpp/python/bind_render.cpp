@@ -521,8 +521,9 @@ void bind_render(py::module_& m) {
       .def("render", [](Renderer& self, const Scene& scene, const Camera& camera, int width, int height, double time,
                         const py::object& composite, const py::object& background, const py::object& progress,
                         bool capture_marks, double memory_budget_gb, int tile_size, long long point_budget,
-                        const py::dict& native_limits, bool int64_atomics) {
+                        const py::dict& native_limits, bool int64_atomics, bool stage_timings) {
         RenderSettings s;
+        s.stage_timings = stage_timings;
         s.native = native_limits_from(native_limits);
         s.int64_atomics = int64_atomics;
         if (point_budget < 0)
@@ -559,7 +560,7 @@ void bind_render(py::module_& m) {
          py::arg("composite") = py::none(), py::arg("background") = std::vector<double>{0, 0, 0, 0},
          py::arg("progress") = py::none(), py::arg("capture_marks") = false, py::arg("memory_budget_gb") = 0.0,
          py::arg("tile_size") = 0, py::arg("point_budget") = 0, py::arg("native_limits") = py::dict(),
-         py::arg("int64_atomics") = true)
+         py::arg("int64_atomics") = true, py::arg("stage_timings") = false)
       .def("cached_clouds", &Renderer::cached_clouds, py::call_guard<py::gil_scoped_release>())
       .def("uploaded_attributes", [](const Renderer& r, const PointCloud& c) {
         return attribute_names(r.uploaded_attributes(c.id()));

@@ -45,6 +45,10 @@ struct RenderSettings {
   // 64-bit atomics where the GL device has them (one depth-and-index key a
   // pixel); false takes the 32-bit two-pass path on any device (tests, GPU checks).
   bool int64_atomics = true;
+  // Stage times that include the GPU's work: the renderer waits for the GPU
+  // (glFinish) after each stage (benchmarks). Off, nothing stalls the GPU
+  // between stages and a stage's time is what it took on the CPU.
+  bool stage_timings = false;
   // Called between segments and tiles on the calling thread; returning false cancels.
   std::function<bool(double fraction, const std::string& what)> progress;
 };
