@@ -43,8 +43,8 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
-#include "gl/device.h"
 #include "marks/brush_splats.h"
+#include "render/backend.h"
 #include "marks/points.h"
 #include "render/exact_raster.h"
 #include "render/ink_layer.h"
@@ -112,16 +112,13 @@ class BrushSplats final : public Mark {
   bool draw_gl(const MarkContext& ctx, const ParamValues& p) const;
   void capture_splats(const MarkContext& ctx, const ParamValues& p) const;
 
-  // auto: the native passes where GL itself runs on the CPU (llvmpipe),
-  // for blur and none; the A-buffer's lists are GL's on every device.
+  // auto (render/backend.h): the native passes on a software GL, for blur
+  // and none; the A-buffer's lists are GL's on every device.
   static bool native(const ParamValues& p) {
     return p.get_enum_name("blending") != "a_buffer" && native_blur(p);
   }
   // Whether blur blends natively: also an A-buffer's fallback over its budget.
-  static bool native_blur(const ParamValues& p) {
-    const std::string r = p.get_enum_name("rasterizer");
-    return r == "native" || (r == "auto" && gl::Device::instance().info().software);
-  }
+  static bool native_blur(const ParamValues& p) { return chosen_backend(p) == Backend::Native; }
 };
 
 // Whether the splats take the exact path: every tile of a frame drawn in

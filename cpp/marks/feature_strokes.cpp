@@ -39,8 +39,8 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "geometry/analysis.h"
-#include "gl/device.h"
 #include "marks/feature_strokes.h"
+#include "render/backend.h"
 #include "render/exact_raster.h"
 #include "render/image_textures.h"
 #include "render/mark.h"
@@ -99,11 +99,8 @@ class FeatureStrokes final : public Mark {
   // the extent is the whole reach.
   bool draws_tiles(const ParamValues&) const override { return true; }
 
-  // auto: the native passes where GL itself runs on the CPU (llvmpipe).
-  static bool native(const ParamValues& p) {
-    const std::string r = p.get_enum_name("rasterizer");
-    return r == "native" || (r == "auto" && gl::Device::instance().info().software);
-  }
+  // auto (render/backend.h): the native passes on a software GL, GL on a GPU.
+  static bool native(const ParamValues& p) { return chosen_backend(p) == Backend::Native; }
 
  private:
   float median_resolution(const VisibleChunk& v) const;

@@ -4,12 +4,12 @@
 // conventional GL_POINTS (the reference and benchmark baseline). Optional
 // diffuse shading by per-point normals.
 #include "marks/points.h"
+#include "render/backend.h"
 
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
-#include "gl/device.h"
 #include "render/exact_raster.h"
 #include "scene/camera.h"
 
@@ -86,12 +86,11 @@ class Points final : public Mark {
   }
 
  private:
-  // auto: the native rasterizer where GL itself runs on the CPU (llvmpipe),
-  // the compute one on a GPU.
+  // auto (render/backend.h): native on a software GL, else GL's compute rasterizer.
   static std::string resolved_rasterizer(const ParamValues& p) {
+    if (chosen_backend(p) == Backend::Native) return "native";
     const std::string r = p.get_enum_name("rasterizer");
-    if (r != "auto") return r;
-    return gl::Device::instance().info().software ? "native" : "compute";
+    return r == "auto" ? "compute" : r;
   }
 };
 

@@ -33,8 +33,8 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
-#include "gl/device.h"
 #include "marks/stipples.h"
+#include "render/backend.h"
 #include "render/box_projection.h"
 #include "scene/camera.h"
 
@@ -79,12 +79,8 @@ class Stipples final : public Mark {
   }
 
  private:
-  // auto: the native passes where GL itself runs on the CPU (llvmpipe), GL on a GPU.
-  static bool native(const ParamValues& p) {
-    const std::string i = p.get_enum_name("implementation");
-    if (i != "auto") return i == "native";
-    return gl::Device::instance().info().software;
-  }
+  // auto (render/backend.h): the native passes on a software GL, GL on a GPU.
+  static bool native(const ParamValues& p) { return chosen_backend(p, "implementation") == Backend::Native; }
 };
 
 // Texels floor(x * factor) of the frame pixels [r.min, r.max), within the
