@@ -48,6 +48,7 @@
 #include <Eigen/Dense>
 #include <immintrin.h>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
@@ -1222,16 +1223,36 @@ void blend_candidates(const std::vector<Splat>& splats, const uint32_t* list, si
   }
 }
 
-// The host images of the last frames, kept so a frame does not page-fault
-// them in anew (bounded by the largest clip, a tile's region at most).
-// Only the GL thread draws.
+// A TBB worker's scratch for the bins it draws: their keys in list and
+// depth order, and the fragments a bin's depth pass keeps for its blend.
+struct BinScratch {
+  std::vector<uint64_t> near, sort_scratch;
+  std::vector<SplatKey> listed, sorted;
+  Candidates candidates;
+  size_t bytes() const {
+    return held_bytes(near) + held_bytes(sort_scratch) + held_bytes(listed) + held_bytes(sorted) +
+           5 * (Candidates::kMax + 8) * sizeof(float) + held_bytes(candidates.runs) +
+           held_bytes(candidates.run_at);
+  }
+};
+
+// The host images of the last frames and the workers' scratch, kept by the
+// renderer (HostScratch) so a frame does not page-fault them in anew
+// (bounded by the largest clip, a tile's region at most).
 struct HostImages {
   std::vector<float> surface, accum, reveal, sums, color;
   std::vector<Splat> splats;  // a batch's (at most kBatch)
   std::vector<SplatKey> keys;  // theirs
+  tbb::enumerable_thread_specific<BinScratch> bins;
+  size_t bytes() const {
+    size_t n = held_bytes(surface) + held_bytes(accum) + held_bytes(reveal) + held_bytes(sums) +
+               held_bytes(color) + held_bytes(splats) + held_bytes(keys);
+    for (const BinScratch& b : bins) n += b.bytes();
+    return n;
+  }
 };
-HostImages& host_images(size_t pixels) {
-  thread_local HostImages images;
+HostImages& host_images(HostScratch& host, size_t pixels) {
+  HostImages& images = host.get<HostImages>();
   if (images.surface.size() < pixels + 8) {
     images.surface.resize(pixels + 8);  // slack for the row loop's last lanes
     images.accum.resize(4 * pixels);
@@ -1617,7 +1638,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   const auto t0 = Clock::now();
   const glm::ivec2 size = clip.size();
   const size_t pixels = size_t(size.x) * size_t(size.y);
-  HostImages& host = host_images(pixels);
+  HostImages& host = host_images(*ctx.host, pixels);
   const Images im{host.surface.data(), host.accum.data(), host.reveal.data(), size.x, clip.min};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
     std::fill(im.surface + r.begin(), im.surface + r.end(), kInf);
@@ -1708,8 +1729,11 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       // the nearest depth (positive, beyond the near plane: its bits sort
       // as it) over the place in the list (in point order), read in point
       // order, not through the splats.
-      thread_local std::vector<uint64_t> near, sort_scratch;
-      thread_local std::vector<SplatKey> listed, sorted;  // the bin's keys in list, then depth order
+      BinScratch& scratch = host.bins.local();
+      std::vector<uint64_t>& near = scratch.near;
+      std::vector<uint64_t>& sort_scratch = scratch.sort_scratch;
+      std::vector<SplatKey>& listed = scratch.listed;  // the bin's keys in list order,
+      std::vector<SplatKey>& sorted = scratch.sorted;  // then in depth order
       near.resize(n);
       listed.resize(n);
       float max_offset = 0.0f;
@@ -1723,7 +1747,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       // the loop below reads them in turn.
       sorted.resize(n);
       for (size_t j = 0; j < n; ++j) sorted[j] = listed[uint32_t(near[j])];
-      thread_local Candidates candidates;
+      Candidates& candidates = scratch.candidates;
       candidates.clear();
       // Once the splats since cover the bin's area (so the scan costs at
       // most what they did), the bin's farthest surface: every later splat

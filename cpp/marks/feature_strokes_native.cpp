@@ -498,15 +498,16 @@ void rasterize(const Prim& p, const Rect& area, const Frame& f, const FeatureStr
   }
 }
 
-// The host images of the last frames, kept so a frame does not page-fault
-// them in anew (bounded by the largest clip, a tile's region at most).
-// Only the GL thread draws.
+// The host images of the last frames, kept by the renderer (HostScratch) so
+// a frame does not page-fault them in anew (bounded by the largest clip, a
+// tile's region at most).
 struct HostImages {
   std::vector<uint64_t> keys;
   std::vector<float> accum, reveal, depth;
+  size_t bytes() const { return held_bytes(keys) + held_bytes(accum) + held_bytes(reveal) + held_bytes(depth); }
 };
-HostImages& host_images(size_t pixels) {
-  thread_local HostImages images;
+HostImages& host_images(HostScratch& host, size_t pixels) {
+  HostImages& images = host.get<HostImages>();
   if (images.keys.size() < pixels) {
     images.keys.resize(pixels);
     images.accum.resize(4 * pixels);
@@ -618,7 +619,7 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
   const auto t0 = Clock::now();
   const glm::ivec2 size = clip.size();
   const size_t pixels = size_t(size.x) * size_t(size.y);
-  HostImages& host = host_images(pixels);
+  HostImages& host = host_images(*ctx.host, pixels);
   uint64_t* keys = host.keys.data();
   float* accum = host.accum.data();
   float* reveal = host.reveal.data();

@@ -200,15 +200,16 @@ ScatterFn scatter_function(bool world_size, bool ortho, bool queue) {
   return kTable[(world_size ? 4 : 0) + (ortho ? 2 : 0) + (queue ? 1 : 0)];
 }
 
-// The host images of the last frames, kept so that a frame does not
-// page-fault tens of megabytes in anew (bounded by the largest image, a
-// tile's region at most). Only the GL thread draws.
+// The host images of the last frames, kept by the renderer (HostScratch) so
+// that a frame does not page-fault tens of megabytes in anew (bounded by the
+// largest image, a tile's region at most).
 struct HostImages {
   std::vector<uint64_t> keys;
   std::vector<float> rgba, depth;
+  size_t bytes() const { return held_bytes(keys) + held_bytes(rgba) + held_bytes(depth); }
 };
-HostImages& host_images(size_t pixels) {
-  thread_local HostImages images;
+HostImages& host_images(HostScratch& host, size_t pixels) {
+  HostImages& images = host.get<HostImages>();
   if (images.keys.size() < pixels) {
     images.keys.resize(pixels);
     images.rgba.resize(4 * pixels);
@@ -312,7 +313,7 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
   // many small ones) still spreads over the threads.
   const glm::ivec2 size = clip.size();
   const size_t pixels = size_t(size.x) * size_t(size.y);
-  HostImages& host = host_images(pixels);
+  HostImages& host = host_images(*ctx.host, pixels);
   uint64_t* keys = host.keys.data();
   float* rgba = host.rgba.data();
   float* depth = host.depth.data();

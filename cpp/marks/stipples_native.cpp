@@ -125,9 +125,9 @@ struct Pt {
   bool in_depth;     // within the clip depths
 };
 
-// The host images of the last frames, kept so that a frame does not page in
-// tens of megabytes anew (bounded by the largest window and clip). Only the
-// GL thread draws.
+// The host images of the last frames, kept by the renderer (HostScratch) so
+// that a frame does not page in tens of megabytes anew (bounded by the
+// largest window and clip).
 struct HostBuffers {
   std::vector<uint32_t> hp, tmp, surface, dot_cov, dot_depth, quad, light_count;
   // Per point of the window's pass: its texel (or kOutside) and depth bits
@@ -135,11 +135,13 @@ struct HostBuffers {
   std::vector<uint32_t> point_texel, point_depth;
   std::vector<float> point_spec;
   std::vector<float> rgba, depth;
+  size_t bytes() const {
+    size_t n = 0;
+    for (const auto* v : {&hp, &tmp, &surface, &dot_cov, &dot_depth, &quad, &light_count, &point_texel, &point_depth})
+      n += held_bytes(*v);
+    return n + held_bytes(point_spec) + held_bytes(rgba) + held_bytes(depth);
+  }
 };
-HostBuffers& host_buffers() {
-  thread_local HostBuffers buffers;
-  return buffers;
-}
 template <class T>
 T* sized(std::vector<T>& v, size_t n) {
   if (v.size() < n) v.resize(n);
@@ -167,7 +169,7 @@ class PassTimer {
 class NativeStipplePasses final : public StipplePasses {
  public:
   NativeStipplePasses(const MarkContext& ctx, const StippleSetup& s)
-      : ctx_(ctx), s_(s), host_(host_buffers()) {
+      : ctx_(ctx), s_(s), host_(ctx.host->get<HostBuffers>()) {
     quad_ = sized(host_.quad, s.quad_n());
     fill(quad_, s.quad_n(), 0xffffffffu);
     light_count_ = sized(host_.light_count, s.light_n());

@@ -26,6 +26,7 @@
 #include "render/filter.h"  // Rect
 #include "render/gpu_cloud.h"
 #include "render/gpu_mesh.h"
+#include "render/host_scratch.h"
 #include "render/native_limits.h"
 #include "render/registry.h"
 
@@ -158,6 +159,7 @@ struct MarkContext {
   double time = 0.0;
   uint32_t segment_seed = 0;
   NativeLimits native;  // RenderSettings::native: the native backends' limits for this call
+  HostScratch* host = nullptr;  // the renderer's: what native backends keep between frames
   std::map<std::string, double>* stats = nullptr;
   std::vector<std::string>* warnings = nullptr;
   std::vector<CapturedMark>* capture = nullptr;  // null unless asked

@@ -144,6 +144,7 @@ struct Renderer::Impl {
   GpuMeshCache meshes;
   FrameTargets targets;
   std::map<int, ScratchBuffer> mark_buffers;
+  HostScratch host;  // the native marks' images and scratch, kept between frames
   // The frame being drawn: its size, and the tile whose region the images
   // hold (frame pixels [origin, origin + targets.size)).
   glm::ivec2 frame{0, 0};
@@ -456,6 +457,7 @@ struct Renderer::Impl {
     mark.time = s.time;
     mark.segment_seed = uint32_t(index) * 2654435761u;
     mark.native = s.native;
+    mark.host = &host;
     mark.stats = &result.stats;
     mark.warnings = &result.warnings;
     mark.capture = s.capture_marks ? &result.marks : nullptr;
@@ -575,6 +577,9 @@ struct Renderer::Impl {
 
   void finish(const RenderSettings& s, RenderResult& result) {
     auto t0 = Clock::now();
+    // Kept for the next frame within the memory budget, else given back.
+    if (host.bytes() > (s.memory_budget > 0 ? s.memory_budget : kDefaultMemoryBudget)) host.release();
+    result.stats["host_kept_mb"] = double(host.bytes()) / double(1 << 20);
     frame_warnings.report(result.warnings);
     pixel_origin() = glm::ivec2(0);
     origin = glm::ivec2(0);
