@@ -61,7 +61,8 @@ bpy_suite() {
     [[ -x $python ]] || { echo "$python missing: run scripts/install_deps.sh --tests"; return 1; }
   else
     python=/opt/venv-bpy-$line/bin/python
-    [[ -x build/debian13-root$python ]] || { echo "$python missing in the Debian 13 root"; return 1; }
+    # (its python is a link to the root's /usr/bin/python3.13: only valid in the root)
+    [[ -f build/debian13-root/opt/venv-bpy-$line/.pins ]] || { echo "$python missing in the Debian 13 root"; return 1; }
     launch=(bash scripts/debian13_root.sh run)
   fi
   "${launch[@]}" "$python" tests/blender/run.py --extension "$root/$zip" -- "$root/build" -q >"$log" 2>&1
