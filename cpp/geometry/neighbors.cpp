@@ -11,20 +11,16 @@
 #include <mutex>
 #include <optional>
 #include <nanoflann.hpp>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include "core/error.h"
 #include "core/morton.h"
 #include "core/progress.h"
+#include "geometry/neighbor_distances.h"
 
 namespace pointnpr::geometry {
 
 namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
-// Set bits of 0..15 (std::popcount is a library call without -mpopcnt).
-constexpr uint8_t kBitCount[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
 
 struct Adaptor {
   const std::vector<glm::vec3>* pts;
@@ -357,28 +353,8 @@ class GridKnn {
   // number below each of three squared limits (the padding never counts).
   void distances(const glm::vec3& p, const std::array<float, 3>& limit2, std::array<size_t, 3>& below,
                  Scratch& scratch) const {
-    const float *x = scratch.x.data(), *y = scratch.y.data(), *z = scratch.z.data();
-    float* d2 = scratch.d2.data();
-    below = {0, 0, 0};
-#if defined(__SSE2__)
-    const __m128 px = _mm_set1_ps(p.x), py = _mm_set1_ps(p.y), pz = _mm_set1_ps(p.z);
-    const __m128 l0 = _mm_set1_ps(limit2[0]), l1 = _mm_set1_ps(limit2[1]), l2 = _mm_set1_ps(limit2[2]);
-    for (size_t j = 0; j < scratch.padded; j += 4) {
-      const __m128 dx = _mm_sub_ps(px, _mm_loadu_ps(x + j)), dy = _mm_sub_ps(py, _mm_loadu_ps(y + j)),
-                   dz = _mm_sub_ps(pz, _mm_loadu_ps(z + j));
-      const __m128 d = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
-      _mm_storeu_ps(d2 + j, d);
-      below[0] += kBitCount[_mm_movemask_ps(_mm_cmplt_ps(d, l0))];
-      below[1] += kBitCount[_mm_movemask_ps(_mm_cmplt_ps(d, l1))];
-      below[2] += kBitCount[_mm_movemask_ps(_mm_cmplt_ps(d, l2))];
-    }
-#else
-    for (size_t j = 0; j < scratch.padded; ++j) {
-      const float dx = p.x - x[j], dy = p.y - y[j], dz = p.z - z[j];
-      d2[j] = dx * dx + dy * dy + dz * dz;
-      for (size_t t = 0; t < 3; ++t) below[t] += d2[j] < limit2[t] ? 1 : 0;
-    }
-#endif
+    squared_distances(scratch.x.data(), scratch.y.data(), scratch.z.data(), scratch.padded, {p.x, p.y, p.z}, limit2,
+                      scratch.d2.data(), below);
   }
 
   // Keys of the candidates with d2 below limit2 into scratch.keys; returns
