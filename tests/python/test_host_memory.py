@@ -46,7 +46,9 @@ def test_host_memory_is_kept_counted_flat_and_given_back(scene):
     warm = _rss_mb()
     for _ in range(100):
         r = renderer.render(scene, camera, W, H)
-        assert r.stats["host_kept_mb"] == kept
+        # (A worker's bin lists grow to the largest bin it has drawn: which
+        # bins a worker draws changes from frame to frame.)
+        assert kept <= r.stats["host_kept_mb"] < kept + 8, (kept, r.stats["host_kept_mb"])
     # Flat: no frame adds to what the first ones kept (a little allocator noise).
     assert _rss_mb() - warm < 8, (warm, _rss_mb())
     # A frame past its memory budget gives it back at its end.
