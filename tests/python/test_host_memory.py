@@ -49,8 +49,11 @@ def test_host_memory_is_kept_counted_flat_and_given_back(scene):
         # (A worker's bin lists grow to the largest bin it has drawn: which
         # bins a worker draws changes from frame to frame.)
         assert kept <= r.stats["host_kept_mb"] < kept + 8, (kept, r.stats["host_kept_mb"])
-    # Flat: no frame adds to what the first ones kept (a little allocator noise).
-    assert _rss_mb() - warm < 8, (warm, _rss_mb())
+    # Flat: no frame leaks a frame-sized buffer (the brush's images alone are
+    # 13 MB here). Not to the byte: a worker's candidate arrays (20 MiB,
+    # counted in full) are paged in as it first meets a bin that needs them,
+    # and which bins a worker draws changes from frame to frame.
+    assert _rss_mb() - warm < 0.25 * kept, (warm, _rss_mb(), kept)
     # A frame past its memory budget gives it back at its end.
     small = renderer.render(scene, camera, W, H, memory_budget_gb=kept / 2 / 1024)
     assert small.stats["host_kept_mb"] == 0
