@@ -50,8 +50,8 @@ sys.exit(m.version('bpy') != '$pin' or m.version('numpy') != '1.26.4' or m.versi
       continue
     fi
     echo "install_deps: $venv (bpy $pin from PyPI)"
-    /usr/bin/python3 -m venv "$venv"
-    "$venv/bin/python" -m pip install -q "bpy==$pin" numpy==1.26.4 pytest==8.3.4
+    /usr/bin/python3 -m venv "$venv" </dev/null
+    "$venv/bin/python" -m pip install -q "bpy==$pin" numpy==1.26.4 pytest==8.3.4 </dev/null
   done < <(grep -v '^#' tests/blender/versions.txt)
 }
 

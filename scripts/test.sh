@@ -38,7 +38,9 @@ versions() { grep -v '^#' tests/blender/versions.txt | awk -v how="$1" 'NF && $4
 debian13_setup() {
   bash scripts/debian13_root.sh make || return 1
   local line pin
-  while read -r line pin; do bash scripts/debian13_root.sh venv "$line" "${pin#bpy==}" || return 1; done < <(versions debian13)
+  while read -r line pin; do
+    bash scripts/debian13_root.sh venv "$line" "${pin#bpy==}" </dev/null || return 1
+  done < <(versions debian13)
 }
 run "Debian 13 root and its bpy venvs (scripts/debian13_root.sh)" debian13_setup
 # The self-contained wheels (cp311, cp313) and the extension zip (auditwheel
@@ -73,10 +75,11 @@ bpy_suite() {
   return $code
 }
 while read -r line pin; do
-  run "Blender tests (bpy ${pin#bpy==} from PyPI, extension installed)" bpy_suite "$line" host
+  # (stdin from /dev/null: nothing the suite runs may eat the loop's lines)
+  run "Blender tests (bpy ${pin#bpy==} from PyPI, extension installed)" bpy_suite "$line" host </dev/null
 done < <(versions host | grep -v ' debian$')
 while read -r line pin; do
-  run "Blender tests (bpy ${pin#bpy==} from PyPI in the Debian 13 root, extension installed)" bpy_suite "$line" debian13
+  run "Blender tests (bpy ${pin#bpy==} from PyPI in the Debian 13 root, extension installed)" bpy_suite "$line" debian13 </dev/null
 done < <(versions debian13)
 if [[ -f tests/viewport/viewport_test.py ]]; then
   run "Viewport test (Xvfb)" xvfb-run -a -s "-screen 0 1280x800x24" \
