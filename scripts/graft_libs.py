@@ -11,7 +11,6 @@ and points every library needing them at the copies.
 
     python scripts/graft_libs.py <repaired wheel>     (patchelf on PATH)
 """
-import base64
 import hashlib
 import json
 import os
@@ -23,6 +22,9 @@ import tempfile
 import zipfile
 
 import auditwheel
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pack_wheel import record_line  # noqa: E402
 
 # Vendored although the policy admits them: no Blender needs glib.
 GRAFTED = {"libglib-2.0.so.0", "libgobject-2.0.so.0", "libgthread-2.0.so.0", "libgmodule-2.0.so.0"}
@@ -89,12 +91,7 @@ def graft(tree, base):
     for path, names in needed.items():
         for name in sorted(names & set(renamed)):
             patchelf("--replace-needed", name, renamed[name], path)
-    return {k: v for k, v in renamed.items()}
-
-
-def record_line(name, data):
-    digest = base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=").decode()
-    return "%s,sha256=%s,%d" % (name, digest, len(data))
+    return renamed
 
 
 def main(wheel):
@@ -102,12 +99,10 @@ def main(wheel):
     with tempfile.TemporaryDirectory() as tree:
         with zipfile.ZipFile(wheel) as z:
             z.extractall(tree)
-            infos = {i.filename: i for i in z.infolist()}
         renamed = graft(tree, manylinux_base(platform))
-        record = next(n for n in infos if n.endswith(".dist-info/RECORD"))
-        names = sorted(set(infos) - {record}
-                       | {os.path.relpath(os.path.join(r, f), tree) for r, _, fs in os.walk(tree) for f in fs})
-        names = [n for n in names if n != record and not n.endswith("/")]
+        files = sorted(os.path.relpath(os.path.join(r, f), tree) for r, _, fs in os.walk(tree) for f in fs)
+        record = next(n for n in files if n.endswith(".dist-info/RECORD"))
+        names = [n for n in files if n != record]
         lines = []
         with zipfile.ZipFile(wheel + ".tmp", "w", zipfile.ZIP_DEFLATED) as out:
             for name in names:

@@ -20,7 +20,7 @@ import zipfile
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 
 
-def _record_line(name, data):
+def record_line(name, data):
     digest = base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=").decode()
     return "%s,sha256=%s,%d" % (name, digest, len(data))
 
@@ -47,7 +47,7 @@ def main(package_dir, out_dir, abi=None):
         def add(arcname, data):
             z.writestr(zipfile.ZipInfo(arcname, date_time=(2026, 1, 1, 0, 0, 0)), data,
                        compress_type=zipfile.ZIP_DEFLATED)
-            records.append(_record_line(arcname, data))
+            records.append(record_line(arcname, data))
 
         for root, dirs, files in os.walk(package_dir):
             dirs[:] = sorted(d for d in dirs if d != "__pycache__")

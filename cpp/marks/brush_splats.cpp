@@ -44,8 +44,8 @@
 
 #include "core/error.h"
 #include "marks/brush_splats.h"
-#include "render/backend.h"
 #include "marks/points.h"
+#include "render/backend.h"
 #include "render/exact_raster.h"
 #include "render/ink_layer.h"
 #include "scene/camera.h"

@@ -4,12 +4,12 @@
 // conventional GL_POINTS (the reference and benchmark baseline). Optional
 // diffuse shading by per-point normals.
 #include "marks/points.h"
-#include "render/backend.h"
 
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
+#include "render/backend.h"
 #include "render/exact_raster.h"
 #include "scene/camera.h"
 

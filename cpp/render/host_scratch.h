@@ -22,7 +22,9 @@ size_t held_bytes(const std::vector<T>& v) {
 class HostScratch {
  public:
   // The kept object of type T, made on first use; T tells its size by
-  // `size_t bytes() const`. Each backend keeps a type of its own.
+  // `size_t bytes() const`. Objects are told apart by type: each backend
+  // keeps a type of its own, declared in its anonymous namespace (two
+  // same-named types with external linkage would share one slot).
   template <class T>
   T& get() {
     std::unique_ptr<Kept>& slot = kept_[std::type_index(typeid(T))];
