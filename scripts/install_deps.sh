@@ -14,6 +14,7 @@ packages=(
 if [[ "${1:-}" == "--tests" ]]; then
   packages+=(libgtest-dev libgmock-dev googletest libbenchmark-dev python3-pytest xvfb xauth glslang-tools)
   packages+=(clang libclang-rt-14-dev)  # scripts/fuzz_smoke.sh (libFuzzer)
+  packages+=(g++-aarch64-linux-gnu)  # scripts/check_aarch64.sh: the core compiles for ARM
   packages+=(debootstrap)  # scripts/debian13_root.sh: the Debian 13 root of the Python 3.13 (Blender 5.1+) suites
   packages+=(python3-venv)  # .venv-test (test oracles), the bpy venvs, the wheel's build tools and clean-venv test
 fi

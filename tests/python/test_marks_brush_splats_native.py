@@ -1,6 +1,6 @@
-"""The brush_splats mark's native path (cpp/marks/brush_splats_native.cpp,
+"""The brush_splats mark's native path (cpp/marks/brush_splats/native*.cpp,
 `rasterizer` native, and auto on software GL for blur and none) against
-its GL passes (cpp/marks/brush_splats.cpp), on the lion at the golden
+its GL passes (cpp/marks/brush_splats/brush_splats.cpp), on the lion at the golden
 camera; its bytes in another process with one thread, and its tiles
 (tests/python/test_marks_brush_splats.py runs the tiled frames on both
 paths, and its other behaviour tests on whatever auto picks).
@@ -147,18 +147,19 @@ def test_the_native_path_draws_the_same_bytes_with_one_thread_in_another_process
     assert _in_another_process(_THREADS_SCRIPT).strip() == _native_digest(renderer)
 
 
-def test_the_scalar_lanes_draw_the_avx2_lanes_bytes(renderer):
-    """The brush, the rows and their fragments run on AVX2 lanes where the
-    CPU has them, else on the compiler's scalar and SSE lanes: the same
-    float operations in the same order, so the same bytes (the scalar lanes
-    forced here by native_limits, in the same renderer)."""
+def test_the_scalar_lanes_draw_the_vector_lanes_bytes(renderer):
+    """The brush, the rows and their fragments run on Highway's widest
+    target the CPU has, one source for every target: the same float
+    operations in the same order, so the same bytes as the scalar target
+    (forced here by native_limits, in the same renderer; tests/cpp runs
+    every target the CPU has)."""
     cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
     params = {"rasterizer": "native", "layers": "two", "clusters": True}
     scalar = _render(renderer, params, cloud, native_limits={"scalar_lanes": True})
-    assert scalar.stats["brush_native_avx2"] == 0
+    assert scalar.stats["brush_native_lanes"] == 1
     lanes = _render(renderer, params, pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud())
     with open("/proc/cpuinfo") as f:
-        assert lanes.stats["brush_native_avx2"] == (" avx2" in f.read())
+        assert lanes.stats["brush_native_lanes"] == (8 if " avx2" in f.read() else 4)
     assert _digest(scalar) == _digest(lanes)
 
 
@@ -203,11 +204,11 @@ def _setup_digests(renderer, limits=None):
     return out
 
 
-def test_the_scalar_setup_and_blur_make_the_avx2_bytes(renderer):
-    """Splats are set up, and the blur runs, eight at a time on AVX2 lanes
-    (setup_avx2, blur_x_avx2, blur_y_avx2) where the CPU has them, else one
-    by one: the same bytes, also for points without a normal, orthographic
-    views, the queue's order and a blur at the image's edges."""
+def test_the_scalar_setup_and_blur_make_the_vector_bytes(renderer):
+    """Splats are set up, and the blur runs, a vector at a time (eight on
+    AVX2) or one by one on the scalar target: the same bytes, also for
+    points without a normal, orthographic views, the queue's order and a
+    blur at the image's edges."""
     assert _setup_digests(renderer, {"scalar_lanes": True}) == _setup_digests(renderer)
 
 

@@ -1,9 +1,10 @@
 #pragma once
-// The brush_splats mark's two paths: its GL passes (marks/brush_splats.cpp,
-// which declares the schema) and the same rules on the CPU's threads
-// (marks/brush_splats_native.cpp), which `rasterizer` `auto` takes on
-// software GL devices (llvmpipe) for blur and none blending; the A-buffer
-// stays on GL (its fallback over the budget, blur, is native there too).
+// The brush_splats mark's two paths: its GL passes (brush_splats.cpp, which
+// declares the schema) and the same rules on the CPU's threads (native.cpp
+// and the Highway kernels it calls, native_kernels.cpp), which `rasterizer`
+// `auto` takes on software GL devices (llvmpipe) for blur and none
+// blending; the A-buffer stays on GL (its fallback over the budget, blur,
+// is native there too).
 #include "render/mark.h"
 
 namespace pointnpr {

@@ -34,7 +34,7 @@
 //    the faster interpolating passes (about 3x faster on a software GL)
 //    unless tile_invariant asks for the exact path for every frame.
 //  - rasterizer native (auto on a software GL, for blur and none): the
-//    exact path's rules on the CPU's threads (brush_splats_native.cpp).
+//    exact path's rules on the CPU's threads (native.cpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -43,7 +43,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
-#include "marks/brush_splats.h"
+#include "marks/brush_splats/brush_splats.h"
 #include "marks/points.h"
 #include "render/backend.h"
 #include "render/exact_raster.h"
