@@ -26,12 +26,13 @@ void BlendRun(const Splat& sp, const Settings& s, const Images& im, const Candid
   const DU du;
   const uint32_t lanes = uint32_t(hn::Lanes(d));
   const VF offset = hn::Set(d, sp.offset);
-  const MF ortho = hn::FirstN(d, s.ortho ? lanes : 0);
+  const VI lane = hn::Iota(di, 0);
+  const MF ortho = FirstLanes(lane, s.ortho ? int(lanes) : 0);
   // (Locals: the blend's stores must not make the compiler fetch them again.)
   const uint32_t* const qs = c.q.get();
   const float *const depths = c.depth.get(), *const lengths = c.length.get(), *const a1 = c.a1.get(), *const a2 = c.a2.get();
   for (uint32_t i = begin; i < end; i += lanes) {
-    const MF live = hn::FirstN(d, end - i);
+    const MF live = FirstLanes(lane, int(end - i));
     // (A lane past the run reads pixel 0's surface.)
     const VI q = hn::BitCast(di, hn::IfThenElseZero(hn::RebindMask(du, live), hn::LoadU(du, qs + i)));
     const VF depth = hn::LoadU(d, depths + i), length = hn::LoadU(d, lengths + i);

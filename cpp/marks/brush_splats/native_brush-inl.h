@@ -39,13 +39,34 @@ HWY_INLINE VI FloorInt(VF v) {
   const VI i = hn::ConvertTo(di, v);
   return hn::Sub(i, hn::IfThenElseZero(hn::RebindMask(di, hn::Gt(hn::ConvertTo(d, i), v)), hn::Set(di, 1)));
 }
-// The lanes of `v` that `m` keeps, packed to the front of p's whole vector
-// (the rest is slack the arrays hold). Compress then a store: AVX-512's
-// compressing store to memory is microcoded, far slower.
+// For each mask of up to 8 lanes, the lanes it keeps in order (then
+// zeros): the permutation that packs them to the front.
+struct PackTable {
+  alignas(32) int32_t lanes[256][8];
+  constexpr PackTable() : lanes{} {
+    for (int m = 0; m < 256; ++m) {
+      int k = 0;
+      for (int i = 0; i < 8; ++i)
+        if (m >> i & 1) lanes[m][k++] = i;
+    }
+  }
+};
+inline constexpr PackTable kPack;
+
+// The lanes of `v` whose bit is set in `bits`, packed to the front of p's
+// whole vector (the rest is slack the arrays hold). A permutation from a
+// static table: Highway 1.0's Compress copies its 1 KiB table to the
+// stack on every call on AVX2, and AVX-512's compressing store to memory
+// is microcoded.
 template <class D>
-HWY_INLINE void StorePacked(D d, hn::Vec<D> v, hn::Mask<D> m, hn::TFromD<D>* p) {
-  hn::StoreU(hn::Compress(v, m), d, p);
+HWY_INLINE void StorePacked(D d, hn::Vec<D> v, unsigned bits, hn::TFromD<D>* p) {
+  const hn::RebindToSigned<D> di;
+  hn::StoreU(hn::TableLookupLanes(v, hn::IndicesFromVec(d, hn::Load(di, kPack.lanes[bits]))), d, p);
 }
+// Lanes [0, n) of `lane` (Iota(di, 0), made once per call: Highway 1.0
+// makes Iota, and FirstN on AVX2, through the stack, a store-forwarding
+// stall each time).
+HWY_INLINE MF FirstLanes(VI lane, int n) { return hn::RebindMask(DF(), hn::Lt(lane, hn::Set(DI(), n))); }
 // The lanes' mask bits (lane i: bit i).
 HWY_INLINE unsigned MaskBits(MF m) {
   uint8_t bits[8] = {};
@@ -107,6 +128,7 @@ struct BlockDepths {
   // kMaxLanes of slack past their end).
   float under_exactly(glm::ivec2 lo, glm::ivec2 hi) const {
     const DF d;
+    const VI lane = hn::Iota(DI(), 0);
     const int lanes = int(hn::Lanes(d));
     lo = glm::max(lo, area.min);
     hi = glm::min(hi, area.max);
@@ -115,7 +137,7 @@ struct BlockDepths {
     for (int y = lo.y; y < hi.y; ++y) {
       const float* line = im->surface + size_t(y - im->min.y) * size_t(im->stride) + size_t(lo.x - im->min.x);
       for (int x = 0; x < hi.x - lo.x; x += lanes)
-        m = hn::Max(m, hn::IfThenElse(hn::FirstN(d, size_t(hi.x - lo.x - x)), hn::LoadU(d, line + x), none));
+        m = hn::Max(m, hn::IfThenElse(FirstLanes(lane, hi.x - lo.x - x), hn::LoadU(d, line + x), none));
     }
     return hn::GetLane(hn::MaxOfLanes(d, m));
   }

@@ -60,15 +60,16 @@ HWY_INLINE bool RowFragments(const RowLanes& r, int x0, int x1, Fragments& f) {
   const VF v0 = hn::Set(d, r.v0), vx = hn::Set(d, r.vx), cv = hn::Set(d, r.cv);
   const VF hrz = hn::Set(d, r.hr.z), hxz = hn::Set(d, r.hx.z);
   const VF near_d = hn::Set(d, r.near_d), far_d = hn::Set(d, r.far_d), offset = hn::Set(d, r.offset);
+  const VI lane = hn::Iota(di, 0);
   for (int xs = x0; xs < x1; xs += lanes) {
-    const VF xc = hn::Add(hn::ConvertTo(d, hn::Iota(di, xs + r.origin_x)), half);
+    const VF xc = hn::Add(hn::ConvertTo(d, hn::Add(hn::Set(di, xs + r.origin_x), lane)), half);
     const VF t = hn::Div(plane, hn::Add(d0, hn::Mul(xc, dx)));
     const VF pz = hn::Mul(t, hn::Add(hrz, hn::Mul(xc, hxz)));
     const VF u = hn::Add(hn::Mul(t, hn::Add(u0, hn::Mul(xc, ux))), cu);
     const VF v = hn::Add(hn::Mul(t, hn::Add(v0, hn::Mul(xc, vx))), cv);
     const VF depth = hn::Min(far_d, hn::Max(near_d, hn::Neg(pz)));
     // Off the quad, or the plane seen edge on (not finite): nothing.
-    MF keep = hn::And(hn::FirstN(d, size_t(x1 - xs)), hn::Lt(hn::Abs(pz), huge));
+    MF keep = hn::And(FirstLanes(lane, x1 - xs), hn::Lt(hn::Abs(pz), huge));
     keep = hn::And(keep, hn::And(hn::Ge(u, zero), hn::Le(u, one)));
     keep = hn::And(keep, hn::And(hn::Ge(v, zero), hn::Le(v, one)));
     const VF surface = hn::LoadU(d, r.surface + xs);
@@ -88,17 +89,17 @@ HWY_INLINE bool RowFragments(const RowLanes& r, int x0, int x1, Fragments& f) {
       keep = hn::And(keep, hn::Or(hn::Le(depth, surface), moved));
     }
     if (hn::AllFalse(d, keep)) continue;
-    const auto q = hn::Iota(du, uint32_t(r.line + size_t(xs)));
-    StorePacked(du, q, hn::RebindMask(du, keep), f.q + kept);
-    StorePacked(d, u, keep, f.u + kept);
-    StorePacked(d, v, keep, f.v + kept);
-    StorePacked(d, depth, keep, f.depth + kept);
+    const unsigned bits = MaskBits(keep);
+    StorePacked(du, hn::Add(hn::Set(du, uint32_t(r.line + size_t(xs))), hn::BitCast(du, lane)), bits, f.q + kept);
+    StorePacked(d, u, bits, f.u + kept);
+    StorePacked(d, v, bits, f.v + kept);
+    StorePacked(d, depth, bits, f.depth + kept);
     if (P == Pass::kBoth) {
-      StorePacked(d, length, keep, f.length + kept);
-      StorePacked(di, hn::VecFromMask(di, hn::RebindMask(di, nearer)), hn::RebindMask(di, keep), f.nearer + kept);
+      StorePacked(d, length, bits, f.length + kept);
+      StorePacked(di, hn::VecFromMask(di, hn::RebindMask(di, nearer)), bits, f.nearer + kept);
     }
-    const size_t count = hn::CountTrue(d, keep);
-    kept += int(count);
+    const int count = __builtin_popcount(bits);
+    kept += count;
   }
   f.n = kept;
   return any_nearer;
@@ -126,8 +127,9 @@ HWY_INLINE void RowBounds(const Splat& sp, int origin_y, int lo_y, int hi_y, int
   const DI di;
   const int lanes = int(hn::Lanes(d));
   const VF half = hn::Set(d, 0.5f);
+  const VI lane = hn::Iota(di, 0);
   for (int y = lo_y; y < hi_y; y += lanes) {
-    const VF yc = hn::Add(hn::ConvertTo(d, hn::Iota(di, y + origin_y)), half);
+    const VF yc = hn::Add(hn::ConvertTo(d, hn::Add(hn::Set(di, y + origin_y), lane)), half);
     VF x_min = hn::Set(d, kInf), x_max = hn::Set(d, -kInf);
     for (int e = 0; e < 4; ++e) {
       const MF meets = hn::And(hn::Le(hn::Set(d, edge_lo[e]), yc), hn::Le(yc, hn::Set(d, edge_hi[e])));
@@ -153,6 +155,7 @@ HWY_INLINE void KeepCovering(const Splat& sp, Fragments& f, const float* a1, con
   const DU du;
   const int lanes = int(hn::Lanes(d)), n = f.n;
   const VF cut = hn::Set(d, kBrushCut), one = hn::Set(d, 1.0f);
+  const VI lane = hn::Iota(di, 0);
   size_t recorded = out ? out->count : 0;
   for (int j = 0; j < n; j += lanes) {
     const VF a = hn::Load(d, a1 + j);
@@ -163,7 +166,7 @@ HWY_INLINE void KeepCovering(const Splat& sp, Fragments& f, const float* a1, con
       const VF total = hn::Add(b, hn::Mul(a, hn::Sub(one, b)));
       covers = hn::Or(covers, hn::Or(hn::Ge(b, cut), hn::Ge(total, cut)));
     }
-    covers = hn::And(covers, hn::FirstN(d, size_t(n - j)));
+    covers = hn::And(covers, FirstLanes(lane, n - j));
     if (hn::AllFalse(d, covers)) continue;
     MF moves = covers;
     if (P == Pass::kBoth)
@@ -173,12 +176,13 @@ HWY_INLINE void KeepCovering(const Splat& sp, Fragments& f, const float* a1, con
       im.surface[f.q[i]] = f.depth[i];
     }
     if (!out) continue;
-    StorePacked(du, hn::LoadU(du, f.q + j), hn::RebindMask(du, covers), out->q.get() + recorded);
-    StorePacked(d, hn::Load(d, f.depth + j), covers, out->depth.get() + recorded);
-    StorePacked(d, hn::Load(d, f.length + j), covers, out->length.get() + recorded);
-    StorePacked(d, a, covers, out->a1.get() + recorded);
-    StorePacked(d, b, covers, out->a2.get() + recorded);
-    recorded += hn::CountTrue(d, covers);
+    const unsigned bits = MaskBits(covers);
+    StorePacked(du, hn::LoadU(du, f.q + j), bits, out->q.get() + recorded);
+    StorePacked(d, hn::Load(d, f.depth + j), bits, out->depth.get() + recorded);
+    StorePacked(d, hn::Load(d, f.length + j), bits, out->length.get() + recorded);
+    StorePacked(d, a, bits, out->a1.get() + recorded);
+    StorePacked(d, b, bits, out->a2.get() + recorded);
+    recorded += size_t(__builtin_popcount(bits));
   }
   if (out) out->count = recorded;
   f.n = 0;
