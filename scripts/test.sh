@@ -28,7 +28,8 @@ run "C++ tests (ctest)" ctest --test-dir build --output-on-failure -j2
 run "Python tests (pytest)" "$python" -m pytest -q tests/python
 run "C++ tests under ASan + UBSan (readers with leak checks)" bash scripts/sanitize_tests.sh
 run "Reader fuzz smoke (libFuzzer, fixed seed and runs)" bash scripts/fuzz_smoke.sh
-run "The core compiles for aarch64 (cross compiler, syntax only)" bash scripts/check_aarch64.sh
+run "The core compiles for aarch64 (cross compiler, objects thrown away)" bash scripts/check_aarch64.sh
+run "The GPU check, on llvmpipe (bench/gpu_check.sh --quick)" bash bench/gpu_check.sh --no-build --quick
 if compgen -G "tests/blender/test_*.py" >/dev/null; then
   run "Blender tests (blender -b)" blender -b --factory-startup --python-exit-code 1 \
     --python tests/blender/run.py -- "$root/build"
