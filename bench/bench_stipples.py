@@ -9,7 +9,7 @@ import sys, time
 sys.path.insert(0, __import__("os").path.dirname(__file__))
 import numpy as np, pointnpr, bench_marks as bm
 styles = {"points": pointnpr.Style(mark=("points", {"point_size": 2.0})),
-          "stipples (gl)": pointnpr.Style(mark=("stipples", {"specular": True, "level_scale": "point_count", "level": 8.0, "implementation": "gl"})),
+          "stipples (gl)": pointnpr.Style(mark=("stipples", {"specular": True, "level_scale": "point_count", "level": 8.0, "rasterizer": "gl"})),
           "stipples (auto: native)": pointnpr.Style(mark=("stipples", {"specular": True, "level_scale": "point_count", "level": 8.0}))}
 r = pointnpr.Renderer()
 for cname, cloud, cam in bm.clouds():

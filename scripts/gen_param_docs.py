@@ -47,6 +47,9 @@ def render():
             doc = p["doc"]
             if when:
                 doc += " (applies when `%s` is %s)" % (when["param"], " or ".join(f"`{v}`" for v in when["values"]))
+            if p.get("former_names"):
+                doc += " (formerly %s: still read from scripts and saved files)" % " or ".join(
+                    f"`{n}`" for n in p["former_names"])
             lines.append(f"| `{p['name']}` | {p['type']} | {_value(p, p['default'])} | {_range(p)} | "
                          f"{p['unit'] or ''} | {doc} |")
         lines.append("")

@@ -1,5 +1,6 @@
 #include "core/params.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -47,9 +48,16 @@ ParamSpec only_when(ParamSpec spec, std::string param, std::vector<std::string> 
   return spec;
 }
 
+ParamSpec formerly(ParamSpec spec, std::vector<std::string> names) {
+  spec.former_names = std::move(names);
+  return spec;
+}
+
 const ParamSpec* Schema::find(const std::string& name) const {
   for (const auto& p : params)
     if (p.name == name) return &p;
+  for (const auto& p : params)
+    if (std::find(p.former_names.begin(), p.former_names.end(), name) != p.former_names.end()) return &p;
   return nullptr;
 }
 
@@ -72,6 +80,23 @@ const ParamSpec& declared(const Schema& schema, const std::string& name) {
   return *spec;
 }
 
+// `given` keyed by the parameters' current names: a former name is taken
+// for its parameter, once (the same value under two names is an error).
+template <class Value>
+std::map<std::string, Value> by_current_name(const Schema& schema, const std::map<std::string, Value>& given) {
+  std::map<std::string, Value> out;
+  std::map<std::string, std::string> given_as;
+  for (const auto& [name, value] : given) {
+    const ParamSpec& spec = declared(schema, name);
+    if (given_as.count(spec.name))
+      throw ParameterError(schema.id + "." + spec.name + " is given twice (as '" + given_as[spec.name] + "' and '" +
+                           name + "')");
+    given_as[spec.name] = name;
+    out[spec.name] = value;
+  }
+  return out;
+}
+
 std::string range_text(const ParamSpec& spec) {
   std::ostringstream os;
   if (spec.type == ParamType::Enum) {
@@ -86,10 +111,12 @@ std::string range_text(const ParamSpec& spec) {
 }
 }  // namespace
 
-ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given,
-                     const std::map<std::string, std::string>& paths) {
+ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given_by_any_name,
+                     const std::map<std::string, std::string>& paths_by_any_name) {
   ParamValues out;
   out.schema_ = &schema;
+  const auto paths = by_current_name(schema, paths_by_any_name);
+  const auto given = by_current_name(schema, given_by_any_name);
   for (const auto& [name, path] : paths) {
     const ParamSpec& spec = declared(schema, name);
     if (spec.type != ParamType::Path)

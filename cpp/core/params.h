@@ -28,10 +28,16 @@ struct ParamSpec {
   // has one of `when_values`; the UI greys it out otherwise.
   std::string when_param;
   std::vector<std::string> when_values;
+  // Names it had before, which scripts and saved files may still use:
+  // validation takes them for this one, and the Blender add-on moves a
+  // saved value (and its animation) to the current name when a file opens.
+  std::vector<std::string> former_names;
 };
 
 // `spec`, applying only while `param` is one of `values` (see ParamSpec).
 ParamSpec only_when(ParamSpec spec, std::string param, std::vector<std::string> values);
+// `spec`, once named `names` (see ParamSpec::former_names).
+ParamSpec formerly(ParamSpec spec, std::vector<std::string> names);
 
 // Builders keep declarations short and uniform in each filter's file.
 ParamSpec float_param(std::string name, double def, double min, double max, std::string unit, std::string doc);
@@ -52,6 +58,7 @@ struct Schema {
   // so a mark and a filter may share an id.
   std::string kind = "stage";
 
+  // The parameter of that name or former name, or null.
   const ParamSpec* find(const std::string& name) const;
 };
 

@@ -80,7 +80,7 @@ class Stipples final : public Mark {
 
  private:
   // auto (render/backend.h): the native passes on a software GL, GL on a GPU.
-  static bool native(const ParamValues& p) { return chosen_backend(p, "implementation") == Backend::Native; }
+  static bool native(const ParamValues& p) { return chosen_backend(p) == Backend::Native; }
 };
 
 // Texels floor(x * factor) of the frame pixels [r.min, r.max), within the
@@ -346,9 +346,11 @@ const MarkRegistration registration{{
            "of dots (a light-view min-depth quadtree thins lit surfaces; point counts seen from eye and light "
            "open highlights).",
            {
-               enum_param("implementation", {"gl", "native", "auto"}, 2,
-                          "gl: the passes as GL compute shaders (for GPUs); native: the same rules on the CPU's "
-                          "threads (the same dots); auto: native on a software GL device (llvmpipe), gl on a GPU"),
+               formerly(enum_param("rasterizer", {"gl", "native", "auto"}, 2,
+                                   "gl: the passes as GL compute shaders (for GPUs); native: the same rules on the "
+                                   "CPU's threads (the same dots); auto: native on a software GL device (llvmpipe), "
+                                   "gl on a GPU"),
+                        {"implementation"}),
                float_param("dot_size", 2.0, 0.5, 16.0, "px", "Dot diameter"),
                float_param("size_jitter", 0.0, 0.0, 1.0, "", "Random size variation per dot (seeded by the point id)"),
                color_param("dot_color", {0.0, 0.0, 0.0, 1.0}, "Dot colour (display sRGB; alpha: its opacity)"),

@@ -80,6 +80,7 @@ py::dict schema_to_dict(const Schema& schema) {
     d["unit"] = p.unit;
     d["doc"] = p.doc;
     d["items"] = p.items;
+    d["former_names"] = p.former_names;
     if (p.when_param.empty()) {
       d["when"] = py::none();
     } else {

@@ -182,3 +182,30 @@ def test_migrated_node_name_and_drivers(fresh_file):
     assert {fc.data_path for fc in helpers.fcurves(tree)} == \
         {'nodes["Ras \\"terize\\""].%s' % nodes.property_identifier("color")}
     assert nodes.style_chain(tree) == [new]
+
+
+def test_a_value_saved_under_a_former_parameter_name_moves_to_the_current_one(fresh_file):
+    """The stipples mark's `implementation` is `rasterizer` now (the name
+    every mark with two backends uses): a file saved before keeps the value
+    and its animation; a tree that is not migrated (a library's) reads them
+    as they are."""
+    tree = nodes.new_style("Saved Stipples", mark="stipples")
+    node = nodes.mark_node(tree)
+    assert node.rasterizer == "auto"
+    node["implementation"] = 1  # what the add-on stored before: the enum's index ("native")
+    assert nodes.read_style(tree, 1)["mark"][1]["rasterizer"] == "native"
+    # A curve keyed on the old name (made on another property, then moved there).
+    node.dot_size = 1.0
+    node.keyframe_insert("dot_size", frame=1)
+    node.dot_size = 2.0
+    node.keyframe_insert("dot_size", frame=9)
+    (curve,) = helpers.fcurves(tree)
+    prefix = 'nodes["%s"].' % node.name
+    curve.data_path = prefix + "implementation"
+    assert nodes.read_style(tree, 9)["mark"][1]["rasterizer"] == "auto"  # index 2 at frame 9
+    assert versioning.migrate_former_names(tree) == 2
+    assert "implementation" not in node.keys() and node.rasterizer == "native"
+    assert [fc.data_path for fc in helpers.fcurves(tree)] == [prefix + "rasterizer"]
+    assert nodes.read_style(tree, 1)["mark"][1]["rasterizer"] == "native"
+    assert nodes.read_style(tree, 9)["mark"][1]["rasterizer"] == "auto"
+    assert versioning.migrate_former_names(tree) == 0  # once

@@ -20,8 +20,8 @@ constexpr glm::ivec2 kSize{320, 240};
 // light), stippled with `params` and a filter (which runs within the
 // covered bounds the native passes report).
 Scene panels(const std::string& implementation, std::map<std::string, std::vector<double>> params) {
-  const auto& items = find_mark("stipples").schema.find("implementation")->items;
-  params["implementation"] = {double(std::find(items.begin(), items.end(), implementation) - items.begin())};
+  const auto& items = find_mark("stipples").schema.find("rasterizer")->items;
+  params["rasterizer"] = {double(std::find(items.begin(), items.end(), implementation) - items.begin())};
   Scene scene;
   for (const auto& [cloud, dot] :
        {std::pair{plane_cloud(-1.5, 1.5, -1.2, 1.2, -8, 0.02, {200, 200, 200}, {}, 0.015), 2.0},

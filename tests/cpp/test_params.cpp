@@ -3,9 +3,11 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include "core/error.h"
 #include "render/filter.h"
+#include "render/mark.h"
 #include "render/style.h"
 
 using namespace pointnpr;
@@ -30,6 +32,26 @@ TEST(Params, RejectsUnknownNameListingKnownOnes) {
   } catch (const ParameterError& e) {
     EXPECT_NE(std::string(e.what()).find("radious"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("radius"), std::string::npos);
+  }
+}
+
+TEST(Params, AFormerNameIsReadAsTheCurrentOneAndNoNameIsTaken) {
+  const Schema schema{"renamed", "Renamed", "", {formerly(int_param("count", 1, 0, 9, "", ""), {"number", "n"})}};
+  EXPECT_EQ(validate(schema, {{"n", {4}}}).get_int("count"), 4);
+  EXPECT_EQ(validate(schema, {{"number", {5}}}).raw().count("number"), 0u);
+  EXPECT_THROW(validate(schema, {{"count", {4}}, {"number", {5}}}), ParameterError);  // given twice
+  EXPECT_THROW(validate(schema, {{"number", {10}}}), ParameterError);                  // still checked
+  // No two parameters of a schema share a name or former name.
+  std::vector<const Schema*> all;
+  for (const MarkInfo* m : registered_marks()) all.push_back(&m->schema);
+  for (const FilterInfo* f : registered_filters()) all.push_back(&f->schema);
+  ASSERT_GT(all.size(), 10u);
+  for (const Schema* s : all) {
+    std::set<std::string> names;
+    for (const auto& p : s->params) {
+      EXPECT_TRUE(names.insert(p.name).second) << s->id << "." << p.name;
+      for (const auto& former : p.former_names) EXPECT_TRUE(names.insert(former).second) << s->id << "." << former;
+    }
   }
 }
 

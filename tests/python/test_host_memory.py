@@ -13,7 +13,7 @@ ROOT = os.path.join(os.path.dirname(__file__), "..", "..")
 W, H = 640, 360
 # Each native mark with its own host images, in one frame.
 MARKS = (("points", {"rasterizer": "native", "point_size": 3}), ("brush_splats", {"rasterizer": "native"}),
-         ("stipples", {"implementation": "native"}), ("feature_strokes", {"rasterizer": "native"}))
+         ("stipples", {"rasterizer": "native"}), ("feature_strokes", {"rasterizer": "native"}))
 
 
 def _rss_mb():

@@ -362,7 +362,7 @@ MARK_STYLES = {
     "stipples": [{}, {"specular": True, "size_jitter": 0.5, "level": 5.5},
                  {"paper_color": (1.0, 1.0, 1.0, 0.0), "shadow_casters": "visible", "level": 5.0},
                  {"density_mode": "constant_on_screen", "queue_level": 0.05},
-                 {"implementation": "gl", "specular": True, "level": 5.5}],
+                 {"rasterizer": "gl", "specular": True, "level": 5.5}],
     "brush_splats": [{}, {"tangent_frame": "eberly", "layers": "two", "blending": "none", "epsilon_mode": "user",
                           "epsilon": 0.01, "clusters": True},
                      {"size_mode": "world", "world_radius": 0.03, "color_source": "constant",

@@ -38,7 +38,7 @@ def implementation(request):
 
 
 def stipples(**params):
-    return pointnpr.Style(mark=("stipples", dict(params, implementation=IMPLEMENTATION[0])))
+    return pointnpr.Style(mark=("stipples", dict(params, rasterizer=IMPLEMENTATION[0])))
 
 
 def kept_points(renderer, style, c):

@@ -23,7 +23,7 @@ def ball():
                                     # a jitter that is no power of two: its product rounds
                                     {"specular": True, "size_jitter": 0.8, "level": 7.7, "dot_size": 3.3}])
 def test_native_passes_draw_the_gl_passes_bytes(renderer, ball, params):
-    out = {impl: render(renderer, pointnpr.Style(mark=("stipples", dict(params, implementation=impl))), [ball])
+    out = {impl: render(renderer, pointnpr.Style(mark=("stipples", dict(params, rasterizer=impl))), [ball])
            for impl in ("gl", "native")}
     gl, native = out["gl"], out["native"]
     assert gl.stats["stipples_drawn"] > 300

@@ -54,6 +54,21 @@ def test_style_validates_against_the_schema():
         pointnpr.Style(filters=[("warp", {"amplitud": 3})])
 
 
+def test_a_renamed_parameter_is_still_read_under_its_former_name():
+    """Every mark with two backends names the choice `rasterizer`; the
+    stipples mark called it `implementation`, which scripts (and saved
+    Blender files, tests/blender/test_versioning.py) still use."""
+    schema = {p["name"]: p for p in pointnpr.schema("stipples", kind="mark")["params"]}
+    assert "implementation" not in schema and schema["rasterizer"]["former_names"] == ["implementation"]
+    for mark in ("points", "brush_splats", "feature_strokes", "stipples"):
+        items = {p["name"]: p for p in pointnpr.schema(mark, kind="mark")["params"]}["rasterizer"]["items"]
+        assert "native" in items and "auto" in items, mark
+    style = pointnpr.Style(mark=("stipples", {"implementation": "native"}))
+    assert style.mark[1]["rasterizer"] == "native" and "implementation" not in style.mark[1]
+    with pytest.raises(pointnpr.ParameterError, match="given twice"):
+        pointnpr.Style(mark=("stipples", {"implementation": "native", "rasterizer": "gl"}))
+
+
 def test_point_cloud_from_numpy(renderer):
     pos = np.random.default_rng(1).random((1000, 3)) * 10 + np.array([6.5e5, 5.1e6, 100.0])
     cloud = pointnpr.PointCloud(pos, colors=np.zeros((1000, 3), np.uint8),

@@ -27,7 +27,7 @@ def implementation(request):
 
 
 def stipple_scene(clouds, mark_params, filters=(("blur", {}),), implementation="auto"):
-    mark_params = dict(mark_params, implementation=implementation)
+    mark_params = dict(mark_params, rasterizer=implementation)
     scene = pointnpr.Scene()
     scene.add_segment("wall", pointnpr.Style(mark=("stipples", mark_params), filters=list(filters),
                                              inpaint={"radius": 4}), [clouds[0]])

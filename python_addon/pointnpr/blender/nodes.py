@@ -439,7 +439,7 @@ def replace_mark(tree, mark_id):
     return new
 
 
-def _node_path_prefix(name):
+def node_path_prefix(name):
     return 'nodes["%s"]' % name.replace("\\", "\\\\").replace('"', '\\"')
 
 
@@ -465,7 +465,7 @@ def repoint_curves(tree, old_name, new_name, properties=None):
     """Points the F-Curves and drivers of node ``old_name``'s properties at
     node ``new_name`` (only those of ``properties``, a set of property
     identifiers, when given)."""
-    old, new = _node_path_prefix(old_name), _node_path_prefix(new_name)
+    old, new = node_path_prefix(old_name), node_path_prefix(new_name)
     for fc in tree_curves(tree):
         path = fc.data_path
         if not path.startswith(old + "."):
@@ -638,12 +638,30 @@ def animated_values(tree):
     return found
 
 
+def former_identifiers(param):
+    """The node properties that stored ``param`` under its former names
+    (the schema's ``former_names``: files saved before a rename)."""
+    names = param.get("former_names") or ()
+    if not names:
+        return []
+    reserved = _reserved_node_names()
+    return [property_identifier(name, reserved) for name in names]
+
+
 def _param_value(node, param, pid, curves, frame):
     """A parameter's value for the core at ``frame``: static value, or the
-    fcurve's, coerced like Blender's animation system and clamped."""
+    fcurve's, coerced like Blender's animation system and clamped. A value
+    (or curve) saved under a former name counts where the current name holds
+    none: a file linked from a library is not migrated (versioning.py)."""
     ptype = param["type"]
     static = getattr(node, pid)
     fcs = curves.get((node.name, pid)) if curves else None
+    for old in former_identifiers(param):
+        saved = node.get(old)
+        if node.get(pid) is None and saved is not None:
+            static = param["items"][int(saved)] if ptype == "enum" else saved
+        if not fcs and curves:
+            fcs = curves.get((node.name, old))
     if ptype == "color":
         values = [float(v) for v in static]
         if fcs:

@@ -14,6 +14,11 @@ Rasterize node of every local style tree by a Points mark node with
 * ``rasterizer`` = the ``Scene.pointnpr.rasterizer`` of a scene that uses
   the style (the first scene when none does).
 
+A parameter renamed since (the schema's ``former_names``, e.g. the
+stipples mark's ``implementation``, now ``rasterizer`` as on every mark
+with two backends) keeps its saved value and animation:
+``migrate_former_names`` moves them to the current name.
+
 It runs on every file load (a persistent load_post handler) and when the
 add-on is enabled, for a file that is already open. Trees linked from a
 library file cannot be edited: their Rasterize nodes are read as Points
@@ -126,10 +131,41 @@ def keep_paper_inpainting(tree):
                 setattr(node, pid, "paper")
 
 
+def migrate_former_names(tree):
+    """Moves what a local style tree's nodes saved under a parameter's
+    former name (a renamed parameter: the schema's ``former_names``) to its
+    current one: the value, and the F-Curves and drivers that animate it.
+    Returns how many values or curves moved."""
+    if not nodes.is_style_tree(tree) or tree.library is not None:
+        return 0
+    moved = 0
+    for node in tree.nodes:
+        for param, pid in getattr(node, "pointnpr_params", ()):
+            for old in nodes.former_identifiers(param):
+                if old == pid:
+                    continue
+                saved = node.get(old)
+                if saved is not None:
+                    if node.get(pid) is None:
+                        value = param["items"][int(saved)] if param["type"] == "enum" else saved
+                        setattr(node, pid, value)
+                    del node[old]
+                    moved += 1
+                prefix = nodes.node_path_prefix(node.name) + "."
+                for fc in nodes.tree_curves(tree):
+                    path = fc.data_path
+                    if path == prefix + old or path.startswith(prefix + old + "["):
+                        fc.data_path = prefix + pid + path[len(prefix + old):]
+                        moved += 1
+    if moved:
+        nodes.bump_generation()
+    return moved
+
+
 def migrate_legacy_nodes():
     """Migrates every local style tree of the open file; returns the number
-    of nodes replaced."""
-    return sum(migrate_tree(tree) for tree in list(bpy.data.node_groups))
+    of nodes replaced and of values moved to a parameter's current name."""
+    return sum(migrate_tree(tree) + migrate_former_names(tree) for tree in list(bpy.data.node_groups))
 
 
 @persistent
