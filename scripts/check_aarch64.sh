@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 compiler=${CXX_AARCH64:-aarch64-linux-gnu-g++}
 command -v "$compiler" >/dev/null || { echo "check_aarch64: $compiler missing (scripts/install_deps.sh --tests)"; exit 1; }
-sources=$(ls cpp/{core,gl,scene,render,marks,filters,io,geometry}/*.cpp cpp/marks/*/*.cpp)
+sources=$(find cpp/core cpp/gl cpp/scene cpp/render cpp/marks cpp/filters cpp/io cpp/geometry -name "*.cpp" | sort)
 # Debian's headers for the libraries (glm, Eigen, TBB, Highway, OIIO) are
 # architecture-independent; /usr/include comes after the cross compiler's own.
 echo "$sources" | xargs -P "$(nproc)" -n 1 "$compiler" -std=c++20 -O0 -c -o /dev/null -Wno-psabi -Werror=return-type -Icpp \

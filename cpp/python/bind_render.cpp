@@ -7,7 +7,7 @@
 
 #include "python/bindings.h"
 #include "python/convert.h"
-#include "marks/mesh_surface.h"
+#include "marks/mesh_surface/mesh_surface.h"
 #include "render/renderer.h"
 #include "scene/cached_cloud.h"
 

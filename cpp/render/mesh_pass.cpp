@@ -4,7 +4,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 
-#include "marks/mesh_surface.h"
+#include "marks/mesh_surface/mesh_surface.h"
 #include "render/box_projection.h"
 
 namespace pointnpr {

@@ -12,7 +12,7 @@
 #include "gl/device.h"
 #include "gl/objects.h"
 #include "gl/shaders.h"
-#include "marks/mesh_surface.h"
+#include "marks/mesh_surface/mesh_surface.h"
 #include "render/box_projection.h"
 #include "render/point_budget.h"
 #include "render/filter_chain.h"

@@ -32,7 +32,7 @@ MarkStep make_mark(const std::string& id, const std::map<std::string, std::vecto
 
 struct Style {
   MarkStep mark = make_mark("points");
-  // How the segment's objects with faces are drawn (marks/mesh_surface.h):
+  // How the segment's objects with faces are drawn (marks/mesh_surface/mesh_surface.h):
   // as surfaces by default, or handed to `mark` as points.
   MarkStep surface = make_mark("mesh_surface");
   std::vector<FilterStep> filters;

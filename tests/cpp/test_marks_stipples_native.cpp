@@ -1,4 +1,4 @@
-// The stipples mark's native passes (marks/stipples_native.cpp): the GL
+// The stipples mark's native passes (marks/stipples/native.cpp): the GL
 // passes' bytes, whatever the number of threads, whole or in tiles.
 #include <gtest/gtest.h>
 
@@ -58,7 +58,7 @@ const std::vector<std::map<std::string, std::vector<double>>> kCases = {
 
 }  // namespace
 
-// The native passes (cpp/marks/stipples_native.cpp) against the GL passes (cpp/marks/stipples_gl.cpp).
+// The native passes (cpp/marks/stipples/native.cpp) against the GL passes (cpp/marks/stipples/gl.cpp).
 TEST(StipplesNative, TheGlPassesBytes) {
   Renderer renderer;
   const Camera cam = front_camera({0.2, 0.1, 0}, kSize);

@@ -1,4 +1,4 @@
-// The points mark's native rasterizer (marks/points_native.cpp): the
+// The points mark's native rasterizer (marks/points/native.cpp): the
 // compute rasterizer's images, whatever the number of threads.
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 
 #include <tbb/global_control.h>
 
-#include "marks/points.h"
+#include "marks/points/points.h"
 #include "scene_builders.h"
 
 using namespace pointnpr;

@@ -292,7 +292,7 @@ NATIVE_CASES = {
 
 
 @pytest.mark.parametrize("case", list(NATIVE_CASES))
-# The native path (cpp/marks/feature_strokes_native.cpp) against the GL passes (feature_strokes.cpp).
+# The native path (cpp/marks/feature_strokes/native.cpp) against the GL passes (feature_strokes.cpp).
 def test_the_native_path_draws_the_gl_paths_images(renderer, case, tmp_path):
     """The same strokes (ids, classes, counts) and the same images within
     the tolerance of the kernels' last bits (exp, pow, noise and texture

@@ -2,7 +2,7 @@
 shaders (for GPUs) and native passes on the CPU's threads (auto picks them
 on software GL). The same float operations in the same order: the same
 dots, colour and depth (tests/python/test_marks_stipples.py runs every
-behaviour test on both; tests/cpp/test_marks_stipples_native.cpp threads
+behaviour test on both; tests/cpp/test_marks_marks/stipples/native.cpp threads
 and tiles)."""
 import numpy as np
 import pytest

@@ -44,7 +44,7 @@
 
 #include "core/error.h"
 #include "marks/brush_splats/brush_splats.h"
-#include "marks/points.h"
+#include "marks/points/points.h"
 #include "render/backend.h"
 #include "render/exact_raster.h"
 #include "render/ink_layer.h"

@@ -13,7 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "geometry/analysis.h"
-#include "marks/points.h"
+#include "marks/points/points.h"
 #include "render/gpu_cloud.h"
 #include "render/host_scratch.h"
 #include "render/mark.h"

@@ -1,7 +1,7 @@
 #pragma once
 // The feature_strokes mark's two paths: its GL passes (marks/
 // feature_strokes.cpp, which declares the schema) and the same passes on
-// the CPU's threads (marks/feature_strokes_native.cpp), which `rasterizer`
+// the CPU's threads (marks/feature_strokes/native.cpp), which `rasterizer`
 // `auto` takes on software GL devices (llvmpipe), as the points mark does.
 #include <cstdint>
 #include <map>

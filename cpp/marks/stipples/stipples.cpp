@@ -1,8 +1,8 @@
 // Stippling of point clouds without normals (seed 003, Kawata et al.: a
 // hybrid image/object-space stipple method). This file decides what runs
-// over which window of the frame; the passes are in stipples_gl.cpp
-// (shaders/stipples.comp) and stipples_native.cpp (the CPU's threads), both
-// behind marks/stipples.h. Positions and point ids are all they read.
+// over which window of the frame; the passes are in marks/stipples/gl.cpp
+// (shaders/stipples.comp) and marks/stipples/native.cpp (the CPU's threads), both
+// behind marks/stipples/stipples.h. Positions and point ids are all they read.
 //
 //  1. Hidden points: all points into a min-depth texture `resolution_factor`
 //     times the screen; each of `iterations` passes gives every texel the
@@ -33,7 +33,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
-#include "marks/stipples.h"
+#include "marks/stipples/stipples.h"
 #include "render/backend.h"
 #include "render/box_projection.h"
 #include "scene/camera.h"

@@ -35,7 +35,7 @@
 #include "core/error.h"
 #include "core/hash.h"
 #include "gl/device.h"
-#include "marks/stipples.h"
+#include "marks/stipples/stipples.h"
 #include "scene/point_cloud.h"
 
 namespace pointnpr {

@@ -1,12 +1,12 @@
 // The stipples mark's passes as GL compute dispatches (shaders/stipples.comp,
 // one pass per #define): every pass an order-independent integer atomic
 // (min, max, add) or a per-texel gather, so the bytes never vary. For GPUs;
-// stipples_native.cpp runs the same rules on the CPU.
+// marks/stipples/native.cpp runs the same rules on the CPU.
 #include <algorithm>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
-#include "marks/stipples.h"
+#include "marks/stipples/stipples.h"
 
 namespace pointnpr {
 namespace {

@@ -24,7 +24,7 @@
 #include "core/error.h"
 #include "geometry/analysis.h"
 #include "gl/device.h"
-#include "marks/points.h"
+#include "marks/points/points.h"
 #include "scene/camera.h"
 
 namespace pointnpr {

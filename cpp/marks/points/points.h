@@ -25,7 +25,7 @@ constexpr float kMaxSplatPixels = 32.0f;
 
 // Compute rasterizer (visibility by atomics, deterministic ties).
 void draw_splats_compute(const MarkContext& ctx, const SplatSettings& s);
-// The compute rasterizer's rules on the CPU's threads (marks/points_native.cpp):
+// The compute rasterizer's rules on the CPU's threads (marks/points/native.cpp):
 // the same colour, depth and coverage from the host's copy of the points,
 // uploaded into targets.color / targets.depth over ctx.clip.
 void draw_splats_native(const MarkContext& ctx, const SplatSettings& s);

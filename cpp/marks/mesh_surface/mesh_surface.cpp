@@ -6,7 +6,7 @@
 // shading from the same light parameters as the shading marks. Pixels are
 // decided per frame pixel (shaders/mesh_surface_common.glsl), so frames
 // draw in tiles with the bytes of the whole frame.
-#include "marks/mesh_surface.h"
+#include "marks/mesh_surface/mesh_surface.h"
 
 #include <algorithm>
 #include <limits>

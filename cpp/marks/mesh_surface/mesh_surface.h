@@ -1,5 +1,5 @@
 #pragma once
-// The mesh_surface mark (marks/mesh_surface.cpp): how a segment's objects
+// The mesh_surface mark (marks/mesh_surface/mesh_surface.cpp): how a segment's objects
 // with faces are drawn. Every style has one (Style::surface) beside its
 // point mark; the renderer asks it what to do with each mesh.
 #include <set>

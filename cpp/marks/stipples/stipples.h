@@ -1,9 +1,9 @@
 #pragma once
-// The stipples mark's passes (seed 003; cpp/marks/stipples.cpp decides
+// The stipples mark's passes (seed 003; cpp/marks/stipples/stipples.cpp decides
 // what runs over which window of the frame), behind one interface with two
 // implementations: the GL compute passes of shaders/stipples.comp
-// (stipples_gl.cpp, for GPUs) and the same rules on the CPU's threads
-// (stipples_native.cpp, for software GL, where llvmpipe's per-texel passes
+// (marks/stipples/gl.cpp, for GPUs) and the same rules on the CPU's threads
+// (marks/stipples/native.cpp, for software GL, where llvmpipe's per-texel passes
 // and atomics cost several times a plain loop). Both make the same
 // decisions from the same numbers below.
 #include <cstdint>

@@ -41,7 +41,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "gl/device.h"
-#include "marks/points.h"
+#include "marks/points/points.h"
 #include "render/exact_raster.h"
 #include "render/ink_layer.h"
 #include "render/image_textures.h"

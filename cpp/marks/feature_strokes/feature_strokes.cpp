@@ -39,7 +39,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "geometry/analysis.h"
-#include "marks/feature_strokes.h"
+#include "marks/feature_strokes/feature_strokes.h"
 #include "render/backend.h"
 #include "render/exact_raster.h"
 #include "render/image_textures.h"

@@ -3,7 +3,7 @@
 // on linear depth, deterministic tie break on the point key) or by
 // conventional GL_POINTS (the reference and benchmark baseline). Optional
 // diffuse shading by per-point normals.
-#include "marks/points.h"
+#include "marks/points/points.h"
 
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
