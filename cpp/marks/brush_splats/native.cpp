@@ -31,9 +31,10 @@
 // lambda < 1, steep at 0) fitted once a frame by eight polynomial pieces,
 // or tabulated and interpolated where no piece fits within 1e-5;
 // exp(-(qx^l + qy^l) / 2) as the product of the two axes'; within about
-// 1e-5 of the shader's, far below the golden images' 2/255. Steps 1 to 4
-// run Highway's lanes (native_kernels.cpp) with the scalar code's float
-// operations in its order, so the bytes never depend on the CPU.
+// 1e-5 of the shader's, far below the golden images' 2/255. Setup, the
+// bins' passes and the blur run Highway's lanes (native_kernels.cpp) with
+// the scalar code's float operations in its order, so the bytes never
+// depend on the CPU.
 #include <algorithm>
 #include <atomic>
 #include <bit>

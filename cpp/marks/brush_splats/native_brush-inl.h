@@ -2,9 +2,10 @@
 // native_kernels.cpp): the vector types, the bins' surface bounds and the
 // brush. Every kernel runs the scalar code's float operations in its order
 // (no FMA: the file is compiled with -ffp-contract=off and calls no MulAdd;
-// min and max with std::min's and std::max's operand order where a NaN or
-// a signed zero could tell them apart), so every target draws the same
-// bytes. (Highway's per-target include guard.)
+// min and max with their operands in the order that makes x86's minps and
+// maxps std::min and std::max: the targets differ only for a NaN, which no
+// kept lane holds), so every target draws the same bytes. (Highway's
+// per-target include guard.)
 #if defined(POINTNPR_BRUSH_NATIVE_BRUSH_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef POINTNPR_BRUSH_NATIVE_BRUSH_INL_H_
 #undef POINTNPR_BRUSH_NATIVE_BRUSH_INL_H_
