@@ -19,13 +19,9 @@
 //    same bytes in every process).
 //  - Blending (a): two-pass Gaussian blur of the colour with depth
 //    occlusion (neighbours at other depths do not mix), coverage unchanged.
-//  - Blending (b): an A-buffer of the splats near the surface: fragments
-//    counted per pixel, lists packed by a sequential prefix sum, stored,
-//    then each list sorted completely by (depth, point id, colour) and
-//    alpha-blended front to back (the same bytes whatever the point order).
-//    Its fragments have a memory budget, and a pixel's list a length limit
-//    (512): a frame that would exceed either warns and is blended by (a);
-//    nothing is allocated beyond them. The seed's
+//  - Blending (b): an A-buffer of the splats near the surface, sorted and
+//    blended front to back per pixel (a_buffer.cpp), within a memory
+//    budget; a frame over it warns and is blended by (a). The seed's
 //    incremental bubble sort across viewport frames is not done: every
 //    frame sorts completely.
 //  - Tiles (brush_splats_tiled.*): the same passes with every fragment
@@ -37,13 +33,13 @@
 //    exact path's rules on the CPU's threads (native.cpp).
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <optional>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
 #include "marks/brush_splats/brush_splats.h"
+#include "marks/brush_splats/gl_passes.h"
 #include "marks/points/points.h"
 #include "render/backend.h"
 #include "render/exact_raster.h"
@@ -135,6 +131,10 @@ std::optional<ExactRaster> raster_viewport(const MarkContext& ctx, const ParamVa
   if (!exact_path(ctx.targets, p)) return std::nullopt;
   return exact_raster(ctx.targets, float(2 * int(std::ceil(mark.extent(p).pixels)) + 1));
 }
+
+}  // namespace
+
+namespace brush_gl {
 
 void set_raster_viewport(const gl::Program& g, const std::optional<ExactRaster>& raster) {
   if (!raster) return;
@@ -253,12 +253,6 @@ void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p
   glBindVertexArray(0);
 }
 
-constexpr size_t kFragmentBytes = 16;  // brush_abuffer.glsl's Fragment
-// Longest list a pixel may have: each list is insertion-sorted by one
-// invocation, so its length bounds the work of a pixel (a cloud seen from
-// far away would otherwise pile every splat into a few pixels).
-constexpr uint32_t kMaxListLength = 512;
-
 // Splats near the surface, moved toward the camera by depth_tolerance radii:
 // the GL depth test against the depth pass (no depth writes); with
 // tile_invariant it only culls (by a bound per splat) and the fragment
@@ -271,109 +265,10 @@ void near_surface_tests(const MarkContext& ctx, const gl::Program& g, const Para
   glUniform1f(g.location("u_offset_radii"), float(p.get_float("depth_tolerance")));
 }
 
-// Blending (b): returns false (with a warning) where the frame's fragments
-// would not fit the budget; nothing is then allocated for them.
-bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const std::optional<ExactRaster>& raster) {
-  const Rect& clip = ctx.clip;
-  // Lists over the clip rect only: 12 bytes of counters a pixel of it.
-  const glm::ivec2 rect = clip.size();
-  const size_t pixels = size_t(rect.x) * size_t(rect.y);
-  const uint32_t zero = 0;
-  const gl::Buffer counts = gl::make_buffer(pixels * 4, nullptr, 0);
-  const gl::Buffer cursors = gl::make_buffer(pixels * 4, nullptr, 0);
-  const gl::Buffer offsets = gl::make_buffer(pixels * 4, nullptr, 0);
-  const gl::Buffer row_base = gl::make_buffer((size_t(rect.y) + 2) * 4, nullptr, 0);
-  glClearNamedBufferData(counts.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  glClearNamedBufferData(cursors.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  glClearNamedBufferData(row_base.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  auto bind_lists = [&](const gl::Program& g) {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, counts.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, cursors.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, row_base.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, offsets.id());
-    glUniform2i(g.location("u_list_origin"), clip.min.x, clip.min.y);
-    glUniform2i(g.location("u_list_size"), rect.x, rect.y);
-  };
-  const gl::Framebuffer fbo = make_fbo({}, ctx.targets);
+}  // namespace brush_gl
 
-  // 1. Count the fragments of every pixel.
-  {
-    const MarkRasterState state(ctx.targets, ctx.clip);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
-    const gl::Program& count = splat_program(ctx, p, "PASS_COUNT");
-    count.use();
-    set_splat_uniforms(count, ctx, p);
-    set_raster_viewport(count, raster);
-    near_surface_tests(ctx, count, p);
-    bind_lists(count);
-    draw_all(ctx, count, p);
-  }
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  // 2. Where each list starts, and the total.
-  for (const char* pass : {"PASS_ROWS", "PASS_TOTAL"}) {
-    const gl::Program& scan = ctx.shaders->compute("brush_abuffer_scan.comp", {pass});
-    scan.use();
-    bind_lists(scan);
-    glUniform2i(scan.location("u_rect_min"), clip.min.x, clip.min.y);
-    glUniform2i(scan.location("u_rect_max"), clip.max.x, clip.max.y);
-    glDispatchCompute(std::string(pass) == "PASS_ROWS" ? GLuint((clip.size().y + 63) / 64) : 1u, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-  }
-  uint32_t total_longest[2] = {0, 0};
-  glGetNamedBufferSubData(row_base.id(), GLintptr(size_t(rect.y) * 4), 8, total_longest);
-  const uint32_t total = total_longest[0], longest = total_longest[1];
-  const double budget_mib = p.get_float("a_buffer_budget");
-  const double needed_mib = double(total) * double(kFragmentBytes) / (1024.0 * 1024.0);
-  if (ctx.stats) {
-    (*ctx.stats)["a_buffer_fragments"] += double(total);
-    (*ctx.stats)["a_buffer_longest_list"] = std::max((*ctx.stats)["a_buffer_longest_list"], double(longest));
-  }
-  if (total == 0xFFFFFFFFu || needed_mib > budget_mib || longest > kMaxListLength) {
-    // A frame in tiles counts its lists per tile: said once per frame (for
-    // the first tile over the budget; the others blend by blur as well).
-    const bool tiled = frame_size(ctx.targets) != ctx.targets.size;
-    const char* prefix = longest > kMaxListLength ? "brush_splats: a pixel of the A-buffer" : "brush_splats: the A-buffer";
-    const auto said = [&](const std::string& w) { return w.rfind(prefix, 0) == 0; };
-    if (ctx.warnings && !(tiled && std::any_of(ctx.warnings->begin(), ctx.warnings->end(), said))) {
-      char text[260];
-      if (longest > kMaxListLength)
-        std::snprintf(text, sizeof(text),
-                      "%s has %u fragments, more than the %u it sorts; blended by blur instead%s", prefix,
-                      longest, kMaxListLength, tiled ? " (in the tiles where it does)" : "");
-      else
-        std::snprintf(text, sizeof(text),
-                      "%s needs %s%.1f MiB for %s, over its budget of %.1f MiB; blended by blur instead%s", prefix,
-                      total == 0xFFFFFFFFu ? "more than " : "", needed_mib, tiled ? "a tile" : "this frame",
-                      budget_mib, tiled ? " (in the tiles over it)" : "");
-      ctx.warnings->push_back(text);
-    }
-    return false;
-  }
-  // 3. Store them, 4. sort and blend each list.
-  const gl::Buffer fragments = gl::make_buffer(std::max<size_t>(total, 1) * kFragmentBytes, nullptr, 0);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, fragments.id());
-  {
-    const MarkRasterState state(ctx.targets, ctx.clip);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
-    const gl::Program& store = splat_program(ctx, p, "PASS_STORE");
-    store.use();
-    set_splat_uniforms(store, ctx, p);
-    set_raster_viewport(store, raster);
-    near_surface_tests(ctx, store, p);
-    bind_lists(store);
-    draw_all(ctx, store, p);
-  }
-  gl::check_gl("brush splats A-buffer");
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  const gl::Program& resolve = ctx.shaders->compute("brush_abuffer_resolve.comp");
-  resolve.use();
-  bind_lists(resolve);
-  glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
-  dispatch_rect(resolve, clip);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-  return true;
-}
+namespace {
+using namespace brush_gl;
 
 // Blending by weighted average and the blur (a).
 void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const std::optional<ExactRaster>& raster) {
