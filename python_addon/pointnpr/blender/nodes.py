@@ -638,6 +638,15 @@ def animated_values(tree):
     return found
 
 
+def saved_value(param, saved):
+    """A value stored under a former name, as the current property takes
+    it: an enum's stored index as its item (clamped to the items)."""
+    if param["type"] != "enum":
+        return saved
+    items = list(param["items"])
+    return items[min(max(int(saved), 0), len(items) - 1)]
+
+
 def former_identifiers(param):
     """The node properties that stored ``param`` under its former names
     (the schema's ``former_names``: files saved before a rename)."""
@@ -659,7 +668,7 @@ def _param_value(node, param, pid, curves, frame):
     for old in former_identifiers(param):
         saved = node.get(old)
         if node.get(pid) is None and saved is not None:
-            static = param["items"][int(saved)] if ptype == "enum" else saved
+            static = saved_value(param, saved)
         if not fcs and curves:
             fcs = curves.get((node.name, old))
     if ptype == "color":

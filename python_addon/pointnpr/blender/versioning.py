@@ -147,8 +147,7 @@ def migrate_former_names(tree):
                 saved = node.get(old)
                 if saved is not None:
                     if node.get(pid) is None:
-                        value = param["items"][int(saved)] if param["type"] == "enum" else saved
-                        setattr(node, pid, value)
+                        setattr(node, pid, nodes.saved_value(param, saved))
                     del node[old]
                     moved += 1
                 prefix = nodes.node_path_prefix(node.name) + "."
