@@ -47,19 +47,21 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const std::opti
     glUniform2i(g.location("u_list_size"), rect.x, rect.y);
   };
   const gl::Framebuffer fbo = make_fbo({}, ctx.targets);
-
-  // 1. Count the fragments of every pixel.
-  {
+  // The splats near the surface, drawn into the lists by `pass`.
+  auto draw_near_splats = [&](const char* pass) {
     const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
-    const gl::Program& count = splat_program(ctx, p, "PASS_COUNT");
-    count.use();
-    set_splat_uniforms(count, ctx, p);
-    set_raster_viewport(count, raster);
-    near_surface_tests(ctx, count, p);
-    bind_lists(count);
-    draw_all(ctx, count, p);
-  }
+    const gl::Program& g = splat_program(ctx, p, pass);
+    g.use();
+    set_splat_uniforms(g, ctx, p);
+    set_raster_viewport(g, raster);
+    near_surface_tests(ctx, g, p);
+    bind_lists(g);
+    draw_all(ctx, g, p);
+  };
+
+  // 1. Count the fragments of every pixel.
+  draw_near_splats("PASS_COUNT");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   // 2. Where each list starts, and the total.
   for (const char* pass : {"PASS_ROWS", "PASS_TOTAL"}) {
@@ -104,17 +106,7 @@ bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const std::opti
   // 3. Store them, 4. sort and blend each list.
   const gl::Buffer fragments = gl::make_buffer(std::max<size_t>(total, 1) * kFragmentBytes, nullptr, 0);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, fragments.id());
-  {
-    const MarkRasterState state(ctx.targets, ctx.clip);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
-    const gl::Program& store = splat_program(ctx, p, "PASS_STORE");
-    store.use();
-    set_splat_uniforms(store, ctx, p);
-    set_raster_viewport(store, raster);
-    near_surface_tests(ctx, store, p);
-    bind_lists(store);
-    draw_all(ctx, store, p);
-  }
+  draw_near_splats("PASS_STORE");
   gl::check_gl("brush splats A-buffer");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   const gl::Program& resolve = ctx.shaders->compute("brush_abuffer_resolve.comp");

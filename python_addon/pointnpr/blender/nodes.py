@@ -647,14 +647,20 @@ def saved_value(param, saved):
     return items[min(max(int(saved), 0), len(items) - 1)]
 
 
+_FORMER_IDENTIFIERS = {}
+
+
 def former_identifiers(param):
     """The node properties that stored ``param`` under its former names
-    (the schema's ``former_names``: files saved before a rename)."""
-    names = param.get("former_names") or ()
+    (the schema's ``former_names``: files saved before a rename). Kept per
+    name list: every style read asks for them."""
+    names = tuple(param.get("former_names") or ())
     if not names:
-        return []
-    reserved = _reserved_node_names()
-    return [property_identifier(name, reserved) for name in names]
+        return ()
+    if names not in _FORMER_IDENTIFIERS:
+        reserved = _reserved_node_names()
+        _FORMER_IDENTIFIERS[names] = tuple(property_identifier(name, reserved) for name in names)
+    return _FORMER_IDENTIFIERS[names]
 
 
 def _param_value(node, param, pid, curves, frame):
