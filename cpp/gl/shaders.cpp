@@ -135,4 +135,15 @@ const Program& ShaderLibrary::graphics(const std::string& vert, const std::strin
   return cache_.emplace(key, Program(link({vs, fs}, vert + "+" + frag))).first->second;
 }
 
+void check_uniform_block(const Program& program, const char* block, size_t bytes, GLuint binding) {
+  const GLuint index = glGetUniformBlockIndex(program.id(), block);
+  if (index == GL_INVALID_INDEX) throw GLError(std::string("uniform block ") + block + " not found in its program");
+  GLint size = 0;
+  glGetActiveUniformBlockiv(program.id(), index, GL_UNIFORM_BLOCK_DATA_SIZE, &size);
+  if (size_t(size) != (bytes + 15) / 16 * 16)
+    throw GLError(std::string("uniform block ") + block + ": " + std::to_string(size) + " bytes in GLSL, " +
+                  std::to_string(bytes) + " in C++ (their layouts differ)");
+  glUniformBlockBinding(program.id(), index, binding);
+}
+
 }  // namespace pointnpr::gl

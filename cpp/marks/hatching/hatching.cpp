@@ -41,6 +41,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "gl/device.h"
+#include "marks/hatching/settings.h"
 #include "marks/points/points.h"
 #include "render/exact_raster.h"
 #include "render/ink_layer.h"
@@ -50,18 +51,11 @@
 namespace pointnpr {
 namespace {
 
-// GPU record of one point's strokes (std430, 64 bytes; hatching_strokes.glsl).
-struct StrokeRecord {
-  glm::vec4 center_alpha;  // view-space centre, opacity (<= 0: no stroke)
-  glm::vec4 d1_length;     // unit direction of the first line, length (scene units)
-  glm::vec4 n_width;       // unit normal, width (scene units; negative: crossed)
-  glm::vec3 color;         // display sRGB
-  uint32_t point_id;
-};
-static_assert(sizeof(StrokeRecord) == 64);
+using hatching::Stroke;
 
 constexpr uint32_t kBatchPoints = 1u << 18;  // stroke records per batch (16 MiB)
 constexpr int kMaxPencils = 64;
+static_assert(sizeof(hatching::HatchingSettings::pencils) == kMaxPencils * sizeof(glm::vec4));
 // Neighbours of the local resolution that estimates the surface area per
 // point (stroke_coverage): with k neighbours within R and mean distance
 // 2R/3 on a surface, the area per point is pi (1.5 r)^2 / k ~ 0.88 r^2 at k = 8.
@@ -214,7 +208,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   uint32_t largest = 0;
   for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, slots_of(v));
   const uint32_t capacity = std::max(kBatchPoints, largest);
-  const gl::Buffer& strokes = ctx.targets.scratch_buffer(size_t(capacity) * sizeof(StrokeRecord), 0);
+  const gl::Buffer& strokes = ctx.targets.scratch_buffer(size_t(capacity) * sizeof(Stroke), 0);
   struct DrawCommand {
     uint32_t count, instance_count, first, base_instance;
   };
@@ -245,48 +239,48 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
     xtoon_image = &ctx.images->get(path, "xtoon", ImageTextures::Sampling::Clamped, [](Image i) { return i; });
   }
 
+  hatching::HatchingSettings u{};
+  u.light_dir = glm::vec4(light_view, 0.0f);
+  u.direction = glm::vec4(dir_view, 0.0f);
+  u.constant_color = glm::vec4(p.get_color("stroke_color"));
+  for (size_t i = 0; i < by_hue.size(); ++i) u.pencils[i] = glm::vec4(by_hue[i].second, by_hue[i].first);
+  u.ortho = cam.orthographic ? 1 : 0;
+  u.near_plane = float(cam.clip_start);
+  u.far_plane = float(cam.clip_end);
+  u.depth_min = float(ctx.depth_min);
+  u.depth_max = float(ctx.depth_max);
+  u.px_per_unit = px_per_unit;
+  u.ambient = float(p.get_float("ambient"));
+  u.specular = float(p.get_float("specular"));
+  u.two_sided = p.get_bool("two_sided") ? 1 : 0;
+  u.shininess = float(p.get_float("shininess"));
+  u.xtoon = p.get_enum("xtoon");
+  u.density = float(p.get_float("density"));
+  u.cross_share = float(p.get_float("cross_hatch"));
+  u.coverage = float(p.get_float("stroke_coverage"));
+  u.world_units = world_units ? 1 : 0;
+  u.stroke_length = float(world_units ? p.get_float("world_length") : p.get_float("line_length"));
+  u.stroke_width = float(world_units ? p.get_float("world_width") : p.get_float("line_width"));
+  u.length_jitter = float(p.get_float("length_jitter"));
+  u.curvature_length = float(p.get_float("curvature_length"));
+  const bool irregular = p.get_enum_name("placement") == "irregular";
+  u.position_jitter = irregular ? float(p.get_float("position_jitter")) : 0.0f;
+  u.angle_jitter = irregular ? float(glm::radians(p.get_float("angle_jitter"))) : 0.0f;
+  u.coloring = p.get_enum("coloring");
+  u.point_blend = float(p.get_float("point_blend"));
+  u.hue_shift = float(p.get_float("hue_shift") / 360.0);
+  u.pencil_count = int(by_hue.size());
+  u.opacity = float(p.get_float("opacity"));
+  u.alpha_modification = float(p.get_float("alpha_modification"));
+  u.alpha_jitter = float(p.get_float("alpha_jitter"));
+  u.seed = uint32_t(p.get_int("seed"));
+
   const gl::Program& select = ctx.shaders->compute("hatching_select.comp");
   select.use();
-  glUniform1i(select.location("u_ortho"), cam.orthographic ? 1 : 0);
-  glUniform1f(select.location("u_near"), float(cam.clip_start));
-  glUniform1f(select.location("u_far"), float(cam.clip_end));
-  glUniform1f(select.location("u_depth_min"), float(ctx.depth_min));
-  glUniform1f(select.location("u_depth_max"), float(ctx.depth_max));
-  glUniform1f(select.location("u_px_per_unit"), px_per_unit);
-  glUniform3fv(select.location("u_light_dir"), 1, glm::value_ptr(light_view));
-  glUniform3fv(select.location("u_direction"), 1, glm::value_ptr(dir_view));
-  glUniform1f(select.location("u_ambient"), float(p.get_float("ambient")));
-  glUniform1f(select.location("u_specular"), float(p.get_float("specular")));
-  glUniform1i(select.location("u_two_sided"), p.get_bool("two_sided") ? 1 : 0);
-  glUniform1f(select.location("u_shininess"), float(p.get_float("shininess")));
-  glUniform1i(select.location("u_xtoon"), p.get_enum("xtoon"));
-  glUniform1f(select.location("u_density"), float(p.get_float("density")));
-  glUniform1f(select.location("u_cross"), float(p.get_float("cross_hatch")));
-  glUniform1f(select.location("u_coverage"), float(p.get_float("stroke_coverage")));
-  glUniform1i(select.location("u_world_units"), world_units ? 1 : 0);
-  glUniform1f(select.location("u_length"), float(world_units ? p.get_float("world_length") : p.get_float("line_length")));
-  glUniform1f(select.location("u_width"), float(world_units ? p.get_float("world_width") : p.get_float("line_width")));
-  glUniform1f(select.location("u_length_jitter"), float(p.get_float("length_jitter")));
-  glUniform1f(select.location("u_curvature_length"), float(p.get_float("curvature_length")));
-  const bool irregular = p.get_enum_name("placement") == "irregular";
-  glUniform1f(select.location("u_position_jitter"), irregular ? float(p.get_float("position_jitter")) : 0.0f);
-  glUniform1f(select.location("u_angle_jitter"), irregular ? float(glm::radians(p.get_float("angle_jitter"))) : 0.0f);
-  glUniform1i(select.location("u_coloring"), p.get_enum("coloring"));
+  gl::check_uniform_block(select, "HatchingSettings", sizeof(u), 0);
+  const gl::Buffer settings = gl::make_buffer(sizeof(u), &u);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 0, settings.id());
   glUniform4fv(select.location("u_constant_color"), 1, glm::value_ptr(p.get_color("stroke_color")));
-  glUniform1f(select.location("u_point_blend"), float(p.get_float("point_blend")));
-  glUniform1f(select.location("u_hue_shift"), float(p.get_float("hue_shift") / 360.0));
-  glUniform1i(select.location("u_pencil_count"), int(by_hue.size()));
-  if (!by_hue.empty()) {
-    std::vector<glm::vec3> colors;
-    std::vector<float> hues;
-    for (const auto& [h, c] : by_hue) hues.push_back(h), colors.push_back(c);
-    glUniform3fv(select.location("u_pencils"), GLsizei(colors.size()), glm::value_ptr(colors[0]));
-    glUniform1fv(select.location("u_pencil_hues"), GLsizei(hues.size()), hues.data());
-  }
-  glUniform1f(select.location("u_opacity"), float(p.get_float("opacity")));
-  glUniform1f(select.location("u_alpha_modification"), float(p.get_float("alpha_modification")));
-  glUniform1f(select.location("u_alpha_jitter"), float(p.get_float("alpha_jitter")));
-  glUniform1ui(select.location("u_seed"), uint32_t(p.get_int("seed")));
   glUniform1i(select.location("u_xtoon_image"), 0);
   glBindTextureUnit(0, xtoon_image ? xtoon_image->id() : ink.accum.id());
 
@@ -370,13 +364,13 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
     gl::check_gl("hatching strokes");
 
     if (ctx.capture) {
-      std::vector<StrokeRecord> records(used);
+      std::vector<Stroke> records(used);
       std::vector<DrawCommand> issued(static_cast<size_t>(draws));
-      glGetNamedBufferSubData(strokes.id(), 0, GLsizeiptr(used * sizeof(StrokeRecord)), records.data());
+      glGetNamedBufferSubData(strokes.id(), 0, GLsizeiptr(used * sizeof(Stroke)), records.data());
       glGetNamedBufferSubData(commands.id(), 0, GLsizeiptr(issued.size() * sizeof(DrawCommand)), issued.data());
       for (const DrawCommand& cmd : issued) {
         for (uint32_t r = cmd.first / 12u; r < (cmd.first + cmd.count) / 12u; ++r) {
-          const StrokeRecord& rec = records[r];
+          const Stroke& rec = records[r];
           CapturedMark m;
           m.point_id = rec.point_id;
           m.center = glm::vec3(rec.center_alpha);

@@ -1,0 +1,53 @@
+// The common subset of GLSL and C++ in which a mark's kernels are written
+// once for both backends (shaders/*_kernels.glsl, *_settings.glsl): the
+// shaders #include them, and the native backend includes them here, where
+// GLM gives GLSL's types and functions. The subset, so that both compilers
+// read the same text with the same float operations:
+//  - float literals with an `f` suffix (C++ would compute in double);
+//  - no swizzles (vec3(v), not v.xyz; v.x is fine), no out/inout
+//    parameters (return a struct), no const arrays;
+//  - a file's include guard in the preprocessor both share;
+//  - settings as one block of vec4s first and then 4-byte scalars, so the
+//    std140 layout and the C++ struct's agree (SETTINGS_BLOCK below;
+//    checked when the shader is linked: gl/uniform_block.h).
+// The native file that includes kernels builds with -ffp-contract=off, as
+// GLSL on llvmpipe never fuses a product into a sum.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+
+#include <glm/glm.hpp>
+
+namespace pointnpr::glsl {
+using namespace glm;
+using uint = std::uint32_t;
+
+inline float uintBitsToFloat(uint v) {
+  float f;
+  std::memcpy(&f, &v, 4);
+  return f;
+}
+inline uint floatBitsToUint(float f) {
+  uint v;
+  std::memcpy(&v, &f, 4);
+  return v;
+}
+// GLSL's unpackSnorm4x8 / unpackUnorm4x8 (component 0 in the low byte).
+inline vec4 unpackSnorm4x8(uint v) {
+  vec4 out;
+  for (int i = 0; i < 4; ++i) out[i] = clamp(float(int8_t(uint8_t(v >> (8 * i)))) / 127.0f, -1.0f, 1.0f);
+  return out;
+}
+inline vec4 unpackUnorm4x8(uint v) {
+  vec4 out;
+  for (int i = 0; i < 4; ++i) out[i] = float((v >> (8 * i)) & 0xffu) / 255.0f;
+  return out;
+}
+}  // namespace pointnpr::glsl
+
+// A settings block: a uniform block (std140) in GLSL, a struct in C++.
+#define SETTINGS_BLOCK(name, binding) struct name {
+#define END_SETTINGS_BLOCK(instance) \
+  }                                  \
+  ;
