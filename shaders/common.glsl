@@ -22,8 +22,6 @@ vec3 srgb_to_linear(vec3 c) {
   return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
 }
 
-// Integer hash (PCG-style): noise seeded by indices, never by time or address.
-uint hash_u32(uint x) {
-  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
-  return x;
-}
+// Integer hash (lowbias32, id_hash.glsl): noise seeded by indices, never by time or address.
+#include "id_hash.glsl"
+uint hash_u32(uint x) { return id_hash(x); }

@@ -1,6 +1,6 @@
 // The hatching mark's per-point kernels, written once for the GL pass
 // (hatching_select.comp) and the native one (cpp/marks/hatching/native.cpp)
-// in the subset of cpp/render/glsl.h. The includer defines what reads the
+// in the subset of cpp/core/glsl.h. The includer defines what reads the
 // point data: has_spacing(), point_spacing(i), has_curvature(),
 // point_curvature(i), point_color(i) and xtoon_image(uv).
 #ifndef HATCHING_KERNELS_GLSL

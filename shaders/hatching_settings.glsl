@@ -1,5 +1,5 @@
 // The hatching mark's stroke settings: one block both backends read
-// (cpp/marks/hatching/settings.h; the subset: cpp/render/glsl.h).
+// (cpp/marks/hatching/settings.h; the subset: cpp/core/glsl.h).
 #ifndef HATCHING_SETTINGS_GLSL
 #define HATCHING_SETTINGS_GLSL
 SETTINGS_BLOCK(HatchingSettings, 0)

@@ -1,5 +1,5 @@
 // A point's strokes as the hatching mark's passes hand them on (std430, 64
-// bytes; both backends: the subset of cpp/render/glsl.h).
+// bytes; both backends: the subset of cpp/core/glsl.h).
 #ifndef HATCHING_STROKE_GLSL
 #define HATCHING_STROKE_GLSL
 struct Stroke {

@@ -1,7 +1,7 @@
 // The object-space marks' randomness: an integer hash (lowbias32, Wellons)
 // of stable point ids (the same as GpuCloud's queue_hash), so every choice
 // is the same in every frame and process. Shared with the native backends
-// (the subset of cpp/render/glsl.h).
+// (the subset of cpp/core/glsl.h).
 #ifndef ID_HASH_GLSL
 #define ID_HASH_GLSL
 uint id_hash(uint x) {

@@ -1,24 +1,23 @@
 #pragma once
-// lowbias32 (Chris Wellons' integer hash), the same function as the
-// shaders' hash_u32 (shaders/common.glsl): the seeded randomness of the
-// core (the resolution queue's order, mesh sampling) is the GPU's.
-#include <cstdint>
+// The seeded randomness of the core and of the marks' native backends
+// (the resolution queue's order, mesh sampling, per-point choices): the
+// shaders' own functions, shaders/id_hash.glsl, compiled here (the subset
+// of core/glsl.h), so CPU and GPU draw the same numbers.
+#include "core/glsl.h"
 
 namespace pointnpr {
+namespace glsl {
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+namespace {
+#include "id_hash.glsl"
+}  // namespace
+#pragma GCC diagnostic pop
+}  // namespace glsl
 
-inline uint32_t hash_u32(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
-
-// Uniform in [0, 1) for a point id, a salt (one per decision) and a seed:
-// the shaders' id_rand (shaders/id_hash.glsl), for the native paths.
-inline float id_rand(uint32_t id, uint32_t salt, uint32_t seed) {
-  return float(hash_u32(id ^ hash_u32(salt * 0x9e3779b9u + seed * 0x85ebca6bu)) >> 8) * (1.0f / 16777216.0f);
-}
+// lowbias32 (Chris Wellons' integer hash).
+inline uint32_t hash_u32(uint32_t x) { return glsl::id_hash(x); }
+using glsl::id_rand;
+using glsl::id_value_noise;
 
 }  // namespace pointnpr

@@ -29,7 +29,7 @@ class Program {
 // Throws unless the program's std140 uniform block `block` is as large as
 // the C++ struct mirroring it (`bytes`, rounded to 16): a member the two
 // lay out differently (a vec3, a scalar before a vec4) pads one of them
-// (SETTINGS_BLOCK in render/glsl.h). Binds the block to `binding`.
+// (SETTINGS_BLOCK in core/glsl.h). Binds the block to `binding`.
 void check_uniform_block(const Program& program, const char* block, size_t bytes, GLuint binding);
 
 class ShaderLibrary {

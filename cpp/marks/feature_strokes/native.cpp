@@ -63,21 +63,10 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kBatchRecords = 1u << 18;  // as the GL path's batches
 constexpr uint32_t kGrain = 8192;             // points per work item
 
-// shaders/id_hash.glsl (its id_hash is lowbias32, core/hash.h)
-uint32_t id_hash(uint32_t x) { return hash_u32(x); }
+using glsl::id_hash;
 // GLSL's uint() of a float, negative values wrapped as x86 converts them.
 uint32_t to_uint(float v) { return uint32_t(int64_t(v)); }
 float mix(float a, float b, float t) { return a * (1.0f - t) + b * t; }
-float value_noise(float qx, float qy, uint32_t seed) {
-  const float ix = std::floor(qx), iy = std::floor(qy);
-  const float fx = qx - ix, fy = qy - iy;
-  const float wx = fx * fx * (3.0f - 2.0f * fx), wy = fy * fy * (3.0f - 2.0f * fy);
-  const uint32_t base = id_hash(seed);
-  auto at = [base](float x, float y) {
-    return float(id_hash(base ^ id_hash(to_uint(x) * 73856093u ^ to_uint(y) * 19349663u)) >> 8) / 16777216.0f;
-  };
-  return mix(mix(at(ix, iy), at(ix + 1.0f, iy), wx), mix(at(ix, iy + 1.0f), at(ix + 1.0f, iy + 1.0f), wx), wy);
-}
 float smoothstep(float e0, float e1, float x) {
   const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
@@ -428,7 +417,7 @@ float stroke_alpha(const FeatureStrokeSettings& s, const HostTexture& image, con
   const float taper = smoothstep(0.0f, 0.2f, u) * (1.0f - smoothstep(0.7f, 1.0f, u));
   if (s.texture == 2) {  // dry brush
     const float aspect = p.size.x / std::max(p.size.y, 1e-3f);
-    const float g = value_noise(u * aspect * 2.0f, v * 5.0f, p.id);
+    const float g = id_value_noise(glm::vec2(u * aspect * 2.0f, v * 5.0f), p.id);
     return taper * smoothstep(0.3f, 0.55f, g) * (1.0f - std::pow(across, 4.0f));
   }
   return taper * (1.0f - across * across);

@@ -1,9 +1,9 @@
 // The hatching mark's settings and strokes, declared once for both
-// backends in shaders/ (the subset of render/glsl.h): hatching_settings.glsl
+// backends in shaders/ (the subset of core/glsl.h): hatching_settings.glsl
 // (uploaded as one uniform block), hatching_stroke.glsl (a point's strokes).
 #pragma once
 
-#include "render/glsl.h"
+#include "core/glsl.h"
 
 namespace pointnpr::hatching {
 using namespace glsl;

@@ -661,9 +661,7 @@ class NativeStipplePasses final : public StipplePasses {
     return std::clamp((octave + 64) * 8 + within, 0, kStippleHistogramBins - 1);
   }
 
-  float hash01(uint32_t id, uint32_t salt) const {
-    return float(hash_u32(id ^ hash_u32(salt * 0x9e3779b9u + s_.seed * 0x85ebca6bu)) >> 8) * (1.0f / 16777216.0f);
-  }
+  float hash01(uint32_t id, uint32_t salt) const { return id_rand(id, salt, s_.seed); }
 
   // One spreading step: out = min(in, 3 x 3 minimum of in + step), within the window.
   void spread_step(const uint32_t* in, uint32_t* out) const {
