@@ -34,6 +34,8 @@
 #include "gl/device.h"
 #include "marks/feature_strokes/feature_strokes.h"
 #include "marks/points/points.h"
+#include "render/native_ink.h"
+#include "render/native_raster.h"
 #include "render/screen_bins.h"
 #include "scene/camera.h"
 #include "scene/point_cloud.h"
@@ -70,29 +72,6 @@ float mix(float a, float b, float t) { return a * (1.0f - t) + b * t; }
 float smoothstep(float e0, float e1, float x) {
   const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
-}
-
-// Without SSE4.1, std::floor, ceil and nearbyint are library calls, a
-// large part of a disc's or a quad's cost: these for |v| < 2^31.
-int floor_int(float v) {
-  const int i = int(v);
-  return i - (float(i) > v);
-}
-int ceil_int(float v) {
-  const int i = int(v);
-  return i + (float(i) < v);
-}
-// To the nearest integer, ties to even (the rounding mode's, as GLSL's
-// round() on llvmpipe), exactly for every float below 2^51.
-int64_t round_even(float v) {
-  constexpr double kShift = 6755399441055744.0;  // 1.5 x 2^52
-  return int64_t((double(v) + kShift) - kShift);
-}
-
-// GLSL's mat4 * vec4(p, 1): the columns summed in order.
-glm::vec4 transform(const glm::mat4& m, const glm::vec3& p) { return m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3]; }
-glm::vec4 transform(const glm::mat4& m, const glm::vec4& p) {
-  return m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3] * p.w;
 }
 
 // One visible chunk's host data (index = first + local into the cloud's arrays).
@@ -139,14 +118,6 @@ glm::vec4 source_color(const Chunk& c, uint32_t index, const glm::vec4& constant
 
 float reversed_z(const Frame& f, float depth) {
   return f.ortho ? 1.0f - (depth - f.near) / (f.far - f.near) : f.near / depth;
-}
-
-// Per-pixel minimum by compare-and-swap: only ever lowers the value.
-void fetch_min(uint64_t& slot, uint64_t value) {
-  std::atomic_ref<uint64_t> ref(slot);
-  uint64_t current = ref.load(std::memory_order_relaxed);
-  while (value < current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
-  }
 }
 
 // Pass 1 (feature_strokes_depth.vert/.frag): points [begin, end) of a chunk.
@@ -274,8 +245,7 @@ struct Prim {
   float depth = 0.0f;  // linear
   float z = 0.0f;      // reversed, for the depth test
   uint32_t id = 0, primitive = 0;
-  int32_t qx[4] = {}, qy[4] = {};  // corners, 1/256 frame pixels: (0,0) (1,0) (1,1) (0,1)
-  glm::ivec2 lo{0}, hi{0};          // tile pixels covered at most, [lo, hi)
+  ExactQuad quad;
 };
 
 // feature_strokes.vert: false when nothing of it reaches the clip.
@@ -300,23 +270,11 @@ bool setup(const Record& rec, const Frame& f, const FeatureStrokeSettings& s, Pr
   const float lo_y = float(f.clip.min.y + f.origin.y) - reach, hi_y = float(f.clip.max.y + f.origin.y) + reach;
   if (!(center.x >= lo_x && center.x <= hi_x && center.y >= lo_y && center.y <= hi_y)) return false;
   static constexpr float kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  int64_t min_x = INT64_MAX, min_y = INT64_MAX, max_x = INT64_MIN, max_y = INT64_MIN;
-  for (int k = 0; k < 4; ++k) {
-    const glm::vec2 at = center + (2.0f * kCorner[k][0] - 1.0f) * 0.5f * len * r1 +
-                         (2.0f * kCorner[k][1] - 1.0f) * 0.5f * width * r2;
-    p.qx[k] = int32_t(round_even(at.x * 256.0f));
-    p.qy[k] = int32_t(round_even(at.y * 256.0f));
-    min_x = std::min<int64_t>(min_x, p.qx[k]);
-    max_x = std::max<int64_t>(max_x, p.qx[k]);
-    min_y = std::min<int64_t>(min_y, p.qy[k]);
-    max_y = std::max<int64_t>(max_y, p.qy[k]);
-  }
-  // Pixels whose centre (256 x + 128) can lie within the corners' box.
-  auto first_pixel = [](int64_t q) { return int(((q - 128) + 255 + (int64_t(1) << 40)) / 256 - (int64_t(1) << 32)); };
-  auto last_pixel = [](int64_t q) { return int(((q - 128) + (int64_t(1) << 40)) / 256 - (int64_t(1) << 32)); };
-  p.lo = glm::max(glm::ivec2(first_pixel(min_x), first_pixel(min_y)) - f.origin, f.clip.min);
-  p.hi = glm::min(glm::ivec2(last_pixel(max_x), last_pixel(max_y)) - f.origin + 1, f.clip.max);
-  if (p.lo.x >= p.hi.x || p.lo.y >= p.hi.y) return false;
+  glm::vec2 corners[4];
+  for (int k = 0; k < 4; ++k)
+    corners[k] = center + (2.0f * kCorner[k][0] - 1.0f) * 0.5f * len * r1 +
+                 (2.0f * kCorner[k][1] - 1.0f) * 0.5f * width * r2;
+  if (!exact_quad(corners, f.origin, f.clip, p.quad)) return false;
   p.center = center;
   p.r1 = r1;
   p.size = {len, width};
@@ -327,77 +285,6 @@ bool setup(const Record& rec, const Frame& f, const FeatureStrokeSettings& s, Pr
   p.primitive = rec.primitive;
   return true;
 }
-
-// A triangle's edges a -> b, counter-clockwise (y up), as functions of the
-// frame pixel x on a row: E(x) = A x + K > 0 inside. On an edge (E == 0) a
-// pixel centre belongs to left edges and bottom ones (llvmpipe's fill
-// convention for its framebuffers), so two triangles sharing an edge cover
-// each of its pixels once. Integers on the 1/256 grid: exact.
-struct Triangle {
-  int64_t a[3] = {}, b[3] = {}, c[3] = {};  // E = a X + b Y + c, X, Y in 1/256 pixels
-  bool empty = true;
-};
-Triangle triangle(const Prim& p, int i, int j, int k) {
-  int64_t x[3] = {p.qx[i], p.qx[j], p.qx[k]}, y[3] = {p.qy[i], p.qy[j], p.qy[k]};
-  const int64_t area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
-  Triangle t;
-  if (area == 0) return t;
-  if (area < 0) {
-    std::swap(x[1], x[2]);
-    std::swap(y[1], y[2]);
-  }
-  for (int n = 0; n < 3; ++n) {
-    const int m = (n + 1) % 3;
-    const int64_t dx = x[m] - x[n], dy = y[m] - y[n];
-    t.a[n] = -dy;
-    t.b[n] = dx;
-    t.c[n] = -(t.a[n] * x[n] + t.b[n] * y[n]);
-    if (dy < 0 || (dy == 0 && dx > 0)) t.c[n] += 1;  // E >= 0 counts (integer values)
-  }
-  t.empty = false;
-  return t;
-}
-int64_t floor_div(int64_t n, int64_t d) {  // d > 0
-  const int64_t q = n / d;
-  return q - ((n % d != 0) && (n < 0));
-}
-// The frame pixels [first, last] of row `y` (frame) inside the triangle.
-void triangle_span(const Triangle& t, int64_t y, int64_t& first, int64_t& last) {
-  const int64_t sy = y * 256 + 128;
-  for (int n = 0; n < 3; ++n) {
-    // a (256 x + 128) + b sy + c > 0
-    const int64_t A = 256 * t.a[n], K = 128 * t.a[n] + t.b[n] * sy + t.c[n];
-    if (A > 0) {
-      first = std::max(first, floor_div(-K, A) + 1);
-    } else if (A < 0) {
-      last = std::min(last, -floor_div(-K, -A) - 1);
-    } else if (K <= 0) {
-      last = first - 1;
-      return;
-    }
-  }
-}
-
-// The bilinear, clamped texture of `stroke_texture` image (GL_LINEAR, CLAMP_TO_EDGE).
-struct HostTexture {
-  std::vector<float> rgba;
-  int width = 0, height = 0;
-  glm::vec4 texel(int x, int y) const {
-    x = std::clamp(x, 0, width - 1);
-    y = std::clamp(y, 0, height - 1);
-    const float* t = &rgba[4 * (size_t(y) * size_t(width) + size_t(x))];
-    return {t[0], t[1], t[2], t[3]};
-  }
-  glm::vec4 sample(float u, float v) const {
-    const float fx = u * float(width) - 0.5f, fy = v * float(height) - 0.5f;
-    const float x0 = std::floor(fx), y0 = std::floor(fy);
-    const float tx = fx - x0, ty = fy - y0;
-    const int ix = int(std::clamp(x0, -2.0f, float(width))), iy = int(std::clamp(y0, -2.0f, float(height)));
-    const glm::vec4 a = glm::mix(texel(ix, iy), texel(ix + 1, iy), tx);
-    const glm::vec4 b = glm::mix(texel(ix, iy + 1), texel(ix + 1, iy + 1), tx);
-    return glm::mix(a, b, ty);
-  }
-};
 
 // feature_strokes.frag's stroke_alpha().
 float stroke_alpha(const FeatureStrokeSettings& s, const HostTexture& image, const Prim& p, float u, float v) {
@@ -424,67 +311,35 @@ float stroke_alpha(const FeatureStrokeSettings& s, const HostTexture& image, con
 }
 
 // The ink images over the clip (tile pixels, row-major from clip.min).
-struct Ink {
-  float* accum;   // rgb * a, a (sums)
-  float* reveal;  // transmittance (product)
-  float* depth;   // nearest linear depth
-  const uint64_t* keys;
-  int stride;
-  glm::ivec2 min;
-};
-
 // Pass 2b: primitive p over the pixels of `area` (feature_strokes.frag and
-// the ink layer's blending), row by row over the spans its triangles cover.
+// the ink layer's blending), against the discs' keys.
 void rasterize(const Prim& p, const Rect& area, const Frame& f, const FeatureStrokeSettings& s,
-               const HostTexture& image, const Ink& ink) {
-  const glm::ivec2 lo = glm::max(p.lo, area.min), hi = glm::min(p.hi, area.max);
-  if (lo.x >= hi.x || lo.y >= hi.y) return;
-  const Triangle triangles[2] = {triangle(p, 0, 1, 2), triangle(p, 0, 2, 3)};
+               const HostTexture& image, const HostInk& ink, const uint64_t* keys) {
   const glm::vec2 r2(-p.r1.y, p.r1.x);
   const float len = std::max(p.size.x, 1e-6f), width = std::max(p.size.y, 1e-6f);
-  for (int y = lo.y; y < hi.y; ++y) {
+  for_each_covered_pixel(p.quad, area, f.origin, [&](int x, int y) {
+    const size_t q = ink.at(x, y);
+    // GEQUAL against the discs' reversed depth (none: the far end, 0).
+    const uint64_t key = keys[q];
+    if (key != kEmpty && !(p.z >= glsl::uintBitsToFloat(~uint32_t(key >> 32)))) return;
+    const float rel_x = (float(x) + 0.5f + float(f.origin.x)) - p.center.x;
     const float rel_y = (float(y) + 0.5f + float(f.origin.y)) - p.center.y;
-    const size_t row = size_t(y - ink.min.y) * size_t(ink.stride) - size_t(ink.min.x);
-    for (const Triangle& t : triangles) {
-      if (t.empty) continue;
-      int64_t first = int64_t(lo.x) + f.origin.x, last = int64_t(hi.x) - 1 + f.origin.x;  // frame pixels
-      triangle_span(t, int64_t(y) + f.origin.y, first, last);
-      for (int x = int(first - f.origin.x); x <= int(last - f.origin.x); ++x) {
-        const size_t q = row + size_t(x);
-        // GEQUAL against the discs' reversed depth (none: the far end, 0).
-        const uint64_t key = ink.keys[q];
-        if (key != kEmpty) {
-          const uint32_t bits = ~uint32_t(key >> 32);
-          float surface;
-          std::memcpy(&surface, &bits, 4);
-          if (!(p.z >= surface)) continue;
-        }
-        const float rel_x = (float(x) + 0.5f + float(f.origin.x)) - p.center.x;
-        const float u = (rel_x * p.r1.x + rel_y * p.r1.y) / len + 0.5f;
-        const float v = (rel_x * r2.x + rel_y * r2.y) / width + 0.5f;
-        float k;
-        if (p.primitive == 1) {  // Gaussian splatting kernel
-          const float qx = 2.0f * u - 1.0f, qy = 2.0f * v - 1.0f;
-          const float d2 = qx * qx + qy * qy;
-          if (d2 > 1.0f) continue;
-          k = std::exp(-d2 / (2.0f * 0.4f * 0.4f));
-        } else if (p.primitive == 2) {
-          k = 1.0f;
-        } else {
-          k = stroke_alpha(s, image, p, u, v);
-        }
-        const float a = std::clamp(p.color.a * k, 0.0f, 1.0f);
-        if (!(a > 0.0f)) continue;
-        float* acc = ink.accum + 4 * q;
-        acc[0] += p.color.r * a;
-        acc[1] += p.color.g * a;
-        acc[2] += p.color.b * a;
-        acc[3] += a;
-        ink.reveal[q] *= 1.0f - a;
-        ink.depth[q] = std::min(ink.depth[q], p.depth);
-      }
+    const float u = (rel_x * p.r1.x + rel_y * p.r1.y) / len + 0.5f;
+    const float v = (rel_x * r2.x + rel_y * r2.y) / width + 0.5f;
+    float k;
+    if (p.primitive == 1) {  // Gaussian splatting kernel
+      const float qx = 2.0f * u - 1.0f, qy = 2.0f * v - 1.0f;
+      const float d2 = qx * qx + qy * qy;
+      if (d2 > 1.0f) return;
+      k = std::exp(-d2 / (2.0f * 0.4f * 0.4f));
+    } else if (p.primitive == 2) {
+      k = 1.0f;
+    } else {
+      k = stroke_alpha(s, image, p, u, v);
     }
-  }
+    const float a = std::clamp(p.color.a * k, 0.0f, 1.0f);
+    if (a > 0.0f) ink.blend(q, glm::vec3(p.color), a, p.depth);
+  });
 }
 
 // The host images of the last frames, kept by the renderer (HostScratch) so
@@ -492,30 +347,20 @@ void rasterize(const Prim& p, const Rect& area, const Frame& f, const FeatureStr
 // tile's region at most).
 struct HostImages {
   std::vector<uint64_t> keys;
-  std::vector<float> accum, reveal, depth;
-  size_t bytes() const { return held_bytes(keys) + held_bytes(accum) + held_bytes(reveal) + held_bytes(depth); }
+  HostInkImages ink;
+  size_t bytes() const { return held_bytes(keys) + ink.bytes(); }
 };
-HostImages& host_images(HostScratch& host, size_t pixels) {
-  HostImages& images = host.get<HostImages>();
-  if (images.keys.size() < pixels) {
-    images.keys.resize(pixels);
-    images.accum.resize(4 * pixels);
-    images.reveal.resize(pixels);
-    images.depth.resize(pixels);
-  }
-  return images;
-}
 
 // Binned pass 2b of one batch of primitives, in their order per pixel.
 void draw_primitives(const std::vector<Prim>& prims, const Frame& f, const FeatureStrokeSettings& s,
-                     const HostTexture& image, const Ink& ink) {
+                     const HostTexture& image, const HostInk& ink, const uint64_t* keys) {
   auto bounds = [&](size_t i, glm::ivec2& lo, glm::ivec2& hi) {
-    lo = prims[i].lo;
-    hi = prims[i].hi;
+    lo = prims[i].quad.lo;
+    hi = prims[i].quad.hi;
     return true;
   };
   for_each_bin_in_order(prims.size(), f.clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
-    for (size_t j = 0; j < n; ++j) rasterize(prims[list[j]], area, f, s, image, ink);
+    for (size_t j = 0; j < n; ++j) rasterize(prims[list[j]], area, f, s, image, ink, keys);
   });
 }
 
@@ -595,29 +440,21 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
   }
 
   HostTexture image;
-  if (s.texture == 3 && s.texture_image) {
-    image.width = s.texture_image->size().x;
-    image.height = s.texture_image->size().y;
-    image.rgba.resize(4 * size_t(image.width) * size_t(image.height));
-    glGetTextureImage(s.texture_image->id(), 0, GL_RGBA, GL_FLOAT, GLsizei(image.rgba.size() * sizeof(float)),
-                      image.rgba.data());
-    gl::check_gl("feature strokes: reading the stroke texture back");
-  }
+  if (s.texture == 3 && s.texture_image) image = HostTexture(*s.texture_image, "feature strokes");
 
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const glm::ivec2 size = clip.size();
   const size_t pixels = size_t(size.x) * size_t(size.y);
-  HostImages& host = host_images(*ctx.host, pixels);
+  HostImages& host = ctx.host->get<HostImages>();
+  if (host.keys.size() < pixels) host.keys.resize(pixels);
   uint64_t* keys = host.keys.data();
-  float* accum = host.accum.data();
-  float* reveal = host.reveal.data();
-  float* ink_depth = host.depth.data();
+  const HostInk ink = host.ink.clear(clip);
+  float* accum = ink.accum;
+  float* reveal = ink.reveal;
+  float* ink_depth = ink.depth;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
     std::fill(keys + r.begin(), keys + r.end(), kEmpty);
-    std::fill(accum + 4 * r.begin(), accum + 4 * r.end(), 0.0f);
-    std::fill(reveal + r.begin(), reveal + r.end(), 1.0f);
-    std::fill(ink_depth + r.begin(), ink_depth + r.end(), kInf);
   });
 
   // 1. Visibility discs: every point of every chunk.
@@ -635,7 +472,6 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
   const auto t1 = Clock::now();
 
   // 2. Per batch of chunks (as the GL path's): selection, then primitives.
-  const Ink ink{accum, reveal, ink_depth, keys, size.x, clip.min};
   std::vector<Record> records;
   std::vector<Prim> prims;
   double select_ms = 0.0;
@@ -682,7 +518,7 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
       if (alive[i]) prims[kept++] = prims[i];
     prims.resize(kept);
     select_ms += std::chrono::duration<double, std::milli>(Clock::now() - ts).count();
-    draw_primitives(prims, f, s, image, ink);
+    draw_primitives(prims, f, s, image, ink, keys);
     batch_start = batch_end;
   }
   const auto t2 = Clock::now();

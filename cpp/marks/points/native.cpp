@@ -25,6 +25,7 @@
 #include "geometry/analysis.h"
 #include "gl/device.h"
 #include "marks/points/points.h"
+#include "render/native_raster.h"
 #include "scene/camera.h"
 
 namespace pointnpr {
@@ -105,30 +106,11 @@ glm::vec4 row(const glm::dmat4& m, int r) { return {float(m[0][r]), float(m[1][r
 
 float dot_affine(const glm::vec4& row, const glm::vec3& p) { return row.x * p.x + row.y * p.y + row.z * p.z + row.w; }
 
-// Per-pixel minimum by compare-and-swap: only ever lowers the value.
-void fetch_min(uint64_t& slot, uint64_t value) {
-  std::atomic_ref<uint64_t> ref(slot);
-  uint64_t current = ref.load(std::memory_order_relaxed);
-  while (value < current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
-  }
-}
-
 // covers() of points.glsl, evaluated in the same float operations.
 bool covers(float dx, float dy, float diameter) {
   const float r = 0.5f * diameter;
   if (diameter < 2.0f) return std::abs(dx) <= r && std::abs(dy) <= r;
   return dx * dx + dy * dy <= r * r;
-}
-
-// floor and ceil as ints for |v| < 2^31 (the caller bounds v): without
-// SSE4.1, std::floor is a library call, a large part of a splat's cost.
-int floor_int(float v) {
-  const int i = int(v);
-  return i - (float(i) > v);
-}
-int ceil_int(float v) {
-  const int i = int(v);
-  return i + (float(i) < v);
 }
 
 // Specialised on what is constant over a frame: the size mode, the

@@ -34,6 +34,7 @@
 
 #include "core/error.h"
 #include "core/hash.h"
+#include "render/native_raster.h"
 #include "gl/device.h"
 #include "marks/stipples/stipples.h"
 #include "scene/point_cloud.h"
@@ -49,18 +50,6 @@ constexpr int kRowGrain = 8;       // rows per work item of the image passes
 uint32_t bits(float f) { return std::bit_cast<uint32_t>(f); }
 float from_bits(uint32_t b) { return std::bit_cast<float>(b); }
 
-void fetch_min(uint32_t& slot, uint32_t value) {
-  std::atomic_ref<uint32_t> ref(slot);
-  uint32_t current = ref.load(std::memory_order_relaxed);
-  while (value < current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
-  }
-}
-void fetch_max(uint32_t& slot, uint32_t value) {
-  std::atomic_ref<uint32_t> ref(slot);
-  uint32_t current = ref.load(std::memory_order_relaxed);
-  while (value > current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
-  }
-}
 void fetch_add(uint32_t& slot, uint32_t value) {
   std::atomic_ref<uint32_t>(slot).fetch_add(value, std::memory_order_relaxed);
 }
