@@ -1,4 +1,5 @@
 // Shared by the hatching mark's GL passes (cpp/marks/hatching/).
 #include "id_hash.glsl"
-#include "hatching_stroke.glsl"
+#include "shared_kernels.glsl"
+#include "hatching_settings.glsl"
 layout(std430, binding = 7) buffer Strokes { Stroke strokes[]; };

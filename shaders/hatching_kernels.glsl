@@ -6,7 +6,7 @@
 #ifndef HATCHING_KERNELS_GLSL
 #define HATCHING_KERNELS_GLSL
 #include "id_hash.glsl"
-#include "hatching_stroke.glsl"
+#include "hatching_settings.glsl"
 
 // The procedural X-Toon textures: x = brightness, y = depth (0 near). As
 // the paper's (its Fig. 2) they leave depth unused, so which points draw

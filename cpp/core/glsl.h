@@ -7,6 +7,8 @@
 //  - no swizzles (vec3(v), not v.xyz; v.x is fine), no out/inout
 //    parameters (return a struct), no const arrays;
 //  - a file's include guard in the preprocessor both share;
+//  - mat_vec(m, v) for mat4 * vec4 (GLM sums the columns in another
+//    order than llvmpipe), PRECISE for GLSL's precise;
 //  - settings as one block of vec4s first and then 4-byte scalars, so the
 //    std140 layout and the C++ struct's agree (SETTINGS_BLOCK below;
 //    checked when the shader is linked: gl/uniform_block.h).
@@ -44,8 +46,12 @@ inline vec4 unpackUnorm4x8(uint v) {
   for (int i = 0; i < 4; ++i) out[i] = float((v >> (8 * i)) & 0xffu) / 255.0f;
   return out;
 }
+// mat4 * vec4 as llvmpipe computes it: the columns summed in order.
+inline vec4 mat_vec(const mat4& m, const vec4& v) { return m[0] * v.x + m[1] * v.y + m[2] * v.z + m[3] * v.w; }
 }  // namespace pointnpr::glsl
 
+// GLSL's precise: the native files build with -ffp-contract=off anyway.
+#define PRECISE
 // A settings block: a uniform block (std140) in GLSL, a struct in C++.
 #define SETTINGS_BLOCK(name, binding) struct name {
 #define END_SETTINGS_BLOCK(instance) \

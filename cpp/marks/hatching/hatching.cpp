@@ -284,27 +284,32 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   glUniform1i(select.location("u_xtoon_image"), 0);
   glBindTextureUnit(0, xtoon_image ? xtoon_image->id() : ink.accum.id());
 
+  hatching::HatchingRasterSettings rs{};
+  rs.projection = glm::mat4(cam.projection);
+  rs.inv_projection = glm::mat4(glm::inverse(cam.projection));
+  rs.size_x = size.x;
+  rs.size_y = size.y;
+  rs.ortho = cam.orthographic ? 1 : 0;
+  rs.near_plane = float(cam.clip_start);
+  rs.far_plane = float(cam.clip_end);
+  rs.px_per_unit = px_per_unit;
+  // The offset toward the camera, in depth-disc radii (scene units).
+  rs.offset_radii = depth_pass ? float(p.get_float("depth_offset")) : 0.0f;
+  rs.world_units = world_units ? 1 : 0;
+  rs.disc_size = float(world_units ? p.get_float("depth_world_size") : p.get_float("depth_size"));
+  rs.max_reach = world_units ? std::numeric_limits<float>::max() : stroke_reach(p);
+  rs.stroke_texture = p.get_enum("stroke_texture");
+  rs.clip_to_surface = depth_pass && p.get_bool("clip_to_surface") ? 1 : 0;
+
   const gl::Program& expand = ctx.shaders->graphics("hatching_strokes.vert", "hatching_strokes.frag");
   expand.use();
-  glUniformMatrix4fv(expand.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
-  glUniform1i(expand.location("u_ortho"), cam.orthographic ? 1 : 0);
-  glUniform1f(expand.location("u_near"), float(cam.clip_start));
-  glUniform1f(expand.location("u_far"), float(cam.clip_end));
-  glUniform1f(expand.location("u_px_per_unit"), px_per_unit);
-  // The offset toward the camera, in depth-disc radii (scene units).
-  glUniform1f(expand.location("u_offset_radii"), depth_pass ? float(p.get_float("depth_offset")) : 0.0f);
-  glUniform1i(expand.location("u_world_units"), world_units ? 1 : 0);
-  glUniform1f(expand.location("u_disc_size"), float(world_units ? p.get_float("depth_world_size") : p.get_float("depth_size")));
-  glUniform1i(expand.location("u_texture"), p.get_enum("stroke_texture"));
-  glUniform1i(expand.location("u_clip_to_surface"), depth_pass && p.get_bool("clip_to_surface") ? 1 : 0);
+  gl::check_uniform_block(expand, "HatchingRasterSettings", sizeof(rs), 1);
+  const gl::Buffer raster_settings = gl::make_buffer(sizeof(rs), &rs);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 1, raster_settings.id());
   glUniform1i(expand.location("u_surface_depth"), 1);
   glBindTextureUnit(1, ctx.targets.depth->id());
   // Tiles: corners at their exact frame positions, each fragment's place on
   // the stroke from its frame pixel's ray (render/exact_raster.h).
-  glUniform2i(expand.location("u_size"), size.x, size.y);
-  glUniformMatrix4fv(expand.location("u_inv_projection"), 1, GL_FALSE,
-                     glm::value_ptr(glm::mat4(glm::inverse(cam.projection))));
-  glUniform1f(expand.location("u_max_reach"), world_units ? std::numeric_limits<float>::max() : stroke_reach(p));
   const ExactRaster raster = exact_raster(ctx.targets, extent(p).pixels);
   raster.set_uniforms(expand);
 

@@ -1,0 +1,122 @@
+// The hatching mark's strokes as quads and their pixels, written once for
+// the GL passes (hatching_strokes.vert/.frag) and the native ones
+// (cpp/marks/hatching/native.cpp) in the subset of cpp/core/glsl.h.
+// Corners are drawn at their exact frame positions, and each pixel finds
+// its place on the stroke from its frame pixel's view ray (not from
+// interpolated varyings, whose rounding follows a tile's origin:
+// cpp/render/exact_raster.h).
+#ifndef HATCHING_QUAD_GLSL
+#define HATCHING_QUAD_GLSL
+#include "id_hash.glsl"
+#include "hatching_settings.glsl"
+
+vec2 frame_pixel(vec3 p) {
+  vec4 clip = mat_vec(raster.projection, vec4(p, 1.0f));
+  PRECISE vec2 px = (vec2(clip.x, clip.y) / clip.w * 0.5f + 0.5f) * vec2(float(raster.size_x), float(raster.size_y));
+  return px;
+}
+
+// Line `line` of stroke s (0: d1; 1: the crossing one), size 0 where it
+// draws nothing.
+StrokeQuad stroke_quad(Stroke s, uint line) {
+  StrokeQuad q;
+  q.color = vec4(0.0f);
+  q.center = vec3(0.0f);
+  q.aspect = 0.0f;
+  q.along = vec3(0.0f);
+  q.offset = 0.0f;
+  q.across = vec3(0.0f);
+  q.id = 0u;
+  q.size = vec2(0.0f);
+  q.center_px = vec2(0.0f);
+  bool crossing = s.n_width.w < 0.0f;
+  if (!(s.center_alpha.w > 0.0f) || (line == 1u && !crossing)) return q;
+  vec3 center = vec3(s.center_alpha);
+  vec3 n = vec3(s.n_width);
+  vec3 d = line == 0u ? vec3(s.d1_length) : cross(n, vec3(s.d1_length));
+  float len = s.d1_length.w, width = abs(s.n_width.w);
+  float depth = -center.z;
+  float px_per_unit = raster.px_per_unit / (raster.ortho != 0 ? 1.0f : depth);
+  // Thin strokes are drawn 1.5 px wide with proportionally less opacity:
+  // sub-pixel quads would drop pixels and shimmer as the camera moves.
+  float width_px = width * px_per_unit;
+  float alpha = s.center_alpha.w;
+  if (width_px < 1.5f) {
+    alpha *= width_px / 1.5f;
+    width = 1.5f / px_per_unit;
+  }
+  // Across the stroke: perpendicular to the line and to the view ray.
+  vec3 view_dir = raster.ortho != 0 ? vec3(0.0f, 0.0f, -1.0f) : normalize(center);
+  vec3 across = cross(d, view_dir);
+  if (dot(across, across) < 1e-8f) across = cross(d, n);
+  across = normalize(across);
+  // A stroke reaching in front of the near plane would project through the
+  // camera: not drawn (its point lies within half a stroke of the plane).
+  float nearest = depth - 0.5f * len * abs(d.z) - 0.5f * width * abs(across.z);
+  if (!(nearest >= raster.near_plane)) return q;
+  // The paper's polygon offset, in scene units along the view ray (the
+  // screen position is unchanged; the pixels apply it to depth): disc radii
+  // at this depth.
+  float disc_radius = 0.5f * (raster.world_units != 0 ? raster.disc_size : raster.disc_size / px_per_unit);
+  q.color = vec4(s.color, alpha);
+  q.center = center;
+  q.aspect = len / width;
+  q.along = d;
+  q.offset = raster.offset_radii * disc_radius;
+  q.across = across;
+  q.id = s.point_id * 2u + line;
+  q.size = vec2(len, width);
+  q.center_px = frame_pixel(center);
+  return q;
+}
+
+// Corner (0 or 1 along, 0 or 1 across) of a quad, in frame pixels.
+vec2 quad_corner(StrokeQuad q, vec2 corner) {
+  return frame_pixel(q.center + q.along * (corner.x - 0.5f) * q.size.x + q.across * (corner.y - 0.5f) * q.size.y);
+}
+
+// A stroke's texture at uv (0..1 along, 0..1 across).
+float stroke_alpha(StrokeQuad q, vec2 uv) {
+  float across = abs(2.0f * uv.y - 1.0f);
+  float along = 2.0f * uv.x - 1.0f;
+  if (raster.stroke_texture == 2) return 1.0f;  // ink: solid
+  if (raster.stroke_texture == 3) {             // soft dot
+    vec2 p = vec2(along * max(q.aspect, 1.0f), 2.0f * uv.y - 1.0f);
+    return exp(-2.5f * dot(p, p) / max(q.aspect, 1.0f));
+  }
+  // Tapered ends and pressure along the stroke.
+  float taper = smoothstep(0.0f, 0.18f, uv.x) * smoothstep(1.0f, 0.75f, uv.x);
+  vec2 p = vec2(uv.x * q.aspect * 1.5f, uv.y * 2.0f);
+  if (raster.stroke_texture == 1) {  // crayon: flat across, waxy gaps
+    float g = id_value_noise(p * vec2(1.0f, 1.5f), q.id);
+    return (1.0f - pow(across, 6.0f)) * smoothstep(0.25f, 0.6f, g) * (0.6f + 0.4f * taper);
+  }
+  float g = id_value_noise(p, q.id);  // pencil: graphite profile with grain
+  return (1.0f - across * across) * taper * (0.55f + 0.45f * g);
+}
+
+// What the quad draws at a frame pixel's centre: x = alpha (not > 0:
+// nothing), y = the depth the depth test sees (reversed Z, the stroke moved
+// toward the camera by its offset), z = the surface's linear depth there.
+vec3 stroke_fragment(StrokeQuad q, vec2 frame_px) {
+  // Perspective close-ups: no stroke reaches farther than the halo allows.
+  if (distance(frame_px, q.center_px) > raster.max_reach) return vec3(0.0f);
+  // The pixel's view ray (from the near plane) met with the stroke's plane.
+  vec2 ndc = frame_px / vec2(float(raster.size_x), float(raster.size_y)) * 2.0f - 1.0f;
+  vec4 near_point = mat_vec(raster.inv_projection, vec4(ndc, -1.0f, 1.0f));
+  vec3 on_near = vec3(near_point) / near_point.w;
+  vec3 origin = raster.ortho != 0 ? on_near : vec3(0.0f);
+  vec3 ray = raster.ortho != 0 ? vec3(0.0f, 0.0f, -1.0f) : on_near;
+  vec3 normal = cross(q.along, q.across);
+  vec3 hit = origin + ray * (dot(q.center - origin, normal) / dot(ray, normal));
+  vec3 rel = hit - q.center;
+  vec2 uv = vec2(dot(rel, q.along), dot(rel, q.across)) / q.size + 0.5f;
+  if (!(abs(uv.x) < 1e6f && abs(uv.y) < 1e6f)) return vec3(0.0f);  // the plane seen edge-on (or NaN)
+  float a = clamp(q.color.a * stroke_alpha(q, uv), 0.0f, 1.0f);
+  if (!(a > 0.0f)) return vec3(0.0f);
+  float pd = raster.ortho != 0 ? -hit.z - q.offset : -hit.z * max(1.0f - q.offset / max(length(hit), 1e-20f), 0.0f);
+  float z = raster.ortho != 0 ? 1.0f - (pd - raster.near_plane) / (raster.far_plane - raster.near_plane)
+                              : raster.near_plane / max(pd, 1e-30f);
+  return vec3(a, clamp(z, 0.0f, 1.0f), -(q.center + q.along * (uv.x - 0.5f) * q.size.x).z);
+}
+#endif
