@@ -9,9 +9,12 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "render/filter.h"
 #include "render/host_scratch.h"
@@ -80,6 +83,45 @@ struct HostInk {
     depth[q] = std::min(depth[q], d);
   }
 };
+
+// Ink over paper (ink_resolve.comp), in place: accum becomes the colour
+// (straight alpha), depth the segment's depth (the surface's where there is
+// one, else the ink's; +inf where nothing is). `surface` is copied per
+// block of rows and called as surface(q) for pixel q: the depth pass's
+// linear depth there, +inf where none. Returns each row's covered columns
+// [first, last] (upload_cpu_mark's row spans).
+template <class Surface>
+std::vector<glm::ivec2> resolve_ink(const HostInk& ink, glm::ivec2 size, glm::vec4 paper, const Surface& surface) {
+  std::vector<glm::ivec2> row_span(size_t(size.y), glm::ivec2(size.x, -1));
+  tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
+    Surface surface_at = surface;
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = 0; x < size.x; ++x) {
+        const size_t q = size_t(y) * size_t(size.x) + size_t(x);
+        const float depth = surface_at(q);
+        const bool on_surface = !std::isinf(depth);
+        const float ink_a = 1.0f - std::clamp(ink.reveal[q], 0.0f, 1.0f);
+        float* acc = ink.accum + 4 * q;
+        const glm::vec3 ink_rgb = acc[3] > 0.0f ? glm::vec3(acc[0], acc[1], acc[2]) / acc[3] : glm::vec3(0.0f);
+        const float under = on_surface ? paper.a : 0.0f;
+        const float alpha = ink_a + under * (1.0f - ink_a);
+        const glm::vec3 premultiplied = ink_rgb * ink_a + glm::vec3(paper) * under * (1.0f - ink_a);
+        if (alpha > 0.0f) {
+          const glm::vec3 straight = glm::clamp(premultiplied / alpha, 0.0f, 1.0f);
+          acc[0] = straight.r;
+          acc[1] = straight.g;
+          acc[2] = straight.b;
+          acc[3] = alpha;
+          if (on_surface) ink.depth[q] = depth;
+          row_span[size_t(y)] = {std::min(row_span[size_t(y)].x, x), x};
+        } else {
+          std::fill(acc, acc + 4, 0.0f);
+          ink.depth[q] = std::numeric_limits<float>::infinity();
+        }
+      }
+  });
+  return row_span;
+}
 
 // Host ink images kept by the renderer (HostScratch) from frame to frame.
 struct HostInkImages {

@@ -450,9 +450,6 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
   if (host.keys.size() < pixels) host.keys.resize(pixels);
   uint64_t* keys = host.keys.data();
   const HostInk ink = host.ink.clear(clip);
-  float* accum = ink.accum;
-  float* reveal = ink.reveal;
-  float* ink_depth = ink.depth;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
     std::fill(keys + r.begin(), keys + r.end(), kEmpty);
   });
@@ -525,47 +522,21 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
 
   // 3. Resolve (ink_resolve.comp): ink over paper, the surface's depth; the
   // result in place of the ink (accum becomes the colour, depth the depth).
-  std::vector<glm::ivec2> row_span(size_t(size.y), glm::ivec2(size.x, -1));
-  tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& rows) {
-    size_t hint = 0;
-    for (int y = rows.begin(); y < rows.end(); ++y)
-      for (int x = 0; x < size.x; ++x) {
-        const size_t q = size_t(y) * size_t(size.x) + size_t(x);
-        float surface = kInf;
-        if (keys[q] != kEmpty) {
-          // The winning disc's linear depth, recomputed from its point.
-          const uint32_t key = uint32_t(keys[q]);
-          if (key - chunks[hint].key_base >= chunks[hint].count) {
-            auto it = std::upper_bound(chunks.begin(), chunks.end(), key,
-                                       [](uint32_t k, const Chunk& c) { return k < c.key_base; });
-            hint = size_t(it - chunks.begin()) - 1;
-          }
-          const Chunk& c = chunks[hint];
-          surface = -transform(c.view, c.positions[c.first + (key - c.key_base)]).z;
-        }
-        const bool on_surface = !std::isinf(surface);
-        const float ink_a = 1.0f - std::clamp(reveal[q], 0.0f, 1.0f);
-        float* acc = accum + 4 * q;
-        const glm::vec3 ink_rgb = acc[3] > 0.0f ? glm::vec3(acc[0], acc[1], acc[2]) / acc[3] : glm::vec3(0.0f);
-        const float paper = on_surface ? s.paper.a : 0.0f;
-        const float alpha = ink_a + paper * (1.0f - ink_a);
-        const glm::vec3 premultiplied = ink_rgb * ink_a + glm::vec3(s.paper) * paper * (1.0f - ink_a);
-        if (alpha > 0.0f) {
-          const glm::vec3 straight = glm::clamp(premultiplied / alpha, 0.0f, 1.0f);
-          acc[0] = straight.r;
-          acc[1] = straight.g;
-          acc[2] = straight.b;
-          acc[3] = alpha;
-          ink_depth[q] = on_surface ? surface : ink_depth[q];
-          row_span[size_t(y)] = {std::min(row_span[size_t(y)].x, x), x};
-        } else {
-          std::fill(acc, acc + 4, 0.0f);
-          ink_depth[q] = kInf;
-        }
-      }
-  });
+  // The surface: the winning disc's linear depth, recomputed from its point.
+  auto surface = [&keys, &chunks, hint = size_t(0)](size_t q) mutable {
+    if (keys[q] == kEmpty) return kInf;
+    const uint32_t key = uint32_t(keys[q]);
+    if (key - chunks[hint].key_base >= chunks[hint].count) {
+      auto it = std::upper_bound(chunks.begin(), chunks.end(), key,
+                                 [](uint32_t k, const Chunk& c) { return k < c.key_base; });
+      hint = size_t(it - chunks.begin()) - 1;
+    }
+    const Chunk& c = chunks[hint];
+    return -transform(c.view, c.positions[c.first + (key - c.key_base)]).z;
+  };
+  const std::vector<glm::ivec2> row_span = resolve_ink(ink, size, s.paper, surface);
   const auto t3 = Clock::now();
-  upload_cpu_mark(ctx.targets, clip, accum, ink_depth, row_span, ctx.coverage, "feature strokes");
+  upload_cpu_mark(ctx.targets, clip, ink.accum, ink.depth, row_span, ctx.coverage, "feature strokes");
   report();
   if (ctx.stats) {
     auto ms = [](Clock::time_point a, Clock::time_point b) {

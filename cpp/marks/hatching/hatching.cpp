@@ -41,7 +41,8 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "gl/device.h"
-#include "marks/hatching/settings.h"
+#include "marks/hatching/hatching.h"
+#include "render/backend.h"
 #include "marks/points/points.h"
 #include "render/exact_raster.h"
 #include "render/ink_layer.h"
@@ -122,6 +123,9 @@ class Hatching final : public Mark {
   }
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override;
+  // What both stroke backends draw with this frame.
+  hatching::StrokePass resolve(const MarkContext& ctx, const ParamValues& p) const;
+  void draw_strokes_gl(const MarkContext& ctx, const ParamValues& p, const hatching::StrokePass& pass) const;
 
   // Every stroke is placed and textured from its frame pixel
   // (render/exact_raster.h) and every choice is per point (the depth range
@@ -179,42 +183,12 @@ const std::vector<glm::vec3>& Hatching::pencils(const ParamValues& p) const {
   return palette.colors;
 }
 
-void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
+hatching::StrokePass Hatching::resolve(const MarkContext& ctx, const ParamValues& p) const {
   const Camera& cam = *ctx.camera;
   const glm::ivec2 size = frame_size(ctx.targets);  // the projection's
   const bool world_units = p.get_enum_name("units") == "world";
   const bool depth_pass = p.get_bool("depth_pass");
   const float px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
-  const int k = p.get_int("normal_neighbors");
-
-  // 1. Depth pass: discs into the GL depth buffer and the linear depth image.
-  if (depth_pass) {
-    SplatSettings discs;
-    discs.world_size = world_units;
-    discs.point_size = float(p.get_float("depth_size"));
-    discs.world_diameter = float(p.get_float("depth_world_size"));
-    draw_splats_gl(ctx, discs);
-  }
-
-  // 2. Strokes: per batch of points, a compute pass decides each point's
-  // strokes, then 12 vertices per kept point expand them.
-  const InkLayer ink(ctx, "hatching");
-
-  // Record slots: 128 per workgroup (each compacts its survivors to the
-  // front of its slots and issues one indirect draw of them).
-  // Continuous resolution queue (render/mark.h): a chunk's first
-  // queue_count() points of its queue order (all of them when off).
-  auto slots_of = [&p](const VisibleChunk& v) { return (queue_count(v, p) + 127u) / 128u * 128u; };
-  uint32_t largest = 0;
-  for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, slots_of(v));
-  const uint32_t capacity = std::max(kBatchPoints, largest);
-  const gl::Buffer& strokes = ctx.targets.scratch_buffer(size_t(capacity) * sizeof(Stroke), 0);
-  struct DrawCommand {
-    uint32_t count, instance_count, first, base_instance;
-  };
-  const gl::Buffer& commands = ctx.targets.scratch_buffer(size_t(capacity / 128u) * sizeof(DrawCommand), 1);
-  const uint32_t zero2[2] = {0, 0};
-  const gl::Buffer counters = gl::make_buffer(sizeof(zero2), zero2, GL_DYNAMIC_STORAGE_BIT);
 
   // Directions in view space, composed in double.
   const glm::dmat3 view_from_world(cam.view_from_world);
@@ -232,14 +206,14 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
     });
   }
 
-  const gl::Texture* xtoon_image = nullptr;
+  hatching::StrokePass pass;
   if (p.get_enum_name("xtoon") == "image") {
     const std::string& path = p.get_path("xtoon_image");
     if (path.empty()) throw ParameterError("hatching: xtoon 'image' needs an xtoon_image");
-    xtoon_image = &ctx.images->get(path, "xtoon", ImageTextures::Sampling::Clamped, [](Image i) { return i; });
+    pass.xtoon_image = &ctx.images->get(path, "xtoon", ImageTextures::Sampling::Clamped, [](Image i) { return i; });
   }
 
-  hatching::HatchingSettings u{};
+  hatching::HatchingSettings& u = pass.select;
   u.light_dir = glm::vec4(light_view, 0.0f);
   u.direction = glm::vec4(dir_view, 0.0f);
   u.constant_color = glm::vec4(p.get_color("stroke_color"));
@@ -275,16 +249,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   u.alpha_jitter = float(p.get_float("alpha_jitter"));
   u.seed = uint32_t(p.get_int("seed"));
 
-  const gl::Program& select = ctx.shaders->compute("hatching_select.comp");
-  select.use();
-  gl::check_uniform_block(select, "HatchingSettings", sizeof(u), 0);
-  const gl::Buffer settings = gl::make_buffer(sizeof(u), &u);
-  glBindBufferBase(GL_UNIFORM_BUFFER, 0, settings.id());
-  glUniform4fv(select.location("u_constant_color"), 1, glm::value_ptr(p.get_color("stroke_color")));
-  glUniform1i(select.location("u_xtoon_image"), 0);
-  glBindTextureUnit(0, xtoon_image ? xtoon_image->id() : ink.accum.id());
-
-  hatching::HatchingRasterSettings rs{};
+  hatching::HatchingRasterSettings& rs = pass.raster;
   rs.projection = glm::mat4(cam.projection);
   rs.inv_projection = glm::mat4(glm::inverse(cam.projection));
   rs.size_x = size.x;
@@ -300,6 +265,60 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   rs.max_reach = world_units ? std::numeric_limits<float>::max() : stroke_reach(p);
   rs.stroke_texture = p.get_enum("stroke_texture");
   rs.clip_to_surface = depth_pass && p.get_bool("clip_to_surface") ? 1 : 0;
+
+  pass.depth_pass = depth_pass;
+  pass.discs.world_size = world_units;
+  pass.discs.point_size = float(p.get_float("depth_size"));
+  pass.discs.world_diameter = float(p.get_float("depth_world_size"));
+  pass.paper = p.get_color("paper_color");
+  pass.normal_k = p.get_int("normal_neighbors");
+  pass.spacing_k = kSpacingNeighbors;
+  pass.color_source = ColorSource(p.get_enum("color_source"));
+  return pass;
+}
+
+void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
+  const hatching::StrokePass pass = resolve(ctx, p);
+  if (chosen_backend(p) == Backend::Native) {
+    hatching::draw_strokes_native(ctx, p, pass);
+  } else {
+    draw_strokes_gl(ctx, p, pass);
+  }
+}
+
+// The depth pass; then per batch of points, a compute pass decides each
+// point's strokes, and 12 vertices per kept point expand them.
+void Hatching::draw_strokes_gl(const MarkContext& ctx, const ParamValues& p, const hatching::StrokePass& pass) const {
+  // Depth pass: discs into the GL depth buffer and the linear depth image.
+  if (pass.depth_pass) draw_splats_gl(ctx, pass.discs);
+  const InkLayer ink(ctx, "hatching");
+  const int k = pass.normal_k;
+  const hatching::HatchingSettings& u = pass.select;
+  const hatching::HatchingRasterSettings& rs = pass.raster;
+  // Record slots: 128 per workgroup (each compacts its survivors to the
+  // front of its slots and issues one indirect draw of them).
+  // Continuous resolution queue (render/mark.h): a chunk's first
+  // queue_count() points of its queue order (all of them when off).
+  auto slots_of = [&p](const VisibleChunk& v) { return (queue_count(v, p) + 127u) / 128u * 128u; };
+  uint32_t largest = 0;
+  for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, slots_of(v));
+  const uint32_t capacity = std::max(kBatchPoints, largest);
+  const gl::Buffer& strokes = ctx.targets.scratch_buffer(size_t(capacity) * sizeof(Stroke), 0);
+  struct DrawCommand {
+    uint32_t count, instance_count, first, base_instance;
+  };
+  const gl::Buffer& commands = ctx.targets.scratch_buffer(size_t(capacity / 128u) * sizeof(DrawCommand), 1);
+  const uint32_t zero2[2] = {0, 0};
+  const gl::Buffer counters = gl::make_buffer(sizeof(zero2), zero2, GL_DYNAMIC_STORAGE_BIT);
+
+  const gl::Program& select = ctx.shaders->compute("hatching_select.comp");
+  select.use();
+  gl::check_uniform_block(select, "HatchingSettings", sizeof(u), 0);
+  const gl::Buffer settings = gl::make_buffer(sizeof(u), &u);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 0, settings.id());
+  glUniform4fv(select.location("u_constant_color"), 1, glm::value_ptr(u.constant_color));
+  glUniform1i(select.location("u_xtoon_image"), 0);
+  glBindTextureUnit(0, pass.xtoon_image ? pass.xtoon_image->id() : ink.accum.id());
 
   const gl::Program& expand = ctx.shaders->graphics("hatching_strokes.vert", "hatching_strokes.frag");
   expand.use();
@@ -333,7 +352,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
     for (size_t c = batch_start; c < batch_end; ++c) {
       const VisibleChunk& v = ctx.chunks[c];
       const GpuCloud& g = *v.gpu;
-      bind_chunk(select, v, ColorSource(p.get_enum("color_source")),
+      bind_chunk(select, v, pass.color_source,
                  {{2, g.find({AttributeKind::Normal, k})}, {3, g.find({AttributeKind::Curvature, k})},
                   {6, g.find({AttributeKind::PointId})},
                   {9, g.find({AttributeKind::LocalResolution, kSpacingNeighbors})}});
@@ -354,7 +373,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
 
-    ink.begin(depth_pass, raster);
+    ink.begin(pass.depth_pass, raster);
     expand.use();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, strokes.id());
     GLuint vao = 0;
@@ -392,7 +411,7 @@ void Hatching::draw(const MarkContext& ctx, const ParamValues& p) const {
   }
 
   // 3. Resolve: ink over paper, the surface's depth (else the strokes').
-  ink.resolve(p.get_color("paper_color"), depth_pass);
+  ink.resolve(pass.paper, pass.depth_pass);
 
   uint32_t counts[2] = {0, 0};
   glGetNamedBufferSubData(counters.id(), 0, sizeof(counts), counts);
@@ -491,6 +510,11 @@ const MarkRegistration registration{{
                int_param("seed", 0, 0, 65535, "", "Varies every random choice (still fixed per point)"),
                density_mode_param(),
                queue_level_param(0.05),
+               enum_param("rasterizer", {"gl", "native", "auto"}, 2,
+                          "gl: the GL passes (a compute pass selects, instanced quads draw); native: the same "
+                          "kernels on the CPU's threads (the same images but for the last bits of pow, exp and "
+                          "sin, and rare coverage ties); auto: native on a software GL device (llvmpipe), gl on "
+                          "a GPU"),
            }},
     [] { return std::make_unique<Hatching>(); }}};
 

@@ -11,6 +11,7 @@
 // point alone (one colour per pixel, not per splat pixel), then colour and
 // depth uploaded over the clip rectangle into the mark's images.
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -317,6 +318,17 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
   });
 
   const auto t1 = Clock::now();
+  if (s.depth_only) {
+    s.depth_only->resize(pixels);
+    float* out = s.depth_only->data();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t p = r.begin(); p < r.end(); ++p)
+        out[p] = keys[p] == kEmpty ? std::numeric_limits<float>::infinity()
+                                   : std::bit_cast<float>(uint32_t(keys[p] >> 32));
+    });
+    if (ctx.stats) (*ctx.stats)["native_discs_ms"] += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    return;
+  }
   // Resolve: a pixel's winner by its key (the chunks are in key order).
   // Each row's covered columns [first, last]: the covered bounds, for free.
   std::vector<glm::ivec2> row_span(size_t(size.y), glm::ivec2(size.x, -1));

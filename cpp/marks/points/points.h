@@ -18,6 +18,10 @@ struct SplatSettings {
   // Continuous resolution queue (render/mark.h): when not empty, chunk c
   // draws only the first queue_counts[c] points of its queue order.
   std::vector<uint32_t> queue_counts;
+  // draw_splats_native only: the linear depth over ctx.clip (row-major,
+  // +inf where no disc) into this vector instead of the targets: a depth
+  // pass another native mark tests against on the host.
+  std::vector<float>* depth_only = nullptr;
 };
 
 // Largest splat on screen, in pixels (world sizes are capped to it).
