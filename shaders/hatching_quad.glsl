@@ -95,12 +95,14 @@ float stroke_alpha(StrokeQuad q, vec2 uv) {
   return (1.0f - across * across) * taper * (0.55f + 0.45f * g);
 }
 
-// What the quad draws at a frame pixel's centre: x = alpha (not > 0:
-// nothing), y = the depth the depth test sees (reversed Z, the stroke moved
-// toward the camera by its offset), z = the surface's linear depth there.
-vec3 stroke_fragment(StrokeQuad q, vec2 frame_px) {
+// Where a frame pixel's view ray meets the quad's plane: (u, v) on the
+// stroke (0..1 along, 0..1 across), the depth the depth test sees (reversed
+// Z, the stroke moved toward the camera by its offset) and the surface's
+// linear depth there; u = 2e6 where the pixel draws nothing of it (beyond
+// the stroke's reach, or its plane seen edge-on).
+vec4 stroke_hit(StrokeQuad q, vec2 frame_px) {
   // Perspective close-ups: no stroke reaches farther than the halo allows.
-  if (distance(frame_px, q.center_px) > raster.max_reach) return vec3(0.0f);
+  if (distance(frame_px, q.center_px) > raster.max_reach) return vec4(2e6f, 0.0f, 0.0f, 0.0f);
   // The pixel's view ray (from the near plane) met with the stroke's plane.
   vec2 ndc = frame_px / vec2(float(raster.size_x), float(raster.size_y)) * 2.0f - 1.0f;
   vec4 near_point = mat_vec(raster.inv_projection, vec4(ndc, -1.0f, 1.0f));
@@ -111,12 +113,16 @@ vec3 stroke_fragment(StrokeQuad q, vec2 frame_px) {
   vec3 hit = origin + ray * (dot(q.center - origin, normal) / dot(ray, normal));
   vec3 rel = hit - q.center;
   vec2 uv = vec2(dot(rel, q.along), dot(rel, q.across)) / q.size + 0.5f;
-  if (!(abs(uv.x) < 1e6f && abs(uv.y) < 1e6f)) return vec3(0.0f);  // the plane seen edge-on (or NaN)
-  float a = clamp(q.color.a * stroke_alpha(q, uv), 0.0f, 1.0f);
-  if (!(a > 0.0f)) return vec3(0.0f);
+  if (!(abs(uv.x) < 1e6f && abs(uv.y) < 1e6f)) return vec4(2e6f, 0.0f, 0.0f, 0.0f);  // edge-on (or NaN)
   float pd = raster.ortho != 0 ? -hit.z - q.offset : -hit.z * max(1.0f - q.offset / max(length(hit), 1e-20f), 0.0f);
   float z = raster.ortho != 0 ? 1.0f - (pd - raster.near_plane) / (raster.far_plane - raster.near_plane)
                               : raster.near_plane / max(pd, 1e-30f);
-  return vec3(a, clamp(z, 0.0f, 1.0f), -(q.center + q.along * (uv.x - 0.5f) * q.size.x).z);
+  return vec4(uv, clamp(z, 0.0f, 1.0f), -(q.center + q.along * (uv.x - 0.5f) * q.size.x).z);
+}
+
+// The stroke's opacity at a hit (not > 0: the pixel draws nothing).
+float stroke_coverage(StrokeQuad q, vec4 hit) {
+  if (!(hit.x < 1e6f)) return 0.0f;
+  return clamp(q.color.a * stroke_alpha(q, vec2(hit.x, hit.y)), 0.0f, 1.0f);
 }
 #endif

@@ -16,10 +16,11 @@ layout(location = 2) out vec4 o_depth;
 
 void main() {
   if (raster.clip_to_surface != 0 && isinf(texelFetch(u_surface_depth, ivec2(gl_FragCoord.xy), 0).r)) discard;
-  vec3 f = stroke_fragment(v_quad, gl_FragCoord.xy + vec2(u_origin));
-  if (!(f.x > 0.0)) discard;
-  gl_FragDepth = f.y;
-  o_accum = vec4(v_quad.color.rgb * f.x, f.x);
-  o_reveal = vec4(f.x);
-  o_depth = vec4(f.z);
+  vec4 hit = stroke_hit(v_quad, gl_FragCoord.xy + vec2(u_origin));
+  float a = stroke_coverage(v_quad, hit);
+  if (!(a > 0.0)) discard;
+  gl_FragDepth = hit.z;
+  o_accum = vec4(v_quad.color.rgb * a, a);
+  o_reveal = vec4(a);
+  o_depth = vec4(hit.w);
 }

@@ -243,11 +243,13 @@ void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const Str
         for_each_covered_pixel(quad.exact, area, origin, [&](int x, int y) {
           const size_t q = ink.at(x, y);
           if (clip_to_surface && std::isinf(surface[q])) return;
-          const vec3 f = k.stroke_fragment(quad.q, vec2(float(x + origin.x) + 0.5f, float(y + origin.y) + 0.5f));
-          if (!(f.x > 0.0f)) return;
-          // GEQUAL against the discs' reversed Z (none: the far end, 0).
-          if (test_depth && !std::isinf(surface[q]) && !(f.y >= reversed_z(surface[q]))) return;
-          ink.blend(q, vec3(quad.q.color), f.x, f.z);
+          const vec4 hit = k.stroke_hit(quad.q, vec2(float(x + origin.x) + 0.5f, float(y + origin.y) + 0.5f));
+          if (!(hit.x < 1e6f)) return;
+          // GEQUAL against the discs' reversed Z (none: the far end, 0),
+          // before the stroke's texture: hidden pixels cost no noise.
+          if (test_depth && !std::isinf(surface[q]) && !(hit.z >= reversed_z(surface[q]))) return;
+          const float a = k.stroke_coverage(quad.q, hit);
+          if (a > 0.0f) ink.blend(q, vec3(quad.q.color), a, hit.w);
         });
       }
     });
