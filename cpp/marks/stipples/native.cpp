@@ -34,6 +34,7 @@
 
 #include "core/error.h"
 #include "core/hash.h"
+#include "marks/stipples/native_parts.h"
 #include "render/native_raster.h"
 #include "gl/device.h"
 #include "marks/stipples/stipples.h"
@@ -42,118 +43,7 @@
 namespace pointnpr {
 namespace {
 
-constexpr uint32_t kInfBits = 0x7f800000u;
-constexpr uint32_t kOutside = 0xffffffffu;  // a point outside the window's fine texture
-constexpr uint32_t kGrain = 8192;  // points per work item
-constexpr int kRowGrain = 8;       // rows per work item of the image passes
-
-uint32_t bits(float f) { return std::bit_cast<uint32_t>(f); }
-float from_bits(uint32_t b) { return std::bit_cast<float>(b); }
-
-void fetch_add(uint32_t& slot, uint32_t value) {
-  std::atomic_ref<uint32_t>(slot).fetch_add(value, std::memory_order_relaxed);
-}
-
-// GLSL's (column-major) mat4 x vec4(v, 1), summed in the shader's order.
-glm::vec3 affine(const glm::mat4& m, const glm::vec3& v) {
-  return {m[0][0] * v.x + m[1][0] * v.y + m[2][0] * v.z + m[3][0],
-          m[0][1] * v.x + m[1][1] * v.y + m[2][1] * v.z + m[3][1],
-          m[0][2] * v.x + m[1][2] * v.y + m[2][2] * v.z + m[3][2]};
-}
-float dot3(const glm::vec3& a, const glm::vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-
-// Monotonic float -> uint (any sign), as the shader's order_key.
-uint32_t order_key(float f) {
-  const uint32_t b = bits(f);
-  return (b & 0x80000000u) != 0u ? ~b : b | 0x80000000u;
-}
-
-// floor and ceil without a library call (without SSE4.1, std::floor is
-// one, a large part of a point's cost): exact for every float, since from
-// 2^23 on every float is an integer (NaN and infinities pass through).
-inline float floor_f(float v) {
-  if (!(std::abs(v) < 8388608.0f)) return v;
-  const float t = float(int(v));
-  return t > v ? t - 1.0f : t;
-}
-inline float ceil_f(float v) {
-  if (!(std::abs(v) < 8388608.0f)) return v;
-  const float t = float(int(v));
-  return t < v ? t + 1.0f : t;
-}
-
-// floor(v) clamped to [lo, hi], as an int (v may be far outside, or huge).
-int floor_clamped(float v, int lo, int hi) {
-  const float f = floor_f(v);
-  if (!(f >= float(lo))) return lo;  // also NaN
-  if (f > float(hi)) return hi;
-  return int(f);
-}
-
-// One chunk as the point passes see it.
-struct HostChunk {
-  const glm::vec3* positions = nullptr;  // the chunk's first point
-  const uint32_t* ids = nullptr;         // its stable point ids
-  const uint32_t* order = nullptr;       // queue order (chunk-local indices), or null: all in index order
-  uint32_t count = 0;
-  uint32_t slot = 0;  // the pass's index of its first point (the per-point arrays')
-  glm::mat4 view_from_chunk{1.0f};
-};
-
-struct Item {
-  uint32_t chunk, begin, end;
-};
-
-// A projected point (the shader's Pt).
-struct Pt {
-  glm::vec3 view;
-  glm::vec2 center;  // frame pixels
-  float depth;
-  glm::ivec2 fine;   // texel of the window's fine texture (valid when inside)
-  bool inside;
-  bool in_depth;     // within the clip depths
-};
-
-// The host images of the last frames, kept by the renderer (HostScratch) so
-// that a frame does not page in tens of megabytes anew (bounded by the
-// largest window and clip).
-struct HostBuffers {
-  std::vector<uint32_t> hp, tmp, surface, dot_cov, dot_depth, quad, light_count;
-  // Per point of the window's pass: its texel (or kOutside) and depth bits
-  // from the first projection, and its specular measure (owned, visible).
-  std::vector<uint32_t> point_texel, point_depth;
-  std::vector<float> point_spec;
-  std::vector<float> rgba, depth;
-  size_t bytes() const {
-    size_t n = 0;
-    for (const auto* v : {&hp, &tmp, &surface, &dot_cov, &dot_depth, &quad, &light_count, &point_texel, &point_depth})
-      n += held_bytes(*v);
-    return n + held_bytes(point_spec) + held_bytes(rgba) + held_bytes(depth);
-  }
-};
-template <class T>
-T* sized(std::vector<T>& v, size_t n) {
-  if (v.size() < n) v.resize(n);
-  return v.data();
-}
-
-// Adds the milliseconds since its start to a statistic when it ends.
-class PassTimer {
- public:
-  PassTimer(std::map<std::string, double>* stats, const char* name)
-      : stats_(stats), name_(name), start_(std::chrono::steady_clock::now()) {}
-  ~PassTimer() {
-    if (stats_)
-      (*stats_)[name_] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
-  }
-  PassTimer(const PassTimer&) = delete;
-  PassTimer& operator=(const PassTimer&) = delete;
-
- private:
-  std::map<std::string, double>* stats_;
-  const char* name_;
-  std::chrono::steady_clock::time_point start_;
-};
+using namespace stipples_native;
 
 class NativeStipplePasses final : public StipplePasses {
  public:
@@ -212,7 +102,7 @@ class NativeStipplePasses final : public StipplePasses {
     // Each texel takes its neighbours' depths, each a step deeper.
     timer.emplace(ctx_.stats, "stipples_native_spread_ms");
     for (int it = 0; it < s_.iterations; ++it) {
-      spread_step(hp, tmp);
+      spread_step(w_.fine, s_.offset, hp, tmp);
       std::memcpy(hp, tmp, n * 4);
     }
     // The visible points: counted, their surface, the frame's counts.
@@ -244,7 +134,7 @@ class NativeStipplePasses final : public StipplePasses {
       // The surface's depth for the paper: the visible points spread one
       // texel further, without the step (a box minimum).
       timer.emplace(ctx_.stats, "stipples_native_surface_ms");
-      box_min(surf, tmp, s_.iterations + 1);
+      box_min(w_.fine, surf, tmp, s_.iterations + 1);
       std::memcpy(surf, tmp, n * 4);
     }
   }
@@ -651,51 +541,6 @@ class NativeStipplePasses final : public StipplePasses {
   }
 
   float hash01(uint32_t id, uint32_t salt) const { return id_rand(id, salt, s_.seed); }
-
-  // One spreading step: out = min(in, 3 x 3 minimum of in + step), within the window.
-  void spread_step(const uint32_t* in, uint32_t* out) const {
-    const int W = w_.fine.x, H = w_.fine.y;
-    const float step = s_.offset;
-    tbb::parallel_for(tbb::blocked_range<int>(0, H, kRowGrain), [&](const tbb::blocked_range<int>& rows) {
-      std::vector<uint32_t> column(static_cast<size_t>(W));
-      for (int y = rows.begin(); y < rows.end(); ++y) {
-        const uint32_t* a = in + size_t(std::max(y - 1, 0)) * size_t(W);
-        const uint32_t* b = in + size_t(y) * size_t(W);
-        const uint32_t* c = in + size_t(std::min(y + 1, H - 1)) * size_t(W);
-        // Positive depths (and +inf) order as their bits.
-        for (int x = 0; x < W; ++x) column[size_t(x)] = std::min(std::min(a[x], b[x]), c[x]);
-        uint32_t* o = out + size_t(y) * size_t(W);
-        for (int x = 0; x < W; ++x) {
-          const uint32_t m = std::min(std::min(column[size_t(std::max(x - 1, 0))], column[size_t(x)]),
-                                      column[size_t(std::min(x + 1, W - 1))]);
-          o[x] = m == kInfBits ? b[x] : std::min(b[x], bits(from_bits(m) + step));
-        }
-      }
-    });
-  }
-
-  // out = the minimum of `in` over the (2 r + 1)^2 texels around, within the window.
-  void box_min(const uint32_t* in, uint32_t* out, int r) const {
-    const int W = w_.fine.x, H = w_.fine.y;
-    tbb::parallel_for(tbb::blocked_range<int>(0, H, kRowGrain), [&](const tbb::blocked_range<int>& rows) {
-      std::vector<uint32_t> column(static_cast<size_t>(W));
-      for (int y = rows.begin(); y < rows.end(); ++y) {
-        const int y0 = std::max(y - r, 0), y1 = std::min(y + r, H - 1);
-        std::memcpy(column.data(), in + size_t(y0) * size_t(W), size_t(W) * 4);
-        for (int q = y0 + 1; q <= y1; ++q) {
-          const uint32_t* line = in + size_t(q) * size_t(W);
-          for (int x = 0; x < W; ++x) column[size_t(x)] = std::min(column[size_t(x)], line[x]);
-        }
-        uint32_t* o = out + size_t(y) * size_t(W);
-        for (int x = 0; x < W; ++x) {
-          uint32_t m = kInfBits;
-          const int x0 = std::max(x - r, 0), x1 = std::min(x + r, W - 1);
-          for (int q = x0; q <= x1; ++q) m = std::min(m, column[size_t(q)]);
-          o[x] = m;
-        }
-      }
-    });
-  }
 
   const MarkContext& ctx_;
   const StippleSetup& s_;
