@@ -9,6 +9,28 @@ BUILD_DIR = os.environ.get("POINTNPR_BUILD_DIR", os.path.join(os.path.dirname(__
 sys.path.insert(0, os.path.abspath(BUILD_DIR))
 
 
+_ONE_THREAD_SCRIPT = r"""
+import importlib, os, sys
+os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})  # one CPU: TBB runs one thread
+sys.path.insert(0, sys.argv[1])
+sys.path.insert(0, sys.argv[2])
+import pointnpr
+print(getattr(importlib.import_module(sys.argv[3]), sys.argv[4])(pointnpr.Renderer()))
+"""
+
+
+def one_thread_in_another_process(module, function):
+    """What `module.function(pointnpr.Renderer())` returns (its str) in a new
+    process of this Python on one CPU, where TBB runs one thread: the
+    native backends' bytes must not depend on the thread count or process."""
+    import subprocess
+
+    assert len(os.sched_getaffinity(0)) > 1  # else this process would run one thread too
+    return subprocess.run([sys.executable, "-c", _ONE_THREAD_SCRIPT, os.path.abspath(BUILD_DIR),
+                           os.path.dirname(os.path.abspath(__file__)), module, function], capture_output=True,
+                          text=True, check=True, timeout=600).stdout.strip()
+
+
 def plane(x0, x1, y0, y1, z, spacing, color, offset=(0.0, 0.0, 0.0)):
     """Points on a regular grid, one colour: a surface with known extent."""
     import pointnpr

@@ -11,13 +11,12 @@ quad's edges are decided by uv in [0, 1] rather than the GL's fixed-point
 edges, so a splat edge pixel now and then falls to the other splat."""
 import hashlib
 import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 import pointnpr
+from conftest import one_thread_in_another_process
 from pointnpr import presets
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -92,26 +91,6 @@ def test_the_native_path_draws_the_same_bytes_frame_after_frame(renderer, lion):
     assert np.asarray(first.depth).tobytes() == np.asarray(again.depth).tobytes()
 
 
-_THREADS_SCRIPT = r"""
-import os, sys
-os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})  # one CPU: TBB runs one thread
-sys.path.insert(0, sys.argv[1])
-sys.path.insert(0, sys.argv[2])
-import pointnpr
-import test_marks_brush_splats_native as t
-print(t._native_digest(pointnpr.Renderer()))
-"""
-
-
-def _in_another_process(script):
-    """The stdout of `script` run by this Python with the build and this
-    folder on its path (argv[1], argv[2])."""
-    from conftest import BUILD_DIR
-    return subprocess.run([sys.executable, "-c", script, os.path.abspath(BUILD_DIR),
-                           os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
-                          timeout=600).stdout
-
-
 def _digest(result):
     """The bytes of a frame's colour and depth, as a digest."""
     return hashlib.sha256(np.asarray(result.color).tobytes() + np.asarray(result.depth).tobytes()).hexdigest()
@@ -143,8 +122,8 @@ def test_the_kept_point_frames_follow_every_parameter_they_are_made_from(rendere
 
 
 def test_the_native_path_draws_the_same_bytes_with_one_thread_in_another_process(renderer):
-    assert len(os.sched_getaffinity(0)) > 1  # else this process would run one thread too
-    assert _in_another_process(_THREADS_SCRIPT).strip() == _native_digest(renderer)
+    assert one_thread_in_another_process("test_marks_brush_splats_native", "_native_digest") == \
+        _native_digest(renderer)
 
 
 def test_the_scalar_lanes_draw_the_vector_lanes_bytes(renderer):

@@ -10,12 +10,11 @@ The mark's tests run on both of its paths (`rasterizer` gl and native, the
 stated tolerance (test_the_native_path_draws_the_gl_paths_images).
 """
 import os
-import subprocess
-import sys
 import numpy as np
 import pytest
 
 import pointnpr
+from conftest import one_thread_in_another_process
 
 W, H = 320, 240
 SPACING = 0.025
@@ -327,17 +326,6 @@ def test_the_native_path_draws_the_gl_paths_images(renderer, case, tmp_path):
     assert (~same).sum() <= allowed
 
 
-_THREADS_SCRIPT = r"""
-import os, sys, hashlib, numpy as np
-os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})  # one CPU: TBB runs one thread
-sys.path.insert(0, sys.argv[1])
-sys.path.insert(0, sys.argv[2])
-import pointnpr
-import test_marks_feature_strokes as t
-print(t._native_digest(pointnpr.Renderer()))
-"""
-
-
 def _native_digest(renderer):
     import hashlib
     pos = box() @ rotation(0.5, 0.6).T + np.array([0.0, 0.0, -4.0])
@@ -351,12 +339,7 @@ def _native_digest(renderer):
 
 
 def test_the_native_path_draws_the_same_bytes_with_one_thread_in_another_process(renderer):
-    from conftest import BUILD_DIR
-    assert len(os.sched_getaffinity(0)) > 1  # else this process would run one thread too
-    out = subprocess.run([sys.executable, "-c", _THREADS_SCRIPT, os.path.abspath(BUILD_DIR),
-                          os.path.dirname(os.path.abspath(__file__))], capture_output=True, text=True, check=True,
-                         timeout=300)
-    assert out.stdout.strip() == _native_digest(renderer)
+    assert one_thread_in_another_process("test_marks_feature_strokes", "_native_digest") == _native_digest(renderer)
 
 
 # ---------------------------------------------------------------------------

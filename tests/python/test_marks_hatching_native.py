@@ -12,13 +12,12 @@ others (measured: at most 0.035 % of all pixels on the lion and the LiDAR
 tile, every hatching preset)."""
 import hashlib
 import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 import pointnpr
+from conftest import one_thread_in_another_process
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 W, H = 320, 224
@@ -114,17 +113,6 @@ def test_an_xtoon_image_is_sampled_alike(renderer, lion, tmp_path):
     assert (np.abs(a - b).max(axis=-1) > 1e-3).sum() <= 0.001 * a[..., 0].size
 
 
-_ONE_THREAD = r"""
-import os, sys
-os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})  # one CPU: TBB runs one thread
-sys.path.insert(0, sys.argv[1])
-sys.path.insert(0, sys.argv[2])
-import pointnpr
-import test_marks_hatching_native as t
-print(t._digest(pointnpr.Renderer()))
-"""
-
-
 def _digest(renderer):
     cloud = pointnpr.read(os.path.join(ROOT, "data", "lion_takanawa.ply")).to_cloud()
     r = _render(renderer, cloud, {"coloring": "point", "stroke_texture": "crayon", "placement": "irregular"}, "native")
@@ -132,7 +120,4 @@ def _digest(renderer):
 
 
 def test_the_native_backend_draws_the_same_bytes_with_one_thread_in_another_process(renderer):
-    build = os.environ.get("POINTNPR_BUILD_DIR", os.path.join(ROOT, "build"))
-    run = subprocess.run([sys.executable, "-c", _ONE_THREAD, build, os.path.dirname(__file__)], capture_output=True,
-                         text=True, check=True)
-    assert run.stdout.strip() == _digest(renderer)
+    assert one_thread_in_another_process("test_marks_hatching_native", "_digest") == _digest(renderer)
