@@ -10,11 +10,8 @@ layout(std430, binding = 5) readonly buffer Queue { uint queue_order[]; };  // c
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 8) buffer Counters { uint counts[3]; };
 layout(std430, binding = 9) readonly buffer Resolution { float resolution[]; };
-struct DrawCommand { uint count; uint instance_count; uint first; uint base_instance; };
-layout(std430, binding = 10) writeonly buffer Commands { DrawCommand commands[]; };
+#include "compact_records.glsl"
 
-uniform uint u_out_base;
-uniform uint u_command_base;
 uniform uint u_drawn;          // queue points of this chunk to consider
 uniform int u_queue;           // 1: read queue_order
 uniform float u_near;
@@ -95,27 +92,13 @@ bool place(uint j, out Record rec) {
   return true;
 }
 
-// Compacted per workgroup in queue order (a prefix sum in shared memory),
-// one indirect draw per workgroup: a fixed order whatever the timing.
-shared uint s_scan[128];
-
 void main() {
   uint j = gl_GlobalInvocationID.x;
-  uint lid = gl_LocalInvocationID.x;
   Record rec;
   bool alive = j < u_drawn && place(j, rec);
-  s_scan[lid] = alive ? 1u : 0u;
-  barrier();
-  for (uint offset = 1u; offset < 128u; offset <<= 1u) {
-    uint before = lid >= offset ? s_scan[lid - offset] : 0u;
-    barrier();
-    s_scan[lid] += before;
-    barrier();
-  }
-  uint base = u_out_base + gl_WorkGroupID.x * 128u;
+  uint slot = compact_record(alive, 6u);
   if (alive) {
-    records[base + s_scan[lid] - 1u] = rec;
+    records[slot] = rec;
     atomicAdd(counts[uint(rec.center_kind.w)], 1u);
   }
-  if (lid == 127u) commands[u_command_base + gl_WorkGroupID.x] = DrawCommand(6u * s_scan[127], 1u, 6u * base, 0u);
 }

@@ -71,4 +71,16 @@ void InkLayer::resolve(glm::vec4 paper, bool surface) const {
   dispatch_rect(p, ctx_.clip);
 }
 
+void draw_record_batch(const gl::Buffer& commands, const RecordBatch& batch) {
+  if (batch.draws() == 0) return;
+  GLuint vao = 0;
+  glCreateVertexArrays(1, &vao);
+  const gl::VertexArray empty_vao(vao);
+  glBindVertexArray(vao);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands.id());
+  glMultiDrawArraysIndirect(GL_TRIANGLES, nullptr, batch.draws(), 0);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  glBindVertexArray(0);
+}
+
 }  // namespace pointnpr

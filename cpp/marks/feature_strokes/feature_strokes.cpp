@@ -237,9 +237,6 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   for (size_t c = 0; c < ctx.chunks.size(); ++c) largest = std::max(largest, slots_of(c));
   const uint32_t capacity = std::max(kBatchPoints, largest);
   const gl::Buffer& records = ctx.targets.scratch_buffer(size_t(capacity) * sizeof(Record), 0);
-  struct DrawCommand {
-    uint32_t count, instance_count, first, base_instance;
-  };
   const gl::Buffer& commands = ctx.targets.scratch_buffer(size_t(capacity / 128u) * sizeof(DrawCommand), 1);
   const uint32_t zero3[3] = {0, 0, 0};
   const gl::Buffer counters = gl::make_buffer(sizeof(zero3), zero3, GL_DYNAMIC_STORAGE_BIT);
@@ -288,23 +285,13 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   glBindTextureUnit(0, texture_image ? texture_image->id() : ink.accum.id());
   raster.set_uniforms(expand);
 
-  size_t batch_start = 0;
-  while (batch_start < ctx.chunks.size()) {
-    size_t batch_end = batch_start;
-    uint32_t used = 0;
-    std::vector<uint32_t> offsets;
-    while (batch_end < ctx.chunks.size() && used + slots_of(batch_end) <= capacity) {
-      offsets.push_back(used);
-      used += slots_of(batch_end);
-      ++batch_end;
-    }
-    const GLsizei draws = GLsizei(used / 128u);
-    if (batch_start > 0) glFinish();  // the previous batch's draw has read the records
+  for (const RecordBatch& batch : record_batches(ctx.chunks.size(), capacity, slots_of)) {
+    if (batch.begin > 0) glFinish();  // the previous batch's draw has read the records
     select.use();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, records.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, counters.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, commands.id());
-    for (size_t c = batch_start; c < batch_end; ++c) {
+    for (size_t c = batch.begin; c < batch.end; ++c) {
       const VisibleChunk& v = ctx.chunks[c];
       const GpuCloud& g = *v.gpu;
       const gl::Buffer* lines = use_lines ? g.find(line_key) : nullptr;
@@ -317,8 +304,8 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
                   resolve_color_source(color_source, g) != ColorSource::Constant ? 1 : 0);
       glUniform1f(select.location("u_inv_median_r"), 1.0f / median_resolution(v));
       glUniform1ui(select.location("u_drawn"), drawn[c]);
-      glUniform1ui(select.location("u_out_base"), offsets[c - batch_start]);
-      glUniform1ui(select.location("u_command_base"), offsets[c - batch_start] / 128u);
+      glUniform1ui(select.location("u_out_base"), batch.offsets[c - batch.begin]);
+      glUniform1ui(select.location("u_command_base"), batch.offsets[c - batch.begin] / 128u);
       glDispatchCompute(slots_of(c) / 128u, 1, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
@@ -326,40 +313,23 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     ink.begin(true, raster);
     expand.use();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, records.id());
-    GLuint vao = 0;
-    glCreateVertexArrays(1, &vao);
-    const gl::VertexArray empty_vao(vao);
-    glBindVertexArray(vao);
-    if (draws > 0) {
-      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands.id());
-      glMultiDrawArraysIndirect(GL_TRIANGLES, nullptr, draws, 0);
-      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-    }
-    glBindVertexArray(0);
+    draw_record_batch(commands, batch);
     ink.end();
     gl::check_gl("feature strokes");
 
-    if (ctx.capture && draws > 0) {
-      std::vector<Record> recs(used);
-      std::vector<DrawCommand> issued(static_cast<size_t>(draws));
-      glGetNamedBufferSubData(records.id(), 0, GLsizeiptr(used * sizeof(Record)), recs.data());
-      glGetNamedBufferSubData(commands.id(), 0, GLsizeiptr(issued.size() * sizeof(DrawCommand)), issued.data());
-      for (const DrawCommand& cmd : issued) {
-        for (uint32_t r = cmd.first / 6u; r < (cmd.first + cmd.count) / 6u; ++r) {
-          const Record& rec = recs[r];
-          CapturedMark m;
-          m.point_id = rec.point_id;
-          m.center = glm::vec3(rec.center_kind);
-          m.direction = glm::vec3(rec.dir_length);
-          m.kind = uint32_t(rec.center_kind.w);
-          const float depth = cam.orthographic ? 1.0f : -rec.center_kind.z;
-          m.length = rec.dir_length.w * depth / px_per_unit;
-          m.color = rec.color;
-          ctx.capture->push_back(m);
-        }
+    if (ctx.capture) {
+      for (const Record& rec : drawn_records<Record>(records, commands, batch, 6)) {
+        CapturedMark m;
+        m.point_id = rec.point_id;
+        m.center = glm::vec3(rec.center_kind);
+        m.direction = glm::vec3(rec.dir_length);
+        m.kind = uint32_t(rec.center_kind.w);
+        const float depth = cam.orthographic ? 1.0f : -rec.center_kind.z;
+        m.length = rec.dir_length.w * depth / px_per_unit;
+        m.color = rec.color;
+        ctx.capture->push_back(m);
       }
     }
-    batch_start = batch_end;
   }
 
   // 3. Resolve (the ink layer's): ink over paper, the surface's depth.

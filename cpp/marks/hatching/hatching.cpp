@@ -304,9 +304,6 @@ void Hatching::draw_strokes_gl(const MarkContext& ctx, const ParamValues& p, con
   for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, slots_of(v));
   const uint32_t capacity = std::max(kBatchPoints, largest);
   const gl::Buffer& strokes = ctx.targets.scratch_buffer(size_t(capacity) * sizeof(Stroke), 0);
-  struct DrawCommand {
-    uint32_t count, instance_count, first, base_instance;
-  };
   const gl::Buffer& commands = ctx.targets.scratch_buffer(size_t(capacity / 128u) * sizeof(DrawCommand), 1);
   const uint32_t zero2[2] = {0, 0};
   const gl::Buffer counters = gl::make_buffer(sizeof(zero2), zero2, GL_DYNAMIC_STORAGE_BIT);
@@ -332,24 +329,15 @@ void Hatching::draw_strokes_gl(const MarkContext& ctx, const ParamValues& p, con
   const ExactRaster raster = exact_raster(ctx.targets, extent(p).pixels);
   raster.set_uniforms(expand);
 
-  size_t batch_start = 0;
-  while (batch_start < ctx.chunks.size()) {
-    // Chunks of this batch, at consecutive record slots.
-    size_t batch_end = batch_start;
-    uint32_t used = 0;
-    std::vector<uint32_t> offsets;
-    while (batch_end < ctx.chunks.size() && used + slots_of(ctx.chunks[batch_end]) <= capacity) {
-      offsets.push_back(used);
-      used += slots_of(ctx.chunks[batch_end]);
-      ++batch_end;
-    }
-    const GLsizei draws = GLsizei(used / 128u);
-    if (batch_start > 0) glFinish();  // the previous batch's draw has read the records
+  const std::vector<RecordBatch> batches =
+      record_batches(ctx.chunks.size(), capacity, [&](size_t c) { return slots_of(ctx.chunks[c]); });
+  for (const RecordBatch& batch : batches) {
+    if (batch.begin > 0) glFinish();  // the previous batch's draw has read the records
     select.use();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, strokes.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, counters.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, commands.id());
-    for (size_t c = batch_start; c < batch_end; ++c) {
+    for (size_t c = batch.begin; c < batch.end; ++c) {
       const VisibleChunk& v = ctx.chunks[c];
       const GpuCloud& g = *v.gpu;
       bind_chunk(select, v, pass.color_source,
@@ -358,8 +346,8 @@ void Hatching::draw_strokes_gl(const MarkContext& ctx, const ParamValues& p, con
                   {9, g.find({AttributeKind::LocalResolution, kSpacingNeighbors})}});
       glUniform1i(select.location("u_has_spacing"),
                   g.find({AttributeKind::LocalResolution, kSpacingNeighbors}) ? 1 : 0);
-      glUniform1ui(select.location("u_out_base"), offsets[c - batch_start]);
-      glUniform1ui(select.location("u_command_base"), offsets[c - batch_start] / 128u);
+      glUniform1ui(select.location("u_out_base"), batch.offsets[c - batch.begin]);
+      glUniform1ui(select.location("u_command_base"), batch.offsets[c - batch.begin] / 128u);
       glUniform1i(select.location("u_has_curvature"), g.find({AttributeKind::Curvature, k}) ? 1 : 0);
       const uint32_t count = queue_count(v, p);
       glUniform1i(select.location("u_queue"), draws_queue(v, p) ? 1 : 0);
@@ -376,38 +364,11 @@ void Hatching::draw_strokes_gl(const MarkContext& ctx, const ParamValues& p, con
     ink.begin(pass.depth_pass, raster);
     expand.use();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, strokes.id());
-    GLuint vao = 0;
-    glCreateVertexArrays(1, &vao);
-    const gl::VertexArray empty_vao(vao);
-    glBindVertexArray(vao);
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands.id());
-    glMultiDrawArraysIndirect(GL_TRIANGLES, nullptr, draws, 0);
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-    glBindVertexArray(0);
+    draw_record_batch(commands, batch);
     ink.end();
     gl::check_gl("hatching strokes");
-
-    if (ctx.capture) {
-      std::vector<Stroke> records(used);
-      std::vector<DrawCommand> issued(static_cast<size_t>(draws));
-      glGetNamedBufferSubData(strokes.id(), 0, GLsizeiptr(used * sizeof(Stroke)), records.data());
-      glGetNamedBufferSubData(commands.id(), 0, GLsizeiptr(issued.size() * sizeof(DrawCommand)), issued.data());
-      for (const DrawCommand& cmd : issued) {
-        for (uint32_t r = cmd.first / 12u; r < (cmd.first + cmd.count) / 12u; ++r) {
-          const Stroke& rec = records[r];
-          CapturedMark m;
-          m.point_id = rec.point_id;
-          m.center = glm::vec3(rec.center_alpha);
-          m.direction = glm::vec3(rec.d1_length);
-          m.normal = glm::vec3(rec.n_width);
-          m.crossed = rec.n_width.w < 0.0f;
-          m.length = rec.d1_length.w;
-          m.color = glm::vec4(rec.color, rec.center_alpha.w);
-          ctx.capture->push_back(m);
-        }
-      }
-    }
-    batch_start = batch_end;
+    if (ctx.capture)
+      for (const Stroke& s : drawn_records<Stroke>(strokes, commands, batch, 12)) ctx.capture->push_back(captured(s));
   }
 
   // 3. Resolve: ink over paper, the surface's depth (else the strokes').

@@ -20,6 +20,19 @@ struct StrokePass {
   ColorSource color_source = ColorSource::Auto;
 };
 
+// What a capture of the marks reports of a point's strokes.
+inline CapturedMark captured(const Stroke& s) {
+  CapturedMark m;
+  m.point_id = s.point_id;
+  m.center = glm::vec3(s.center_alpha);
+  m.direction = glm::vec3(s.d1_length);
+  m.normal = glm::vec3(s.n_width);
+  m.crossed = s.n_width.w < 0.0f;
+  m.length = s.d1_length.w;
+  m.color = glm::vec4(s.color, s.center_alpha.w);
+  return m;
+}
+
 // The depth pass, the select and stroke passes and the resolve on the
 // CPU's threads, from the same kernels as the GL passes.
 void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const StrokePass& pass);

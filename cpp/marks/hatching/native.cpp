@@ -196,17 +196,7 @@ void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const Str
     for (const Stroke& s : strokes) {
       ++kept_strokes;
       crossed += s.n_width.w < 0.0f ? 1u : 0u;
-      if (ctx.capture) {
-        CapturedMark m;
-        m.point_id = s.point_id;
-        m.center = vec3(s.center_alpha);
-        m.direction = vec3(s.d1_length);
-        m.normal = vec3(s.n_width);
-        m.crossed = s.n_width.w < 0.0f;
-        m.length = s.d1_length.w;
-        m.color = vec4(s.color, s.center_alpha.w);
-        ctx.capture->push_back(m);
-      }
+      if (ctx.capture) ctx.capture->push_back(captured(s));
     }
     // 2. Two quads per stroke (the second only where it crosses), in the
     // GL's primitive order.
