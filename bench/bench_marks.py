@@ -9,7 +9,8 @@ Clouds: the lion scan (342k points) and a 3.4M-point lion (ten copies,
 each moved by a seeded sub-millimetre jitter: the paper's smallest case is
 3.5M points); with --aerial also a 3M-point aerial scene (the LiDAR HD
 tile on a 6 x 7 grid). Reports the whole render call and the mark stage alone
-(`mark_ms`), and the ratio hatching / points (goal: at most 3x). The
+(`mark_ms`), and the ratio hatching / points (goal: at most 3x), hatching by
+its default backend (auto: native on llvmpipe) and by its GL passes. The
 brush_splats rows (issue 12) blend by blur and by the A-buffer (its
 strokes column: the A-buffer's fragments; goal for blur: at most 3x).
 """
@@ -71,6 +72,7 @@ def main():
     renderer = pointnpr.Renderer()
     marks = {"points": pointnpr.Style(mark=("points", {"point_size": 2.0})),
              "hatching": pointnpr.Style(mark="hatching"),
+             "hatching (gl)": pointnpr.Style(mark=("hatching", {"rasterizer": "gl"})),
              "feature_strokes": pointnpr.Style(mark="feature_strokes"),
              "feature_strokes (queue)": pointnpr.Style(mark=("feature_strokes", {"density_mode": "constant_on_screen",
                                                                                   "queue_level": 0.25})),

@@ -25,7 +25,7 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 W, H = 1920, 1080
 # Every mark with a GL and a native backend, and its GL backends' values.
 BACKENDS = {"points": ["compute", "gl_points", "native"], "brush_splats": ["gl", "native"],
-            "stipples": ["gl", "native"], "feature_strokes": ["gl", "native"], "hatching": ["gl"]}
+            "stipples": ["gl", "native"], "feature_strokes": ["gl", "native"], "hatching": ["gl", "native"]}
 
 
 def camera():
@@ -63,7 +63,7 @@ def timings(renderer, cloud, frames):
     rows = []
     for mark, backends in BACKENDS.items():
         for backend in backends:
-            params = {"rasterizer": backend} if backend != "gl" or mark != "hatching" else {}
+            params = {"rasterizer": backend}
             render(renderer, cloud, mark, params)  # warm-up
             frame_ms, mark_ms = [], []
             for _ in range(frames):

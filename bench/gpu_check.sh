@@ -35,6 +35,7 @@ export POINTNPR_BUILD_DIR=$root/build
 tests_log=$root/build/gpu_check_tests.log
 selection=(tests/python/test_rasterizer.py tests/python/test_marks_brush_splats_native.py
            tests/python/test_marks_stipples_native.py tests/python/test_marks_feature_strokes.py
+           tests/python/test_marks_hatching_native.py
            -k "$(echo images_of_compute gl_paths gl_passes exact_path same_bytes deterministic lanes_bytes \
                      vector_bytes two_passes_bytes | sed 's/ / or /g')")
 status=0
