@@ -52,16 +52,7 @@ namespace pointnpr {
 namespace {
 
 // GPU record of one primitive (std430, 64 bytes; feature_strokes_common.glsl).
-struct Record {
-  glm::vec4 center_kind;   // view-space centre, class (0 directional, 1 non-directional, 2 dithering)
-  glm::vec4 dir_length;    // view-space unit 3D direction (directional) or 0, length (px)
-  glm::vec4 color;         // display sRGB, opacity
-  uint32_t point_id;
-  uint32_t primitive;      // 1 sprite, 2 line, 3 textured stroke
-  float width;             // px
-  float pad;
-};
-static_assert(sizeof(Record) == 64);
+using feature_strokes::Record;
 
 constexpr uint32_t kBatchPoints = 1u << 18;  // records per batch (16 MiB)
 constexpr int kResolutionNeighbors = kStrokeResolutionNeighbors;
@@ -104,7 +95,7 @@ class FeatureStrokes final : public Mark {
 
  private:
   float median_resolution(const VisibleChunk& v) const;
-  void draw_native(const MarkContext& ctx, const ParamValues& p) const;
+  FeatureStrokeSettings resolve(const MarkContext& ctx, const ParamValues& p) const;
   mutable FeatureLineHostCache lines_;
   mutable std::mutex mutex_;
   mutable std::map<uint64_t, std::pair<std::weak_ptr<const PointCloud>, float>> medians_;
@@ -133,34 +124,44 @@ int primitive_of(const std::string& name) {
   return name == "point_sprite" ? 1 : name == "line_segment" ? 2 : name == "textured_stroke" ? 3 : 0;
 }
 
-void FeatureStrokes::draw_native(const MarkContext& ctx, const ParamValues& p) const {
+FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const ParamValues& p) const {
+  const Camera& cam = *ctx.camera;
+  const glm::ivec2 size = frame_size(ctx.targets);  // the projection's
   FeatureStrokeSettings s;
+  feature_strokes::FeatureStrokesSettings& u = s.u;
+  u.projection = glm::mat4(cam.projection);
+  u.constant_color = p.get_color("stroke_color");
+  u.size_x = size.x;
+  u.size_y = size.y;
+  u.ortho = cam.orthographic ? 1 : 0;
+  u.near_plane = float(cam.clip_start);
+  u.far_plane = float(cam.clip_end);
+  u.threshold = float(p.get_float("feature_threshold"));
+  u.line_error = float(p.get_float("line_error"));
+  u.use_lines = p.get_enum_name("directional") != "none" ? 1 : 0;
+  u.dither = float(p.get_float("dither"));
+  u.dither_tone = float(p.get_float("dither_tone"));
+  u.prim_directional = primitive_of(p.get_enum_name("directional"));
+  u.prim_other = primitive_of(p.get_enum_name("non_directional"));
+  u.prim_dither = primitive_of(p.get_enum_name("dithering"));
+  u.directional_length = float(p.get_float("directional_length"));
+  u.other_length = float(p.get_float("other_length"));
+  u.sprite_size = float(p.get_float("sprite_size"));
+  u.stroke_width = float(p.get_float("stroke_width"));
+  u.line_width = float(p.get_float("line_width"));
+  u.point_coloring = p.get_enum_name("coloring") == "point" ? 1 : 0;
+  u.opacity = float(p.get_float("opacity"));
+  u.seed = uint32_t(p.get_int("seed"));
+  const double angle = glm::radians(p.get_float("screen_angle"));
+  u.screen_dir_x = float(std::cos(angle));
+  u.screen_dir_y = float(std::sin(angle));
+  u.stroke_texture = p.get_enum("stroke_texture");
   s.feature_k = p.get_int("feature_neighbors");
-  s.threshold = float(p.get_float("feature_threshold"));
-  s.line_error = float(p.get_float("line_error"));
-  s.use_lines = p.get_enum_name("directional") != "none";
   s.line_key = feature_line_key(p.get_int("line_neighbors"), s.feature_k, p.get_float("feature_threshold"));
-  s.dither = float(p.get_float("dither"));
-  s.dither_tone = float(p.get_float("dither_tone"));
-  s.seed = uint32_t(p.get_int("seed"));
-  s.primitive[0] = primitive_of(p.get_enum_name("directional"));
-  s.primitive[1] = primitive_of(p.get_enum_name("non_directional"));
-  s.primitive[2] = primitive_of(p.get_enum_name("dithering"));
-  s.directional_length = float(p.get_float("directional_length"));
-  s.other_length = float(p.get_float("other_length"));
-  s.sprite_size = float(p.get_float("sprite_size"));
-  s.stroke_width = float(p.get_float("stroke_width"));
-  s.line_width = float(p.get_float("line_width"));
-  s.point_coloring = p.get_enum_name("coloring") == "point";
-  s.stroke_color = p.get_color("stroke_color");
   s.color_source = ColorSource(p.get_enum("color_source"));
-  s.opacity = float(p.get_float("opacity"));
   s.paper = p.get_color("paper_color");
   s.disc_scale = float(p.get_float("disc_scale"));
   s.depth_offset = float(p.get_float("depth_offset"));
-  const double angle = glm::radians(p.get_float("screen_angle"));
-  s.screen_dir = glm::vec2(float(std::cos(angle)), float(std::sin(angle)));
-  s.texture = p.get_enum("stroke_texture");
   if (p.get_enum_name("stroke_texture") == "image") {
     const std::string& path = p.get_path("texture_image");
     if (path.empty()) throw ParameterError("feature_strokes: stroke_texture 'image' needs a texture_image");
@@ -171,23 +172,20 @@ void FeatureStrokes::draw_native(const MarkContext& ctx, const ParamValues& p) c
     s.drawn.push_back(queue_count(v, p));
     s.inv_median_r.push_back(1.0f / median_resolution(v));
   }
-  draw_feature_strokes_native(ctx, s, lines_);
+  return s;
 }
 
 void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
+  const FeatureStrokeSettings s = resolve(ctx, p);
   if (native(p)) {
-    draw_native(ctx, p);
+    draw_feature_strokes_native(ctx, s, lines_);
     return;
   }
   const Camera& cam = *ctx.camera;
   const glm::ivec2 size = frame_size(ctx.targets);  // the projection's
   const float px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
-  const int k = p.get_int("feature_neighbors");
-  const bool queue = draws_queue(ctx, p);
+  const int k = s.feature_k;
   const Rect& clip = ctx.clip;
-  const ColorSource color_source = ColorSource(p.get_enum("color_source"));
-  const AttributeKey line_key = feature_line_key(p.get_int("line_neighbors"), k, p.get_float("feature_threshold"));
-  const bool use_lines = p.get_enum_name("directional") != "none";
 
   // Tiles: every vertex at its exact frame position (render/exact_raster.h),
   // through a viewport wide enough that nothing reaching the images is clipped.
@@ -211,8 +209,8 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     glUniform1f(d.location("u_far"), float(cam.clip_end));
     glUniform1i(d.location("u_ortho"), cam.orthographic ? 1 : 0);
     glUniform1f(d.location("u_px_per_unit"), px_per_unit);
-    glUniform1f(d.location("u_disc_scale"), float(p.get_float("disc_scale")));
-    glUniform1f(d.location("u_offset"), float(p.get_float("depth_offset")));
+    glUniform1f(d.location("u_disc_scale"), s.disc_scale);
+    glUniform1f(d.location("u_offset"), s.depth_offset);
     glUniform1f(d.location("u_max_size"), kMaxDiscPixels);
     raster.set_uniforms(d);
     for (const VisibleChunk& v : ctx.chunks) {
@@ -230,9 +228,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   // points and compacts the drawn ones; 6 vertices per record expand them.
   const InkLayer ink(ctx, "feature strokes");
 
-  std::vector<uint32_t> drawn(ctx.chunks.size());
-  for (size_t c = 0; c < ctx.chunks.size(); ++c) drawn[c] = queue_count(ctx.chunks[c], p);
-  auto slots_of = [&](size_t c) { return (drawn[c] + 127u) / 128u * 128u; };
+  auto slots_of = [&](size_t c) { return (s.drawn[c] + 127u) / 128u * 128u; };
   uint32_t largest = 0;
   for (size_t c = 0; c < ctx.chunks.size(); ++c) largest = std::max(largest, slots_of(c));
   const uint32_t capacity = std::max(kBatchPoints, largest);
@@ -241,48 +237,19 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   const uint32_t zero3[3] = {0, 0, 0};
   const gl::Buffer counters = gl::make_buffer(sizeof(zero3), zero3, GL_DYNAMIC_STORAGE_BIT);
 
-  const gl::Texture* texture_image = nullptr;
-  if (p.get_enum_name("stroke_texture") == "image") {
-    const std::string& path = p.get_path("texture_image");
-    if (path.empty()) throw ParameterError("feature_strokes: stroke_texture 'image' needs a texture_image");
-    texture_image = &ctx.images->get(path, "stroke", ImageTextures::Sampling::Clamped, [](Image i) { return i; });
-  }
-
   const gl::Program& select = ctx.shaders->compute("feature_strokes_select.comp");
   select.use();
-  glUniform1f(select.location("u_near"), float(cam.clip_start));
-  glUniform1f(select.location("u_far"), float(cam.clip_end));
-  glUniform1f(select.location("u_threshold"), float(p.get_float("feature_threshold")));
-  glUniform1f(select.location("u_line_error"), float(p.get_float("line_error")));
-  glUniform1i(select.location("u_use_lines"), use_lines ? 1 : 0);
-  glUniform1f(select.location("u_dither"), float(p.get_float("dither")));
-  glUniform1f(select.location("u_dither_tone"), float(p.get_float("dither_tone")));
-  glUniform1i(select.location("u_prim_directional"), primitive_of(p.get_enum_name("directional")));
-  glUniform1i(select.location("u_prim_other"), primitive_of(p.get_enum_name("non_directional")));
-  glUniform1i(select.location("u_prim_dither"), primitive_of(p.get_enum_name("dithering")));
-  glUniform1f(select.location("u_directional_length"), float(p.get_float("directional_length")));
-  glUniform1f(select.location("u_other_length"), float(p.get_float("other_length")));
-  glUniform1f(select.location("u_sprite_size"), float(p.get_float("sprite_size")));
-  glUniform1f(select.location("u_stroke_width"), float(p.get_float("stroke_width")));
-  glUniform1f(select.location("u_line_width"), float(p.get_float("line_width")));
-  glUniform1i(select.location("u_point_coloring"), p.get_enum_name("coloring") == "point" ? 1 : 0);
-  glUniform4fv(select.location("u_constant_color"), 1, glm::value_ptr(p.get_color("stroke_color")));
-  glUniform1f(select.location("u_opacity"), float(p.get_float("opacity")));
-  glUniform1ui(select.location("u_seed"), uint32_t(p.get_int("seed")));
-  glUniform1i(select.location("u_queue"), queue ? 1 : 0);
+  gl::check_uniform_block(select, "FeatureStrokesSettings", sizeof(s.u), 0);
+  const gl::Buffer settings = gl::make_buffer(sizeof(s.u), &s.u);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 0, settings.id());
+  glUniform4fv(select.location("u_constant_color"), 1, glm::value_ptr(s.u.constant_color));
+  glUniform1i(select.location("u_queue"), s.queue ? 1 : 0);
 
-  const double angle = glm::radians(p.get_float("screen_angle"));
   const gl::Program& expand = ctx.shaders->graphics("feature_strokes.vert", "feature_strokes.frag");
   expand.use();
-  glUniformMatrix4fv(expand.location("u_projection"), 1, GL_FALSE, glm::value_ptr(glm::mat4(cam.projection)));
-  glUniform2i(expand.location("u_size"), size.x, size.y);
-  glUniform1i(expand.location("u_ortho"), cam.orthographic ? 1 : 0);
-  glUniform1f(expand.location("u_near"), float(cam.clip_start));
-  glUniform1f(expand.location("u_far"), float(cam.clip_end));
-  glUniform2f(expand.location("u_screen_dir"), float(std::cos(angle)), float(std::sin(angle)));
-  glUniform1i(expand.location("u_texture"), p.get_enum("stroke_texture"));
+  gl::check_uniform_block(expand, "FeatureStrokesSettings", sizeof(s.u), 0);
   glUniform1i(expand.location("u_texture_image"), 0);
-  glBindTextureUnit(0, texture_image ? texture_image->id() : ink.accum.id());
+  glBindTextureUnit(0, s.texture_image ? s.texture_image->id() : ink.accum.id());
   raster.set_uniforms(expand);
 
   for (const RecordBatch& batch : record_batches(ctx.chunks.size(), capacity, slots_of)) {
@@ -294,16 +261,16 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     for (size_t c = batch.begin; c < batch.end; ++c) {
       const VisibleChunk& v = ctx.chunks[c];
       const GpuCloud& g = *v.gpu;
-      const gl::Buffer* lines = use_lines ? g.find(line_key) : nullptr;
-      bind_chunk(select, v, color_source,
+      const gl::Buffer* lines = s.u.use_lines ? g.find(s.line_key) : nullptr;
+      bind_chunk(select, v, s.color_source,
                  {{2, nullptr}, {3, g.find({AttributeKind::FeatureDegree, k})}, {4, lines},
-                  {5, queue ? g.find({AttributeKind::QueueOrder}) : nullptr}, {6, g.find({AttributeKind::PointId})},
+                  {5, s.queue ? g.find({AttributeKind::QueueOrder}) : nullptr}, {6, g.find({AttributeKind::PointId})},
                   {9, g.find({AttributeKind::LocalResolution, kResolutionNeighbors})}});
       glUniform1i(select.location("u_has_lines"), lines ? 1 : 0);
       glUniform1i(select.location("u_has_color"),
-                  resolve_color_source(color_source, g) != ColorSource::Constant ? 1 : 0);
-      glUniform1f(select.location("u_inv_median_r"), 1.0f / median_resolution(v));
-      glUniform1ui(select.location("u_drawn"), drawn[c]);
+                  resolve_color_source(s.color_source, g) != ColorSource::Constant ? 1 : 0);
+      glUniform1f(select.location("u_inv_median_r"), s.inv_median_r[c]);
+      glUniform1ui(select.location("u_drawn"), s.drawn[c]);
       glUniform1ui(select.location("u_out_base"), batch.offsets[c - batch.begin]);
       glUniform1ui(select.location("u_command_base"), batch.offsets[c - batch.begin] / 128u);
       glDispatchCompute(slots_of(c) / 128u, 1, 1);
@@ -318,22 +285,13 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     gl::check_gl("feature strokes");
 
     if (ctx.capture) {
-      for (const Record& rec : drawn_records<Record>(records, commands, batch, 6)) {
-        CapturedMark m;
-        m.point_id = rec.point_id;
-        m.center = glm::vec3(rec.center_kind);
-        m.direction = glm::vec3(rec.dir_length);
-        m.kind = uint32_t(rec.center_kind.w);
-        const float depth = cam.orthographic ? 1.0f : -rec.center_kind.z;
-        m.length = rec.dir_length.w * depth / px_per_unit;
-        m.color = rec.color;
-        ctx.capture->push_back(m);
-      }
+      for (const Record& rec : drawn_records<Record>(records, commands, batch, 6))
+        ctx.capture->push_back(feature_strokes::captured(rec, cam.orthographic, px_per_unit));
     }
   }
 
   // 3. Resolve (the ink layer's): ink over paper, the surface's depth.
-  ink.resolve(p.get_color("paper_color"), true);
+  ink.resolve(s.paper, true);
 
   uint32_t counts[3] = {0, 0, 0};
   glGetNamedBufferSubData(counters.id(), 0, sizeof(counts), counts);
@@ -343,7 +301,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     (*ctx.stats)["strokes_non_directional"] += double(counts[1]);
     (*ctx.stats)["strokes_dithering"] += double(counts[2]);
     double queued = 0.0;
-    for (uint32_t n : drawn) queued += double(n);
+    for (uint32_t n : s.drawn) queued += double(n);
     (*ctx.stats)["queue_points"] += queued;
   }
 }

@@ -9,6 +9,8 @@
 #include <mutex>
 #include <vector>
 
+#include "core/glsl.h"
+#include "core/hash.h"
 #include "render/mark.h"
 
 namespace pointnpr {
@@ -16,31 +18,38 @@ namespace pointnpr {
 constexpr int kStrokeResolutionNeighbors = 8;  // local resolution: disc sizes and dithering
 constexpr float kMaxDiscPixels = 64.0f;        // largest visibility disc (pixels)
 
-// The parameters as the passes read them, resolved once per frame.
+namespace feature_strokes {
+using namespace glsl;
+#include "feature_strokes_settings.glsl"
+static_assert(sizeof(Record) == 64, "std430 layout of Record");
+
+// What a capture of the marks reports of a record (length in scene units).
+inline CapturedMark captured(const Record& rec, bool ortho, float px_per_unit) {
+  CapturedMark m;
+  m.point_id = rec.point_id;
+  m.center = glm::vec3(rec.center_kind);
+  m.direction = glm::vec3(rec.dir_length);
+  m.kind = uint32_t(rec.center_kind.w);
+  m.length = rec.dir_length.w * (ortho ? 1.0f : -rec.center_kind.z) / px_per_unit;
+  m.color = rec.color;
+  return m;
+}
+}  // namespace feature_strokes
+
+// The parameters as both backends read them, resolved once per frame: the
+// kernels' settings block (shaders/feature_strokes_settings.glsl) and what
+// the passes around them need.
 struct FeatureStrokeSettings {
+  feature_strokes::FeatureStrokesSettings u{};
   int feature_k = 8;
-  float threshold = 0.35f;
-  float line_error = 0.2f;
-  bool use_lines = true;
   AttributeKey line_key;
-  float dither = 0.15f;
-  float dither_tone = 0.5f;
-  uint32_t seed = 0;
-  int primitive[3] = {3, 2, 1};  // per class (directional, non-directional, dithering): 0 none, 1 sprite, 2 line, 3 textured
-  float directional_length = 14.0f, other_length = 6.0f;
-  float sprite_size = 3.0f, stroke_width = 4.0f, line_width = 1.2f;
-  bool point_coloring = false;
-  glm::vec4 stroke_color{0.0f};
   ColorSource color_source = ColorSource::Constant;
-  float opacity = 0.9f;
   glm::vec4 paper{1.0f};
   float disc_scale = 1.5f, depth_offset = 1.5f;
-  glm::vec2 screen_dir{1.0f, 0.0f};  // unit, pixels (x right, y up)
-  int texture = 0;                   // taper, brush, dry, image
   const gl::Texture* texture_image = nullptr;
   bool queue = false;
-  std::vector<uint32_t> drawn;        // per chunk: points of its queue considered
-  std::vector<float> inv_median_r;    // per chunk: 1 / its cloud's median local resolution
+  std::vector<uint32_t> drawn;      // per chunk: points of its queue considered
+  std::vector<float> inv_median_r;  // per chunk: 1 / its cloud's median local resolution
 };
 
 // The packed line fits (AttributeKind::FeatureLine) on the host, read back

@@ -65,14 +65,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kBatchRecords = 1u << 18;  // as the GL path's batches
 constexpr uint32_t kGrain = 8192;             // points per work item
 
-using glsl::id_hash;
-// GLSL's uint() of a float, negative values wrapped as x86 converts them.
-uint32_t to_uint(float v) { return uint32_t(int64_t(v)); }
-float mix(float a, float b, float t) { return a * (1.0f - t) + b * t; }
-float smoothstep(float e0, float e1, float x) {
-  const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
+using namespace feature_strokes;
 
 // One visible chunk's host data (index = first + local into the cloud's arrays).
 struct Chunk {
@@ -82,11 +75,7 @@ struct Chunk {
   const float* resolution = nullptr;
   const uint32_t* lines = nullptr;  // or null: no line fit
   const uint32_t* order = nullptr;  // the queue order (chunk-local), or null
-  ColorSource source = ColorSource::Constant;
-  const uint32_t* colors = nullptr;
-  const float* intensity = nullptr;
-  const uint32_t* classification = nullptr;
-  float intensity_scale = 1.0f;
+  HostColors colors;
   uint32_t first = 0, count = 0, drawn = 0, key_base = 0;
   float inv_median_r = 1.0f;
   glm::mat4 view{1.0f};
@@ -101,20 +90,6 @@ struct Frame {
   float px_per_unit = 1.0f;
   glm::mat4 projection{1.0f};
 };
-
-// shaders/point_attributes.glsl's source_color().
-glm::vec4 source_color(const Chunk& c, uint32_t index, const glm::vec4& constant) {
-  switch (c.source) {
-    case ColorSource::Rgb: {
-      const uint32_t v = c.colors[index];
-      return {float(v & 0xffu) / 255.0f, float(v >> 8 & 0xffu) / 255.0f, float(v >> 16 & 0xffu) / 255.0f, 1.0f};
-    }
-    case ColorSource::Intensity:
-      return glm::vec4(glm::vec3(std::clamp(c.intensity[index] * c.intensity_scale, 0.0f, 1.0f)), 1.0f);
-    case ColorSource::Classification: return glm::vec4(class_color(c.classification[index]), 1.0f);
-    default: return glm::vec4(glm::vec3(constant), 1.0f);
-  }
-}
 
 float reversed_z(const Frame& f, float depth) {
   return f.ortho ? 1.0f - (depth - f.near) / (f.far - f.near) : f.near / depth;
@@ -168,177 +143,65 @@ void scatter_discs(const Chunk& c, const Frame& f, const FeatureStrokeSettings& 
   }
 }
 
-// GPU record of feature_strokes_common.glsl (what the capture reports).
-struct Record {
-  glm::vec3 center{0.0f};  // view space
-  uint32_t kind = 0;
-  glm::vec3 dir{0.0f};
-  float length = 0.0f;
-  glm::vec4 color{0.0f};
-  uint32_t point_id = 0;
-  uint32_t primitive = 0;
-  float width = 0.0f;
+// What the kernels read of a chunk's points (the select pass's buffers)
+// and of the stroke texture.
+struct Kernels {
+  const FeatureStrokesSettings& u;
+  const Chunk* chunk_;  // (names the kernels do not use)
+  const HostTexture* image_;
+  float point_degree(uint index) const { return chunk_->degree[index]; }
+  bool has_lines() const { return chunk_->lines != nullptr; }
+  uint point_line(uint index) const { return chunk_->lines[index]; }
+  float point_resolution(uint index) const { return chunk_->resolution[index]; }
+  float inv_median_r() const { return chunk_->inv_median_r; }
+  bool has_color() const { return chunk_->colors.source != ColorSource::Constant; }
+  vec4 point_color(uint index) const { return chunk_->colors.at(index); }
+  mat3 view_rotation() const { return mat3(chunk_->view); }
+  vec4 stroke_image(vec2 uv) const { return image_->sample(uv.x, uv.y); }
+#include "feature_strokes_kernels.glsl"
+#include "feature_strokes_sprite.glsl"
 };
 
-// Pass 2a (feature_strokes_select.comp's place()): queue points [begin, end).
-void select_records(const Chunk& c, const Frame& f, const FeatureStrokeSettings& s, uint32_t begin, uint32_t end,
-            std::vector<Record>& out) {
-  const glm::mat3 rotation(c.view);
+// Pass 2a (feature_strokes_select.comp): queue points [begin, end), kept in order.
+void select_records(Kernels k, uint32_t begin, uint32_t end, std::vector<Record>& out) {
+  const Chunk& c = *k.chunk_;
   for (uint32_t j = begin; j < end; ++j) {
-    const uint32_t local = c.order ? c.order[j] : j;
-    const uint32_t index = c.first + local;
-    const uint32_t id = c.ids[index];
-    const glm::vec4 v = transform(c.view, c.positions[index]);
-    const float depth = -v.z;
-    if (!(depth >= f.near && depth <= f.far)) continue;
-    const float fd = c.degree[index];
-    const bool feature = fd == fd && fd > s.threshold;
-    const glm::vec4 color = source_color(c, index, s.stroke_color);
-    uint32_t kind;
-    glm::vec3 dir(0.0f);
-    if (feature) {
-      kind = 1;
-      if (s.use_lines && c.lines) {
-        const uint32_t bits = c.lines[index];
-        const float err = float(bits >> 24) / 255.0f;
-        const glm::vec3 d = unpack_normal(bits);
-        if (glm::dot(d, d) > 0.25f && err < s.line_error) {
-          kind = 0;
-          const glm::vec3 turned = rotation[0] * d.x + rotation[1] * d.y + rotation[2] * d.z;
-          dir = turned / std::sqrt(glm::dot(turned, turned));
-        }
-      }
-    } else {
-      // Range-aware dithering: odds by the point's share of surface.
-      const float r = c.resolution[index];
-      const float rel = r == r ? r * c.inv_median_r : 1.0f;
-      const float lum = c.source != ColorSource::Constant
-                            ? color.r * 0.2126f + color.g * 0.7152f + color.b * 0.0722f
-                            : 0.5f;
-      const float odds = s.dither * rel * rel * mix(1.0f, 2.0f * (1.0f - lum), s.dither_tone);
-      if (id_rand(id, 1u, s.seed) >= odds) continue;
-      kind = 2;
-    }
-    const int prim = s.primitive[kind];
-    if (prim == 0 || s.opacity <= 0.0f) continue;
-    Record rec;
-    rec.length = kind == 0 ? s.directional_length : s.other_length;
-    rec.width = prim == 3 ? s.stroke_width : s.line_width;
-    if (prim == 1) rec.length = rec.width = s.sprite_size;
-    rec.center = glm::vec3(v);
-    rec.kind = kind;
-    rec.dir = dir;
-    rec.color = glm::vec4(glm::clamp(s.point_coloring ? glm::vec3(color) : glm::vec3(s.stroke_color), 0.0f, 1.0f),
-                          s.opacity);
-    rec.point_id = id;
-    rec.primitive = uint32_t(prim);
-    out.push_back(rec);
+    const uint32_t index = c.first + (c.order ? c.order[j] : j);
+    const Record rec = k.place_record(index, c.ids[index], mat_vec(c.view, vec4(c.positions[index], 1.0f)));
+    if (rec.primitive != 0u) out.push_back(rec);
   }
 }
 
 // A primitive as the rasterizer sees it (feature_strokes.vert's outputs).
 struct Prim {
-  glm::vec2 center{0.0f};  // frame pixels
-  glm::vec2 r1{1.0f, 0.0f};
-  glm::vec2 size{0.0f};  // length, width
-  glm::vec4 color{0.0f};
-  float depth = 0.0f;  // linear
-  float z = 0.0f;      // reversed, for the depth test
-  uint32_t id = 0, primitive = 0;
+  StrokeSprite sprite;
   ExactQuad quad;
 };
 
 // feature_strokes.vert: false when nothing of it reaches the clip.
-bool setup(const Record& rec, const Frame& f, const FeatureStrokeSettings& s, Prim& p) {
-  const glm::vec3 c = rec.center;
-  const float depth = -c.z;
-  const glm::vec4 clip = transform(f.projection, glm::vec4(c, 1.0f));
-  const glm::vec2 ndc(clip.x / clip.w, clip.y / clip.w);
-  const glm::vec2 center = (ndc * 0.5f + 0.5f) * f.size;
-  glm::vec2 r1 = s.screen_dir;
-  if (rec.primitive == 1) {
-    r1 = {1.0f, 0.0f};
-  } else if (glm::dot(rec.dir, rec.dir) > 0.5f) {
-    const glm::vec4 tip = transform(f.projection, glm::vec4(c + rec.dir * (f.ortho ? 1e-3f : 1e-3f * depth), 1.0f));
-    const glm::vec2 d = (glm::vec2(tip.x / tip.w, tip.y / tip.w) - ndc) * f.size;
-    if (glm::dot(d, d) > 1e-12f) r1 = d / std::sqrt(glm::dot(d, d));
-  }
-  const glm::vec2 r2(-r1.y, r1.x);
-  const float len = rec.length, width = rec.width;
-  const float reach = len + width + 2.0f;
+bool setup(Kernels& k, const Record& rec, const Frame& f, Prim& p) {
+  p.sprite = k.stroke_sprite(rec);
+  const vec2 center = p.sprite.center;
+  const float reach = p.sprite.size.x + p.sprite.size.y + 2.0f;
   const float lo_x = float(f.clip.min.x + f.origin.x) - reach, hi_x = float(f.clip.max.x + f.origin.x) + reach;
   const float lo_y = float(f.clip.min.y + f.origin.y) - reach, hi_y = float(f.clip.max.y + f.origin.y) + reach;
   if (!(center.x >= lo_x && center.x <= hi_x && center.y >= lo_y && center.y <= hi_y)) return false;
-  static constexpr float kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  glm::vec2 corners[4];
-  for (int k = 0; k < 4; ++k)
-    corners[k] = center + (2.0f * kCorner[k][0] - 1.0f) * 0.5f * len * r1 +
-                 (2.0f * kCorner[k][1] - 1.0f) * 0.5f * width * r2;
-  if (!exact_quad(corners, f.origin, f.clip, p.quad)) return false;
-  p.center = center;
-  p.r1 = r1;
-  p.size = {len, width};
-  p.color = rec.color;
-  p.depth = depth;
-  p.z = reversed_z(f, depth);
-  p.id = rec.point_id;
-  p.primitive = rec.primitive;
-  return true;
+  const vec2 corners[4] = {k.sprite_corner(p.sprite, vec2(0.0f, 0.0f)), k.sprite_corner(p.sprite, vec2(1.0f, 0.0f)),
+                           k.sprite_corner(p.sprite, vec2(1.0f, 1.0f)), k.sprite_corner(p.sprite, vec2(0.0f, 1.0f))};
+  return exact_quad(corners, f.origin, f.clip, p.quad);
 }
 
-// feature_strokes.frag's stroke_alpha().
-float stroke_alpha(const FeatureStrokeSettings& s, const HostTexture& image, const Prim& p, float u, float v) {
-  const float across = std::abs(2.0f * v - 1.0f);
-  if (s.texture == 3) {
-    const glm::vec4 t = image.sample(u, v);
-    return t.a * (1.0f - (t.r * 0.2126f + t.g * 0.7152f + t.b * 0.0722f));
-  }
-  if (s.texture == 1) {  // bristle brush
-    const float bristle = std::floor(v * 7.0f);
-    const uint32_t h = id_hash(p.id * 7u + to_uint(bristle));
-    const float reach = 0.65f + 0.35f * float(h >> 8) / 16777216.0f;
-    const float ink = 0.55f + 0.45f * float(id_hash(h) >> 8) / 16777216.0f;
-    return ink * smoothstep(0.0f, 0.08f, u) * (1.0f - smoothstep(reach - 0.15f, reach, u)) *
-           (1.0f - std::pow(across, 8.0f));
-  }
-  const float taper = smoothstep(0.0f, 0.2f, u) * (1.0f - smoothstep(0.7f, 1.0f, u));
-  if (s.texture == 2) {  // dry brush
-    const float aspect = p.size.x / std::max(p.size.y, 1e-3f);
-    const float g = id_value_noise(glm::vec2(u * aspect * 2.0f, v * 5.0f), p.id);
-    return taper * smoothstep(0.3f, 0.55f, g) * (1.0f - std::pow(across, 4.0f));
-  }
-  return taper * (1.0f - across * across);
-}
-
-// The ink images over the clip (tile pixels, row-major from clip.min).
 // Pass 2b: primitive p over the pixels of `area` (feature_strokes.frag and
 // the ink layer's blending), against the discs' keys.
-void rasterize(const Prim& p, const Rect& area, const Frame& f, const FeatureStrokeSettings& s,
-               const HostTexture& image, const HostInk& ink, const uint64_t* keys) {
-  const glm::vec2 r2(-p.r1.y, p.r1.x);
-  const float len = std::max(p.size.x, 1e-6f), width = std::max(p.size.y, 1e-6f);
+void rasterize(Kernels& k, const Prim& p, const Rect& area, const Frame& f, const HostInk& ink,
+               const uint64_t* keys) {
   for_each_covered_pixel(p.quad, area, f.origin, [&](int x, int y) {
     const size_t q = ink.at(x, y);
     // GEQUAL against the discs' reversed depth (none: the far end, 0).
     const uint64_t key = keys[q];
-    if (key != kEmpty && !(p.z >= glsl::uintBitsToFloat(~uint32_t(key >> 32)))) return;
-    const float rel_x = (float(x) + 0.5f + float(f.origin.x)) - p.center.x;
-    const float rel_y = (float(y) + 0.5f + float(f.origin.y)) - p.center.y;
-    const float u = (rel_x * p.r1.x + rel_y * p.r1.y) / len + 0.5f;
-    const float v = (rel_x * r2.x + rel_y * r2.y) / width + 0.5f;
-    float k;
-    if (p.primitive == 1) {  // Gaussian splatting kernel
-      const float qx = 2.0f * u - 1.0f, qy = 2.0f * v - 1.0f;
-      const float d2 = qx * qx + qy * qy;
-      if (d2 > 1.0f) return;
-      k = std::exp(-d2 / (2.0f * 0.4f * 0.4f));
-    } else if (p.primitive == 2) {
-      k = 1.0f;
-    } else {
-      k = stroke_alpha(s, image, p, u, v);
-    }
-    const float a = std::clamp(p.color.a * k, 0.0f, 1.0f);
-    if (a > 0.0f) ink.blend(q, glm::vec3(p.color), a, p.depth);
+    if (key != kEmpty && !(p.sprite.z >= glsl::uintBitsToFloat(~uint32_t(key >> 32)))) return;
+    const float a = k.sprite_alpha(p.sprite, vec2(float(x + f.origin.x) + 0.5f, float(y + f.origin.y) + 0.5f));
+    if (a > 0.0f) ink.blend(q, vec3(p.sprite.color), a, p.sprite.depth);
   });
 }
 
@@ -352,15 +215,16 @@ struct HostImages {
 };
 
 // Binned pass 2b of one batch of primitives, in their order per pixel.
-void draw_primitives(const std::vector<Prim>& prims, const Frame& f, const FeatureStrokeSettings& s,
-                     const HostTexture& image, const HostInk& ink, const uint64_t* keys) {
+void draw_primitives(const Kernels& kernels, const std::vector<Prim>& prims, const Frame& f, const HostInk& ink,
+                     const uint64_t* keys) {
   auto bounds = [&](size_t i, glm::ivec2& lo, glm::ivec2& hi) {
     lo = prims[i].quad.lo;
     hi = prims[i].quad.hi;
     return true;
   };
   for_each_bin_in_order(prims.size(), f.clip, bounds, [&](const Rect& area, const uint32_t* list, size_t n) {
-    for (size_t j = 0; j < n; ++j) rasterize(prims[list[j]], area, f, s, image, ink, keys);
+    Kernels k = kernels;
+    for (size_t j = 0; j < n; ++j) rasterize(k, prims[list[j]], area, f, ink, keys);
   });
 }
 
@@ -410,7 +274,7 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
       last = cloud.get();
       auto degree = cloud->analysis().feature_degree(s.feature_k, {});
       auto resolution = cloud->analysis().local_resolution(kStrokeResolutionNeighbors);
-      std::shared_ptr<const std::vector<uint32_t>> lines = s.use_lines ? line_cache.get(v, s.line_key) : nullptr;
+      std::shared_ptr<const std::vector<uint32_t>> lines = s.u.use_lines ? line_cache.get(v, s.line_key) : nullptr;
       proto = Chunk{};
       proto.positions = cloud->local_positions().data();
       proto.ids = cloud->point_index().data();
@@ -418,11 +282,7 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
       proto.resolution = resolution->r.data();
       proto.lines = lines ? lines->data() : nullptr;
       proto.order = s.queue ? v.gpu->host_queue_order().data() : nullptr;
-      proto.source = resolve_color_source(s.color_source, *v.gpu);
-      proto.colors = cloud->colors().data();
-      proto.intensity = cloud->intensity().data();
-      proto.classification = cloud->classification().data();
-      proto.intensity_scale = v.gpu->intensity_scale;
+      proto.colors = host_colors(*v.gpu, *cloud, s.color_source, s.u.constant_color);
       held.push_back(cloud);
       held.push_back(degree);
       held.push_back(resolution);
@@ -440,7 +300,8 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
   }
 
   HostTexture image;
-  if (s.texture == 3 && s.texture_image) image = HostTexture(*s.texture_image, "feature strokes");
+  if (s.u.stroke_texture == 3 && s.texture_image) image = HostTexture(*s.texture_image, "feature strokes");
+  const Kernels kernels{s.u, nullptr, &image};
 
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
@@ -486,36 +347,26 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
     std::vector<std::vector<Record>> selected(items.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i < r.end(); ++i)
-        select_records(chunks[items[i].chunk], f, s, items[i].begin, items[i].end, selected[i]);
+        select_records(Kernels{s.u, &chunks[items[i].chunk], &image}, items[i].begin, items[i].end, selected[i]);
     });
     records.clear();
     for (const std::vector<Record>& part : selected) records.insert(records.end(), part.begin(), part.end());
-    for (const Record& rec : records) ++counts[rec.kind];
-    if (ctx.capture) {
-      for (const Record& rec : records) {
-        CapturedMark m;
-        m.point_id = rec.point_id;
-        m.center = rec.center;
-        m.direction = rec.dir;
-        m.kind = rec.kind;
-        const float depth = cam.orthographic ? 1.0f : -rec.center.z;
-        m.length = rec.length * depth / f.px_per_unit;
-        m.color = rec.color;
-        ctx.capture->push_back(m);
-      }
-    }
+    for (const Record& rec : records) ++counts[uint32_t(rec.center_kind.w)];
+    if (ctx.capture)
+      for (const Record& rec : records) ctx.capture->push_back(captured(rec, f.ortho, f.px_per_unit));
     // Setup in parallel, kept in record order.
     prims.resize(records.size());
     std::vector<uint8_t> alive(records.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, records.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i < r.end(); ++i) alive[i] = setup(records[i], f, s, prims[i]) ? 1 : 0;
+      Kernels k = kernels;
+      for (size_t i = r.begin(); i < r.end(); ++i) alive[i] = setup(k, records[i], f, prims[i]) ? 1 : 0;
     });
     size_t kept = 0;
     for (size_t i = 0; i < prims.size(); ++i)
       if (alive[i]) prims[kept++] = prims[i];
     prims.resize(kept);
     select_ms += std::chrono::duration<double, std::milli>(Clock::now() - ts).count();
-    draw_primitives(prims, f, s, image, ink, keys);
+    draw_primitives(kernels, prims, f, ink, keys);
     batch_start = batch_end;
   }
   const auto t2 = Clock::now();

@@ -1,0 +1,68 @@
+// The feature_strokes mark's per-point kernel, written once for the GL
+// select pass (feature_strokes_select.comp) and the native one
+// (cpp/marks/feature_strokes/native.cpp), in the subset of cpp/core/glsl.h.
+// The includer defines what reads the point data: point_degree(i),
+// has_lines(), point_line(i), point_resolution(i), inv_median_r(),
+// has_color(), point_color(i) and view_rotation().
+#ifndef FEATURE_STROKES_KERNELS_GLSL
+#define FEATURE_STROKES_KERNELS_GLSL
+#include "id_hash.glsl"
+#include "feature_strokes_settings.glsl"
+
+// What point `index` (id `id`, at view position v) draws (seed 001
+// sections 5.2, 5.3, 6.2, 6.3); primitive 0: nothing.
+Record place_record(uint index, uint id, vec4 v) {
+  Record rec;
+  rec.center_kind = vec4(0.0f);
+  rec.dir_length = vec4(0.0f);
+  rec.color = vec4(0.0f);
+  rec.point_id = id;
+  rec.primitive = 0u;
+  rec.width = 0.0f;
+  rec.pad = 0.0f;
+  float depth = -v.z;
+  if (!(depth >= u.near_plane && depth <= u.far_plane)) return rec;
+  float fd = point_degree(index);
+  bool feature = fd == fd && fd > u.threshold;
+  vec4 color = point_color(index);
+  uint kind;
+  vec3 dir = vec3(0.0f);
+  if (feature) {
+    kind = 1u;
+    if (u.use_lines != 0 && has_lines()) {
+      uint line_bits = point_line(index);
+      float err = float(line_bits >> 24) / 255.0f;
+      vec3 d = vec3(unpackSnorm4x8(line_bits));
+      if (dot(d, d) > 0.25f && err < u.line_error) {
+        kind = 0u;
+        dir = normalize(view_rotation() * d);
+      }
+    }
+  } else {
+    // Range-aware dithering for unorganised clouds: odds by the point's
+    // share of surface (its spacing squared, relative to the cloud's median)
+    // so the kept points are uniform in 3D, raised where the colour is dark.
+    float r = point_resolution(index);
+    float rel = r == r ? r * inv_median_r() : 1.0f;
+    float lum = has_color() ? dot(vec3(color), vec3(0.2126f, 0.7152f, 0.0722f)) : 0.5f;
+    float odds = u.dither * rel * rel * mix(1.0f, 2.0f * (1.0f - lum), u.dither_tone);
+    if (id_rand(id, 1u, u.seed) >= odds) return rec;
+    kind = 2u;
+  }
+  int prim = kind == 0u ? u.prim_directional : kind == 1u ? u.prim_other : u.prim_dither;
+  if (prim == 0 || u.opacity <= 0.0f) return rec;
+  float len = kind == 0u ? u.directional_length : u.other_length;
+  float width = prim == 3 ? u.stroke_width : u.line_width;
+  if (prim == 1) {
+    len = u.sprite_size;
+    width = u.sprite_size;
+  }
+  rec.center_kind = vec4(vec3(v), float(kind));
+  rec.dir_length = vec4(dir, len);
+  rec.color = vec4(clamp(u.point_coloring != 0 ? vec3(color) : vec3(u.constant_color), 0.0f, 1.0f), u.opacity);
+  rec.primitive = uint(prim);
+  rec.width = width;
+  return rec;
+}
+
+#endif
