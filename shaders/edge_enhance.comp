@@ -39,6 +39,28 @@ float depth_at(ivec2 q) {
   return imageLoad(u_depth, q).x;
 }
 
+// One EDL neighbour between pixels (p + offset): max(0, lz - log2 z) of the
+// four pixels around it that have depth, weighted bilinearly, so the EDL
+// radius acts continuously rather than in whole pixels (1 and 1.4 px used
+// to round to the same neighbours), and flat depth gives exactly 0; -1
+// where none of the four has depth.
+float edl_neighbour(ivec2 p, vec2 offset, float lz) {
+  vec2 x = vec2(p) + offset;
+  ivec2 i = ivec2(floor(x));
+  vec2 f = x - vec2(i);
+  float sum = 0.0, weight = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 d = ivec2(k & 1, k >> 1);
+    float w = (d.x == 1 ? f.x : 1.0 - f.x) * (d.y == 1 ? f.y : 1.0 - f.y);
+    if (w <= 0.0) continue;
+    float z = depth_at(i + d);
+    if (isinf(z)) continue;
+    sum += w * max(0.0, lz - log2(z));
+    weight += w;
+  }
+  return weight > 1e-6 ? sum / weight : -1.0;
+}
+
 float covered_fraction(ivec2 q) {
   int n = 0;
   ivec2 size = imageSize(u_in);
@@ -101,9 +123,7 @@ void main() {
     float lz = log2(z), response = 0.0;
     for (int i = 0; i < 8; ++i) {
       float a = 0.78539816 * float(i);
-      ivec2 q = p + ivec2(round(u_edl_radius * vec2(cos(a), sin(a))));
-      float zq = depth_at(q);
-      if (!isinf(zq)) response += max(0.0, lz - log2(zq));
+      response += max(0.0, edl_neighbour(p, u_edl_radius * vec2(cos(a), sin(a)), lz));
     }
     float shade = exp(-response / 8.0 * 300.0 * u_edl_strength);
     vec3 rgb = c.rgb * shade;
