@@ -39,6 +39,24 @@ float depth_at(ivec2 q) {
   return imageLoad(u_depth, q).x;
 }
 
+// One EDL neighbour, `radius` away along lattice direction `dir` (an axis
+// or a diagonal): max(0, lz - log2 z) interpolated linearly
+// between the two pixels along `dir` that bracket that distance, so the
+// radius acts continuously rather than in whole pixels (1 and 1.4 px used
+// to round to the same neighbours), and flat depth gives exactly 0; -1
+// where neither pixel has depth.
+float edl_neighbour(ivec2 p, ivec2 dir, float radius, float lz) {
+  float t = radius / length(vec2(dir));
+  float k = floor(t), f = t - k;
+  // Depth alone: +inf where nothing was drawn; outside the image, 0.
+  vec2 z = vec2(imageLoad(u_depth, p + int(k) * dir).x, imageLoad(u_depth, p + int(k + 1.0) * dir).x);
+  bvec2 valid = bvec2(uvec2(greaterThan(z, vec2(0.0))) * uvec2(not(isinf(z))));
+  vec2 w = mix(vec2(0.0), vec2(1.0 - f, f), valid);
+  vec2 terms = mix(vec2(0.0), max(vec2(0.0), lz - log2(max(z, vec2(1e-30)))), valid);
+  float weight = w.x + w.y;
+  return weight > 1e-6 ? dot(w, terms) / weight : -1.0;
+}
+
 float covered_fraction(ivec2 q) {
   int n = 0;
   ivec2 size = imageSize(u_in);
@@ -99,12 +117,9 @@ void main() {
     }
     // Eye-dome lighting on log depth; background neighbours add nothing.
     float lz = log2(z), response = 0.0;
-    for (int i = 0; i < 8; ++i) {
-      float a = 0.78539816 * float(i);
-      ivec2 q = p + ivec2(round(u_edl_radius * vec2(cos(a), sin(a))));
-      float zq = depth_at(q);
-      if (!isinf(zq)) response += max(0.0, lz - log2(zq));
-    }
+    const ivec2 dirs8[8] = ivec2[8](ivec2(1, 0), ivec2(1, 1), ivec2(0, 1), ivec2(-1, 1), ivec2(-1, 0),
+                                    ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1));
+    for (int i = 0; i < 8; ++i) response += max(0.0, edl_neighbour(p, dirs8[i], u_edl_radius, lz));
     float shade = exp(-response / 8.0 * 300.0 * u_edl_strength);
     vec3 rgb = c.rgb * shade;
     // A nearer surface within w: this pixel lies just behind a contour.

@@ -199,8 +199,13 @@ bool applies(const ParamSpec& spec, const ParamValues& values) {
   if (spec.when_param.empty()) return true;
   const ParamSpec* other = values.schema().find(spec.when_param);
   if (!other) return true;
-  const std::string current = other->type == ParamType::Bool ? (values.get_bool(other->name) ? "true" : "false")
-                                                             : values.get_enum_name(other->name);
+  std::string current;
+  switch (other->type) {
+    case ParamType::Bool: current = values.get_bool(other->name) ? "true" : "false"; break;
+    case ParamType::Float:
+    case ParamType::Int: current = values.raw().at(other->name).at(0) != 0.0 ? "nonzero" : "zero"; break;
+    default: current = values.get_enum_name(other->name);
+  }
   for (const auto& v : spec.when_values)
     if (v == current) return true;
   return false;

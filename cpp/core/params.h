@@ -24,8 +24,9 @@ struct ParamSpec {
   std::string unit;                  // "px", "m", "s", "Hz", "deg", "" ...
   std::string doc;                   // one line, shown as tooltip and in docs
   std::vector<std::string> items;    // Enum identifiers; the value is the index
-  // Applies only while enum (or bool: "true"/"false") parameter `when_param`
-  // has one of `when_values`; the UI greys it out otherwise.
+  // Applies only while enum (or bool: "true"/"false"; or number: "zero"/
+  // "nonzero", e.g. a strength whose 0 is off) parameter `when_param` has
+  // one of `when_values`; the UI greys it out otherwise.
   std::string when_param;
   std::vector<std::string> when_values;
   // Names it had before, which scripts and saved files may still use:

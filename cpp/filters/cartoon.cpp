@@ -124,7 +124,8 @@ const FilterRegistration registration{{
            "Flat color bands, soft DoG edges and silhouette outlines.",
            {
                int_param("levels", 5, 2, 32, "", "Number of luminance bands"),
-               float_param("quantize_sharpness", 4.0, 0.0, 50.0, "", "How hard band borders are (0 = smooth)"),
+               float_param("quantize_sharpness", 4.0, 0.0, 50.0, "",
+                           "How hard band borders are: 0 = no bands (smooth), larger = flatter bands, sharper steps"),
                float_param("edge_sigma", 1.0, 0.5, 4.0, "px", "Scale of the DoG edge detector"),
                float_param("edge_sensitivity", 20.0, 0.5, 200.0, "", "Steepness of the soft edge threshold"),
                float_param("edge_strength", 1.0, 0.0, 1.0, "", "Opacity of interior DoG edges"),

@@ -1,7 +1,8 @@
 // Edge enhancement from geometry, on the segment's rasterized linear depth:
 //  - eye-dome lighting (Boucheny 2009, as in Potree and CloudCompare): each
 //    pixel is darkened by exp(-strength * 300 * mean over 8 neighbours at
-//    `edl_radius` of max(0, log2 z - log2 z_neighbour));
+//    `edl_radius` (interpolated between the pixels along each of the 8
+//    lattice directions) of max(0, log2 z - log2 z_neighbour));
 //  - depth-discontinuity outlines: pixels within `outline_width` of a
 //    surface nearer by more than `depth_threshold` (relative) take the edge
 //    colour, so each occluding contour gets a line on its far side;
@@ -26,7 +27,8 @@ namespace {
 class EdgeEnhance final : public Filter {
  public:
   static int reach(const ParamValues& p) {
-    return std::max(int(std::ceil(p.get_float("edl_radius"))), p.get_int("outline_width"));
+    // EDL interpolates depth up to floor(radius) + 1 pixels away.
+    return std::max(int(std::floor(p.get_float("edl_radius"))) + 1, p.get_int("outline_width"));
   }
   // Creases compare normals up to w + 3 px away (shader: CREASE_STEP and
   // the non-maximum test), each fitted over 2 px around it.

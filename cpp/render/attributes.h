@@ -13,7 +13,7 @@ namespace pointnpr {
 
 enum class AttributeKind : uint8_t {
   Color,            // source: packed RGBA8 display sRGB
-  Intensity,        // source: float, white at the cloud's 99th percentile
+  Intensity,        // source: float, the cloud's median at middle grey (render/gpu_cloud.h)
   Classification,   // source: uint (ASPRS class)
   AutoColor,        // source: the first of Color, Intensity, Classification the cloud has (uploaded as that one)
   PointId,          // source: the cloud's stable point ids (uint)

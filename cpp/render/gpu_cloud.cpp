@@ -83,6 +83,25 @@ const GpuCloud* GpuCloudCache::find(uint64_t cloud_id) const {
   return it == clouds_.end() ? nullptr : &it->second;
 }
 
+// Exposure chosen from the scan's intensity histogram: its median lands on
+// middle grey (18 % reflectance, display sRGB 0.46), where an RGB scan's
+// median sits. Aerial intensity is skewed (rare glints of retro-reflectors
+// far above the rest): white at the 99th percentile, as before, left the
+// median of such tiles near black. Values above about twice the median
+// clip. Scans whose median is 0 (mostly unset) keep white at the 99th
+// percentile, else at the peak.
+float intensity_exposure(std::vector<float> values) {
+  constexpr float kMiddleGrey = 0.4614f;  // sRGB encoding of 0.18 linear
+  if (values.empty()) return 1.0f;
+  const auto middle = values.begin() + long(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  if (*middle > 0.0f) return kMiddleGrey / *middle;
+  float top = geometry::percentile99(values);
+  if (!(top > 0.0f))
+    for (float v : values) top = std::max(top, v);
+  return top > 0.0f ? 1.0f / top : 1.0f;
+}
+
 GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, const AttributeSet& needed) {
   GpuCloud& g = clouds_[cloud->id()];
   if (!g.positions) {
@@ -117,13 +136,7 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
       case AttributeKind::Intensity:
         if (cloud->has(Attribute::Intensity)) {
           buffer = upload(cloud->intensity());
-          // White at the 99th percentile: LiDAR intensity has rare glints
-          // (retro-reflectors) far above the rest, which a peak scale would
-          // leave nearly black.
-          float top = geometry::percentile99(cloud->intensity());
-          if (!(top > 0.0f))
-            for (float v : cloud->intensity()) top = std::max(top, v);
-          g.intensity_scale = top > 0.0f ? 1.0f / top : 1.0f;
+          g.intensity_scale = intensity_exposure(cloud->intensity());
         }
         break;
       case AttributeKind::Classification:

@@ -18,7 +18,7 @@ struct GpuCloud {
   gl::Buffer positions;  // vec3 float offsets, chunk after chunk
   gl::VertexArray vao;   // positions as attribute 0 (GL_POINTS paths)
   bool own_normals = false;
-  float intensity_scale = 1.0f;  // 1 / the cloud's 99th-percentile intensity (white there)
+  float intensity_scale = 1.0f;  // intensity_exposure() of the cloud's intensity
   std::map<AttributeKey, gl::Buffer> buffers;
 
   // The buffer of `key` (the cloud's own normals answer any k), or null when
@@ -63,6 +63,10 @@ class GpuCloudCache {
 // Unit normals as signed 8-bit x, y, z (0.5 degree steps: plenty for
 // shading and stroke directions, a quarter of the upload). Non-finite or
 // zero normals pack to (0, 0, 0), which shaders read as "no normal".
+// The scale from a cloud's intensity to display grey: its median at middle
+// grey (gpu_cloud.cpp says why).
+float intensity_exposure(std::vector<float> values);
+
 std::vector<uint32_t> pack_normals(const std::vector<glm::vec3>& normals);
 uint32_t pack_normal(glm::vec3 normal);
 // As the shaders' unpackSnorm4x8(...).xyz: what a shader reads of a packed normal.

@@ -4,7 +4,9 @@ Used two ways:
 
 * as a script, to make the reference images tests/data/golden/legacy_<name>.png
   with a given package (they were made with the package from before the
-  mark stage, whose styles still had a Rasterize node):
+  mark stage, whose styles still had a Rasterize node; urban_lidarhd was
+  rendered again on purpose in issue 40, when eye-dome lighting began to
+  read its neighbours between pixels):
 
       blender -b --factory-startup --python-exit-code 1 \
           --python tests/blender/example_renders.py -- <builddir> [names...]

@@ -306,17 +306,23 @@ def test_when_rule():
 
 
 def _other_values(param):
-    """All values a controlling (enum or bool) parameter can take, as the
-    "when" conditions spell them."""
+    """All values a controlling (enum, bool or number) parameter can take,
+    as the "when" conditions spell them."""
     if param["type"] == "bool":
         return ["true", "false"]
+    if param["type"] in ("float", "int"):
+        return ["zero", "nonzero"]
     assert param["type"] == "enum", param
     return list(param["items"])
 
 
 def _set_when_value(node, param, value):
     pid = nodes.property_identifier(param["name"])
-    setattr(node, pid, (value == "true") if param["type"] == "bool" else value)
+    if param["type"] in ("float", "int"):
+        assert param["min"] <= 0 < param["max"], param  # both states reachable
+        setattr(node, pid, param["max"] if value == "nonzero" else type(param["default"])(0))
+    else:
+        setattr(node, pid, (value == "true") if param["type"] == "bool" else value)
 
 
 class _FakeRow:
@@ -350,7 +356,7 @@ def test_parameters_are_greyed_out_when_their_condition_does_not_hold(scene):
                 assert nodes.param_applies(node, param)
                 continue
             other = by_name[when["param"]]
-            assert other["type"] in ("enum", "bool"), (schema["id"], param["name"])
+            assert other["type"] in ("enum", "bool", "float", "int"), (schema["id"], param["name"])
             assert set(when["values"]) <= set(_other_values(other)), (schema["id"], param["name"])
             for value in _other_values(other):
                 _set_when_value(node, other, value)

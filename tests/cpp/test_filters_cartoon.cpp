@@ -1,5 +1,7 @@
 // Cartoon: the CIELAB bilateral smoothing before banding keeps a step edge
 // sharp while reducing noise variance.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "filter_images.h"
@@ -35,6 +37,33 @@ TEST(FilterCartoon, BilateralSmoothingKeepsTheStepAndRemovesNoise) {
   const double lo = column_mean(smooth, 74, 24, 72), hi = column_mean(smooth, 85, 24, 72);
   EXPECT_NEAR(column_mean(smooth, 79, 24, 72), lo, 0.1 * (hi - lo));
   EXPECT_NEAR(column_mean(smooth, 80, 24, 72), hi, 0.1 * (hi - lo));
+}
+
+// quantize_sharpness runs from smooth to hard as documented: on a grey ramp
+// with nothing else on, 0 is the input itself, and the distance from the
+// input (how flat the bands are) grows with every step up the range.
+TEST(FilterCartoon, BandHardnessGrowsWithSharpnessFromTheIdentity) {
+  Image in({256, 8});
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 256; ++x) in.set(x, y, glm::vec4(glm::vec3((x + 0.5f) / 256.0f), 1.0f));
+  auto distance_from_input = [&](double sharpness) {
+    const Image out = run_filter(in, "cartoon", {{"levels", {5}}, {"quantize_sharpness", {sharpness}}, {"smoothing", {0}},
+                                                 {"edge_strength", {0}}, {"outline_width", {0}}, {"fill_gaps", {0}}})
+                          .out;
+    double sum = 0.0;
+    for (int x = 0; x < 256; ++x) sum += std::abs(out.at(x, 4).g - in.at(x, 4).g);
+    return sum / 256.0;
+  };
+  double previous = distance_from_input(0.0);
+  EXPECT_LT(previous, 2e-3) << "sharpness 0 draws no bands";
+  for (double sharpness : {1.0, 2.0, 4.0, 8.0, 16.0, 50.0}) {
+    const double d = distance_from_input(sharpness);
+    EXPECT_GT(d, previous + 1e-3) << "sharpness " << sharpness;
+    previous = d;
+  }
+  // Hard at the top: within 2 % of a step of rounding to the nearest level
+  // (a band of 1/4 spans 0.25 / 2 = 0.125 mean distance).
+  EXPECT_NEAR(previous, 0.0625, 0.02 * 0.25);
 }
 
 }  // namespace

@@ -107,7 +107,7 @@ TEST(Params, MarksAndFiltersAreLookedUpByKindAndMayShareAnId) {
   }
 }
 
-TEST(Params, EveryConditionNamesAnEnumOrBoolOfItsSchemaAndOneOfItsValues) {
+TEST(Params, EveryConditionNamesAnEnumBoolOrNumberOfItsSchemaAndOneOfItsValues) {
   std::vector<const Schema*> all = {&inpaint_schema(), &composite_schema()};
   for (const MarkInfo* m : registered_marks()) all.push_back(&m->schema);
   for (const FilterInfo* f : registered_filters()) all.push_back(&f->schema);
@@ -118,11 +118,14 @@ TEST(Params, EveryConditionNamesAnEnumOrBoolOfItsSchemaAndOneOfItsValues) {
       ++conditions;
       const ParamSpec* other = schema->find(p.when_param);
       ASSERT_NE(other, nullptr) << schema->id << "." << p.name << " depends on unknown " << p.when_param;
-      ASSERT_TRUE(other->type == ParamType::Enum || other->type == ParamType::Bool) << schema->id << "." << p.name;
+      const bool number = other->type == ParamType::Float || other->type == ParamType::Int;
+      ASSERT_TRUE(other->type == ParamType::Enum || other->type == ParamType::Bool || number)
+          << schema->id << "." << p.name;
       ASSERT_FALSE(p.when_values.empty());
       for (const std::string& v : p.when_values) {
-        const std::vector<std::string> allowed =
-            other->type == ParamType::Bool ? std::vector<std::string>{"true", "false"} : other->items;
+        const std::vector<std::string> allowed = other->type == ParamType::Bool ? std::vector<std::string>{"true", "false"}
+                                                 : number ? std::vector<std::string>{"zero", "nonzero"}
+                                                          : other->items;
         EXPECT_NE(std::find(allowed.begin(), allowed.end(), v), allowed.end())
             << schema->id << "." << p.name << ": " << v << " is not a value of " << other->name;
       }
@@ -140,4 +143,8 @@ TEST(Params, ConditionsFollowTheCurrentValues) {
   EXPECT_FALSE(applies(*points.find("point_size"), world));
   EXPECT_TRUE(applies(*points.find("world_size"), world));
   EXPECT_TRUE(applies(*points.find("color_source"), world));  // unconditional
+  // A condition on a number: the watercolor's paper shows only through a dry brush.
+  const Schema& watercolor = find_filter("watercolor").schema;
+  EXPECT_FALSE(applies(*watercolor.find("paper_color"), validate(watercolor, {{"dry_brush", {0.0}}})));
+  EXPECT_TRUE(applies(*watercolor.find("paper_color"), validate(watercolor, {{"dry_brush", {0.2}}})));
 }

@@ -228,13 +228,15 @@ class _StyleNodeMixin:
 
 def _when_value(node, param_name):
     """The current value of ``node``'s parameter ``param_name`` as a "when"
-    condition names it: enum item, or "true"/"false" for a bool; None if the
-    node has no such parameter."""
+    condition names it: enum item, "true"/"false" for a bool, "zero"/"nonzero"
+    for a number; None if the node has no such parameter."""
     for param, pid in getattr(node, "pointnpr_params", ()):
         if param["name"] == param_name:
             value = getattr(node, pid)
             if param["type"] == "bool":
                 return "true" if value else "false"
+            if param["type"] in ("float", "int"):
+                return "nonzero" if value != 0 else "zero"
             return str(value)
     return None
 
