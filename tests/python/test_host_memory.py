@@ -56,9 +56,9 @@ def test_host_memory_is_kept_counted_flat_and_given_back(scene):
         # bins a worker draws changes from frame to frame.)
         assert kept <= r.stats["host_kept_mb"] < kept + 8, (kept, r.stats["host_kept_mb"])
     # Flat: no frame leaks a frame-sized buffer (the brush's images alone are
-    # 13 MB here). Not to the byte: a worker's candidate arrays (20 MiB,
-    # counted in full) are paged in as it first meets a bin that needs them,
-    # and which bins a worker draws changes from frame to frame.
+    # 13 MB here). Not to the byte: a worker's candidate arrays grow to the
+    # most fragments a bin it drew kept, and which bins a worker draws
+    # changes from frame to frame.
     assert _rss_mb() - warm < 0.25 * kept, (warm, _rss_mb(), kept)
     # A frame past its memory budget gives it back at its end.
     small = renderer.render(scene, camera, W, H, memory_budget_gb=kept / 2 / 1024)
@@ -68,8 +68,7 @@ def test_host_memory_is_kept_counted_flat_and_given_back(scene):
     del r, small, renderer
     gc.collect()
     dropped = before - _rss_mb()
-    # Given back: what the renderer held resident (`kept` also counts the
-    # pages of the brush workers' candidate arrays that no bin touched),
-    # and at least the brush's images.
+    # Given back: what the renderer held resident, and at least the brush's
+    # images.
     assert dropped > 0.8 * (before - base), (before, dropped, kept, base)
     assert dropped > 14 * 4 * W * H / 2**20, (before, dropped, kept, base)

@@ -214,6 +214,7 @@ void Shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
   }
   // Room for the candidates, or none kept from here on.
   if (P == Pass::kBoth && !out->full && out->count + size_t(n) > Candidates::kMax) out->full = true;
+  if (P == Pass::kBoth && !out->full) out->reserve(out->count + size_t(n));
   KeepCovering<P>(sp, f, a1, a2, im, P == Pass::kBoth && !out->full ? out : nullptr);
 }
 

@@ -3,11 +3,13 @@
 // native_settings.cpp resolves the parameters and the camera-independent
 // point frames, native_kernels.cpp holds the lanes compiled once per SIMD
 // target): the frame's settings, the splats and the per-bin scratch.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -166,10 +168,11 @@ struct Candidates {
   };
   // A fragment's pixel, depth, |p|^2 and the brush of each layer, an array
   // each (lanes load at once); kMaxLanes more: the lanes store that many.
-  // (Their pages are touched as used.)
-  std::unique_ptr<uint32_t[]> q{new uint32_t[kMax + kMaxLanes]};
-  std::unique_ptr<float[]> depth{new float[kMax + kMaxLanes]}, length{new float[kMax + kMaxLanes]};
-  std::unique_ptr<float[]> a1{new float[kMax + kMaxLanes]}, a2{new float[kMax + kMaxLanes]};
+  // Grown to the most fragments a bin has kept (at most kMax), so what the
+  // renderer counts is what it holds.
+  std::unique_ptr<uint32_t[]> q;
+  std::unique_ptr<float[]> depth, length, a1, a2;
+  size_t capacity = 0;
   size_t count = 0;
   std::vector<Run> runs;
   std::vector<uint32_t> run_at;
@@ -178,6 +181,26 @@ struct Candidates {
     count = 0;
     runs.clear();
     full = false;
+  }
+  // Room for `n` fragments (n <= kMax), the first `count` kept.
+  void reserve(size_t n) {
+    if (n <= capacity) return;
+    const size_t grown = std::min(kMax, std::max({n, 2 * capacity, size_t(4096)}));
+    auto move = [this, grown](auto& array) {
+      using T = std::remove_reference_t<decltype(array[0])>;
+      std::unique_ptr<T[]> bigger(new T[grown + kMaxLanes]);
+      if (count > 0) std::copy(array.get(), array.get() + count, bigger.get());
+      array = std::move(bigger);
+    };
+    move(q);
+    move(depth);
+    move(length);
+    move(a1);
+    move(a2);
+    capacity = grown;
+  }
+  size_t bytes() const {
+    return (capacity > 0 ? 5 * (capacity + kMaxLanes) * sizeof(float) : 0) + held_bytes(runs) + held_bytes(run_at);
   }
 };
 
@@ -189,8 +212,7 @@ struct BinScratch {
   Candidates candidates;
   size_t bytes() const {
     return held_bytes(near) + held_bytes(sort_scratch) + held_bytes(listed) + held_bytes(sorted) +
-           5 * (Candidates::kMax + kMaxLanes) * sizeof(float) + held_bytes(candidates.runs) +
-           held_bytes(candidates.run_at);
+           candidates.bytes();
   }
 };
 
