@@ -64,6 +64,7 @@ struct HostImages {
   std::vector<Splat> splats;  // a batch's (at most kBatch)
   std::vector<SplatKey> keys;  // theirs
   tbb::enumerable_thread_specific<BinScratch> bins;
+  std::atomic<size_t> candidate_capacity{0};  // the workers' largest (Candidates::shared)
   size_t bytes() const {
     size_t n = held_bytes(surface) + held_bytes(accum) + held_bytes(reveal) + held_bytes(sums) +
                held_bytes(color) + held_bytes(splats) + held_bytes(keys);
@@ -270,7 +271,9 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       return lo.x < hi.x && lo.y < hi.y;
     };
     auto bin = [&](const Rect& area, const uint32_t* list, size_t n) {
-      if (lanes.draw_bin(which, in, area, list, n, host.bins.local())) ++bins_blended_apart;
+      BinScratch& scratch = host.bins.local();
+      scratch.candidates.shared = &host.candidate_capacity;
+      if (lanes.draw_bin(which, in, area, list, n, scratch)) ++bins_blended_apart;
     };
     // Bins of kBinSide (BlockDepths, the rows' arrays): wider ones (past
     // 16384 bins, frames over 67M pixels; NativeLimits::max_bins, tests:

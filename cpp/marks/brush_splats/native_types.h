@@ -4,6 +4,8 @@
 // point frames, native_kernels.cpp holds the lanes compiled once per SIMD
 // target): the frame's settings, the splats and the per-bin scratch.
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -168,11 +170,14 @@ struct Candidates {
   };
   // A fragment's pixel, depth, |p|^2 and the brush of each layer, an array
   // each (lanes load at once); kMaxLanes more: the lanes store that many.
-  // Grown to the most fragments a bin has kept (at most kMax), so what the
-  // renderer counts is what it holds.
+  // Grown to the most fragments a bin has kept (a power of two, at most
+  // kMax), so what the renderer counts is what it holds; every worker
+  // follows the largest (`shared`), so the count settles in the first frame
+  // whatever bins each worker happened to draw.
   std::unique_ptr<uint32_t[]> q;
   std::unique_ptr<float[]> depth, length, a1, a2;
   size_t capacity = 0;
+  std::atomic<size_t>* shared = nullptr;  // the workers' largest capacity
   size_t count = 0;
   std::vector<Run> runs;
   std::vector<uint32_t> run_at;
@@ -184,8 +189,9 @@ struct Candidates {
   }
   // Room for `n` fragments (n <= kMax), the first `count` kept.
   void reserve(size_t n) {
+    if (shared) n = std::max(n, shared->load(std::memory_order_relaxed));
     if (n <= capacity) return;
-    const size_t grown = std::min(kMax, std::max({n, 2 * capacity, size_t(4096)}));
+    const size_t grown = std::min(kMax, std::bit_ceil(std::max(n, size_t(4096))));
     auto move = [this, grown](auto& array) {
       using T = std::remove_reference_t<decltype(array[0])>;
       std::unique_ptr<T[]> bigger(new T[grown + kMaxLanes]);
@@ -198,6 +204,8 @@ struct Candidates {
     move(a1);
     move(a2);
     capacity = grown;
+    for (size_t seen = shared ? shared->load() : grown; seen < grown && !shared->compare_exchange_weak(seen, grown);) {
+    }
   }
   size_t bytes() const {
     return (capacity > 0 ? 5 * (capacity + kMaxLanes) * sizeof(float) : 0) + held_bytes(runs) + held_bytes(run_at);
