@@ -40,4 +40,25 @@ Rect ProjectedBox::rect(glm::ivec2 frame, double margin) const {
   return r;
 }
 
+double ProjectedBox::hull_area() const {
+  glm::dvec2 p[8];
+  std::copy(std::begin(corners), std::end(corners), p);
+  std::sort(std::begin(p), std::end(p), [](glm::dvec2 a, glm::dvec2 b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
+  auto cross = [](glm::dvec2 o, glm::dvec2 a, glm::dvec2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
+  glm::dvec2 hull[16];
+  int k = 0;
+  for (int i = 0; i < 8; ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 0.0) --k;
+    hull[k++] = p[i];
+  }
+  for (int i = 6, t = k + 1; i >= 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], p[i]) <= 0.0) --k;
+    hull[k++] = p[i];
+  }
+  double area = 0.0;
+  for (int i = 0; i + 1 < k; ++i) area += hull[i].x * hull[i + 1].y - hull[i + 1].x * hull[i].y;
+  return std::abs(area) * 0.5;
+}
+
+
 }  // namespace pointnpr

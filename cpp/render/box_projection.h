@@ -18,6 +18,9 @@ struct ProjectedBox {
   // Conservative pixel rectangle grown by `margin`, inside the frame (the
   // whole frame where the box crosses the camera plane).
   Rect rect(glm::ivec2 frame, double margin) const;
+  // Area of the convex hull of the corners (the continuous resolution
+  // queue's M), by Andrew's monotone chain.
+  double hull_area() const;
 };
 
 ProjectedBox project_box(const glm::dmat4& view_from_box, const glm::dvec3& lo, const glm::dvec3& hi,

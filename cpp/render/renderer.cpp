@@ -16,6 +16,8 @@
 #include "render/box_projection.h"
 #include "render/point_budget.h"
 #include "render/filter_chain.h"
+#include "render/frame_targets.h"
+#include "render/frame_warnings.h"
 #include "render/gpu_cloud.h"
 #include "render/image_textures.h"
 #include "render/mesh_pass.h"
@@ -33,104 +35,6 @@ double ms_since(Clock::time_point t0) {
 
 const float kInf = std::numeric_limits<float>::infinity();
 
-struct FrameTargets {
-  glm::ivec2 size{0, 0};
-  bool int64 = false;
-  gl::Buffer depth_keys;  // uint per pixel (or uint64 per pixel with int64 atomics)
-  gl::Buffer keys;        // uint per pixel (32-bit path)
-  gl::Buffer bbox;        // 4 ints
-  gl::Texture raster_color, raster_depth, color_a, color_b, inpainted, accum, accum_depth, accum_index, accum_added;
-  gl::Texture gl_depth;   // depth attachment of GL-drawn marks
-  gl::Framebuffer fbo;
-  std::deque<gl::Texture> scratch;  // RGBA32F for filters; deque: references stay valid as it grows
-  std::map<std::pair<GLenum, int>, gl::Texture> mark_scratch;
-};
-
-// Marks' scratch buffers: by index, grown to a power of two when asked for
-// more, kept across frames (they do not depend on the frame size).
-struct ScratchBuffer {
-  size_t bytes = 0;
-  gl::Buffer buffer;
-};
-
-// The colour attribute a mark asked for by name, when the cloud lacks it
-// ("" otherwise; colour source auto takes what there is, constant included).
-std::string missing_color(const AttributeSet& needed, const GpuCloud& g) {
-  for (AttributeKind a : {AttributeKind::Color, AttributeKind::Intensity, AttributeKind::Classification})
-    if (needed.count({a}) && !g.find({a})) return attribute_name(a);
-  return "";
-}
-
-// Thousands separated: "1,204,511".
-std::string with_commas(size_t v) {
-  std::string digits = std::to_string(v), out;
-  for (size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0) out.push_back(',');
-    out.push_back(digits[i]);
-  }
-  return out;
-}
-
-// What a frame has to say about its input, each cause said once with
-// counts and the first few names (500 uncoloured objects make one line).
-struct FrameWarnings {
-  static constexpr size_t kNamed = 3;
-  std::map<std::string, std::vector<std::string>> missing_color;  // asked -> objects
-  std::vector<std::string> nonfinite;                              // one line per object
-
-  static std::string object_name(const Instance& inst, const Segment& seg) {
-    return inst.name.empty() ? "a cloud of segment '" + seg.name + "'" : "'" + inst.name + "'";
-  }
-  void add_missing_color(const std::string& asked, const Instance& inst, const Segment& seg) {
-    missing_color[asked].push_back(object_name(inst, seg));
-  }
-  void add_nonfinite(const Instance& inst, const Segment& seg) {
-    const PointCloud& c = *inst.cloud;
-    const size_t total = c.size() + c.skipped_nonfinite();
-    nonfinite.push_back((inst.name.empty() ? "a cloud of segment '" + seg.name + "'" : "object '" + inst.name + "'") +
-                        ": " + with_commas(c.skipped_nonfinite()) + " of " + with_commas(total) +
-                        " points have non-finite coordinates and were skipped");
-  }
-  static std::string listed(const std::vector<std::string>& names) {
-    std::string out;
-    for (size_t i = 0; i < std::min(names.size(), kNamed); ++i) out += (i ? ", " : "") + names[i];
-    if (names.size() > kNamed) out += " and " + with_commas(names.size() - kNamed) + " more";
-    return out;
-  }
-  void report(std::vector<std::string>& out) const {
-    for (const auto& [asked, names] : missing_color)
-      out.push_back(with_commas(names.size()) + (names.size() == 1 ? " object has" : " objects have") + " no " +
-                    asked + (names.size() == 1 ? " for its" : " for their") + " style's colour source (" + listed(names) +
-                    "); drawn in the constant colour");
-    for (size_t i = 0; i < std::min(nonfinite.size(), kNamed); ++i) out.push_back(nonfinite[i]);
-    if (nonfinite.size() > kNamed)
-      out.push_back("and " + with_commas(nonfinite.size() - kNamed) +
-                    " more objects have points with non-finite coordinates (skipped)");
-  }
-};
-
-// Area of the convex hull of 8 points (the projected corners of a box), by
-// Andrew's monotone chain: the continuous resolution queue's M.
-double hull_area(const glm::dvec2 (&corners)[8]) {
-  glm::dvec2 p[8];
-  std::copy(std::begin(corners), std::end(corners), p);
-  std::sort(std::begin(p), std::end(p), [](glm::dvec2 a, glm::dvec2 b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
-  auto cross = [](glm::dvec2 o, glm::dvec2 a, glm::dvec2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
-  glm::dvec2 hull[16];
-  int k = 0;
-  for (int i = 0; i < 8; ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 0.0) --k;
-    hull[k++] = p[i];
-  }
-  for (int i = 6, t = k + 1; i >= 0; --i) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], p[i]) <= 0.0) --k;
-    hull[k++] = p[i];
-  }
-  double area = 0.0;
-  for (int i = 0; i + 1 < k; ++i) area += hull[i].x * hull[i + 1].y - hull[i + 1].x * hull[i].y;
-  return std::abs(area) * 0.5;
-}
-
 }  // namespace
 
 TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vector<std::string>& warnings);
@@ -143,93 +47,19 @@ struct Renderer::Impl {
   GpuCloudCache clouds;
   GpuMeshCache meshes;
   FrameTargets targets;
-  std::map<int, ScratchBuffer> mark_buffers;
+  ScratchBuffers mark_buffers;
   HostScratch host;  // the native marks' images and scratch, kept between frames
   // The frame being drawn: its size, and the tile whose region the images
   // hold (frame pixels [origin, origin + targets.size)).
   glm::ivec2 frame{0, 0};
   glm::ivec2 origin{0, 0};
 
-  void ensure_targets(glm::ivec2 size, bool int64) {
-    if (targets.size == size && targets.int64 == int64) return;
-    const int max_size = gl::Device::instance().info().max_texture_size;
-    if (size.x > max_size || size.y > max_size)
-      throw GLError("image size " + std::to_string(size.x) + "x" + std::to_string(size.y) +
-                    " exceeds the GL limit of " + std::to_string(max_size));
-    targets = FrameTargets();
-    targets.size = size;
-    targets.int64 = int64;
-    const size_t pixels = size_t(size.x) * size_t(size.y);
-    targets.depth_keys = gl::make_buffer(pixels * (int64 ? 8 : 4), nullptr);
-    targets.keys = gl::make_buffer(int64 ? 4 : pixels * 4, nullptr);
-    targets.bbox = gl::make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
-    targets.raster_color = gl::Texture(GL_RGBA32F, size);
-    targets.raster_depth = gl::Texture(GL_R32F, size);
-    targets.color_a = gl::Texture(GL_RGBA32F, size);
-    targets.color_b = gl::Texture(GL_RGBA32F, size);
-    targets.inpainted = gl::Texture(GL_R32F, size);
-    targets.accum = gl::Texture(GL_RGBA32F, size);
-    targets.accum_depth = gl::Texture(GL_R32F, size);
-    targets.accum_index = gl::Texture(GL_R32I, size);
-    targets.accum_added = gl::Texture(GL_R32I, size);
-    targets.gl_depth = gl::Texture(GL_DEPTH_COMPONENT32F, size);
-    GLuint fbo = 0;
-    glCreateFramebuffers(1, &fbo);
-    targets.fbo = gl::Framebuffer(fbo);
-    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, targets.raster_color.id(), 0);
-    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT1, targets.raster_depth.id(), 0);
-    glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, targets.gl_depth.id(), 0);
-    const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(fbo, 2, bufs);
-    if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      throw GLError("the GL_POINTS framebuffer is incomplete");
-    gl::check_gl("frame target allocation");
-  }
-
-  const gl::Texture& scratch(int index) {
-    while (int(targets.scratch.size()) <= index) targets.scratch.emplace_back(GL_RGBA32F, targets.size);
-    return targets.scratch[size_t(index)];
-  }
-
-  const gl::Buffer& mark_buffer(size_t bytes, int index) {
-    ScratchBuffer& b = mark_buffers[index];
-    if (b.bytes < bytes || !b.buffer) {
-      size_t grown = 256;
-      while (grown < bytes) grown *= 2;
-      b.buffer = gl::make_buffer(grown, nullptr, GL_DYNAMIC_STORAGE_BIT);
-      b.bytes = grown;
-    }
-    return b.buffer;
-  }
-
-  const gl::Texture& mark_scratch(GLenum format, int index) {
-    auto it = targets.mark_scratch.find({format, index});
-    if (it == targets.mark_scratch.end())
-      it = targets.mark_scratch.emplace(std::make_pair(format, index), gl::Texture(format, targets.size)).first;
-    return it->second;
-  }
-
-  void clear_texture(const gl::Texture& t, const Rect& r, const void* value, GLenum format, GLenum type) {
-    if (r.empty()) return;
-    glClearTexSubImage(t.id(), 0, r.min.x, r.min.y, 0, r.size().x, r.size().y, 1, format, type, value);
-  }
-
-  // Clears whole rows [r.min.y, r.max.y) of a per-pixel buffer: one call.
-  void clear_rows(const gl::Buffer& b, const Rect& r, size_t bytes_per_pixel) {
-    if (r.empty()) return;
-    const size_t first = size_t(r.min.y) * size_t(targets.size.x) * bytes_per_pixel;
-    const size_t count = size_t(r.size().y) * size_t(targets.size.x) * bytes_per_pixel;
-    const uint32_t ones = 0xffffffffu;
-    glClearNamedBufferSubData(b.id(), GL_R32UI, GLintptr(first), GLsizeiptr(count), GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &ones);
-  }
-
   void begin_frame(const RenderSettings& s, const TilePlan& plan, RenderResult& result) {
     clouds.collect_garbage();
     meshes.collect_garbage();
     frame_warnings = FrameWarnings();
     frame = {s.width, s.height};
-    ensure_targets(plan.region_size, gl::Device::instance().info().int64_atomics && s.int64_atomics);
+    targets.ensure(plan.region_size, gl::Device::instance().info().int64_atomics && s.int64_atomics);
     const size_t pixels = size_t(s.width) * size_t(s.height);
     result.width = s.width;
     result.height = s.height;
@@ -245,11 +75,11 @@ struct Renderer::Impl {
     const Rect all{{0, 0}, targets.size};
     const float zero4[4] = {0, 0, 0, 0};
     const int32_t minus_one = -1;
-    clear_texture(targets.accum, all, zero4, GL_RGBA, GL_FLOAT);
-    clear_texture(targets.accum_depth, all, &kInf, GL_RED, GL_FLOAT);
-    clear_texture(targets.accum_index, all, &minus_one, GL_RED_INTEGER, GL_INT);
+    clear_texture_rect(targets.accum, all, zero4, GL_RGBA, GL_FLOAT);
+    clear_texture_rect(targets.accum_depth, all, &kInf, GL_RED, GL_FLOAT);
+    clear_texture_rect(targets.accum_index, all, &minus_one, GL_RED_INTEGER, GL_INT);
     const int32_t zero = 0;
-    clear_texture(targets.accum_added, all, &zero, GL_RED_INTEGER, GL_INT);
+    clear_texture_rect(targets.accum_added, all, &zero, GL_RED_INTEGER, GL_INT);
     gl::check_gl("frame start");
   }
 
@@ -310,7 +140,7 @@ struct Renderer::Impl {
         out.depth_min = std::min(out.depth_min, std::max(box.depth_min, cam.clip_start));
         out.depth_max = std::max(out.depth_max, std::min(box.depth_max, cam.clip_end));
         out.chunks.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base,
-                              box.crosses_near ? -1.0 : hull_area(box.corners)});
+                              box.crosses_near ? -1.0 : box.hull_area()});
         out.rects.push_back(r);
         key_base += chunk.count;
       }
@@ -358,8 +188,8 @@ struct Renderer::Impl {
     t.fbo = targets.fbo.id();
     t.depth_keys = &targets.depth_keys;
     t.keys = &targets.keys;
-    t.scratch = [this](GLenum format, int index) -> const gl::Texture& { return mark_scratch(format, index); };
-    t.scratch_buffer = [this](size_t bytes, int index) -> const gl::Buffer& { return mark_buffer(bytes, index); };
+    t.scratch = [this](GLenum format, int index) -> const gl::Texture& { return targets.mark_scratch(format, index); };
+    t.scratch_buffer = [this](size_t bytes, int index) -> const gl::Buffer& { return mark_buffers.get(bytes, index); };
     return t;
   }
 
@@ -437,10 +267,10 @@ struct Renderer::Impl {
     const Rect work = screen.grown(2 * total_footprint(seg.style.filters) + radius + 1, targets.size);
 
     const float zero4[4] = {0, 0, 0, 0};
-    clear_texture(targets.raster_color, work, zero4, GL_RGBA, GL_FLOAT);
-    clear_texture(targets.raster_depth, work, &kInf, GL_RED, GL_FLOAT);
-    clear_rows(targets.depth_keys, work, targets.int64 ? 8 : 4);
-    if (!targets.int64) clear_rows(targets.keys, work, 4);
+    clear_texture_rect(targets.raster_color, work, zero4, GL_RGBA, GL_FLOAT);
+    clear_texture_rect(targets.raster_depth, work, &kInf, GL_RED, GL_FLOAT);
+    targets.clear_rows(targets.depth_keys, work, targets.int64 ? 8 : 4);
+    if (!targets.int64) targets.clear_rows(targets.keys, work, 4);
 
     MarkContext mark;
     mark.shaders = &shaders;
@@ -492,8 +322,8 @@ struct Renderer::Impl {
     const gl::Texture* current = &targets.raster_color;
     Rect rect = covered;
     if (!seg.style.filters.empty()) {
-      clear_texture(targets.color_a, work, zero4, GL_RGBA, GL_FLOAT);
-      clear_texture(targets.color_b, work, zero4, GL_RGBA, GL_FLOAT);
+      clear_texture_rect(targets.color_a, work, zero4, GL_RGBA, GL_FLOAT);
+      clear_texture_rect(targets.color_b, work, zero4, GL_RGBA, GL_FLOAT);
       glCopyImageSubData(targets.raster_color.id(), GL_TEXTURE_2D, 0, screen.min.x, screen.min.y, 0,
                          targets.color_a.id(), GL_TEXTURE_2D, 0, screen.min.x, screen.min.y, 0, screen.size().x,
                          screen.size().y, 1);
@@ -504,7 +334,7 @@ struct Renderer::Impl {
       chain.first = &targets.color_a;
       chain.second = &targets.color_b;
       chain.raster_depth = &targets.raster_depth;
-      chain.scratch = [this](int i) -> const gl::Texture& { return scratch(i); };
+      chain.scratch = [this](int i) -> const gl::Texture& { return targets.filter_scratch(i); };
       chain.image_size = targets.size;
       chain.time = s.time;
       chain.segment_seed = mark.segment_seed;
