@@ -1,5 +1,8 @@
 #include "gl/objects.h"
 
+#include <string>
+#include <vector>
+
 #include "core/error.h"
 #include "gl/device.h"
 
@@ -30,6 +33,23 @@ Buffer make_buffer(size_t bytes, const void* data, GLbitfield flags) {
   glNamedBufferStorage(id, GLsizeiptr(bytes ? bytes : 4), data, flags);
   check_gl("buffer allocation");
   return buffer;
+}
+
+Framebuffer make_framebuffer(std::initializer_list<const Texture*> colors, const Texture* depth, const char* what) {
+  GLuint id = 0;
+  glCreateFramebuffers(1, &id);
+  Framebuffer fbo(id);
+  std::vector<GLenum> bufs;
+  for (const Texture* t : colors) {
+    const GLenum attachment = GLenum(GL_COLOR_ATTACHMENT0 + bufs.size());
+    glNamedFramebufferTexture(id, attachment, t->id(), 0);
+    bufs.push_back(attachment);
+  }
+  if (depth) glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, depth->id(), 0);
+  glNamedFramebufferDrawBuffers(id, GLsizei(bufs.size()), bufs.data());
+  if (glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw GLError(std::string("the ") + what + " framebuffer is incomplete");
+  return fbo;
 }
 
 }  // namespace pointnpr::gl

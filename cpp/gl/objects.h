@@ -1,4 +1,5 @@
 #pragma once
+#include <initializer_list>
 // Move-only owners of GL names. Created and destroyed on the GL thread.
 #include <glm/vec2.hpp>
 #include <utility>
@@ -62,5 +63,10 @@ class Texture {
 
 // Buffer with immutable storage of `bytes`, optionally initialised.
 Buffer make_buffer(size_t bytes, const void* data, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
+
+// A framebuffer drawing to `colors` (attachments 0, 1, ... in order) with
+// `depth` as its depth attachment (or none); throws GLError naming `what`
+// when it is incomplete.
+Framebuffer make_framebuffer(std::initializer_list<const Texture*> colors, const Texture* depth, const char* what);
 
 }  // namespace pointnpr::gl

@@ -30,16 +30,7 @@ void FrameTargets::ensure(glm::ivec2 new_size, bool new_int64) {
   accum_index = gl::Texture(GL_R32I, size);
   accum_added = gl::Texture(GL_R32I, size);
   gl_depth = gl::Texture(GL_DEPTH_COMPONENT32F, size);
-  GLuint id = 0;
-  glCreateFramebuffers(1, &id);
-  fbo = gl::Framebuffer(id);
-  glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT0, raster_color.id(), 0);
-  glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT1, raster_depth.id(), 0);
-  glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, gl_depth.id(), 0);
-  const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(id, 2, bufs);
-  if (glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw GLError("the GL_POINTS framebuffer is incomplete");
+  fbo = gl::make_framebuffer({&raster_color, &raster_depth}, &gl_depth, "GL_POINTS");
   gl::check_gl("frame target allocation");
 }
 

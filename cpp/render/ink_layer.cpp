@@ -19,17 +19,7 @@ InkLayer::InkLayer(const MarkContext& ctx, const char* what)
   glClearTexSubImage(accum.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RGBA, GL_FLOAT, zero4);
   glClearTexSubImage(reveal.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &one);
   glClearTexSubImage(depth.id(), 0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1, GL_RED, GL_FLOAT, &inf);
-  GLuint id = 0;
-  glCreateFramebuffers(1, &id);
-  fbo_ = gl::Framebuffer(id);
-  glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT0, accum.id(), 0);
-  glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT1, reveal.id(), 0);
-  glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT2, depth.id(), 0);
-  glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, ctx.targets.gl_depth->id(), 0);
-  const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-  glNamedFramebufferDrawBuffers(id, 3, bufs);
-  if (glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw GLError(std::string("the ") + what + " framebuffer is incomplete");
+  fbo_ = gl::make_framebuffer({&accum, &reveal, &depth}, ctx.targets.gl_depth, what);
 }
 
 void InkLayer::begin(bool depth_test, const ExactRaster& raster) const {

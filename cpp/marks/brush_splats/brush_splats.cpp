@@ -213,20 +213,7 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
 // The passes' framebuffer: colour attachments (none for the A-buffer's
 // passes, which write buffers) and the GL depth.
 gl::Framebuffer make_fbo(std::initializer_list<const gl::Texture*> colors, const MarkTargets& targets) {
-  GLuint id = 0;
-  glCreateFramebuffers(1, &id);
-  gl::Framebuffer fbo(id);
-  std::vector<GLenum> bufs;
-  for (const gl::Texture* t : colors) {
-    const GLenum attachment = GLenum(GL_COLOR_ATTACHMENT0 + bufs.size());
-    glNamedFramebufferTexture(id, attachment, t->id(), 0);
-    bufs.push_back(attachment);
-  }
-  glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, targets.gl_depth->id(), 0);
-  glNamedFramebufferDrawBuffers(id, GLsizei(bufs.size()), bufs.data());
-  if (glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw GLError("the brush_splats framebuffer is incomplete");
-  return fbo;
+  return gl::make_framebuffer(colors, targets.gl_depth, "brush_splats");
 }
 
 // The splat shaders of one pass; the second layer's code only where the
