@@ -11,7 +11,7 @@
 //    order than llvmpipe), PRECISE for GLSL's precise;
 //  - settings as one block of vec4s first and then 4-byte scalars, so the
 //    std140 layout and the C++ struct's agree (SETTINGS_BLOCK below;
-//    checked when the shader is linked: gl/uniform_block.h).
+//    gl::check_uniform_block compares the sizes when a program uses one).
 // The native file that includes kernels builds with -ffp-contract=off, as
 // GLSL on llvmpipe never fuses a product into a sum.
 #pragma once
