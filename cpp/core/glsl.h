@@ -30,20 +30,10 @@ inline float uintBitsToFloat(uint v) {
   std::memcpy(&f, &v, 4);
   return f;
 }
-inline uint floatBitsToUint(float f) {
-  uint v;
-  std::memcpy(&v, &f, 4);
-  return v;
-}
-// GLSL's unpackSnorm4x8 / unpackUnorm4x8 (component 0 in the low byte).
+// GLSL's unpackSnorm4x8 (component 0 in the low byte).
 inline vec4 unpackSnorm4x8(uint v) {
   vec4 out;
   for (int i = 0; i < 4; ++i) out[i] = clamp(float(int8_t(uint8_t(v >> (8 * i)))) / 127.0f, -1.0f, 1.0f);
-  return out;
-}
-inline vec4 unpackUnorm4x8(uint v) {
-  vec4 out;
-  for (int i = 0; i < 4; ++i) out[i] = float((v >> (8 * i)) & 0xffu) / 255.0f;
   return out;
 }
 // mat4 * vec4 as llvmpipe computes it: the columns summed in order.

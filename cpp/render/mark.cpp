@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/error.h"
 #include "gl/device.h"
 #include "scene/camera.h"
 
@@ -45,6 +46,12 @@ ColorSource resolve_color_source(ColorSource source, const GpuCloud& g) {
       return ColorSource::Constant;
   }
   return ColorSource::Constant;
+}
+
+ParamSpec paper_color_param(glm::dvec4 def, const std::string& marks) {
+  return color_param("paper_color", def,
+                     "Colour under the " + marks + " where the surface is (alpha: its opacity; 0 leaves " + marks +
+                         " only)");
 }
 
 ParamSpec density_mode_param() {
@@ -147,6 +154,12 @@ glm::vec3 view_light_direction(const ParamValues& p, const Camera& cam) {
                                     world_direction(p.get_float("light_azimuth"), p.get_float("light_elevation"))));
   const double a = glm::radians(p.get_float("light_azimuth")), e = glm::radians(p.get_float("light_elevation"));
   return {float(std::sin(e) * std::cos(a)), float(std::sin(e) * std::sin(a)), float(std::cos(e))};
+}
+
+std::shared_ptr<const PointCloud> chunk_cloud(const VisibleChunk& v, const char* what) {
+  std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
+  if (!cloud) throw GLError(std::string(what) + ": a visible chunk's cloud is gone");
+  return cloud;
 }
 
 void bind_chunk(const gl::Program& p, const VisibleChunk& v, ColorSource source,

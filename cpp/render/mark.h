@@ -51,6 +51,10 @@ struct VisibleChunk {
   uint32_t budget_count = UINT32_MAX;
 };
 
+// The cloud a visible chunk's points come from, held while a native pass
+// reads it; GLError naming `what` where it is gone.
+std::shared_ptr<const PointCloud> chunk_cloud(const VisibleChunk& v, const char* what);
+
 // A mesh that survived culling (the mesh_surface mark's input), with its
 // view transform composed in double (its offsets from the mesh origin
 // are float; the setup applies it in double).
@@ -204,6 +208,9 @@ using MarkRegistration = Registration<MarkInfo>;
 // Colour sources shared by the marks (the `color_source` parameter).
 enum class ColorSource { Rgb = 0, Intensity = 1, Classification = 2, Constant = 3, Auto = 4 };
 ParamSpec color_source_param();
+// The colour a mark lays under its `marks` ("strokes", "dots") where the
+// surface is: the ink resolve's paper (alpha: its opacity).
+ParamSpec paper_color_param(glm::dvec4 def, const std::string& marks);
 // The attributes a colour source reads (auto: any of the three).
 AttributeSet color_attributes(ColorSource source);
 // The source a cloud can serve: auto picks RGB, else intensity, else the

@@ -1,10 +1,14 @@
 #pragma once
 // Small pieces every native mark backend rasterizes with, in the float
 // operations the GL paths use on llvmpipe.
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace pointnpr {
 
@@ -49,6 +53,37 @@ void fetch_max(T& slot, T value) {
   T current = ref.load(std::memory_order_relaxed);
   while (value > current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
   }
+}
+
+// Work items over chunks' points: at most kPointGrain points each, in
+// chunk and point order, so one big chunk (or many small ones) still
+// spreads over the threads, and what items make, joined in item order,
+// stays in point order.
+inline constexpr uint32_t kPointGrain = 8192;
+struct PointItem {
+  uint32_t chunk, begin, end;  // points [begin, end) of chunk `chunk`
+};
+// Appends the items of a chunk's first `count` points.
+inline void add_point_items(std::vector<PointItem>& items, uint32_t chunk, uint32_t count) {
+  for (uint32_t b = 0; b < count; b += kPointGrain) items.push_back({chunk, b, std::min(count, b + kPointGrain)});
+}
+// work(item) for every item, on the threads (an item a task).
+template <class Work>
+void for_each_point_item(const std::vector<PointItem>& items, Work&& work) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) work(items[i]);
+  });
+}
+// What select(item, out) appends for every item, run on the threads and
+// joined in item order (the GL's record order) into `out`.
+template <class T, class Select>
+void select_in_order(const std::vector<PointItem>& items, std::vector<T>& out, Select&& select) {
+  std::vector<std::vector<T>> parts(items.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) select(items[i], parts[i]);
+  });
+  out.clear();
+  for (const std::vector<T>& part : parts) out.insert(out.end(), part.begin(), part.end());
 }
 
 }  // namespace pointnpr

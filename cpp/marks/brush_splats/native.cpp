@@ -49,6 +49,7 @@
 #include "core/error.h"
 #include "marks/brush_splats/brush_splats.h"
 #include "marks/brush_splats/native_types.h"
+#include "render/native_raster.h"
 #include "render/screen_bins.h"
 #include "scene/point_cloud.h"
 
@@ -137,8 +138,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   Chunk proto;
   for (size_t i = 0; i < ctx.chunks.size(); ++i) {
     const VisibleChunk& v = ctx.chunks[i];
-    std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
-    if (!cloud) throw GLError("brush_splats: a visible chunk's cloud is gone");
+    std::shared_ptr<const PointCloud> cloud = chunk_cloud(v, "brush_splats");
     if (cloud.get() != last) {
       last = cloud.get();
       // Their inputs (the caches the GPU cloud's uploads come from).
@@ -224,9 +224,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   // Batches of whole chunks (a chunk larger than a batch is one), set up
   // in parallel and kept in point order; with one batch the blend pass
   // reuses the depth pass's splats.
-  struct Item {
-    uint32_t chunk, begin, end;
-  };
+  using Item = PointItem;
   // NativeLimits::batch_splats (tests): fewer splats a batch, so that several
   // run the passes apart.
   const uint64_t batch_splats = NativeLimits::lowered(ctx.native.batch_splats, kBatch);
@@ -244,9 +242,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   auto set_up = [&](size_t b, size_t e) {
     const auto ts = Clock::now();
     std::vector<Item> items;
-    for (size_t i = b; i < e; ++i)
-      for (uint32_t j = 0; j < chunks[i].count; j += kGrain)
-        items.push_back({uint32_t(i), j, std::min(chunks[i].count, j + kGrain)});
+    for (size_t i = b; i < e; ++i) add_point_items(items, uint32_t(i), chunks[i].count);
     // Each point's slot in point order; one not drawn covers nothing.
     std::vector<size_t> slot(items.size() + 1, 0);
     for (size_t n = 0; n < items.size(); ++n) slot[n + 1] = slot[n] + (items[n].end - items[n].begin);

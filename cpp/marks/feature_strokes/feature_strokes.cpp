@@ -357,8 +357,7 @@ const MarkRegistration registration{{
                color_param("stroke_color", {0.08, 0.08, 0.1, 1.0}, "Stroke colour (display sRGB)"),
                color_source_param(),
                float_param("opacity", 0.9, 0.0, 1.0, "", "Opacity of every primitive"),
-               color_param("paper_color", {0.97, 0.96, 0.92, 1.0},
-                           "Colour under the strokes where the surface is (alpha: its opacity; 0 leaves strokes only)"),
+               paper_color_param({0.97, 0.96, 0.92, 1.0}, "strokes"),
                float_param("disc_scale", 1.5, 0.5, 4.0, "",
                            "Visibility pass: disc diameter in local resolutions (mean spacing to 8 neighbours; "
                            "large enough for a hole-free surface)"),

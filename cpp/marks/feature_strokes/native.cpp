@@ -63,7 +63,6 @@ namespace {
 constexpr uint64_t kEmpty = ~uint64_t(0);
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kBatchRecords = 1u << 18;  // as the GL path's batches
-constexpr uint32_t kGrain = 8192;             // points per work item
 
 using namespace feature_strokes;
 
@@ -268,8 +267,7 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
   Chunk proto;
   for (size_t i = 0; i < ctx.chunks.size(); ++i) {
     const VisibleChunk& v = ctx.chunks[i];
-    std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
-    if (!cloud) throw GLError("feature strokes: a visible chunk's cloud is gone");
+    std::shared_ptr<const PointCloud> cloud = chunk_cloud(v, "feature strokes");
     if (cloud.get() != last) {
       last = cloud.get();
       auto degree = cloud->analysis().feature_degree(s.feature_k, {});
@@ -316,16 +314,10 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
   });
 
   // 1. Visibility discs: every point of every chunk.
-  struct Item {
-    uint32_t chunk, begin, end;
-  };
-  std::vector<Item> items;
-  for (size_t i = 0; i < chunks.size(); ++i)
-    for (uint32_t b = 0; b < chunks[i].count; b += kGrain)
-      items.push_back({uint32_t(i), b, std::min(chunks[i].count, b + kGrain)});
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i < r.end(); ++i)
-      scatter_discs(chunks[items[i].chunk], f, s, keys, items[i].begin, items[i].end);
+  std::vector<PointItem> items;
+  for (size_t i = 0; i < chunks.size(); ++i) add_point_items(items, uint32_t(i), chunks[i].count);
+  for_each_point_item(items, [&](const PointItem& item) {
+    scatter_discs(chunks[item.chunk], f, s, keys, item.begin, item.end);
   });
   const auto t1 = Clock::now();
 
@@ -341,16 +333,10 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
       used += chunks[batch_end++].drawn;
     const auto ts = Clock::now();
     items.clear();
-    for (size_t i = batch_start; i < batch_end; ++i)
-      for (uint32_t b = 0; b < chunks[i].drawn; b += kGrain)
-        items.push_back({uint32_t(i), b, std::min(chunks[i].drawn, b + kGrain)});
-    std::vector<std::vector<Record>> selected(items.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i < r.end(); ++i)
-        select_records(Kernels{s.u, &chunks[items[i].chunk], &image}, items[i].begin, items[i].end, selected[i]);
+    for (size_t i = batch_start; i < batch_end; ++i) add_point_items(items, uint32_t(i), chunks[i].drawn);
+    select_in_order(items, records, [&](const PointItem& item, std::vector<Record>& out) {
+      select_records(Kernels{s.u, &chunks[item.chunk], &image}, item.begin, item.end, out);
     });
-    records.clear();
-    for (const std::vector<Record>& part : selected) records.insert(records.end(), part.begin(), part.end());
     for (const Record& rec : records) ++counts[uint32_t(rec.center_kind.w)];
     if (ctx.capture)
       for (const Record& rec : records) ctx.capture->push_back(captured(rec, f.ortho, f.px_per_unit));

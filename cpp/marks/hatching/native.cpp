@@ -19,13 +19,13 @@
 #include "marks/points/points.h"
 #include "render/gpu_cloud.h"
 #include "render/native_ink.h"
+#include "render/native_raster.h"
 #include "render/screen_bins.h"
 #include "scene/point_cloud.h"
 
 namespace pointnpr::hatching {
 namespace {
 
-constexpr uint32_t kGrain = 8192;            // points per work item
 constexpr size_t kBatchStrokes = 1u << 18;   // strokes per batch of quads
 
 // One visible chunk's host data, as the select pass's buffers hold it.
@@ -133,8 +133,7 @@ void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const Str
   std::vector<std::shared_ptr<const void>> held;
   for (size_t i = 0; i < ctx.chunks.size(); ++i) {
     const VisibleChunk& v = ctx.chunks[i];
-    std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
-    if (!cloud) throw GLError("hatching: a visible chunk's cloud is gone");
+    std::shared_ptr<const PointCloud> cloud = chunk_cloud(v, "hatching");
     geometry::Analysis& analysis = cloud->analysis();
     HostChunk& c = chunks[i];
     c.positions = cloud->local_positions().data();
@@ -174,25 +173,15 @@ void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const Str
   while (chunk < chunks.size()) {
     // 1. Select, per batch of chunks: work items of points, in point order.
     const auto ts = Clock::now();
-    struct Item {
-      size_t chunk;
-      uint32_t begin, end;
-    };
-    std::vector<Item> items;
+    std::vector<PointItem> items;
     size_t points = 0;
     for (; chunk < chunks.size() && (points == 0 || points + chunks[chunk].count <= kBatchStrokes); ++chunk) {
       points += chunks[chunk].count;
-      for (uint32_t b = 0; b < chunks[chunk].count; b += kGrain)
-        items.push_back({chunk, b, std::min(chunks[chunk].count, b + kGrain)});
+      add_point_items(items, uint32_t(chunk), chunks[chunk].count);
     }
-    std::vector<std::vector<Stroke>> selected(items.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i < r.end(); ++i)
-        select_strokes(SelectKernels{pass.select, chunks[items[i].chunk], xtoon}, items[i].begin, items[i].end,
-                       selected[i]);
+    select_in_order(items, strokes, [&](const PointItem& item, std::vector<Stroke>& out) {
+      select_strokes(SelectKernels{pass.select, chunks[item.chunk], xtoon}, item.begin, item.end, out);
     });
-    strokes.clear();
-    for (const std::vector<Stroke>& part : selected) strokes.insert(strokes.end(), part.begin(), part.end());
     for (const Stroke& s : strokes) {
       ++kept_strokes;
       crossed += s.n_width.w < 0.0f ? 1u : 0u;

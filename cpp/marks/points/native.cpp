@@ -249,8 +249,7 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
   const glm::vec3* last_normals = nullptr;
   for (size_t i = 0; i < ctx.chunks.size(); ++i) {
     const VisibleChunk& v = ctx.chunks[i];
-    std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
-    if (!cloud) throw GLError("points: a visible chunk's cloud is gone");
+    std::shared_ptr<const PointCloud> cloud = chunk_cloud(v, "points");
     if (cloud.get() != last_cloud) {
       last_cloud = cloud.get();
       last_normals = nullptr;
@@ -292,7 +291,7 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
 
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  // Scatter. Work items of at most kGrain points, so one big chunk (or
+  // Scatter. Work items of at most kPointGrain points, so one big chunk (or
   // many small ones) still spreads over the threads.
   const glm::ivec2 size = clip.size();
   const size_t pixels = size_t(size.x) * size_t(size.y);
@@ -303,18 +302,11 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
     std::fill(keys + r.begin(), keys + r.end(), kEmpty);
   });
-  constexpr uint32_t kGrain = 8192;
-  struct Item {
-    uint32_t chunk, begin, end;
-  };
-  std::vector<Item> items;
-  for (size_t i = 0; i < scatter.size(); ++i)
-    for (uint32_t b = 0; b < scatter[i].count; b += kGrain)
-      items.push_back({uint32_t(i), b, std::min(scatter[i].count, b + kGrain)});
+  std::vector<PointItem> items;
+  for (size_t i = 0; i < scatter.size(); ++i) add_point_items(items, uint32_t(i), scatter[i].count);
   const ScatterFn scatter_points = scatter_function(f.world_size, f.ortho, !s.queue_counts.empty());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i < r.end(); ++i)
-      scatter_points(scatter[items[i].chunk], f, keys, size.x, items[i].begin, items[i].end);
+  for_each_point_item(items, [&](const PointItem& item) {
+    scatter_points(scatter[item.chunk], f, keys, size.x, item.begin, item.end);
   });
 
   const auto t1 = Clock::now();

@@ -5,7 +5,7 @@
 // cells and decisions), on the host's copy of the points:
 //
 //  - Point passes project each point again (a few multiplies, cheaper than
-//    storing it) in work items of at most kGrain points; texels and cells
+//    storing it) in work items of at most kPointGrain points; texels and cells
 //    take min / max / add by atomic operations on 32-bit integers (depths
 //    as their bits: positive floats order as their bits), so the result is
 //    the same in whatever order the threads ran.
@@ -378,8 +378,7 @@ class NativeStipplePasses final : public StipplePasses {
     items_.clear();
     clouds_.clear();
     for (const VisibleChunk& v : chunks) {
-      std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
-      if (!cloud) throw GLError("stipples: a visible chunk's cloud is gone");
+      std::shared_ptr<const PointCloud> cloud = chunk_cloud(v, "stipples");
       HostChunk c;
       c.positions = cloud->local_positions().data() + v.chunk->first;
       c.ids = cloud->point_index().data() + v.chunk->first;
@@ -391,8 +390,7 @@ class NativeStipplePasses final : public StipplePasses {
       c.view_from_chunk = v.view_from_chunk;
       c.slot = uint32_t(points_);
       points_ += c.count;
-      for (uint32_t b = 0; b < c.count; b += kGrain)
-        items_.push_back({uint32_t(host_chunks_.size()), b, std::min(c.count, b + kGrain)});
+      add_point_items(items_, uint32_t(host_chunks_.size()), c.count);
       host_chunks_.push_back(c);
       clouds_.push_back(std::move(cloud));
     }

@@ -14,12 +14,12 @@
 #include <glm/glm.hpp>
 
 #include "render/host_scratch.h"
+#include "render/native_raster.h"
 
 namespace pointnpr::stipples_native {
 
 inline constexpr uint32_t kInfBits = 0x7f800000u;
 inline constexpr uint32_t kOutside = 0xffffffffu;  // a point outside the window's fine texture
-inline constexpr uint32_t kGrain = 8192;  // points per work item
 inline constexpr int kRowGrain = 8;       // rows per work item of the image passes
 
 inline uint32_t bits(float f) { return std::bit_cast<uint32_t>(f); }
@@ -75,9 +75,7 @@ struct HostChunk {
   glm::mat4 view_from_chunk{1.0f};
 };
 
-struct Item {
-  uint32_t chunk, begin, end;
-};
+using Item = PointItem;
 
 // A projected point (the shader's Pt).
 struct Pt {

@@ -354,8 +354,7 @@ const MarkRegistration registration{{
                float_param("dot_size", 2.0, 0.5, 16.0, "px", "Dot diameter"),
                float_param("size_jitter", 0.0, 0.0, 1.0, "", "Random size variation per dot (seeded by the point id)"),
                color_param("dot_color", {0.0, 0.0, 0.0, 1.0}, "Dot colour (display sRGB; alpha: its opacity)"),
-               color_param("paper_color", {1.0, 1.0, 1.0, 1.0},
-                           "Colour under the dots where the surface is (alpha: its opacity; 0 leaves dots only)"),
+               paper_color_param({1.0, 1.0, 1.0, 1.0}, "dots"),
                int_param("iterations", 3, 0, 32, "",
                          "Hidden points: how many times each texel takes its neighbours' depths (closes holes "
                          "between front points of this many texels)"),
