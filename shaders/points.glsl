@@ -40,12 +40,7 @@ Splat project_point(uint index) {
 
 vec4 point_color(uint index) {
   vec4 c = source_color(index);
-  if (u_shading != 0) {
-    vec3 n = view_normal(index);
-    // Two-sided: estimated normals need not face the camera.
-    float lambert = n != vec3(0.0) ? abs(dot(n, u_light_dir)) : 1.0;
-    c.rgb *= 1.0 - u_shading_strength * (1.0 - lambert);
-  }
+  if (u_shading != 0) c = vec4(diffuse_shaded(vec3(c), view_normal(index), u_light_dir, u_shading_strength), c.a);
   return c;
 }
 

@@ -30,6 +30,12 @@ inline float uintBitsToFloat(uint v) {
   std::memcpy(&f, &v, 4);
   return f;
 }
+// GLSL's unpackUnorm4x8 (component 0 in the low byte).
+inline vec4 unpackUnorm4x8(uint v) {
+  vec4 out;
+  for (int i = 0; i < 4; ++i) out[i] = float((v >> (8 * i)) & 0xffu) / 255.0f;
+  return out;
+}
 // GLSL's unpackSnorm4x8 (component 0 in the low byte).
 inline vec4 unpackSnorm4x8(uint v) {
   vec4 out;

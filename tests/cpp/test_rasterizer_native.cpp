@@ -95,25 +95,29 @@ TEST(NativeRasterizer, CoveredBoundsItReportsAreTheDepthPassOnes) {
   EXPECT_LE(mismatch * 200, covered) << mismatch << " of " << covered;
 }
 
-TEST(NativeRasterizer, ClassPaletteIsTheShaders) {
-  std::ifstream file(std::string(POINTNPR_SHADER_SOURCE_DIR) + "/point_attributes.glsl");
-  ASSERT_TRUE(file);
-  std::stringstream text;
-  text << file.rdbuf();
-  const std::string glsl = text.str();
-  const size_t table = glsl.find("CLASS_COLORS[19] = vec3[](");
-  ASSERT_NE(table, std::string::npos);
-  const std::string body = glsl.substr(table, glsl.find(");", table) - table);
-  // vec3(g) or vec3(r, g, b) entries, in order.
-  const std::regex entry(R"(vec3\(([0-9.]+)(?:,\s*([0-9.]+),\s*([0-9.]+))?\))");
-  uint32_t c = 0;
-  for (auto it = std::sregex_iterator(body.begin() + long(body.find("](") + 2), body.end(), entry);
-       it != std::sregex_iterator(); ++it, ++c) {
-    const std::smatch& m = *it;
-    const glm::vec3 want = m[2].matched ? glm::vec3(std::stof(m[1]), std::stof(m[2]), std::stof(m[3]))
-                                        : glm::vec3(std::stof(m[1]));
-    EXPECT_EQ(class_color(c), want) << "class " << c;
-  }
-  EXPECT_EQ(c, 19u);
-  for (uint32_t other : {19u, 20u, 255u, 100000u}) EXPECT_EQ(class_color(other), glm::vec3(0.5f));
+// The native colour of each source (shaders/point_color.glsl, compiled
+// for the host): packed RGBA8, scaled and clamped intensity, the ASPRS
+// palette with gray beyond it, the constant colour; alpha always 1.
+TEST(NativeRasterizer, HostColorsReadEachSource) {
+  const uint32_t rgb[1] = {0x80ff4000u};  // r 0x00, g 0x40, b 0xff, a 0x80
+  const float intensity[2] = {0.25f, 3.0f};
+  const uint32_t classes[4] = {2u, 9u, 19u, 100000u};
+  HostColors c;
+  c.colors = rgb;
+  c.intensity = intensity;
+  c.classification = classes;
+  c.intensity_scale = 2.0f;
+  c.constant = glm::vec4(0.1f, 0.2f, 0.3f, 0.4f);
+  c.source = ColorSource::Rgb;
+  EXPECT_EQ(c.at(0), glm::vec4(0.0f, 64.0f / 255.0f, 1.0f, 1.0f));
+  c.source = ColorSource::Intensity;
+  EXPECT_EQ(c.at(0), glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+  EXPECT_EQ(c.at(1), glm::vec4(1.0f));  // clamped
+  c.source = ColorSource::Classification;
+  EXPECT_EQ(c.at(0), glm::vec4(0.63f, 0.48f, 0.33f, 1.0f));  // ground
+  EXPECT_EQ(c.at(1), glm::vec4(0.25f, 0.50f, 0.90f, 1.0f));  // water
+  EXPECT_EQ(c.at(2), glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));     // past the palette
+  EXPECT_EQ(c.at(3), glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+  c.source = ColorSource::Constant;
+  EXPECT_EQ(c.at(0), glm::vec4(0.1f, 0.2f, 0.3f, 1.0f));
 }

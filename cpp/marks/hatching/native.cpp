@@ -20,6 +20,7 @@
 #include "render/gpu_cloud.h"
 #include "render/native_ink.h"
 #include "render/native_raster.h"
+#include "render/point_color.h"
 #include "render/screen_bins.h"
 #include "scene/point_cloud.h"
 
@@ -63,9 +64,7 @@ struct QuadKernels {
 
 // point_attributes.glsl's view_normal() of a packed normal.
 vec3 view_normal(const HostChunk& c, uint32_t index) {
-  const vec3 n = c.normal_matrix * unpack_normal(pack_normal(c.normals[index]));
-  const float len = length(n);
-  return len > 1e-3f ? n / len : vec3(0.0f);
+  return unit_or_zero(c.normal_matrix * unpack_normal(pack_normal(c.normals[index])));
 }
 
 // Select: points [begin, end) of chunk c's draw order, kept in that order.

@@ -27,32 +27,17 @@
 #include "gl/device.h"
 #include "marks/points/points.h"
 #include "render/native_raster.h"
+#include "render/point_color.h"
 #include "scene/camera.h"
 
 namespace pointnpr {
 
-glm::vec3 class_color(uint32_t c) {
-  // ASPRS LAS classes 0-18 (display sRGB), as point_attributes.glsl's CLASS_COLORS.
-  static constexpr float kColors[19][3] = {
-      {0.60f, 0.60f, 0.60f}, {0.70f, 0.70f, 0.70f}, {0.63f, 0.48f, 0.33f}, {0.56f, 0.80f, 0.45f},
-      {0.36f, 0.68f, 0.30f}, {0.16f, 0.47f, 0.20f}, {0.85f, 0.42f, 0.32f}, {0.90f, 0.10f, 0.60f},
-      {0.90f, 0.85f, 0.20f}, {0.25f, 0.50f, 0.90f}, {0.55f, 0.55f, 0.60f}, {0.35f, 0.35f, 0.38f},
-      {0.80f, 0.80f, 0.80f}, {0.95f, 0.75f, 0.20f}, {0.95f, 0.55f, 0.10f}, {0.70f, 0.30f, 0.90f},
-      {0.50f, 0.90f, 0.90f}, {0.60f, 0.40f, 0.25f}, {0.95f, 0.20f, 0.20f}};
-  if (c >= 19) return glm::vec3(0.5f);
-  return {kColors[c][0], kColors[c][1], kColors[c][2]};
-}
-
 glm::vec4 HostColors::at(uint32_t index) const {
   switch (source) {
-    case ColorSource::Rgb: {
-      const uint32_t v = colors[index];
-      return {float(v & 0xffu) / 255.0f, float(v >> 8 & 0xffu) / 255.0f, float(v >> 16 & 0xffu) / 255.0f, 1.0f};
-    }
-    case ColorSource::Intensity:
-      return glm::vec4(glm::vec3(std::clamp(intensity[index] * intensity_scale, 0.0f, 1.0f)), 1.0f);
-    case ColorSource::Classification: return glm::vec4(class_color(classification[index]), 1.0f);
-    default: return glm::vec4(glm::vec3(constant), 1.0f);
+    case ColorSource::Rgb: return glsl::attribute_color(0, colors[index], 1.0f, constant);
+    case ColorSource::Intensity: return glsl::attribute_color(1, std::bit_cast<uint32_t>(intensity[index]), intensity_scale, constant);
+    case ColorSource::Classification: return glsl::attribute_color(2, classification[index], 1.0f, constant);
+    default: return glsl::attribute_color(3, 0u, 1.0f, constant);
   }
 }
 
@@ -203,19 +188,12 @@ HostImages& host_images(HostScratch& host, size_t pixels) {
 
 glm::vec4 point_color(const ColorChunk& c, uint32_t local, const SplatSettings& s) {
   const uint32_t index = c.first + local;
-  glm::vec4 color = c.colors.at(index);
-  if (s.shading) {
-    float lambert = 1.0f;
-    if (c.normals) {
-      // What the GPU paths read: the snorm8 normal, turned into view space.
-      const glm::vec3 n = c.normal_matrix * unpack_normal(pack_normal(c.normals[index]));
-      const float len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
-      if (len > 1e-3f) lambert = std::abs(glm::dot(n / len, s.light_dir));  // two-sided
-    }
-    const float k = 1.0f - s.shading_strength * (1.0f - lambert);
-    color = glm::vec4(glm::vec3(color) * k, color.a);
-  }
-  return color;
+  const glm::vec4 color = c.colors.at(index);
+  if (!s.shading) return color;
+  // What the GPU paths read: the snorm8 normal, turned into view space.
+  const glm::vec3 n = c.normals ? glsl::unit_or_zero(c.normal_matrix * unpack_normal(pack_normal(c.normals[index])))
+                                : glm::vec3(0.0f);
+  return glm::vec4(glsl::diffuse_shaded(glm::vec3(color), n, s.light_dir, s.shading_strength), color.a);
 }
 
 }  // namespace

@@ -33,10 +33,8 @@ void draw_splats_compute(const MarkContext& ctx, const SplatSettings& s);
 // the same colour, depth and coverage from the host's copy of the points,
 // uploaded into targets.color / targets.depth over ctx.clip.
 void draw_splats_native(const MarkContext& ctx, const SplatSettings& s);
-// The classification palette of point_attributes.glsl (display sRGB).
-glm::vec3 class_color(uint32_t classification);
 // A chunk's colour attribute on the host, as point_attributes.glsl's
-// source_color() reads it (the native paths).
+// source_color() reads it (the native paths; shaders/point_color.glsl).
 struct HostColors {
   ColorSource source = ColorSource::Constant;  // resolved (never Auto)
   const uint32_t* colors = nullptr;            // the cloud's arrays, cloud order
