@@ -57,7 +57,7 @@ StrokeQuad stroke_quad(Stroke s, uint line) {
   // The paper's polygon offset, in scene units along the view ray (the
   // screen position is unchanged; the pixels apply it to depth): disc radii
   // at this depth.
-  float disc_radius = 0.5f * (raster.world_units != 0 ? raster.disc_size : raster.disc_size / px_per_unit);
+  float disc_radius = 0.5f * (raster.disc_world != 0 ? raster.disc_size : raster.disc_size / px_per_unit);
   q.color = vec4(s.color, alpha);
   q.center = center;
   q.aspect = len / width;

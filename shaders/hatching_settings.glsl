@@ -59,8 +59,8 @@ SETTINGS_BLOCK(HatchingRasterSettings, 1)
   float far_plane;
   float px_per_unit;
   float offset_radii;      // move toward the camera by this many depth-disc radii
-  int world_units;
-  float disc_size;         // depth-disc diameter (px or scene units)
+  int disc_world;          // 1: disc_size in scene units, 0: in pixels
+  float disc_size;         // depth-disc diameter
   float max_reach;         // pixels from the centre a stroke may reach (its tiles' halo)
   int stroke_texture;      // pencil, crayon, ink, soft
   int clip_to_surface;

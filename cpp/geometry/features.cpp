@@ -32,6 +32,12 @@ LocalResolution local_resolution(const Neighborhoods& nb) {
     out.eps[i] = float(std::sqrt(std::max(0.0, s2 / m - mean * mean)));
   });
   advance(current_progress(), n);
+  if (n > 0) {
+    std::vector<float> sorted = out.r;
+    std::nth_element(sorted.begin(), sorted.begin() + long(n / 2), sorted.end());
+    const float median = sorted[n / 2];
+    out.median_r = median > 0.0f && std::isfinite(median) ? median : 0.0f;
+  }
   return out;
 }
 

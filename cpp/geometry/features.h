@@ -17,6 +17,9 @@ namespace pointnpr::geometry {
 // has r = eps = 0. LocalPoints order.
 struct LocalResolution {
   std::vector<float> r, eps;
+  // The median of r: the scan's own spacing, what marks size their
+  // surface from (0 where it is not positive and finite).
+  float median_r = 0.0f;
 };
 LocalResolution local_resolution(const Neighborhoods& nb_with_self);
 

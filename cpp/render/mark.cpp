@@ -5,6 +5,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
+#include "geometry/analysis.h"
 #include "gl/device.h"
 #include "scene/camera.h"
 
@@ -160,6 +161,13 @@ std::shared_ptr<const PointCloud> chunk_cloud(const VisibleChunk& v, const char*
   std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
   if (!cloud) throw GLError(std::string(what) + ": a visible chunk's cloud is gone");
   return cloud;
+}
+
+float median_spacing(const VisibleChunk& v, int k, float otherwise) {
+  const std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
+  if (!cloud || cloud->size() == 0) return otherwise;
+  const float median = cloud->analysis().local_resolution(k)->median_r;
+  return median > 0.0f ? median : otherwise;
 }
 
 void bind_chunk(const gl::Program& p, const VisibleChunk& v, ColorSource source,

@@ -54,6 +54,10 @@ struct VisibleChunk {
 // The cloud a visible chunk's points come from, held while a native pass
 // reads it; GLError naming `what` where it is gone.
 std::shared_ptr<const PointCloud> chunk_cloud(const VisibleChunk& v, const char* what);
+// The median spacing of a visible chunk's cloud (the mean distance to its
+// k nearest neighbours, LocalResolution::median_r; computed once per cloud
+// by its analysis), or `otherwise` where the cloud has none.
+float median_spacing(const VisibleChunk& v, int k, float otherwise);
 
 // A mesh that survived culling (the mesh_surface mark's input), with its
 // view transform composed in double (its offsets from the mesh origin

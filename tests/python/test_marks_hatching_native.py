@@ -43,7 +43,9 @@ def _render(renderer, cloud, params, rasterizer, cam=None):
 
 CASES = {
     "defaults": {},
-    "world units": {"units": "world", "world_length": 0.06, "world_width": 0.006, "depth_world_size": 0.02},
+    "world units": {"units": "world", "world_length": 0.06, "world_width": 0.006, "depth_disc": "world",
+                    "depth_world_size": 0.02},
+    "pixel discs": {"depth_disc": "pixels", "depth_size": 5.0},
     "crayon, point colours, pencils": {"stroke_texture": "crayon", "coloring": "point", "pencil_quantize": True,
                                        "hue_shift": 30.0, "xtoon": "wax_crayon"},
     "irregular, specular": {"placement": "irregular", "angle_jitter": 40.0, "specular": 0.6, "shininess": 8.0,
@@ -55,14 +57,24 @@ CASES = {
 }
 
 
+def _disc_diameter(cloud, params):
+    """The depth discs' diameter in scene units: depth_world_size, or by
+    default depth_spacing (2) median spacings (the upper median of the mean
+    distance to 8 neighbours, as the mark takes it)."""
+    if params.get("depth_disc") == "world":
+        return params["depth_world_size"]
+    r = np.asarray(pointnpr.local_resolution(cloud, 8)[0])
+    return float(params.get("depth_spacing", 2.0)) * float(np.partition(r, len(r) // 2)[len(r) // 2])
+
+
 def _disc_rims(renderer, cloud, params, cam):
     """Pixels where the depth pass's discs differ between GL_POINTS and the
     native rasterizer (the points mark with the same discs)."""
     if params.get("depth_pass") is False:
         return np.zeros((H, W), bool)
-    world = params.get("units") == "world"
-    size = {"size_mode": "world", "world_size": params["depth_world_size"]} if world else \
-        {"point_size": params.get("depth_size", 4.0)}
+    size = {"size_mode": "world", "world_size": _disc_diameter(cloud, params)}
+    if params.get("depth_disc") == "pixels":
+        size = {"point_size": params.get("depth_size", 4.0)}
     depth = []
     for rz in ("gl_points", "native"):
         scene = pointnpr.Scene()

@@ -34,7 +34,6 @@
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 #include <limits>
-#include <mutex>
 
 #include "core/error.h"
 #include "core/image_io.h"
@@ -94,31 +93,10 @@ class FeatureStrokes final : public Mark {
   static bool native(const ParamValues& p) { return chosen_backend(p) == Backend::Native; }
 
  private:
-  float median_resolution(const VisibleChunk& v) const;
   FeatureStrokeSettings resolve(const MarkContext& ctx, const ParamValues& p) const;
   mutable FeatureLineHostCache lines_;
-  mutable std::mutex mutex_;
-  mutable std::map<uint64_t, std::pair<std::weak_ptr<const PointCloud>, float>> medians_;
 };
 
-float FeatureStrokes::median_resolution(const VisibleChunk& v) const {
-  const std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
-  if (!cloud) return 1.0f;
-  std::lock_guard lock(mutex_);
-  for (auto it = medians_.begin(); it != medians_.end();)
-    it = it->second.first.expired() ? medians_.erase(it) : std::next(it);
-  auto it = medians_.find(cloud->id());
-  if (it != medians_.end()) return it->second.second;
-  std::vector<float> r = cloud->analysis().local_resolution(kResolutionNeighbors)->r;  // cached: uploaded already
-  float median = 1.0f;
-  if (!r.empty()) {
-    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
-    median = r[r.size() / 2];
-  }
-  if (!(median > 0.0f) || !std::isfinite(median)) median = 1.0f;
-  medians_[cloud->id()] = {cloud, median};
-  return median;
-}
 
 int primitive_of(const std::string& name) {
   return name == "point_sprite" ? 1 : name == "line_segment" ? 2 : name == "textured_stroke" ? 3 : 0;
@@ -170,7 +148,7 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   s.queue = draws_queue(ctx, p);
   for (const VisibleChunk& v : ctx.chunks) {
     s.drawn.push_back(queue_count(v, p));
-    s.inv_median_r.push_back(1.0f / median_resolution(v));
+    s.inv_median_r.push_back(1.0f / median_spacing(v, kResolutionNeighbors, 1.0f));
   }
   return s;
 }

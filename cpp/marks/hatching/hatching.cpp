@@ -112,12 +112,15 @@ class Hatching final : public Mark {
     const bool irregular = p.get_enum_name("placement") == "irregular";
     const double reach = (1.0 + p.get_float("length_jitter")) * (0.5 + (irregular ? p.get_float("position_jitter") : 0.0));
     MarkExtent e;
+    // Depth discs in scene units are capped on screen as splats are.
+    const float disc_px = p.get_enum_name("depth_disc") == "pixels"
+                              ? float(std::max(p.get_float("depth_size"), 1.0)) * 0.5f
+                              : kMaxSplatPixels * 0.5f;
     if (p.get_enum_name("units") == "world") {
       e.world = reach * p.get_float("world_length") + p.get_float("world_width");
-      e.pixels = kMaxSplatPixels * 0.5f + 2.0f;  // depth discs and the 1.5 px minimum width
+      e.pixels = disc_px + 2.0f;  // depth discs and the 1.5 px minimum width
     } else {
-      e.pixels = float(reach * p.get_float("line_length") + p.get_float("line_width")) + 2.0f +
-                 float(std::max(p.get_float("depth_size"), 1.0)) * 0.5f;
+      e.pixels = float(reach * p.get_float("line_length") + p.get_float("line_width")) + 2.0f + disc_px;
     }
     return e;
   }
@@ -144,6 +147,31 @@ class Hatching final : public Mark {
   static float stroke_reach(const ParamValues& p) {
     return float(0.5 * (1.0 + p.get_float("length_jitter")) * p.get_float("line_length") +
                  0.5 * std::max(p.get_float("line_width"), 1.5) + 1.0);
+  }
+
+  // The depth pass's disc: by default a multiple of the scan's own median
+  // spacing, so the discs close the surface at any density and zoom (a
+  // fixed pixel size leaves gaps on sparse scans, where back strokes show
+  // and front strokes are cut into crosses). The frame's chunks, not the
+  // tile's: every tile draws the same discs.
+  struct DepthDisc {
+    bool world = false;
+    float diameter = 4.0f;
+  };
+  static DepthDisc depth_disc(const MarkContext& ctx, const ParamValues& p) {
+    const std::string mode = p.get_enum_name("depth_disc");
+    if (mode == "world") return {true, float(p.get_float("depth_world_size"))};
+    if (mode == "spacing") {
+      float spacing = 0.0f;
+      const GpuCloud* last = nullptr;
+      for (const VisibleChunk& v : ctx.frame_chunks.empty() ? ctx.chunks : ctx.frame_chunks) {
+        if (v.gpu == last) continue;  // a cloud's chunks are consecutive
+        last = v.gpu;
+        spacing = std::max(spacing, median_spacing(v, kSpacingNeighbors, 0.0f));
+      }
+      if (spacing > 0.0f) return {true, float(p.get_float("depth_spacing")) * spacing};
+    }
+    return {false, float(p.get_float("depth_size"))};
   }
 
   struct Palette {
@@ -260,16 +288,17 @@ hatching::StrokePass Hatching::resolve(const MarkContext& ctx, const ParamValues
   rs.px_per_unit = px_per_unit;
   // The offset toward the camera, in depth-disc radii (scene units).
   rs.offset_radii = depth_pass ? float(p.get_float("depth_offset")) : 0.0f;
-  rs.world_units = world_units ? 1 : 0;
-  rs.disc_size = float(world_units ? p.get_float("depth_world_size") : p.get_float("depth_size"));
+  const DepthDisc disc = depth_disc(ctx, p);
+  rs.disc_world = disc.world ? 1 : 0;
+  rs.disc_size = disc.diameter;
   rs.max_reach = world_units ? std::numeric_limits<float>::max() : stroke_reach(p);
   rs.stroke_texture = p.get_enum("stroke_texture");
   rs.clip_to_surface = depth_pass && p.get_bool("clip_to_surface") ? 1 : 0;
 
   pass.depth_pass = depth_pass;
-  pass.discs.world_size = world_units;
-  pass.discs.point_size = float(p.get_float("depth_size"));
-  pass.discs.world_diameter = float(p.get_float("depth_world_size"));
+  pass.discs.world_size = disc.world;
+  pass.discs.point_size = disc.diameter;
+  pass.discs.world_diameter = disc.diameter;
   pass.paper = p.get_color("paper_color");
   pass.normal_k = p.get_int("normal_neighbors");
   pass.spacing_k = kSpacingNeighbors;
@@ -402,7 +431,7 @@ const MarkRegistration registration{{
                float_param("cross_hatch", 0.5, 0.0, 1.0, "",
                            "Cross-hatch proportion h: a point draws a crossing second line with probability "
                            "X-Toon alpha x h (0: parallel hatching only)"),
-               enum_param("units", {"pixels", "world"}, 0, "Line length, width and depth discs in pixels or in scene units"),
+               enum_param("units", {"pixels", "world"}, 0, "Line length and width in pixels or in scene units"),
                only_when(float_param("line_length", 14.0, 1.0, 256.0, "px", "Stroke length"), "units", {"pixels"}),
                only_when(float_param("line_width", 1.2, 0.25, 16.0, "px", "Stroke width"), "units", {"pixels"}),
                only_when(float_param("world_length", 0.05, 0.0001, 100.0, "m", "Stroke length"), "units", {"world"}),
@@ -455,10 +484,17 @@ const MarkRegistration registration{{
                           "Texture of a stroke: graphite with grain, waxy crayon, solid ink, soft dot"),
                paper_color_param({0.97, 0.96, 0.92, 1.0}, "strokes"),
                bool_param("depth_pass", true, "Hide strokes behind the surface: all points as discs into depth first"),
+               enum_param("depth_disc", {"spacing", "pixels", "world"}, 0,
+                          "Size of the depth-pass discs: from the scan's median point spacing (closes the surface "
+                          "at any density and zoom), in pixels, or in scene units"),
+               only_when(float_param("depth_spacing", 2.0, 0.5, 8.0, "",
+                                     "Diameter of the depth-pass discs in median spacings (mean distance to a "
+                                     "point's 8 nearest neighbours)"),
+                         "depth_disc", {"spacing"}),
                only_when(float_param("depth_size", 4.0, 0.5, 32.0, "px", "Diameter of the depth-pass discs"),
-                         "units", {"pixels"}),
+                         "depth_disc", {"pixels"}),
                only_when(float_param("depth_world_size", 0.03, 0.0001, 100.0, "m", "Diameter of the depth-pass discs"),
-                         "units", {"world"}),
+                         "depth_disc", {"world"}),
                only_when(float_param("depth_offset", 2.0, 0.0, 10.0, "",
                                      "Strokes moved toward the camera by this many disc radii (polygon offset; 0 "
                                      "lets discs cut the strokes)"),
