@@ -199,7 +199,7 @@ std::shared_ptr<const std::vector<glm::vec3>> Analysis::normals(const NormalOpti
     });
     advance(current_progress(), size());
   }
-  orient(points(), *knn(k), n, o.orientation, o.target);
+  orient(points(), *knn(k), n, o.orientation, o.target, cloud_ ? cloud_->sensor() : std::nullopt);
   auto r = std::make_shared<const std::vector<glm::vec3>>(points().to_original(n));
   cache_[key] = r;
   return r;

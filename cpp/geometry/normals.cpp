@@ -90,7 +90,7 @@ PcaResult pca(const LocalPoints& pts, const Neighborhoods& nb) {
 }
 
 void orient(const LocalPoints& pts, const Neighborhoods& nb, std::vector<glm::vec3>& normals, Orientation how,
-            const glm::dvec3& target) {
+            const glm::dvec3& target, const std::optional<glm::dvec3>& sensor) {
   const size_t n = pts.size();
   if (how == Orientation::None || n == 0) return;
   if (how == Orientation::TowardPoint || how == Orientation::Direction) {
@@ -146,7 +146,9 @@ void orient(const LocalPoints& pts, const Neighborhoods& nb, std::vector<glm::ve
   size_t visited = 0, reported = 0;
   for (uint32_t seed : by_height) {
     if (done[seed]) continue;
-    if (normals[seed].z < 0.0f) normals[seed] = -normals[seed];
+    const bool away = sensor ? glm::dot(glm::dvec3(normals[seed]), *sensor - pts.origin - glm::dvec3(pts.points[seed])) < 0.0
+                             : normals[seed].z < 0.0f;
+    if (away) normals[seed] = -normals[seed];
     visit(seed);
     ++visited;
     while (true) {

@@ -5,6 +5,7 @@
 // closed-form 3x3 solver loses precision on nearly planar and nearly
 // isotropic neighbourhoods). Surface variation l0/(l0+l1+l2) comes with it.
 #include <glm/glm.hpp>
+#include <optional>
 #include <vector>
 
 #include "geometry/local_points.h"
@@ -38,8 +39,11 @@ enum class Orientation {
 // Hoppe's propagation along a minimum spanning tree of the symmetric graph
 // of the (at most 10) nearest neighbours weighted by 1-|ni.nj| (quantised to 1/1024), one tree per connected
 // part, each started at
-// its highest point (largest z) with its normal turned to +z.
+// its highest point (largest z) with its normal turned to +z, or where the
+// scan knows its sensor (`sensor`, world frame), turned to face it: a depth
+// camera looks along +z, so +z would turn its surfaces away.
 void orient(const LocalPoints& pts, const Neighborhoods& nb, std::vector<glm::vec3>& normals,
-            Orientation how, const glm::dvec3& target = glm::dvec3(0.0));
+            Orientation how, const glm::dvec3& target = glm::dvec3(0.0),
+            const std::optional<glm::dvec3>& sensor = std::nullopt);
 
 }  // namespace pointnpr::geometry

@@ -3,6 +3,7 @@
 // Organized clouds (HEIGHT > 1) mark missing points with NaN; those points
 // are dropped. Counts are checked against the file size (and, for LZF, the
 // largest possible expansion of the compressed bytes) before allocating.
+#include <array>
 #include <bit>
 #include <cctype>
 #include <charconv>
@@ -52,6 +53,11 @@ bool parse_u64(std::string_view s, uint64_t& v) {
   return r.ec == std::errc() && r.ptr == s.data() + s.size();
 }
 
+bool parse_finite(std::string_view s, double& v) {
+  auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  return r.ec == std::errc() && r.ptr == s.data() + s.size() && std::isfinite(v);
+}
+
 std::string lower(std::string_view s) {
   std::string r(s);
   for (char& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -79,6 +85,7 @@ class PcdReader : private io::ReaderBase {
 
   std::vector<Field> fields_;
   uint64_t width_ = 0, height_ = 1, points_ = 0;
+  std::array<double, 3> viewpoint_{0.0, 0.0, 0.0};  // VIEWPOINT's translation
   bool have_points_ = false;
   std::string data_kind_;
   size_t data_start_ = 0;
@@ -131,7 +138,12 @@ void PcdReader::parse_header() {
       if (tok.size() != 2 || !parse_u64(tok[1], points_)) fail("invalid POINTS line", at);
       have_points_ = true;
     } else if (key == "viewpoint") {
-      // Sensor pose; not applied (the points are already in the cloud's frame).
+      // Sensor pose; the points are already in the cloud's frame, so only
+      // its position is kept (an organized frame's normals face it). One
+      // that does not parse is the default, the origin, as before.
+      std::array<double, 3> t{};
+      if (tok.size() == 8 && parse_finite(tok[1], t[0]) && parse_finite(tok[2], t[1]) && parse_finite(tok[3], t[2]))
+        viewpoint_ = t;
     } else if (key == "data") {
       if (tok.size() != 2) fail("invalid DATA line", at);
       data_kind_ = lower(tok[1]);
@@ -462,6 +474,8 @@ PointData PcdReader::read() {
   md["height"] = static_cast<int64_t>(height_);
   md["point_count"] = static_cast<int64_t>(n);
   md["organized"] = static_cast<int64_t>(height_ > 1 ? 1 : 0);
+  // An organized cloud is one sensor's frame: where that sensor stood.
+  if (height_ > 1) md["sensor_origin"] = std::vector<double>(viewpoint_.begin(), viewpoint_.end());
   out.drop_nonfinite_points();
   return out;
 }

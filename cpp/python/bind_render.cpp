@@ -32,7 +32,7 @@ namespace {
 std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::object& colors,
                                        const py::object& intensity, const py::object& classification,
                                        const py::object& point_index, const py::object& normals,
-                                       uint32_t chunk_size) {
+                                       uint32_t chunk_size, const py::object& sensor) {
   // float32 positions (Blender's vertices) are read as they are; anything
   // else is converted to float64 (the exact georeferenced coordinates).
   CArray<double> pos;
@@ -85,6 +85,11 @@ std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::ob
   if (!normals.is_none()) {
     nrm = normals.cast<CArray<float>>();
     in.normals = {nrm.data(), size_t(nrm.size())};
+  }
+  if (!sensor.is_none()) {
+    const auto xyz = sensor.cast<std::vector<double>>();
+    if (xyz.size() != 3) throw Error("sensor must be (x, y, z)");
+    in.sensor = glm::dvec3(xyz[0], xyz[1], xyz[2]);
   }
   py::gil_scoped_release release;
   return std::make_shared<PointCloud>(in, chunk_size);
@@ -322,8 +327,13 @@ void bind_render(py::module_& m) {
       "Immutable point cloud split into chunks with double origins and float offsets.")
       .def(py::init(&make_cloud), py::arg("positions"), py::arg("colors") = py::none(),
            py::arg("intensity") = py::none(), py::arg("classification") = py::none(),
-           py::arg("point_index") = py::none(), py::arg("normals") = py::none(), py::arg("chunk_size") = 16384)
+           py::arg("point_index") = py::none(), py::arg("normals") = py::none(), py::arg("chunk_size") = 16384,
+           py::arg("sensor") = py::none())
       .def_property_readonly("num_points", &PointCloud::size)
+      .def_property_readonly("sensor", [](const PointCloud& c) -> py::object {
+        if (!c.sensor()) return py::none();
+        return py::make_tuple(c.sensor()->x, c.sensor()->y, c.sensor()->z);
+      }, "Where the sensor stood (a depth camera's frame), or None: estimated normals face it.")
       .def_property_readonly("skipped_points", &PointCloud::skipped_nonfinite,
                              "Input points left out for a non-finite coordinate (NaN or inf).")
       .def_property_readonly("num_chunks", [](const PointCloud& c) { return c.chunks().size(); })

@@ -82,7 +82,10 @@ PointChunk chunk_around(const glm::dvec3& lo, const glm::dvec3& hi) {
   return chunk;
 }
 
-PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points) : id_(g_next_cloud_id++) {
+PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points)
+    : id_(g_next_cloud_id++), sensor_(in.sensor) {
+  if (sensor_ && !(std::isfinite(sensor_->x) && std::isfinite(sensor_->y) && std::isfinite(sensor_->z)))
+    throw Error("the sensor position must be finite");
   if (!in.positions.empty() && !in.positions_f32.empty())
     throw Error("positions are given twice (float64 and float32): give one of them");
   const size_t coordinates = in.positions.empty() ? in.positions_f32.size() : in.positions.size();

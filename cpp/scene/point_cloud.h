@@ -45,6 +45,9 @@ struct PointCloudInput {
   std::span<const uint8_t> classification;    // N or empty
   std::span<const uint32_t> point_index;      // N or empty (then 0..N-1)
   std::span<const float> normals;             // N*3 or empty
+  // Where the sensor stood, in the positions' frame, where the scan knows
+  // it (a depth camera's frame: PCD's VIEWPOINT): estimated normals face it.
+  std::optional<glm::dvec3> sensor;
 };
 
 // Points already laid out in chunks (an out-of-core cache's prefixes,
@@ -86,6 +89,7 @@ class PointCloud {
   bool has(Attribute a) const;
   glm::dvec3 bounds_min() const { return bounds_min_; }
   glm::dvec3 bounds_max() const { return bounds_max_; }
+  const std::optional<glm::dvec3>& sensor() const { return sensor_; }  // see PointCloudInput
   // Reconstructs world-space (object-space) positions in double, in the
   // cloud's internal order.
   std::vector<double> positions_double() const;
@@ -105,6 +109,7 @@ class PointCloud {
   std::vector<uint32_t> point_index_;
   std::vector<glm::vec3> normals_;
   glm::dvec3 bounds_min_{0.0}, bounds_max_{0.0};
+  std::optional<glm::dvec3> sensor_;
   mutable std::mutex analysis_mutex_;
   mutable std::shared_ptr<geometry::Analysis> analysis_;
 };

@@ -91,11 +91,15 @@ RENDERED_ATTRIBUTES = {
 
 def to_cloud(data):
     """PointCloud (pointnpr.PointCloud) from a PointData: positions plus the
-    colors, intensity and classification the file has (others are dropped)."""
+    colors, intensity and classification the file has (others are dropped),
+    and where the sensor stood when the file says (an organized PCD frame)."""
     kwargs = {}
     attrs = data.attributes
     for name, dtype in RENDERED_ATTRIBUTES.items():
         values = attrs.get(name)
         if values is not None:
             kwargs[name] = _np.ascontiguousarray(values, dtype=dtype)
+    sensor = data.metadata.get("sensor_origin")  # a depth camera's frame: its normals face the sensor
+    if sensor is not None:
+        kwargs["sensor"] = tuple(float(v) for v in sensor)
     return _pointnpr.PointCloud(_np.ascontiguousarray(data.positions, dtype=_np.float64), **kwargs)

@@ -328,7 +328,9 @@ class ImportJob(PointObjectJob):
         if len(positions) == 0:
             # Nothing to add: an empty collection would be residue.
             raise ValueError("the file contains no points; nothing was imported")
-        warning = dict(data.metadata).get("warning")
+        metadata = dict(data.metadata)
+        sensor = metadata.get("sensor_origin")  # an organized frame's sensor: estimated normals face it
+        warning = metadata.get("warning")
         if warning:
             self.warnings.append(str(warning))
         attrs = dict(data.attributes)
@@ -341,6 +343,7 @@ class ImportJob(PointObjectJob):
         del attrs, data
         self._origin = rounded_centre(positions) if self.recentre else np.zeros(3)
         self._local = local_positions(positions, self._origin)
+        self._sensor = None if sensor is None else [float(v) for v in np.asarray(sensor, float) - self._origin]
         del positions
         self._cached = self.out_of_core is not None and self.out_of_core.wants(len(self._local))
         self._root = self.track(bpy.data.collections, bpy.data.collections.new(self.stem))
@@ -379,6 +382,8 @@ class ImportJob(PointObjectJob):
             obj = self.add_point_object(name, coll, pick(self._local), pick(self._colors),
                                         pick(self._intensity), pick(self._classification))
         obj["pointnpr_origin"] = [float(v) for v in self._origin]
+        if getattr(self, "_sensor", None) is not None:
+            obj["pointnpr_sensor"] = self._sensor  # in the object's (recentred) frame
 
     def _add_cached_object(self, name, collection, local, colors, intensity, classification):
         """Writes the group's points to an out-of-core cache and adds an

@@ -172,8 +172,9 @@ class SegmentJob(PointObjectJob):
         obj = self.add_point_object(name, coll, pick(self._positions), pick(self._colors),
                                     pick(self._intensity), pick(self._classification))
         obj.matrix_world = self.source.matrix_world.copy()
-        if "pointnpr_origin" in self.source:
-            obj["pointnpr_origin"] = list(self.source["pointnpr_origin"])
+        for key in ("pointnpr_origin", "pointnpr_sensor"):  # the parts share the scan's frame and sensor
+            if key in self.source:
+                obj[key] = list(self.source[key])
 
 
 def segment_object(context, obj, method, progress=None, cancelled=None, max_segments=256, **params):

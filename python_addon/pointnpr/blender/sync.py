@@ -413,6 +413,9 @@ def cloud_for(obj, attributes, trust_cache=False, fallbacks=(), mode=None, defer
     # The positions last: the colours' float temporaries are gone by then.
     _stats["reads"] += 1
     positions = read_positions(source)  # float32, as Blender stores them
+    sensor = getattr(source, "original", source).get("pointnpr_sensor")  # see importer: a depth frame's sensor
+    if sensor is not None and len(sensor) == 3:
+        values["sensor"] = tuple(float(v) for v in sensor)
     pending = PendingCloud(positions, values)
     if defer and entry is None:
         # Nothing to compare with: the CRC and the cloud are the worker's.
