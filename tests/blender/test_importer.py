@@ -133,6 +133,23 @@ def test_import_ply(scene):
     assert len(obj.data.vertices) == ply_vertex_count(PLY)
 
 
+def test_a_depth_frames_sensor_reaches_the_rendered_cloud(scene):
+    """An organized PCD (a depth camera's frame) keeps where its sensor stood
+    in the object's recentred frame, so the render's cloud orients its
+    estimated normals toward it (tests/python/test_sensor_normals.py)."""
+    from pointnpr.blender import sync
+    frame = os.path.join(helpers.IO_DATA, "mug_crop.pcd")
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=frame) == {'FINISHED'}
+    obj = next(o for o in bpy.data.objects if o.type == 'MESH')
+    origin = np.array(obj["pointnpr_origin"], dtype=np.float64)
+    assert np.allclose(list(obj["pointnpr_sensor"]), -origin)  # VIEWPOINT 0 0 0, recentred
+    cloud = sync.resolved(sync.cloud_for(obj, ()))
+    assert np.allclose(cloud.sensor, -origin)
+    # A file with no sensor leaves none.
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=PLY) == {'FINISHED'}
+    assert not any("pointnpr_sensor" in o for o in bpy.data.objects if o.type == 'MESH' and o is not obj)
+
+
 def test_imported_cloud_renders(scene, tmp_path):
     bpy.ops.import_scene.pointnpr_cloud(filepath=SAMPLE_LAS)
     obj = next(o for o in bpy.data.objects if o.type == 'MESH')

@@ -413,9 +413,9 @@ def cloud_for(obj, attributes, trust_cache=False, fallbacks=(), mode=None, defer
     # The positions last: the colours' float temporaries are gone by then.
     _stats["reads"] += 1
     positions = read_positions(source)  # float32, as Blender stores them
-    sensor = getattr(source, "original", source).get("pointnpr_sensor")  # see importer: a depth frame's sensor
-    if sensor is not None and len(sensor) == 3:
-        values["sensor"] = tuple(float(v) for v in sensor)
+    sensor = source.sensor if isinstance(source, _InstanceCopy) else _sensor_of(source)
+    if sensor is not None:
+        values["sensor"] = sensor
     pending = PendingCloud(positions, values)
     if defer and entry is None:
         # Nothing to compare with: the CRC and the cloud are the worker's.
@@ -473,6 +473,13 @@ class PendingCloud:
                 self._cloud = _core().PointCloud(positions, **values)
                 self._arrays = None
             return self._cloud
+
+
+def _sensor_of(obj):
+    """Where a depth frame's sensor stood, in the object's frame (the
+    importer's 'pointnpr_sensor'), or None."""
+    sensor = getattr(obj, "original", obj).get("pointnpr_sensor")
+    return tuple(float(v) for v in sensor) if sensor is not None and len(sensor) == 3 else None
 
 
 def resolved(cloud):
@@ -671,10 +678,11 @@ class _InstanceCopy:
     """What the sync reads of an instanced object (geometry-nodes output),
     taken while the iterator is on it: the object is a temporary the next
     step reuses (garbage afterwards in Blender 4.5+); its data stays."""
-    __slots__ = ("name", "type", "data", "material_slots")
+    __slots__ = ("name", "type", "data", "material_slots", "sensor")
 
     def __init__(self, obj):
         self.name, self.type, self.data = obj.name, obj.type, obj.data
+        self.sensor = None  # an instance's points are not one sensor's frame
         # Mesh surfaces read their materials through the slots.
         self.material_slots = [_MaterialSlot(slot.material) for slot in getattr(obj, "material_slots", ())]
 
@@ -689,6 +697,7 @@ class _EditModeCopy(_InstanceCopy):
     def __init__(self, obj):
         super().__init__(obj)
         self.data = obj.to_mesh()
+        self.sensor = _sensor_of(obj)
 
 
 class _MaterialSlot:
