@@ -74,9 +74,10 @@ import numpy as _np
 
 from . import _pointnpr
 
-__all__ = ["read", "write", "to_cloud", "ReadError", "PointData", "RENDERED_ATTRIBUTES"]
+__all__ = ["read", "read_e57_scans", "write", "to_cloud", "ReadError", "PointData", "RENDERED_ATTRIBUTES"]
 
 read = _pointnpr.read
+read_e57_scans = _pointnpr.read_e57_scans
 write = _pointnpr.write
 ReadError = _pointnpr.ReadError
 PointData = _pointnpr.PointData

@@ -1,0 +1,454 @@
+// ASTM E2807 (E57) reader: every /data3D scan of the file, each as a
+// PointData with its pose applied (in double), spherical coordinates turned
+// cartesian (in double) and points of an invalid state left out. Written
+// from the standard; the layers are e57_pages (header, pages, CRC-32C),
+// e57_xml (the XML section) and e57_bitpack (CompressedVector sections).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "io/e57_bitpack.h"
+#include "io/e57_pages.h"
+#include "io/e57_xml.h"
+#include "io/mapped_file.h"
+#include "io/readers.h"
+
+namespace pointnpr {
+namespace {
+
+using e57::FieldCodec;
+using e57::FieldKind;
+using e57::PagedFile;
+using e57::XmlElement;
+
+constexpr int64_t kInt64Min = std::numeric_limits<int64_t>::min();
+constexpr int64_t kInt64Max = std::numeric_limits<int64_t>::max();
+
+// The prototype's terminals in document order: the order of the bytestreams.
+void collect_fields(const PagedFile& file, const XmlElement& e, const std::string& prefix,
+                    std::vector<FieldCodec>& out) {
+  for (const XmlElement& c : e.children) {
+    const std::string name = prefix.empty() ? c.name : prefix + "/" + c.name;
+    FieldCodec f;
+    f.name = name;
+    if (c.type == "Structure") {
+      collect_fields(file, c, name, out);
+      continue;
+    } else if (c.type == "Float") {
+      auto it = c.attributes.find("precision");
+      const bool single = it != c.attributes.end() && it->second == "single";
+      if (it != c.attributes.end() && it->second != "single" && it->second != "double")
+        file.fail("prototype field " + name + " has precision '" + it->second + "'");
+      f.kind = single ? FieldKind::Float32 : FieldKind::Float64;
+      f.bits = single ? 32 : 64;
+    } else if (c.type == "Integer" || c.type == "ScaledInteger") {
+      f.kind = c.type == "Integer" ? FieldKind::Integer : FieldKind::ScaledInteger;
+      f.minimum = e57::attr_int(file, c, "minimum", kInt64Min);
+      f.maximum = e57::attr_int(file, c, "maximum", kInt64Max);
+      if (f.minimum > f.maximum)
+        file.fail("prototype field " + name + " has minimum " + std::to_string(f.minimum) + " above maximum " +
+                  std::to_string(f.maximum));
+      f.bits = e57::integer_bits(f.minimum, f.maximum);
+      if (f.kind == FieldKind::ScaledInteger) {
+        f.scale = e57::attr_double(file, c, "scale", 1.0);
+        f.offset = e57::attr_double(file, c, "offset", 0.0);
+        if (f.scale == 0.0) file.fail("prototype field " + name + " has a scale of 0");
+      }
+    } else {
+      file.fail("prototype field " + name + " is of type '" + c.type +
+                "', which this reader cannot decode in point records (Float, Integer and ScaledInteger)");
+    }
+    out.push_back(std::move(f));
+  }
+}
+
+void check_codecs(const PagedFile& file, const XmlElement* codecs) {
+  if (!codecs) return;
+  for (const XmlElement& c : codecs->children)
+    if (!c.child("bitPackCodec"))
+      file.fail("a CompressedVector uses a codec other than bitPackCodec (the only one E57 defines)");
+}
+
+struct Limits {
+  bool present = false;
+  double minimum = 0, maximum = 0;
+};
+
+Limits limits_of(const PagedFile& file, const XmlElement* parent, const std::string& min_name,
+                 const std::string& max_name) {
+  Limits l;
+  if (!parent || !parent->child(min_name) || !parent->child(max_name)) return l;
+  const XmlElement* a = parent->child(min_name);
+  const XmlElement* b = parent->child(max_name);
+  l.minimum = a->type == "Integer" ? static_cast<double>(e57::xml_int(file, a, 0)) : e57::xml_double(file, a, 0);
+  l.maximum = b->type == "Integer" ? static_cast<double>(e57::xml_int(file, b, 0)) : e57::xml_double(file, b, 0);
+  l.present = l.maximum > l.minimum;
+  return l;
+}
+
+// What the prototype itself allows, when the scan gives no limits.
+Limits limits_of(const FieldCodec& f) {
+  Limits l;
+  if (f.kind == FieldKind::Integer) {
+    l = {true, static_cast<double>(f.minimum), static_cast<double>(f.maximum)};
+  } else if (f.kind == FieldKind::ScaledInteger) {
+    l = {true, static_cast<double>(f.minimum) * f.scale + f.offset,
+         static_cast<double>(f.maximum) * f.scale + f.offset};
+    if (l.minimum > l.maximum) std::swap(l.minimum, l.maximum);
+  }
+  l.present = l.present && l.maximum > l.minimum;
+  return l;
+}
+
+struct Pose {
+  double r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  double t[3] = {0, 0, 0};
+  double quaternion[4] = {1, 0, 0, 0};  // w, x, y, z as the file gives it
+};
+
+Pose pose_of(const PagedFile& file, const XmlElement& scan) {
+  Pose p;
+  const XmlElement* pose = scan.child("pose");
+  if (!pose) return p;
+  if (const XmlElement* t = pose->child("translation"))
+    for (int i = 0; i < 3; ++i) p.t[i] = e57::xml_double(file, t->child(std::string(1, "xyz"[i])), 0.0);
+  if (const XmlElement* q = pose->child("rotation")) {
+    double w = e57::xml_double(file, q->child("w"), 1.0), x = e57::xml_double(file, q->child("x"), 0.0),
+           y = e57::xml_double(file, q->child("y"), 0.0), z = e57::xml_double(file, q->child("z"), 0.0);
+    p.quaternion[0] = w, p.quaternion[1] = x, p.quaternion[2] = y, p.quaternion[3] = z;
+    const double norm = std::sqrt(w * w + x * x + y * y + z * z);
+    if (!(norm > 0) || !std::isfinite(norm)) file.fail("scan pose has a zero rotation quaternion");
+    // The standard asks for a unit quaternion; dividing keeps a slightly
+    // off one a rotation rather than a scaling.
+    w /= norm, x /= norm, y /= norm, z /= norm;
+    const double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
+                         2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+                         2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};
+    std::copy(r, r + 9, p.r);
+  }
+  return p;
+}
+
+std::string images_report(const XmlElement* images2d) {
+  if (!images2d) return {};
+  static const char* kinds[] = {"pinholeRepresentation", "sphericalRepresentation",
+                                "cylindricalRepresentation", "visualReferenceRepresentation"};
+  std::string report;
+  for (const XmlElement& image : images2d->children) {
+    std::string line = image.child("name") ? image.child("name")->text : std::string("(unnamed)");
+    for (const char* kind : kinds) {
+      const XmlElement* rep = image.child(kind);
+      if (!rep) continue;
+      line += std::string(" (") + kind;
+      const XmlElement* w = rep->child("imageWidth");
+      const XmlElement* h = rep->child("imageHeight");
+      if (w && h) line += ", " + w->text + "x" + h->text;
+      line += ")";
+    }
+    report += (report.empty() ? "" : "\n") + line;
+  }
+  return report;
+}
+
+class E57Reader {
+ public:
+  E57Reader(const std::string& name, const uint8_t* data, size_t size) : file_(name, data, size) {}
+
+  std::vector<PointData> read(bool verify_checksums) {
+    if (verify_checksums) file_.verify_checksums();
+    const XmlElement root = e57::parse_xml(file_);
+    const XmlElement* data3d = root.child("data3D");
+    const size_t scans = data3d ? data3d->children.size() : 0;
+    coordinate_metadata_ = e57::xml_string(root.child("coordinateMetadata"));
+    images_ = images_report(root.child("images2D"));
+    images_count_ = root.child("images2D") ? root.child("images2D")->children.size() : 0;
+    std::vector<PointData> out(scans);
+    // Scans decode independently; errors are thrown in scan order.
+    std::vector<std::exception_ptr> errors(scans);
+    tbb::parallel_for(size_t{0}, scans, [&](size_t i) {
+      try {
+        out[i] = read_scan(data3d->children[i], i, scans);
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    });
+    for (const std::exception_ptr& e : errors)
+      if (e) std::rethrow_exception(e);
+    return out;
+  }
+
+ private:
+  PointData read_scan(const XmlElement& scan, size_t index, size_t scans) const;
+
+  PagedFile file_;
+  std::string coordinate_metadata_;
+  std::string images_;
+  size_t images_count_ = 0;
+};
+
+int find_field(const std::vector<FieldCodec>& fields, const std::string& name) {
+  for (size_t i = 0; i < fields.size(); ++i)
+    if (fields[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+template <class T>
+std::vector<T> compact(const std::vector<double>& column, const std::vector<size_t>& kept) {
+  std::vector<T> v;
+  io::resize_fresh(v, kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) v[i] = static_cast<T>(column[kept[i]]);
+  return v;
+}
+
+uint8_t to_u8(double v, const Limits& l) {
+  if (!l.present) return static_cast<uint8_t>(std::clamp(v, 0.0, 255.0));
+  const double unit = (v - l.minimum) / (l.maximum - l.minimum);
+  return static_cast<uint8_t>(std::lround(std::clamp(unit, 0.0, 1.0) * 255.0));
+}
+
+PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scans) const {
+  const std::string label = "scan " + std::to_string(index);
+  const XmlElement* points = scan.child("points");
+  if (!points || points->type != "CompressedVector") file_.fail(label + " has no CompressedVector 'points'");
+  const XmlElement* prototype = points->child("prototype");
+  if (!prototype) file_.fail(label + ": its points have no prototype");
+  std::vector<FieldCodec> fields;
+  collect_fields(file_, *prototype, "", fields);
+  check_codecs(file_, points->child("codecs"));
+  const uint64_t record_count = e57::attr_uint(file_, *points, "recordCount");
+  const uint64_t file_offset = e57::attr_uint(file_, *points, "fileOffset");
+
+  const int cx = find_field(fields, "cartesianX"), cy = find_field(fields, "cartesianY"),
+            cz = find_field(fields, "cartesianZ");
+  const int sr = find_field(fields, "sphericalRange"), sa = find_field(fields, "sphericalAzimuth"),
+            se = find_field(fields, "sphericalElevation");
+  const bool cartesian = cx >= 0 && cy >= 0 && cz >= 0;
+  const bool spherical = sr >= 0 && sa >= 0 && se >= 0;
+  if (!cartesian && !spherical)
+    file_.fail(label + " has neither cartesianX/Y/Z nor sphericalRange/Azimuth/Elevation");
+
+  std::vector<std::vector<double>> columns =
+      e57::decode_compressed_vector(file_, file_offset, record_count, fields);
+
+  // Points whose state says "no position" (2) or "direction only" (1) are left out.
+  const int state = find_field(fields, cartesian ? "cartesianInvalidState" : "sphericalInvalidState");
+  std::vector<size_t> kept;
+  kept.reserve(static_cast<size_t>(record_count));
+  for (size_t i = 0; i < record_count; ++i)
+    if (state < 0 || columns[static_cast<size_t>(state)][i] == 0.0) kept.push_back(i);
+
+  PointData d;
+  const Pose pose = pose_of(file_, scan);
+  io::resize_fresh(d.positions, kept.size() * 3);
+  const double* r = pose.r;
+  for (size_t k = 0; k < kept.size(); ++k) {
+    const size_t i = kept[k];
+    double p[3];
+    if (cartesian) {
+      p[0] = columns[cx][i], p[1] = columns[cy][i], p[2] = columns[cz][i];
+    } else {
+      const double range = columns[sr][i], az = columns[sa][i], el = columns[se][i];
+      p[0] = range * std::cos(el) * std::cos(az);
+      p[1] = range * std::cos(el) * std::sin(az);
+      p[2] = range * std::sin(el);
+    }
+    for (int a = 0; a < 3; ++a) d.positions[3 * k + a] = r[3 * a] * p[0] + r[3 * a + 1] * p[1] + r[3 * a + 2] * p[2] + pose.t[a];
+  }
+
+  std::vector<bool> used(fields.size(), false);
+  for (int f : {cx, cy, cz, sr, sa, se, state})
+    if (f >= 0) used[static_cast<size_t>(f)] = true;
+
+  const XmlElement* intensity_limits_xml = scan.child("intensityLimits");
+  if (const int f = find_field(fields, "intensity"); f >= 0) {
+    d.set("intensity", 1, compact<float>(columns[f], kept));
+    Limits l = limits_of(file_, intensity_limits_xml, "intensityMinimum", "intensityMaximum");
+    if (!l.present) l = limits_of(fields[f]);
+    if (l.present) d.metadata["intensity_limits"] = std::vector<double>{l.minimum, l.maximum};
+    used[f] = true;
+  }
+  const int red = find_field(fields, "colorRed"), green = find_field(fields, "colorGreen"),
+            blue = find_field(fields, "colorBlue");
+  if (red >= 0 && green >= 0 && blue >= 0) {
+    const XmlElement* cl = scan.child("colorLimits");
+    const int channel[3] = {red, green, blue};
+    const char* names[3] = {"Red", "Green", "Blue"};
+    std::vector<uint8_t> colors;
+    io::resize_fresh(colors, kept.size() * 3);
+    std::vector<double> limits;
+    for (int c = 0; c < 3; ++c) {
+      Limits l = limits_of(file_, cl, std::string("color") + names[c] + "Minimum", std::string("color") + names[c] + "Maximum");
+      if (!l.present) l = limits_of(fields[channel[c]]);
+      limits.push_back(l.minimum), limits.push_back(l.maximum);
+      const std::vector<double>& col = columns[channel[c]];
+      for (size_t k = 0; k < kept.size(); ++k) colors[3 * k + c] = to_u8(col[kept[k]], l);
+      used[channel[c]] = true;
+    }
+    d.set("colors", 3, std::move(colors));
+    d.metadata["color_limits"] = std::move(limits);
+  }
+  const int nx = find_field(fields, "nor:normalX"), ny = find_field(fields, "nor:normalY"),
+            nz = find_field(fields, "nor:normalZ");
+  if (nx >= 0 && ny >= 0 && nz >= 0) {
+    // Normals turn with the scan's pose (no translation).
+    std::vector<float> normals;
+    io::resize_fresh(normals, kept.size() * 3);
+    for (size_t k = 0; k < kept.size(); ++k) {
+      const size_t i = kept[k];
+      const double n[3] = {columns[nx][i], columns[ny][i], columns[nz][i]};
+      for (int a = 0; a < 3; ++a)
+        normals[3 * k + a] = io::narrow_float(r[3 * a] * n[0] + r[3 * a + 1] * n[1] + r[3 * a + 2] * n[2]);
+    }
+    d.set("normals", 3, std::move(normals));
+    used[nx] = used[ny] = used[nz] = true;
+  }
+  // Index-like integers keep their values; LAS's return_number counts from 1.
+  auto integer_column = [&](const char* field, const char* attr) {
+    const int f = find_field(fields, field);
+    if (f < 0) return;
+    const bool fits32 = fields[f].kind == FieldKind::Integer && fields[f].minimum >= INT32_MIN && fields[f].maximum <= INT32_MAX;
+    if (fits32) d.set(attr, 1, compact<int32_t>(columns[f], kept));
+    else d.set(attr, 1, compact<int64_t>(columns[f], kept));
+    used[f] = true;
+  };
+  integer_column("rowIndex", "row_index");
+  integer_column("columnIndex", "column_index");
+  if (const int f = find_field(fields, "returnIndex"); f >= 0) {
+    std::vector<uint8_t> v(kept.size());
+    for (size_t k = 0; k < kept.size(); ++k) v[k] = static_cast<uint8_t>(std::clamp(columns[f][kept[k]] + 1, 0.0, 255.0));
+    d.set("return_number", 1, std::move(v));
+    used[f] = true;
+  }
+  if (const int f = find_field(fields, "returnCount"); f >= 0) {
+    std::vector<uint8_t> v(kept.size());
+    for (size_t k = 0; k < kept.size(); ++k) v[k] = static_cast<uint8_t>(std::clamp(columns[f][kept[k]], 0.0, 255.0));
+    d.set("number_of_returns", 1, std::move(v));
+    used[f] = true;
+  }
+  if (const int f = find_field(fields, "timeStamp"); f >= 0) {
+    d.set("time_stamp", 1, compact<double>(columns[f], kept));
+    used[f] = true;
+  }
+  for (const char* flag : {"isIntensityInvalid", "isColorInvalid", "isTimeStampInvalid"}) {
+    if (const int f = find_field(fields, flag); f >= 0) {
+      const std::string attr = flag == std::string("isIntensityInvalid") ? "intensity_invalid"
+                               : flag == std::string("isColorInvalid")   ? "color_invalid"
+                                                                          : "time_stamp_invalid";
+      d.set(attr, 1, compact<uint8_t>(columns[f], kept));
+      used[f] = true;
+    }
+  }
+  // Any other field, in double (exact for floats and integers up to 2^53).
+  for (size_t f = 0; f < fields.size(); ++f)
+    if (!used[f] && !d.has(fields[f].name)) d.set(fields[f].name, 1, compact<double>(columns[f], kept));
+
+  d.metadata["format"] = std::string("e57");
+  d.metadata["version"] = std::to_string(file_.header().version_major) + "." + std::to_string(file_.header().version_minor);
+  d.metadata["point_count"] = static_cast<int64_t>(kept.size());
+  d.metadata["record_count"] = static_cast<int64_t>(record_count);
+  if (kept.size() != record_count) d.metadata["dropped_invalid"] = static_cast<int64_t>(record_count - kept.size());
+  d.metadata["scan_index"] = static_cast<int64_t>(index);
+  d.metadata["scan_count"] = static_cast<int64_t>(scans);
+  d.metadata["scan_name"] = e57::xml_string(scan.child("name"));
+  d.metadata["scan_guid"] = e57::xml_string(scan.child("guid"));
+  d.metadata["scan_description"] = e57::xml_string(scan.child("description"));
+  d.metadata["coordinates"] = std::string(cartesian ? "cartesian" : "spherical");
+  d.metadata["pose_rotation"] = std::vector<double>(pose.quaternion, pose.quaternion + 4);
+  d.metadata["pose_translation"] = std::vector<double>(pose.t, pose.t + 3);
+  d.metadata["coordinate_metadata"] = coordinate_metadata_;
+  d.metadata["images2d"] = images_;
+  d.metadata["images2d_count"] = static_cast<int64_t>(images_count_);
+  return d;
+}
+
+}  // namespace
+
+std::vector<PointData> read_e57_scans_memory(const uint8_t* data, size_t size, const std::string& name,
+                                             bool verify_checksums) {
+  return E57Reader(name, data, size).read(verify_checksums);
+}
+
+std::vector<PointData> read_e57_scans(const std::string& path) {
+  io::MappedFile file(path);
+  return read_e57_scans_memory(file.data(), file.size(), path, true);
+}
+
+}  // namespace pointnpr
+
+namespace pointnpr {
+namespace {
+
+// One PointData of all scans (read_point_cloud's answer for .e57): the
+// attributes every scan has, of one type, concatenated, plus "scan_index".
+PointData merge_scans(std::vector<PointData>&& scans) {
+  PointData m;
+  size_t total = 0;
+  for (const PointData& s : scans) total += s.num_points();
+  io::resize_fresh(m.positions, total * 3);
+  std::vector<uint32_t> scan_index;
+  io::resize_fresh(scan_index, total);
+  size_t at = 0;
+  for (size_t s = 0; s < scans.size(); ++s) {
+    std::copy(scans[s].positions.begin(), scans[s].positions.end(), m.positions.begin() + 3 * at);
+    std::fill(scan_index.begin() + at, scan_index.begin() + at + scans[s].num_points(), static_cast<uint32_t>(s));
+    at += scans[s].num_points();
+  }
+  std::string not_merged;
+  if (!scans.empty()) {
+    for (const PointAttribute& a : scans[0].attributes) {
+      const bool everywhere = std::all_of(scans.begin(), scans.end(), [&](const PointData& s) {
+        const PointAttribute* b = s.find(a.name);
+        return b && b->components == a.components && b->values.index() == a.values.index();
+      });
+      if (!everywhere) {
+        not_merged += (not_merged.empty() ? "" : ", ") + a.name;
+        continue;
+      }
+      std::visit(
+          [&](const auto& first) {
+            using Vec = std::decay_t<decltype(first)>;
+            Vec all;
+            all.reserve(total * static_cast<size_t>(a.components));
+            for (const PointData& s : scans) {
+              const Vec& v = std::get<Vec>(s.find(a.name)->values);
+              all.insert(all.end(), v.begin(), v.end());
+            }
+            m.set(a.name, a.components, std::move(all));
+          },
+          a.values);
+    }
+  }
+  m.set("scan_index", 1, std::move(scan_index));
+  std::string names;
+  int64_t dropped = 0;
+  for (const PointData& s : scans) {
+    names += (names.empty() ? "" : "\n") + std::get<std::string>(s.metadata.at("scan_name"));
+    if (auto it = s.metadata.find("dropped_invalid"); it != s.metadata.end()) dropped += std::get<int64_t>(it->second);
+  }
+  if (!scans.empty()) {
+    for (const char* key : {"version", "coordinate_metadata", "images2d", "images2d_count"})
+      m.metadata[key] = scans[0].metadata.at(key);
+  }
+  m.metadata["format"] = std::string("e57");
+  m.metadata["point_count"] = static_cast<int64_t>(total);
+  m.metadata["scan_count"] = static_cast<int64_t>(scans.size());
+  m.metadata["scan_names"] = names;
+  if (dropped) m.metadata["dropped_invalid"] = dropped;
+  if (!not_merged.empty()) m.metadata["attributes_not_in_every_scan"] = not_merged;
+  return m;
+}
+
+}  // namespace
+
+PointData read_e57_memory(const uint8_t* data, size_t size, const std::string& name, bool verify_checksums) {
+  return merge_scans(read_e57_scans_memory(data, size, name, verify_checksums));
+}
+
+PointData read_e57(const std::string& path) { return merge_scans(read_e57_scans(path)); }
+
+}  // namespace pointnpr
