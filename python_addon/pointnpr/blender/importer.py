@@ -32,7 +32,7 @@ ASPRS_CLASSES = {
 }
 
 # What pointnpr.read accepts (its ReadError lists them for unknown extensions).
-FILE_EXTENSIONS = ("las", "laz", "ply", "pcd", "xyz", "pts", "txt", "csv", "asc")
+FILE_EXTENSIONS = ("las", "laz", "e57", "ply", "pcd", "xyz", "pts", "txt", "csv", "asc")
 
 
 def class_name(code):
@@ -211,10 +211,15 @@ class ImportJob(PointObjectJob):
     the last step, so a failure or a cancel, followed by cleanup(), leaves
     the scene and bpy.data exactly as they were."""
 
-    def __init__(self, context, filepath, split_by_classification=False, recentre=True, out_of_core=None):
+    def __init__(self, context, filepath, split_by_classification=False, recentre=True, out_of_core=None,
+                 split_by_scan=True):
         self.context = context
         self.filepath = filepath
         self.split = split_by_classification
+        # E57: one object per scan (named after it) in the file's collection,
+        # or all scans merged into one object.
+        self.split_scans = split_by_scan
+        self._scan_groups = False
         self.recentre = recentre
         # OutOfCore options, or None: scans above its threshold become proxies of a cache.
         self.out_of_core = out_of_core
@@ -338,6 +343,12 @@ class ImportJob(PointObjectJob):
         self._intensity = attrs.get("intensity")
         classification = attrs.get("classification")
         self._classification = None if classification is None else np.asarray(classification)
+        scan_index = attrs.get("scan_index")
+        scan_names = str(dict(data.metadata).get("scan_names", "")).split("\n")
+        images = dict(data.metadata).get("images2d")
+        if images:  # E57 photos: listed, not (yet) used to colour the points
+            self.warnings.append("The file holds %d image(s), not imported: %s" % (
+                int(dict(data.metadata).get("images2d_count", 0)), str(images).replace("\n", "; ")))
         del attrs, data
         self._origin = rounded_centre(positions) if self.recentre else np.zeros(3)
         self._local = local_positions(positions, self._origin)
@@ -345,7 +356,14 @@ class ImportJob(PointObjectJob):
         self._cached = self.out_of_core is not None and self.out_of_core.wants(len(self._local))
         self._root = self.track(bpy.data.collections, bpy.data.collections.new(self.stem))
         groups = []
-        if self.split and self._classification is not None:
+        if self.split_scans and scan_index is not None:
+            scan_index = np.asarray(scan_index)
+            self._scan_groups = True
+            for i in np.unique(scan_index):
+                name = scan_names[i] if i < len(scan_names) and scan_names[i].strip() else \
+                    "%s scan %d" % (self.stem, i)
+                groups.append((name, np.nonzero(scan_index == i)[0]))
+        elif self.split and self._classification is not None:
             for code in np.unique(self._classification):
                 groups.append((class_name(code), np.nonzero(self._classification == code)[0]))
         else:
@@ -365,6 +383,8 @@ class ImportJob(PointObjectJob):
     def _create_group(self, label, index):
         if label is None:
             coll, name = self._root, self.stem
+        elif self._scan_groups:  # E57 scans: side by side in the file's collection
+            coll, name = self._root, label
         else:
             coll = self.track(bpy.data.collections, bpy.data.collections.new(label))
             self._root.children.link(coll)
@@ -428,7 +448,7 @@ class ImportJob(PointObjectJob):
 
 
 def import_point_cloud(context, filepath, split_by_classification=False, recentre=True,
-                       progress=None, cancelled=None, warnings=None, out_of_core=None):
+                       progress=None, cancelled=None, warnings=None, out_of_core=None, split_by_scan=True):
     """Read ``filepath`` and add it to the scene; returns the created objects.
 
     ``progress(done, total, stage)`` is called after each step and
@@ -437,8 +457,10 @@ def import_point_cloud(context, filepath, split_by_classification=False, recentr
     left exactly as it was, and so it is for a file with no points (ValueError).
     What the reader let pass with a warning is appended to ``warnings``.
     ``out_of_core`` (an OutOfCore): groups above its threshold are written
-    to caches and added as light proxies that reference them."""
-    job = ImportJob(context, filepath, split_by_classification, recentre, out_of_core)
+    to caches and added as light proxies that reference them.
+    ``split_by_scan`` (E57): one object per scan, named after the file's
+    scan names, in the file's collection; False merges the scans."""
+    job = ImportJob(context, filepath, split_by_classification, recentre, out_of_core, split_by_scan)
     try:
         while True:
             if progress is not None:
@@ -516,6 +538,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
 
     filepath: bpy.props.StringProperty(subtype='FILE_PATH', options={'HIDDEN'})
     split_by_classification: bpy.props.BoolProperty(default=False, options={'HIDDEN'})
+    split_by_scan: bpy.props.BoolProperty(default=True, options={'HIDDEN'})
     recentre: bpy.props.BoolProperty(default=True, options={'HIDDEN'})
     out_of_core: bpy.props.BoolProperty(default=True, options={'HIDDEN'})
     out_of_core_threshold: bpy.props.IntProperty(default=OUT_OF_CORE_THRESHOLD, options={'HIDDEN'})
@@ -523,7 +546,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
 
     def invoke(self, context, event):
         self._job = ImportJob(context, self.filepath, self.split_by_classification, self.recentre,
-                              _out_of_core(self))
+                              _out_of_core(self), self.split_by_scan)
         self._progress = _WindowProgress(context.window_manager)
         self._job.start_reading_in_thread()
         self._timer = context.window_manager.event_timer_add(0.05, window=context.window)
@@ -565,7 +588,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
 
 
 class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
-    """Import a point cloud (LAS, PLY, PCD, XYZ) as vertex-only meshes"""
+    """Import a point cloud (LAS, E57, PLY, PCD, XYZ) as vertex-only meshes"""
     bl_idname = "import_scene.pointnpr_cloud"
     bl_label = "Import Point Cloud"
     bl_options = {'REGISTER', 'UNDO'}
@@ -577,6 +600,11 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
         name="Split by Classification",
         description="One collection (and object) per LAS class, named after the ASPRS classes",
         default=False)
+    split_by_scan: bpy.props.BoolProperty(
+        name="One Object per Scan",
+        description="E57 files with several scans: one object per scan, named after it, in the file's "
+                    "collection (off: the scans merged into one object)",
+        default=True)
     recentre: bpy.props.BoolProperty(
         name="Recentre",
         description="Subtract the rounded bounding box centre (kept as the object's "
@@ -615,8 +643,8 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
             # which reports its own result.
             started = bpy.ops.import_scene.pointnpr_cloud_job(
                 'INVOKE_DEFAULT', filepath=self.filepath,
-                split_by_classification=self.split_by_classification, recentre=self.recentre,
-                out_of_core=self.out_of_core, out_of_core_threshold=self.out_of_core_threshold,
+                split_by_classification=self.split_by_classification, split_by_scan=self.split_by_scan,
+                recentre=self.recentre, out_of_core=self.out_of_core, out_of_core_threshold=self.out_of_core_threshold,
                 cache_folder=self.cache_folder)
             return {'FINISHED'} if started & {'RUNNING_MODAL', 'FINISHED'} else {'CANCELLED'}
         progress = _WindowProgress(context.window_manager)
@@ -624,7 +652,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
         try:
             objects = import_point_cloud(context, self.filepath, self.split_by_classification,
                                          self.recentre, progress=progress, warnings=warnings,
-                                         out_of_core=_out_of_core(self))
+                                         out_of_core=_out_of_core(self), split_by_scan=self.split_by_scan)
         except _import_errors() as exc:
             self.report({'ERROR'}, "Cannot import %s: %s" % (os.path.basename(self.filepath), exc))
             return {'CANCELLED'}
@@ -635,7 +663,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
 
 
 def menu_func_import(self, context):
-    self.layout.operator(IMPORT_SCENE_OT_pointnpr_cloud.bl_idname, text="Point Cloud (.las, .ply, .pcd, .xyz)")
+    self.layout.operator(IMPORT_SCENE_OT_pointnpr_cloud.bl_idname, text="Point Cloud (.las, .e57, .ply, .pcd, .xyz)")
 
 
 # Drag and drop of scans into the 3D viewport (FileHandler: Blender 4.1+).
