@@ -85,8 +85,8 @@ Limits limits_of(const PagedFile& file, const XmlElement* parent, const std::str
   if (!parent || !parent->child(min_name) || !parent->child(max_name)) return l;
   const XmlElement* a = parent->child(min_name);
   const XmlElement* b = parent->child(max_name);
-  l.minimum = a->type == "Integer" ? static_cast<double>(e57::xml_int(file, a, 0)) : e57::xml_double(file, a, 0);
-  l.maximum = b->type == "Integer" ? static_cast<double>(e57::xml_int(file, b, 0)) : e57::xml_double(file, b, 0);
+  l.minimum = e57::xml_number(file, a, 0);
+  l.maximum = e57::xml_number(file, b, 0);
   l.present = l.maximum > l.minimum;
   return l;
 }
@@ -116,10 +116,10 @@ Pose pose_of(const PagedFile& file, const XmlElement& scan) {
   const XmlElement* pose = scan.child("pose");
   if (!pose) return p;
   if (const XmlElement* t = pose->child("translation"))
-    for (int i = 0; i < 3; ++i) p.t[i] = e57::xml_double(file, t->child(std::string(1, "xyz"[i])), 0.0);
+    for (int i = 0; i < 3; ++i) p.t[i] = e57::xml_number(file, t->child(std::string(1, "xyz"[i])), 0.0);
   if (const XmlElement* q = pose->child("rotation")) {
-    double w = e57::xml_double(file, q->child("w"), 1.0), x = e57::xml_double(file, q->child("x"), 0.0),
-           y = e57::xml_double(file, q->child("y"), 0.0), z = e57::xml_double(file, q->child("z"), 0.0);
+    double w = e57::xml_number(file, q->child("w"), 1.0), x = e57::xml_number(file, q->child("x"), 0.0),
+           y = e57::xml_number(file, q->child("y"), 0.0), z = e57::xml_number(file, q->child("z"), 0.0);
     p.quaternion[0] = w, p.quaternion[1] = x, p.quaternion[2] = y, p.quaternion[3] = z;
     const double norm = std::sqrt(w * w + x * x + y * y + z * z);
     if (!(norm > 0) || !std::isfinite(norm)) file.fail("scan pose has a zero rotation quaternion");

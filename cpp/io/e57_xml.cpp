@@ -148,4 +148,14 @@ uint64_t attr_uint(const PagedFile& file, const XmlElement& e, const std::string
 
 std::string xml_string(const XmlElement* e) { return e ? e->text : std::string(); }
 
+double xml_number(const PagedFile& file, const XmlElement* e, double fallback) {
+  if (!e) return fallback;
+  if (e->type == "Integer") return static_cast<double>(xml_int(file, e, static_cast<int64_t>(fallback)));
+  if (e->type == "ScaledInteger") {
+    const double raw = static_cast<double>(xml_int(file, e, 0));
+    return raw * attr_double(file, *e, "scale", 1.0) + attr_double(file, *e, "offset", 0.0);
+  }
+  return xml_double(file, e, fallback);
+}
+
 }  // namespace pointnpr::e57

@@ -32,5 +32,8 @@ double attr_double(const PagedFile& file, const XmlElement& e, const std::string
 int64_t attr_int(const PagedFile& file, const XmlElement& e, const std::string& attr, int64_t fallback);
 uint64_t attr_uint(const PagedFile& file, const XmlElement& e, const std::string& attr);
 std::string xml_string(const XmlElement* e);
+// The value of a numeric element whatever its E57 type: Float, Integer, or
+// ScaledInteger (stored integer * scale + offset).
+double xml_number(const PagedFile& file, const XmlElement* e, double fallback);
 
 }  // namespace pointnpr::e57
