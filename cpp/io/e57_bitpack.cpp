@@ -103,7 +103,8 @@ void StreamDecoder::decode_available() {
 
 std::vector<std::vector<double>> decode_compressed_vector(const PagedFile& file, uint64_t section_physical,
                                                           uint64_t record_count,
-                                                          const std::vector<FieldCodec>& fields) {
+                                                          const std::vector<FieldCodec>& fields,
+                                                          Progress* progress) {
   const int64_t at = static_cast<int64_t>(section_physical);
   const uint64_t start = file.to_logical(section_physical);
   uint8_t header[kSectionHeaderSize];
@@ -143,7 +144,9 @@ std::vector<std::vector<double>> decode_compressed_vector(const PagedFile& file,
     file.fail("CompressedVector data offset " + std::to_string(data_physical) + " lies outside its section",
               at + 16);
   std::vector<uint8_t> packet(65536);
+  if (progress) progress->expect(end - pos);
   while (pos < end && !all_done()) {
+    check_cancelled(progress);
     const int64_t packet_at = static_cast<int64_t>(PagedFile::to_physical(pos));
     if (end - pos < 4) file.fail("a packet header runs past the end of its CompressedVector section", packet_at);
     file.copy(pos, 4, packet.data());
@@ -174,7 +177,9 @@ std::vector<std::vector<double>> decode_compressed_vector(const PagedFile& file,
       file.fail("unknown packet type " + std::to_string(type) + " in a CompressedVector section", packet_at);
     }
     pos += packet_length;
+    advance(progress, packet_length);
   }
+  if (pos < end) advance(progress, end - pos);  // all records read before the section's end
   for (size_t s = 0; s < streams.size(); ++s)
     if (!streams[s].done())
       file.fail("the data of field " + fields[s].name + " ends after " + std::to_string(streams[s].decoded()) +

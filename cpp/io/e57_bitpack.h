@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.h"
 #include "io/e57_pages.h"
 
 namespace pointnpr::e57 {
@@ -53,8 +54,11 @@ class StreamDecoder {
 // `record_count` records of `fields`: one column of record_count doubles per
 // field. Throws ReadError (bad section or packet header, counts the section
 // cannot hold, streams that end early or do not match the prototype).
+// `progress` (may be null) expects the section's bytes and advances by
+// packet; cancelling it stops the decoding at the next packet (Cancelled).
 std::vector<std::vector<double>> decode_compressed_vector(const PagedFile& file, uint64_t section_physical,
                                                           uint64_t record_count,
-                                                          const std::vector<FieldCodec>& fields);
+                                                          const std::vector<FieldCodec>& fields,
+                                                          Progress* progress = nullptr);
 
 }  // namespace pointnpr::e57

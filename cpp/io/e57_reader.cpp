@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "io/e57_bitpack.h"
 #include "io/e57_pages.h"
 #include "io/e57_xml.h"
@@ -168,11 +169,13 @@ class E57Reader {
     images_ = images_report(root.child("images2D"));
     images_count_ = root.child("images2D") ? root.child("images2D")->children.size() : 0;
     std::vector<PointData> out(scans);
+    // The caller's Progress (ProgressScope), handed to the worker threads.
+    Progress* progress = current_progress();
     // Scans decode independently; errors are thrown in scan order.
     std::vector<std::exception_ptr> errors(scans);
     tbb::parallel_for(size_t{0}, scans, [&](size_t i) {
       try {
-        out[i] = read_scan(data3d->children[i], i, scans);
+        out[i] = read_scan(data3d->children[i], i, scans, progress);
       } catch (...) {
         errors[i] = std::current_exception();
       }
@@ -183,7 +186,7 @@ class E57Reader {
   }
 
  private:
-  PointData read_scan(const XmlElement& scan, size_t index, size_t scans) const;
+  PointData read_scan(const XmlElement& scan, size_t index, size_t scans, Progress* progress) const;
 
   PagedFile file_;
   std::string coordinate_metadata_;
@@ -211,7 +214,7 @@ uint8_t to_u8(double v, const Limits& l) {
   return static_cast<uint8_t>(std::lround(std::clamp(unit, 0.0, 1.0) * 255.0));
 }
 
-PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scans) const {
+PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scans, Progress* progress) const {
   const std::string label = "scan " + std::to_string(index);
   const XmlElement* points = scan.child("points");
   if (!points || points->type != "CompressedVector") file_.fail(label + " has no CompressedVector 'points'");
@@ -233,7 +236,7 @@ PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scan
     file_.fail(label + " has neither cartesianX/Y/Z nor sphericalRange/Azimuth/Elevation");
 
   std::vector<std::vector<double>> columns =
-      e57::decode_compressed_vector(file_, file_offset, record_count, fields);
+      e57::decode_compressed_vector(file_, file_offset, record_count, fields, progress);
 
   // Points whose state says "no position" (2) or "direction only" (1) are left out.
   const int state = find_field(fields, cartesian ? "cartesianInvalidState" : "sphericalInvalidState");

@@ -346,3 +346,14 @@ def test_truncated_file_and_bad_crc(tmp_path, normals_file):
     assert "CRC-32C mismatch in page 1 (bytes 1024-2047)" in str(err)
     assert err.byte_offset == 1024 + 1020
     assert "not an E57 file" in str(read_error(tmp_path, b"ASTM-E58" + raw[8:]))
+
+
+def test_progress_reports_and_cancels(tmp_path):
+    path = DATA / "pye57_pumpAVisualReferenceImage.e57"
+    progress = pointnpr.Progress()
+    assert pointnpr.read(str(path), progress=progress).num_points == 155201
+    assert progress.fraction == 1.0
+    cancelled = pointnpr.Progress()
+    cancelled.cancel()
+    with pytest.raises(pointnpr.Cancelled):
+        pointnpr.read(str(path), progress=cancelled)
