@@ -421,6 +421,7 @@ def test_import_e57_gives_one_object_per_scan_in_the_files_collection(scene):
     for scan in scans:
         obj = objs[scan.metadata["scan_name"]]
         assert obj.users_collection[0].name == "pointnpr_two_scans_odd_widths"
+        assert obj["pointnpr_coordinate_metadata"] == "EPSG:2154"
         local = np.empty(len(obj.data.vertices) * 3, np.float32)
         obj.data.vertices.foreach_get("co", local)
         origin = np.asarray(obj["pointnpr_origin"], np.float64)
@@ -436,12 +437,14 @@ def test_import_e57_merged_into_one_object(scene):
 
 
 def test_import_e57_lists_its_images(scene):
-    warnings = []
-    objects = importer.import_point_cloud(bpy.context, PUMP_E57, warnings=warnings)
+    warnings, notes = [], []
+    objects = importer.import_point_cloud(bpy.context, PUMP_E57, warnings=warnings, notes=notes)
     assert [o.name for o in objects] == ["pumpA"]
     assert len(objects[0].data.vertices) == 155201
-    assert warnings == ["The file holds 1 image(s), not imported: "
-                        "pumpVisual (visualReferenceRepresentation, 3072x2304)"]
+    assert warnings == []
+    assert notes == ["The file holds 1 image(s), not imported: "
+                     "pumpVisual (visualReferenceRepresentation, 3072x2304)"]
+    assert "pointnpr_coordinate_metadata" not in objects[0]  # the file has none
 
 
 def test_broken_e57_leaves_scene_unchanged(scene, tmp_path):

@@ -232,6 +232,8 @@ class ImportJob(PointObjectJob):
         self._next_group = 0
         self.done = False
         self.warnings = []  # the reader's (metadata "warning")
+        self.notes = []  # what the import report lists besides (E57: images, coordinate metadata)
+        self._coordinate_metadata = ""
 
     # -- progress: steps done / total (total is known once the file is read)
     @property
@@ -347,8 +349,11 @@ class ImportJob(PointObjectJob):
         scan_names = str(dict(data.metadata).get("scan_names", "")).split("\n")
         images = dict(data.metadata).get("images2d")
         if images:  # E57 photos: listed, not (yet) used to colour the points
-            self.warnings.append("The file holds %d image(s), not imported: %s" % (
+            self.notes.append("The file holds %d image(s), not imported: %s" % (
                 int(dict(data.metadata).get("images2d_count", 0)), str(images).replace("\n", "; ")))
+        self._coordinate_metadata = str(dict(data.metadata).get("coordinate_metadata", ""))
+        if self._coordinate_metadata:  # E57: kept on the objects as 'pointnpr_coordinate_metadata'
+            self.notes.append("Coordinate metadata: %s" % self._coordinate_metadata)
         del attrs, data
         self._origin = rounded_centre(positions) if self.recentre else np.zeros(3)
         self._local = local_positions(positions, self._origin)
@@ -399,6 +404,8 @@ class ImportJob(PointObjectJob):
             obj = self.add_point_object(name, coll, pick(self._local), pick(self._colors),
                                         pick(self._intensity), pick(self._classification))
         obj["pointnpr_origin"] = [float(v) for v in self._origin]
+        if self._coordinate_metadata:
+            obj["pointnpr_coordinate_metadata"] = self._coordinate_metadata
 
     def _add_cached_object(self, name, collection, local, colors, intensity, classification):
         """Writes the group's points to an out-of-core cache and adds an
@@ -448,7 +455,8 @@ class ImportJob(PointObjectJob):
 
 
 def import_point_cloud(context, filepath, split_by_classification=False, recentre=True,
-                       progress=None, cancelled=None, warnings=None, out_of_core=None, split_by_scan=True):
+                       progress=None, cancelled=None, warnings=None, out_of_core=None, split_by_scan=True,
+                       notes=None):
     """Read ``filepath`` and add it to the scene; returns the created objects.
 
     ``progress(done, total, stage)`` is called after each step and
@@ -459,7 +467,9 @@ def import_point_cloud(context, filepath, split_by_classification=False, recentr
     ``out_of_core`` (an OutOfCore): groups above its threshold are written
     to caches and added as light proxies that reference them.
     ``split_by_scan`` (E57): one object per scan, named after the file's
-    scan names, in the file's collection; False merges the scans."""
+    scan names, in the file's collection; False merges the scans. What the
+    report lists besides (E57: its images, its coordinate metadata) is
+    appended to ``notes``."""
     job = ImportJob(context, filepath, split_by_classification, recentre, out_of_core, split_by_scan)
     try:
         while True:
@@ -476,6 +486,8 @@ def import_point_cloud(context, filepath, split_by_classification=False, recentr
         raise
     if warnings is not None:
         warnings.extend(job.warnings)
+    if notes is not None:
+        notes.extend(job.notes)
     return job.objects
 
 
@@ -501,13 +513,15 @@ class _WindowProgress:
             self.total = None
 
 
-def _report_result(op, objects, recentre, warnings=()):
+def _report_result(op, objects, recentre, warnings=(), notes=()):
     points = sum(int(o.get("pointnpr_cache_points", len(o.data.vertices))) for o in objects)
     op.report({'INFO'}, "Imported %d points into %d object(s)" % (points, len(objects)))
     cached = [o for o in objects if "pointnpr_cache" in o]
     if cached:
         op.report({'INFO'}, "%d object(s) out of core: light proxies of %s" % (
             len(cached), ", ".join(str(o["pointnpr_cache"]) for o in cached)))
+    for note in notes:
+        op.report({'INFO'}, note)
     for warning in warnings:  # what the reader let pass (e.g. extra data after a PLY's last element)
         op.report({'WARNING'}, warning)
     if not recentre and objects:
@@ -583,7 +597,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
         if not complete:
             return {'RUNNING_MODAL'}
         self._finish(context)
-        _report_result(self, self._job.objects, self.recentre, self._job.warnings)
+        _report_result(self, self._job.objects, self.recentre, self._job.warnings, self._job.notes)
         return {'FINISHED'}
 
 
@@ -648,17 +662,18 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
                 cache_folder=self.cache_folder)
             return {'FINISHED'} if started & {'RUNNING_MODAL', 'FINISHED'} else {'CANCELLED'}
         progress = _WindowProgress(context.window_manager)
-        warnings = []
+        warnings, notes = [], []
         try:
             objects = import_point_cloud(context, self.filepath, self.split_by_classification,
                                          self.recentre, progress=progress, warnings=warnings,
-                                         out_of_core=_out_of_core(self), split_by_scan=self.split_by_scan)
+                                         out_of_core=_out_of_core(self), split_by_scan=self.split_by_scan,
+                                         notes=notes)
         except _import_errors() as exc:
             self.report({'ERROR'}, "Cannot import %s: %s" % (os.path.basename(self.filepath), exc))
             return {'CANCELLED'}
         finally:
             progress.end()
-        _report_result(self, objects, self.recentre, warnings)
+        _report_result(self, objects, self.recentre, warnings, notes)
         return {'FINISHED'}
 
 
