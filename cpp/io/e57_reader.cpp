@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -200,18 +201,38 @@ int find_field(const std::vector<FieldCodec>& fields, const std::string& name) {
   return -1;
 }
 
+// A double as T without undefined behaviour: integers saturate at T's
+// range and NaN becomes 0 (a field of another type than the standard's, or
+// out of its declared range, cannot make a cast overflow).
+template <class T>
+T saturate(double v) {
+  if constexpr (std::is_floating_point_v<T>) {
+    return static_cast<T>(v);
+  } else {
+    if (std::isnan(v)) return T{0};
+    constexpr double lo = static_cast<double>(std::numeric_limits<T>::min());
+    constexpr double hi = static_cast<double>(std::numeric_limits<T>::max());
+    if (v <= lo) return std::numeric_limits<T>::min();
+    if (v >= hi) return std::numeric_limits<T>::max();
+    return static_cast<T>(v);
+  }
+}
+
 template <class T>
 std::vector<T> compact(const std::vector<double>& column, const std::vector<size_t>& kept) {
   std::vector<T> v;
   io::resize_fresh(v, kept.size());
-  for (size_t i = 0; i < kept.size(); ++i) v[i] = static_cast<T>(column[kept[i]]);
+  for (size_t i = 0; i < kept.size(); ++i) {
+    if constexpr (std::is_same_v<T, float>) v[i] = io::narrow_float(column[kept[i]]);
+    else v[i] = saturate<T>(column[kept[i]]);
+  }
   return v;
 }
 
 uint8_t to_u8(double v, const Limits& l) {
-  if (!l.present) return static_cast<uint8_t>(std::clamp(v, 0.0, 255.0));
+  if (!l.present) return saturate<uint8_t>(v);
   const double unit = (v - l.minimum) / (l.maximum - l.minimum);
-  return static_cast<uint8_t>(std::lround(std::clamp(unit, 0.0, 1.0) * 255.0));
+  return saturate<uint8_t>(std::round(unit * 255.0));
 }
 
 PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scans, Progress* progress) const {
@@ -323,13 +344,13 @@ PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scan
   integer_column("columnIndex", "column_index");
   if (const int f = find_field(fields, "returnIndex"); f >= 0) {
     std::vector<uint8_t> v(kept.size());
-    for (size_t k = 0; k < kept.size(); ++k) v[k] = static_cast<uint8_t>(std::clamp(columns[f][kept[k]] + 1, 0.0, 255.0));
+    for (size_t k = 0; k < kept.size(); ++k) v[k] = saturate<uint8_t>(columns[f][kept[k]] + 1);
     d.set("return_number", 1, std::move(v));
     used[f] = true;
   }
   if (const int f = find_field(fields, "returnCount"); f >= 0) {
     std::vector<uint8_t> v(kept.size());
-    for (size_t k = 0; k < kept.size(); ++k) v[k] = static_cast<uint8_t>(std::clamp(columns[f][kept[k]], 0.0, 255.0));
+    for (size_t k = 0; k < kept.size(); ++k) v[k] = saturate<uint8_t>(columns[f][kept[k]]);
     d.set("number_of_returns", 1, std::move(v));
     used[f] = true;
   }
@@ -350,9 +371,11 @@ PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scan
   for (size_t f = 0; f < fields.size(); ++f)
     if (!used[f] && !d.has(fields[f].name)) d.set(fields[f].name, 1, compact<double>(columns[f], kept));
 
+  // As every reader: NaN/inf positions dropped and counted (dropped_nonfinite).
+  const size_t nonfinite = d.drop_nonfinite_points();
   d.metadata["format"] = std::string("e57");
   d.metadata["version"] = std::to_string(file_.header().version_major) + "." + std::to_string(file_.header().version_minor);
-  d.metadata["point_count"] = static_cast<int64_t>(kept.size());
+  d.metadata["point_count"] = static_cast<int64_t>(kept.size() - nonfinite);
   d.metadata["record_count"] = static_cast<int64_t>(record_count);
   if (kept.size() != record_count) d.metadata["dropped_invalid"] = static_cast<int64_t>(record_count - kept.size());
   d.metadata["scan_index"] = static_cast<int64_t>(index);
@@ -428,10 +451,12 @@ PointData merge_scans(std::vector<PointData>&& scans) {
   }
   m.set("scan_index", 1, std::move(scan_index));
   std::string names;
-  int64_t dropped = 0;
+  int64_t dropped = 0, nonfinite = 0;
   for (const PointData& s : scans) {
     names += (names.empty() ? "" : "\n") + std::get<std::string>(s.metadata.at("scan_name"));
     if (auto it = s.metadata.find("dropped_invalid"); it != s.metadata.end()) dropped += std::get<int64_t>(it->second);
+    if (auto it = s.metadata.find("dropped_nonfinite"); it != s.metadata.end())
+      nonfinite += std::get<int64_t>(it->second);
   }
   if (!scans.empty()) {
     for (const char* key : {"version", "coordinate_metadata", "images2d", "images2d_count"})
@@ -442,6 +467,7 @@ PointData merge_scans(std::vector<PointData>&& scans) {
   m.metadata["scan_count"] = static_cast<int64_t>(scans.size());
   m.metadata["scan_names"] = names;
   if (dropped) m.metadata["dropped_invalid"] = dropped;
+  if (nonfinite) m.metadata["dropped_nonfinite"] = nonfinite;
   if (!not_merged.empty()) m.metadata["attributes_not_in_every_scan"] = not_merged;
   return m;
 }

@@ -360,3 +360,19 @@ def test_progress_reports_and_cancels(tmp_path):
     cancelled.cancel()
     with pytest.raises(pointnpr.Cancelled):
         pointnpr.read(str(path), progress=cancelled)
+
+
+def test_nan_positions_are_dropped_and_integer_attributes_saturate(tmp_path):
+    path = tmp_path / "odd_types.e57"
+    write_e57(path, [{"fields": [("cartesianX", double(), [1.0, np.nan, 3.0, 4.0, 5.0]),
+                                 ("cartesianY", double(), [0.0] * 5),
+                                 ("cartesianZ", double(), [0.0] * 5),
+                                 # a float where the standard has an integer
+                                 ("rowIndex", double(), [1e300, 0.0, np.nan, -5.0, 3.0]),
+                                 ("returnIndex", double(), [300.0, 0.0, -9.0, np.nan, 1.0])]}])
+    (scan,) = pointnpr.read_e57_scans(str(path))
+    assert scan.metadata["dropped_nonfinite"] == 1
+    np.testing.assert_array_equal(scan.positions[:, 0], [1.0, 3.0, 4.0, 5.0])
+    assert scan.attributes["row_index"].dtype == np.int64
+    np.testing.assert_array_equal(scan.attributes["row_index"], [np.iinfo(np.int64).max, 0, -5, 3])
+    np.testing.assert_array_equal(scan.attributes["return_number"], [255, 0, 0, 2])
