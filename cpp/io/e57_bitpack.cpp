@@ -37,17 +37,26 @@ int integer_bits(int64_t minimum, int64_t maximum) {
   return static_cast<int>(std::bit_width(range));
 }
 
-StreamDecoder::StreamDecoder(const FieldCodec& codec, double* out, uint64_t count)
-    : codec_(codec), out_(out), count_(count) {
+StreamDecoder::StreamDecoder(const FieldCodec& codec, uint64_t count) : codec_(codec), count_(count) {
+  // A constant field takes no bytes: every record is the minimum.
+  if (codec_.bits == 0) decoded_ = count_;
+  pending_.assign(kPad, 0);
+}
+
+const double* StreamDecoder::values(size_t n) {
   if (codec_.bits == 0) {
-    // A constant field takes no bytes: every record is the minimum.
     const double v = codec_.kind == FieldKind::ScaledInteger
                          ? static_cast<double>(codec_.minimum) * codec_.scale + codec_.offset
                          : static_cast<double>(codec_.minimum);
-    std::fill(out_, out_ + count_, v);
-    decoded_ = count_;
+    values_.assign(n, v);
   }
-  pending_.assign(kPad, 0);
+  return values_.data();
+}
+
+void StreamDecoder::drop(size_t n) {
+  first_ += n;
+  if (codec_.bits == 0) return;
+  values_.erase(values_.begin(), values_.begin() + static_cast<std::ptrdiff_t>(n));
 }
 
 void StreamDecoder::feed(const uint8_t* bytes, size_t n) {
@@ -64,7 +73,9 @@ void StreamDecoder::decode_available() {
   const uint64_t available_bits = pending_bytes_ * 8 - first_bit_;
   const uint64_t records = std::min<uint64_t>(available_bits / bits, count_ - decoded_);
   const uint8_t* p = pending_.data();
-  double* out = out_ + decoded_;
+  const size_t kept = values_.size();
+  values_.resize(kept + static_cast<size_t>(records));
+  double* out = values_.data() + kept;
   uint64_t bit = first_bit_;
   switch (codec_.kind) {
     case FieldKind::Float32:
@@ -101,10 +112,16 @@ void StreamDecoder::decode_available() {
   pending_.resize(pending_bytes_ + kPad);
 }
 
-std::vector<std::vector<double>> decode_compressed_vector(const PagedFile& file, uint64_t section_physical,
-                                                          uint64_t record_count,
-                                                          const std::vector<FieldCodec>& fields,
-                                                          Progress* progress) {
+namespace {
+
+// Where a CompressedVector's section and its packets lie (logical offsets).
+struct Section {
+  uint64_t start = 0, end = 0;
+  uint64_t data_physical = 0;
+};
+
+Section parse_section(const PagedFile& file, uint64_t section_physical, uint64_t record_count,
+                      const std::vector<FieldCodec>& fields) {
   const int64_t at = static_cast<int64_t>(section_physical);
   const uint64_t start = file.to_logical(section_physical);
   uint8_t header[kSectionHeaderSize];
@@ -127,17 +144,46 @@ std::vector<std::vector<double>> decode_compressed_vector(const PagedFile& file,
                   "-byte section can hold (" + std::to_string(max_records) + " records of " +
                   std::to_string(total_bits) + " bits)", at);
 
-  std::vector<std::vector<double>> columns(fields.size());
+  return {start, end, data_physical};
+}
+
+}  // namespace
+
+void check_compressed_vector(const PagedFile& file, uint64_t section_physical, uint64_t record_count,
+                             const std::vector<FieldCodec>& fields) {
+  parse_section(file, section_physical, record_count, fields);
+}
+
+void decode_compressed_vector(const PagedFile& file, uint64_t section_physical, uint64_t record_count,
+                              const std::vector<FieldCodec>& fields, const RowBlockSink& sink, Progress* progress,
+                              size_t block_rows) {
+  const Section section = parse_section(file, section_physical, record_count, fields);
+  const int64_t at = static_cast<int64_t>(section_physical);
+  const uint64_t start = section.start, end = section.end, data_physical = section.data_physical;
+
   std::vector<StreamDecoder> streams;
   streams.reserve(fields.size());
-  for (size_t i = 0; i < fields.size(); ++i) {
-    io::resize_fresh(columns[i], static_cast<size_t>(record_count));
-    streams.emplace_back(fields[i], columns[i].data(), record_count);
-  }
+  for (const FieldCodec& f : fields) streams.emplace_back(f, record_count);
   auto all_done = [&] {
     return std::all_of(streams.begin(), streams.end(), [](const StreamDecoder& s) { return s.done(); });
   };
-  if (record_count == 0 || all_done()) return columns;
+  // Hands over the records every stream has decoded, in blocks; `all`: the
+  // last, partial block too.
+  uint64_t emitted = 0;
+  std::vector<const double*> columns(fields.size());
+  auto emit = [&](bool all) {
+    uint64_t complete = record_count;
+    for (const StreamDecoder& s : streams) complete = std::min(complete, s.decoded());
+    while (complete - emitted >= block_rows || (all && complete > emitted)) {
+      const size_t n = static_cast<size_t>(std::min<uint64_t>(complete - emitted, block_rows));
+      for (size_t f = 0; f < streams.size(); ++f) columns[f] = streams[f].values(n);
+      sink(emitted, n, columns);
+      for (StreamDecoder& s : streams) s.drop(n);
+      emitted += n;
+    }
+  };
+  if (record_count == 0) return;
+  if (all_done()) return emit(true);
 
   uint64_t pos = file.to_logical(data_physical);
   if (pos < start + kSectionHeaderSize || pos >= end)
@@ -173,6 +219,7 @@ std::vector<std::vector<double>> decode_compressed_vector(const PagedFile& file,
         streams[s].feed(packet.data() + offset, n);
         offset += n;
       }
+      emit(false);
     } else if (type != kIndexPacket && type != kEmptyPacket) {
       file.fail("unknown packet type " + std::to_string(type) + " in a CompressedVector section", packet_at);
     }
@@ -185,7 +232,7 @@ std::vector<std::vector<double>> decode_compressed_vector(const PagedFile& file,
       file.fail("the data of field " + fields[s].name + " ends after " + std::to_string(streams[s].decoded()) +
                     " of " + std::to_string(record_count) + " records (the prototype does not match the data)",
                 at);
-  return columns;
+  emit(true);
 }
 
 }  // namespace pointnpr::e57

@@ -4,7 +4,11 @@
 // from the standard; the layers are e57_pages (header, pages, CRC-32C),
 // e57_xml (the XML section) and e57_bitpack (CompressedVector sections).
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
+#include <memory>
+#include <set>
 #include <limits>
 #include <string>
 #include <type_traits>
@@ -218,16 +222,61 @@ T saturate(double v) {
   }
 }
 
-template <class T>
-std::vector<T> compact(const std::vector<double>& column, const std::vector<size_t>& kept) {
-  std::vector<T> v;
-  io::resize_fresh(v, kept.size());
-  for (size_t i = 0; i < kept.size(); ++i) {
-    if constexpr (std::is_same_v<T, float>) v[i] = io::narrow_float(column[kept[i]]);
-    else v[i] = saturate<T>(column[kept[i]]);
+// The attributes a scan is read into, block after block: each appends the
+// values of the block's kept rows (`rows`) of its field(s), converted.
+struct Outputs {
+  using Columns = std::vector<const double*>;
+  explicit Outputs(size_t records) : capacity(records) {}
+
+  template <class T, class Convert>
+  void column(int field, const std::string& name, Convert convert) {
+    names.insert(name);
+    auto values = std::make_shared<std::vector<T>>();
+    values->reserve(capacity);
+    appenders.push_back([this, values, field, convert](const Columns& c) {
+      const double* col = c[static_cast<size_t>(field)];
+      for (uint32_t i : rows) values->push_back(convert(col[i]));
+    });
+    finishers.push_back([values, name](PointData& d) { d.set(name, 1, shrunk(std::move(*values))); });
   }
-  return v;
-}
+
+  template <class T, class Convert>
+  void triple(std::array<int, 3> fields, const std::string& name, Convert convert) {
+    names.insert(name);
+    auto values = std::make_shared<std::vector<T>>();
+    values->reserve(capacity * 3);
+    appenders.push_back([this, values, fields, convert](const Columns& c) {
+      for (uint32_t i : rows) {
+        const double v[3] = {c[static_cast<size_t>(fields[0])][i], c[static_cast<size_t>(fields[1])][i],
+                             c[static_cast<size_t>(fields[2])][i]};
+        T o[3];
+        convert(v, o);
+        values->insert(values->end(), o, o + 3);
+      }
+    });
+    finishers.push_back([values, name](PointData& d) { d.set(name, 3, shrunk(std::move(*values))); });
+  }
+
+  void append(const Columns& c) {
+    for (auto& a : appenders) a(c);
+  }
+  void finish(PointData& d) {
+    for (auto& f : finishers) f(d);
+  }
+
+  // Capacity reserved for every record gives back what invalid points left unused.
+  template <class T>
+  static std::vector<T> shrunk(std::vector<T>&& v) {
+    if (v.size() < v.capacity() / 8 * 7) v.shrink_to_fit();
+    return std::move(v);
+  }
+
+  size_t capacity;
+  std::vector<uint32_t> rows;  // the current block's kept rows
+  std::set<std::string> names;  // the attributes planned
+  std::vector<std::function<void(const Columns&)>> appenders;
+  std::vector<std::function<void(PointData&)>> finishers;
+};
 
 uint8_t to_u8(double v, const Limits& l) {
   if (!l.present) return saturate<uint8_t>(v);
@@ -256,42 +305,22 @@ PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scan
   if (!cartesian && !spherical)
     file_.fail(label + " has neither cartesianX/Y/Z nor sphericalRange/Azimuth/Elevation");
 
-  std::vector<std::vector<double>> columns =
-      e57::decode_compressed_vector(file_, file_offset, record_count, fields, progress);
-
+  const Pose pose = pose_of(file_, scan);
   // Points whose state says "no position" (2) or "direction only" (1) are left out.
   const int state = find_field(fields, cartesian ? "cartesianInvalidState" : "sphericalInvalidState");
-  std::vector<size_t> kept;
-  kept.reserve(static_cast<size_t>(record_count));
-  for (size_t i = 0; i < record_count; ++i)
-    if (state < 0 || columns[static_cast<size_t>(state)][i] == 0.0) kept.push_back(i);
-
-  PointData d;
-  const Pose pose = pose_of(file_, scan);
-  io::resize_fresh(d.positions, kept.size() * 3);
-  const double* r = pose.r;
-  for (size_t k = 0; k < kept.size(); ++k) {
-    const size_t i = kept[k];
-    double p[3];
-    if (cartesian) {
-      p[0] = columns[cx][i], p[1] = columns[cy][i], p[2] = columns[cz][i];
-    } else {
-      const double range = columns[sr][i], az = columns[sa][i], el = columns[se][i];
-      p[0] = range * std::cos(el) * std::cos(az);
-      p[1] = range * std::cos(el) * std::sin(az);
-      p[2] = range * std::sin(el);
-    }
-    for (int a = 0; a < 3; ++a) d.positions[3 * k + a] = r[3 * a] * p[0] + r[3 * a + 1] * p[1] + r[3 * a + 2] * p[2] + pose.t[a];
-  }
-
   std::vector<bool> used(fields.size(), false);
   for (int f : {cx, cy, cz, sr, sa, se, state})
     if (f >= 0) used[static_cast<size_t>(f)] = true;
 
-  const XmlElement* intensity_limits_xml = scan.child("intensityLimits");
+  // The records arrive in blocks (e57::RowBlockSink); each block appends
+  // its kept rows to the outputs, reserved for every record up front.
+  e57::check_compressed_vector(file_, file_offset, record_count, fields);  // before reserving for its records
+  Outputs out(static_cast<size_t>(record_count));
+  PointData d;
+
   if (const int f = find_field(fields, "intensity"); f >= 0) {
-    d.set("intensity", 1, compact<float>(columns[f], kept));
-    Limits l = limits_of(file_, intensity_limits_xml, "intensityMinimum", "intensityMaximum");
+    out.column<float>(f, "intensity", [](double v) { return io::narrow_float(v); });
+    Limits l = limits_of(file_, scan.child("intensityLimits"), "intensityMinimum", "intensityMaximum");
     if (!l.present) l = limits_of(fields[f]);
     if (l.present) d.metadata["intensity_limits"] = std::vector<double>{l.minimum, l.maximum};
     used[f] = true;
@@ -300,84 +329,100 @@ PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scan
             blue = find_field(fields, "colorBlue");
   if (red >= 0 && green >= 0 && blue >= 0) {
     const XmlElement* cl = scan.child("colorLimits");
-    const int channel[3] = {red, green, blue};
+    const std::array<int, 3> channel = {red, green, blue};
     const char* names[3] = {"Red", "Green", "Blue"};
-    std::vector<uint8_t> colors;
-    io::resize_fresh(colors, kept.size() * 3);
-    std::vector<double> limits;
+    std::array<Limits, 3> limits;
+    std::vector<double> reported;
     for (int c = 0; c < 3; ++c) {
-      Limits l = limits_of(file_, cl, std::string("color") + names[c] + "Minimum", std::string("color") + names[c] + "Maximum");
-      if (!l.present) l = limits_of(fields[channel[c]]);
-      limits.push_back(l.minimum), limits.push_back(l.maximum);
-      const std::vector<double>& col = columns[channel[c]];
-      for (size_t k = 0; k < kept.size(); ++k) colors[3 * k + c] = to_u8(col[kept[k]], l);
+      limits[c] = limits_of(file_, cl, std::string("color") + names[c] + "Minimum",
+                            std::string("color") + names[c] + "Maximum");
+      if (!limits[c].present) limits[c] = limits_of(fields[channel[c]]);
+      reported.push_back(limits[c].minimum), reported.push_back(limits[c].maximum);
       used[channel[c]] = true;
     }
-    d.set("colors", 3, std::move(colors));
-    d.metadata["color_limits"] = std::move(limits);
+    out.triple<uint8_t>(channel, "colors", [limits](const double v[3], uint8_t o[3]) {
+      for (int c = 0; c < 3; ++c) o[c] = to_u8(v[c], limits[c]);
+    });
+    d.metadata["color_limits"] = std::move(reported);
   }
   const int nx = find_field(fields, "nor:normalX"), ny = find_field(fields, "nor:normalY"),
             nz = find_field(fields, "nor:normalZ");
   if (nx >= 0 && ny >= 0 && nz >= 0) {
     // Normals turn with the scan's pose (no translation).
-    std::vector<float> normals;
-    io::resize_fresh(normals, kept.size() * 3);
-    for (size_t k = 0; k < kept.size(); ++k) {
-      const size_t i = kept[k];
-      const double n[3] = {columns[nx][i], columns[ny][i], columns[nz][i]};
-      for (int a = 0; a < 3; ++a)
-        normals[3 * k + a] = io::narrow_float(r[3 * a] * n[0] + r[3 * a + 1] * n[1] + r[3 * a + 2] * n[2]);
-    }
-    d.set("normals", 3, std::move(normals));
+    out.triple<float>({nx, ny, nz}, "normals", [pose](const double n[3], float o[3]) {
+      const double* r = pose.r;
+      for (int a = 0; a < 3; ++a) o[a] = io::narrow_float(r[3 * a] * n[0] + r[3 * a + 1] * n[1] + r[3 * a + 2] * n[2]);
+    });
     used[nx] = used[ny] = used[nz] = true;
   }
   // Index-like integers keep their values; LAS's return_number counts from 1.
-  auto integer_column = [&](const char* field, const char* attr) {
+  for (auto [field, attr] : {std::pair{"rowIndex", "row_index"}, std::pair{"columnIndex", "column_index"}}) {
     const int f = find_field(fields, field);
-    if (f < 0) return;
-    const bool fits32 = fields[f].kind == FieldKind::Integer && fields[f].minimum >= INT32_MIN && fields[f].maximum <= INT32_MAX;
-    if (fits32) d.set(attr, 1, compact<int32_t>(columns[f], kept));
-    else d.set(attr, 1, compact<int64_t>(columns[f], kept));
-    used[f] = true;
-  };
-  integer_column("rowIndex", "row_index");
-  integer_column("columnIndex", "column_index");
-  if (const int f = find_field(fields, "returnIndex"); f >= 0) {
-    std::vector<uint8_t> v(kept.size());
-    for (size_t k = 0; k < kept.size(); ++k) v[k] = saturate<uint8_t>(columns[f][kept[k]] + 1);
-    d.set("return_number", 1, std::move(v));
+    if (f < 0) continue;
+    const FieldCodec& c = fields[f];
+    if (c.kind == FieldKind::Integer && c.minimum >= INT32_MIN && c.maximum <= INT32_MAX)
+      out.column<int32_t>(f, attr, [](double v) { return saturate<int32_t>(v); });
+    else
+      out.column<int64_t>(f, attr, [](double v) { return saturate<int64_t>(v); });
     used[f] = true;
   }
-  if (const int f = find_field(fields, "returnCount"); f >= 0) {
-    std::vector<uint8_t> v(kept.size());
-    for (size_t k = 0; k < kept.size(); ++k) v[k] = saturate<uint8_t>(columns[f][kept[k]]);
-    d.set("number_of_returns", 1, std::move(v));
-    used[f] = true;
-  }
-  if (const int f = find_field(fields, "timeStamp"); f >= 0) {
-    d.set("time_stamp", 1, compact<double>(columns[f], kept));
-    used[f] = true;
-  }
-  for (const char* flag : {"isIntensityInvalid", "isColorInvalid", "isTimeStampInvalid"}) {
-    if (const int f = find_field(fields, flag); f >= 0) {
-      const std::string attr = flag == std::string("isIntensityInvalid") ? "intensity_invalid"
-                               : flag == std::string("isColorInvalid")   ? "color_invalid"
-                                                                          : "time_stamp_invalid";
-      d.set(attr, 1, compact<uint8_t>(columns[f], kept));
+  auto take = [&](const char* field, const char* attr, auto convert) {
+    using T = decltype(convert(0.0));
+    if (const int f = find_field(fields, field); f >= 0) {
+      out.column<T>(f, attr, convert);
       used[f] = true;
     }
-  }
+  };
+  take("returnIndex", "return_number", [](double v) { return saturate<uint8_t>(v + 1); });
+  take("returnCount", "number_of_returns", [](double v) { return saturate<uint8_t>(v); });
+  take("timeStamp", "time_stamp", [](double v) { return v; });
+  take("isIntensityInvalid", "intensity_invalid", [](double v) { return saturate<uint8_t>(v); });
+  take("isColorInvalid", "color_invalid", [](double v) { return saturate<uint8_t>(v); });
+  take("isTimeStampInvalid", "time_stamp_invalid", [](double v) { return saturate<uint8_t>(v); });
   // Any other field, in double (exact for floats and integers up to 2^53).
   for (size_t f = 0; f < fields.size(); ++f)
-    if (!used[f] && !d.has(fields[f].name)) d.set(fields[f].name, 1, compact<double>(columns[f], kept));
+    if (!used[f] && !out.names.count(fields[f].name))
+      out.column<double>(static_cast<int>(f), fields[f].name, [](double v) { return v; });
+
+  std::vector<double> positions;
+  positions.reserve(static_cast<size_t>(record_count) * 3);
+  const double* r = pose.r;
+  e57::decode_compressed_vector(
+      file_, file_offset, record_count, fields,
+      [&](uint64_t, size_t n, const std::vector<const double*>& c) {
+        std::vector<uint32_t>& rows = out.rows;
+        rows.clear();
+        const double* st = state >= 0 ? c[static_cast<size_t>(state)] : nullptr;
+        for (size_t i = 0; i < n; ++i)
+          if (!st || st[i] == 0.0) rows.push_back(static_cast<uint32_t>(i));
+        for (uint32_t i : rows) {
+          double p[3];
+          if (cartesian) {
+            p[0] = c[cx][i], p[1] = c[cy][i], p[2] = c[cz][i];
+          } else {
+            const double range = c[sr][i], az = c[sa][i], el = c[se][i];
+            p[0] = range * std::cos(el) * std::cos(az);
+            p[1] = range * std::cos(el) * std::sin(az);
+            p[2] = range * std::sin(el);
+          }
+          for (int a = 0; a < 3; ++a)
+            positions.push_back(r[3 * a] * p[0] + r[3 * a + 1] * p[1] + r[3 * a + 2] * p[2] + pose.t[a]);
+        }
+        out.append(c);
+      },
+      progress);
+  const size_t kept = positions.size() / 3;
+  if (positions.size() < positions.capacity() / 8 * 7) positions.shrink_to_fit();
+  d.positions = std::move(positions);
+  out.finish(d);
 
   // As every reader: NaN/inf positions dropped and counted (dropped_nonfinite).
   const size_t nonfinite = d.drop_nonfinite_points();
   d.metadata["format"] = std::string("e57");
   d.metadata["version"] = std::to_string(file_.header().version_major) + "." + std::to_string(file_.header().version_minor);
-  d.metadata["point_count"] = static_cast<int64_t>(kept.size() - nonfinite);
+  d.metadata["point_count"] = static_cast<int64_t>(kept - nonfinite);
   d.metadata["record_count"] = static_cast<int64_t>(record_count);
-  if (kept.size() != record_count) d.metadata["dropped_invalid"] = static_cast<int64_t>(record_count - kept.size());
+  if (kept != record_count) d.metadata["dropped_invalid"] = static_cast<int64_t>(record_count - kept);
   d.metadata["scan_index"] = static_cast<int64_t>(index);
   d.metadata["scan_count"] = static_cast<int64_t>(scans);
   d.metadata["scan_name"] = e57::xml_string(scan.child("name"));

@@ -71,8 +71,7 @@ std::vector<uint8_t> pack(const std::vector<uint64_t>& raw, int bits) {
 // straddle data packets) and returns the decoded column.
 std::vector<double> decode_in_pieces(const FieldCodec& codec, const std::vector<uint8_t>& bytes, size_t count,
                                      uint32_t seed) {
-  std::vector<double> out(count, -1.0);
-  e57::StreamDecoder decoder(codec, out.data(), count);
+  e57::StreamDecoder decoder(codec, count);
   std::mt19937 rng(seed);
   size_t at = 0;
   while (at < bytes.size()) {
@@ -81,7 +80,8 @@ std::vector<double> decode_in_pieces(const FieldCodec& codec, const std::vector<
     at += n;
   }
   EXPECT_TRUE(decoder.done());
-  return out;
+  const double* values = decoder.values(count);
+  return std::vector<double>(values, values + count);
 }
 
 TEST(IoE57, BitPackDecodesIntegersOfEveryWidthAcrossPieces) {
@@ -138,10 +138,10 @@ TEST(IoE57, BitPackDecodesFloatsAndConstants) {
   // minimum == maximum: no bytes at all, every record the minimum.
   FieldCodec constant;
   constant.kind = FieldKind::Integer, constant.minimum = constant.maximum = 42, constant.bits = 0;
-  std::vector<double> out(5, 0.0);
-  e57::StreamDecoder decoder(constant, out.data(), out.size());
+  e57::StreamDecoder decoder(constant, 5);
   EXPECT_TRUE(decoder.done());
-  EXPECT_EQ(out, std::vector<double>(5, 42.0));
+  const double* values = decoder.values(5);
+  EXPECT_EQ(std::vector<double>(values, values + 5), std::vector<double>(5, 42.0));
 }
 
 TEST(IoE57, BitPackStopsAtTheRecordCount) {
@@ -149,11 +149,15 @@ TEST(IoE57, BitPackStopsAtTheRecordCount) {
   FieldCodec codec;
   codec.kind = FieldKind::Integer, codec.minimum = 0, codec.maximum = 6, codec.bits = 3;
   const std::vector<uint8_t> bytes = pack({1, 2, 3, 4, 5}, 3);  // 15 bits in 2 bytes
-  std::vector<double> out(5, -1.0);
-  e57::StreamDecoder decoder(codec, out.data(), 4);
+  e57::StreamDecoder decoder(codec, 4);
   decoder.feed(bytes.data(), bytes.size());
   EXPECT_EQ(decoder.decoded(), 4u);
-  EXPECT_EQ(out, (std::vector<double>{1, 2, 3, 4, -1}));
+  const double* values = decoder.values(4);
+  EXPECT_EQ(std::vector<double>(values, values + 4), (std::vector<double>{1, 2, 3, 4}));
+  // Dropped values are forgotten; the rest stay in order.
+  decoder.drop(3);
+  EXPECT_EQ(decoder.first(), 3u);
+  EXPECT_EQ(decoder.values(1)[0], 4.0);
 }
 
 TEST(IoE57, ReadsPye57sTestFiles) {
