@@ -376,3 +376,61 @@ def test_nan_positions_are_dropped_and_integer_attributes_saturate(tmp_path):
     assert scan.attributes["row_index"].dtype == np.int64
     np.testing.assert_array_equal(scan.attributes["row_index"], [np.iinfo(np.int64).max, 0, -5, 3])
     np.testing.assert_array_equal(scan.attributes["return_number"], [255, 0, 0, 2])
+
+
+def packet(kind, body):
+    """A packet with its logical length (minus 1) filled in, padded to 4 bytes."""
+    body = bytes(body) + b"\0" * (-len(body) % 4)
+    return bytes([kind, 0]) + struct.pack("<H", len(body) + 3) + body
+
+
+def with_packets(path, make_packets):
+    """pye57_testWithNormals.e57 with its one CompressedVector section (at
+    byte 48, 6 streams of 8 bytes) rebuilt from make_packets(streams, section
+    data offset), followed by the XML; header, pages and CRCs rebuilt."""
+    raw = path.read_bytes()
+    logical = logical_bytes(raw)
+    xml_offset, xml_length = struct.unpack_from("<QQ", raw, 24)
+    xml = logical[xml_offset:xml_offset + xml_length]  # page 0: physical == logical
+    data = logical[80:148]
+    assert data[0] == 1 and struct.unpack_from("<H", data, 4)[0] == 6
+    streams = [data[18 + 8 * s:26 + 8 * s] for s in range(6)]
+    packets = make_packets(streams, 80)
+    section = bytearray(32)
+    section[0] = 1
+    struct.pack_into("<QQQ", section, 8, 32 + len(packets), 80, 0)
+    body = bytearray(logical[:48] + bytes(section) + packets)
+    xml_logical = len(body)
+    body += xml
+    struct.pack_into("<QQ", body, 24, xml_logical // 1020 * 1024 + xml_logical % 1020, len(xml))
+    out = bytearray(paged(bytes(body)))
+    struct.pack_into("<Q", out, 16, len(out))
+    return paged(logical_bytes(out))
+
+
+def test_index_and_empty_packets_are_skipped_and_values_straddle_data_packets(tmp_path, normals_file):
+    def make(streams, data_offset):
+        empty = packet(2, b"\0" * 4)
+        index = packet(0, struct.pack("<HB9sQQ", 1, 0, b"", 0, data_offset))
+        first = packet(1, struct.pack("<H6H", 6, *[3] * 6) + b"".join(s[:3] for s in streams))
+        second = packet(1, struct.pack("<H6H", 6, *[5] * 6) + b"".join(s[3:] for s in streams))
+        return empty + index + first + empty + second
+
+    path = tmp_path / "packets.e57"
+    path.write_bytes(with_packets(normals_file, make))
+    (ours,) = pointnpr.read_e57_scans(str(path))
+    (original,) = pointnpr.read_e57_scans(str(normals_file))
+    np.testing.assert_array_equal(ours.positions, original.positions)
+    np.testing.assert_array_equal(ours.attributes["normals"], original.attributes["normals"])
+    assert ours.positions[:, 0].tolist() == [1.0, 2.0]
+
+
+@pytest.mark.parametrize("make, message", [
+    # (padded: a section too short for its records is refused before its packets)
+    (lambda s, o: packet(7, b"\0" * 60), "unknown packet type 7"),
+    (lambda s, o: packet(1, struct.pack("<H6H", 6, *[9] * 6) + b"".join(s)), "overruns its data packet"),
+    (lambda s, o: packet(1, struct.pack("<H6H", 6, *[4] * 6) + b"".join(x[:4] for x in s)), "ends after 1 of 2 records"),
+    (lambda s, o: b"\x01\x00\xff\xff" + b"\0" * 60, "runs past the end of its section"),
+])
+def test_broken_packets_are_one_read_error_each(tmp_path, normals_file, make, message):
+    assert message in str(read_error(tmp_path, with_packets(normals_file, make)))
