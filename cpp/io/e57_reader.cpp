@@ -511,6 +511,14 @@ PointData merge_scans(std::vector<PointData>&& scans) {
   m.metadata["point_count"] = static_cast<int64_t>(total);
   m.metadata["scan_count"] = static_cast<int64_t>(scans.size());
   m.metadata["scan_names"] = names;
+  // Each scan's scanner position (its pose translation), 3 per scan: where
+  // grid normals face (pointnpr.grid_normals).
+  std::vector<double> origins;
+  for (const PointData& s : scans) {
+    const auto& t = std::get<std::vector<double>>(s.metadata.at("pose_translation"));
+    origins.insert(origins.end(), t.begin(), t.end());
+  }
+  m.metadata["scan_origins"] = std::move(origins);
   if (dropped) m.metadata["dropped_invalid"] = dropped;
   if (nonfinite) m.metadata["dropped_nonfinite"] = nonfinite;
   if (!not_merged.empty()) m.metadata["attributes_not_in_every_scan"] = not_merged;

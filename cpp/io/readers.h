@@ -57,7 +57,8 @@ PointData read_text(const std::string& path);
 std::vector<PointData> read_e57_scans(const std::string& path);
 // All scans of an E57 file as one PointData: the attributes every scan has,
 // plus "scan_index" (uint32, the scan each point came from); metadata
-// "scan_names" (one per line) and "scan_count".
+// "scan_names" (one per line), "scan_count" and "scan_origins" (each
+// scan's pose translation, its scanner position: 3 per scan).
 PointData read_e57(const std::string& path);
 
 // The same readers on bytes in memory (fuzzing, embedded data). `name` takes
