@@ -39,6 +39,7 @@ from ._pointnpr import (  # noqa: F401  (geometry: cpp/geometry, docs/geometry.m
     curvature,
     estimate_normals,
     feature_degree,
+    grid_normals,
     knn,
     line_fit,
     local_resolution,

@@ -459,3 +459,27 @@ def test_broken_e57_leaves_scene_unchanged(scene, tmp_path):
         bpy.ops.import_scene.pointnpr_cloud(filepath=str(path))
     assert "CRC-32C mismatch in page 1" in str(info.value)
     assert _scene_snapshot() == before
+
+
+def test_import_e57_gives_structured_scans_grid_normals_facing_the_scanner(scene):
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=TWO_SCANS_E57) == {'FINISHED'}
+    (gridded, spherical) = pointnpr.read_e57_scans(TWO_SCANS_E57)
+    obj = bpy.data.objects["odd widths"]
+    normals = _attribute(obj.data, "N", "vector", np.float32, 3)
+    expected = pointnpr.grid_normals(gridded.positions, gridded.attributes["row_index"].astype(np.int64),
+                                     gridded.attributes["column_index"].astype(np.int64),
+                                     np.asarray(gridded.metadata["pose_translation"]))
+    np.testing.assert_array_equal(normals, expected)
+    np.testing.assert_allclose(np.linalg.norm(normals, axis=1), 1.0, atol=1e-6)
+    facing = np.einsum("ij,ij->i", normals, np.asarray(gridded.metadata["pose_translation"]) - gridded.positions)
+    assert (facing >= 0).all()
+    # The spherical scan has no row/column grid: no normals, the render estimates them.
+    assert "N" not in bpy.data.objects["spherical"].data.attributes
+
+
+def test_import_e57_keeps_the_files_normals(scene):
+    path = os.path.join(helpers.IO_DATA, "e57", "pye57_testWithNormals.e57")
+    objects = importer.import_point_cloud(bpy.context, path)
+    (scan,) = pointnpr.read_e57_scans(path)
+    np.testing.assert_array_equal(_attribute(objects[0].data, "N", "vector", np.float32, 3),
+                                  scan.attributes["normals"])

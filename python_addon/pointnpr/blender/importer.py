@@ -199,6 +199,54 @@ class OutOfCore:
         return os.path.join(folder, safe + CACHE_EXTENSION)
 
 
+def scan_normals(scan):
+    """(N,3) float32 normals of one E57 scan (a PointData of
+    read_e57_scans), or None: the file's own (libE57's normals extension),
+    else, for a structured scan (row_index and column_index), from its grid,
+    facing its scanner (pointnpr.grid_normals): faster than a neighbour
+    search, and oriented."""
+    attrs = dict(scan.attributes)
+    if attrs.get("normals") is not None:
+        return np.asarray(attrs["normals"], np.float32)
+    rows, columns = attrs.get("row_index"), attrs.get("column_index")
+    if rows is None or columns is None or scan.num_points == 0:
+        return None
+    return _core().grid_normals(scan.positions, np.asarray(rows, np.int64), np.asarray(columns, np.int64),
+                                np.asarray(scan.metadata["pose_translation"], np.float64))
+
+
+def read_e57(path, progress=None):
+    """An E57 file's scans as one PointData, as pointnpr.read merges them
+    (the attributes every scan has, "scan_index", "scan_names"), plus
+    "normals" when a scan has normals (scan_normals; NaN rows for the
+    scans without)."""
+    core = _core()
+    scans = core.read_e57_scans(path, progress=progress)
+    if not scans:
+        return core.PointData(np.zeros((0, 3)), {}, {"format": "e57"})
+    attrs = {}
+    for name in dict(scans[0].attributes):
+        columns = [dict(s.attributes).get(name) for s in scans]
+        if all(c is not None and c.dtype == columns[0].dtype and c.shape[1:] == columns[0].shape[1:]
+               for c in columns):
+            attrs[name] = np.concatenate(columns)
+    normals = [scan_normals(s) for s in scans]
+    attrs.pop("normals", None)
+    if any(n is not None for n in normals):  # NaN rows for the scans without
+        attrs["normals"] = np.concatenate([np.full((s.num_points, 3), np.nan, np.float32) if n is None else n
+                                           for s, n in zip(scans, normals)])
+    del normals
+    attrs["scan_index"] = np.repeat(np.arange(len(scans), dtype=np.uint32), [s.num_points for s in scans])
+    first = dict(scans[0].metadata)
+    metadata = {key: first[key] for key in ("version", "coordinate_metadata", "images2d", "images2d_count")
+                if key in first}
+    metadata.update(format="e57", scan_count=len(scans),
+                    scan_names="\n".join(str(s.metadata.get("scan_name", "")) for s in scans))
+    positions = np.concatenate([s.positions for s in scans])
+    del scans
+    return core.PointData(positions, attrs, metadata)
+
+
 class ImportCancelled(Exception):
     """The user cancelled the import (ESC); nothing was added to the scene."""
 
@@ -220,6 +268,7 @@ class ImportJob(PointObjectJob):
         # or all scans merged into one object.
         self.split_scans = split_by_scan
         self._scan_groups = False
+        self._normals = None  # E57: the file's, or from the scans' row/column grids
         self.recentre = recentre
         # OutOfCore options, or None: scans above its threshold become proxies of a cache.
         self.out_of_core = out_of_core
@@ -270,6 +319,8 @@ class ImportJob(PointObjectJob):
         caches written from it (pointnpr.write_scan_caches)."""
         core = _core()
         if not self.streams():
+            if self.filepath.lower().endswith(".e57"):
+                return read_e57(self.filepath, progress=progress)
             return core.read(self.filepath, progress=progress)
 
         def path_for(code):
@@ -321,7 +372,7 @@ class ImportJob(PointObjectJob):
             if self._next_group == len(self._groups):
                 # Blender holds the points now: free the file's arrays before
                 # the scene (and the first render) needs memory.
-                self._local = self._colors = self._intensity = self._classification = None
+                self._local = self._colors = self._intensity = self._classification = self._normals = None
             return False
         # Last step: make it visible.
         parent = self.context.view_layer.active_layer_collection.collection \
@@ -351,6 +402,7 @@ class ImportJob(PointObjectJob):
         if images:  # E57 photos: listed, not (yet) used to colour the points
             self.notes.append("The file holds %d image(s), not imported: %s" % (
                 int(dict(data.metadata).get("images2d_count", 0)), str(images).replace("\n", "; ")))
+        self._normals = attrs.get("normals") if dict(data.metadata).get("format") == "e57" else None
         self._coordinate_metadata = str(dict(data.metadata).get("coordinate_metadata", ""))
         if self._coordinate_metadata:  # E57: kept on the objects as 'pointnpr_coordinate_metadata'
             self.notes.append("Coordinate metadata: %s" % self._coordinate_metadata)
@@ -403,6 +455,11 @@ class ImportJob(PointObjectJob):
         else:
             obj = self.add_point_object(name, coll, pick(self._local), pick(self._colors),
                                         pick(self._intensity), pick(self._classification))
+            normals = pick(self._normals)
+            if normals is not None and not np.isnan(normals).any():
+                # "N": the point normals the render takes instead of estimating them (sync.read_normals).
+                attr = obj.data.attributes.new("N", 'FLOAT_VECTOR', 'POINT')
+                attr.data.foreach_set("vector", np.ascontiguousarray(normals, np.float32).reshape(-1))
         obj["pointnpr_origin"] = [float(v) for v in self._origin]
         if self._coordinate_metadata:
             obj["pointnpr_coordinate_metadata"] = self._coordinate_metadata
