@@ -232,10 +232,11 @@ struct Outputs {
   void column(int field, const std::string& name, Convert convert) {
     names.insert(name);
     auto values = std::make_shared<std::vector<T>>();
-    values->reserve(capacity);
+    reserve_fresh(*values, capacity);
     appenders.push_back([this, values, field, convert](const Columns& c) {
       const double* col = c[static_cast<size_t>(field)];
-      for (uint32_t i : rows) values->push_back(convert(col[i]));
+      T* o = grow(*values, rows.size());
+      for (uint32_t i : rows) *o++ = convert(col[i]);
     });
     finishers.push_back([values, name](PointData& d) { d.set(name, 1, shrunk(std::move(*values))); });
   }
@@ -244,14 +245,16 @@ struct Outputs {
   void triple(std::array<int, 3> fields, const std::string& name, Convert convert) {
     names.insert(name);
     auto values = std::make_shared<std::vector<T>>();
-    values->reserve(capacity * 3);
+    reserve_fresh(*values, capacity * 3);
     appenders.push_back([this, values, fields, convert](const Columns& c) {
+      const double* a = c[static_cast<size_t>(fields[0])];
+      const double* b = c[static_cast<size_t>(fields[1])];
+      const double* d = c[static_cast<size_t>(fields[2])];
+      T* o = grow(*values, 3 * rows.size());
       for (uint32_t i : rows) {
-        const double v[3] = {c[static_cast<size_t>(fields[0])][i], c[static_cast<size_t>(fields[1])][i],
-                             c[static_cast<size_t>(fields[2])][i]};
-        T o[3];
+        const double v[3] = {a[i], b[i], d[i]};
         convert(v, o);
-        values->insert(values->end(), o, o + 3);
+        o += 3;
       }
     });
     finishers.push_back([values, name](PointData& d) { d.set(name, 3, shrunk(std::move(*values))); });
@@ -262,6 +265,21 @@ struct Outputs {
   }
   void finish(PointData& d) {
     for (auto& f : finishers) f(d);
+  }
+
+  // Capacity for n values, huge pages advised before they are first touched.
+  template <class T>
+  static void reserve_fresh(std::vector<T>& v, size_t n) {
+    v.reserve(n);
+    io::advise_huge_pages(v.data(), n * sizeof(T));
+  }
+
+  // Room for n more values at the end of v (reserved: no reallocation).
+  template <class T>
+  static T* grow(std::vector<T>& v, size_t n) {
+    const size_t at = v.size();
+    v.resize(at + n);
+    return v.data() + at;
   }
 
   // Capacity reserved for every record gives back what invalid points left unused.
@@ -281,7 +299,9 @@ struct Outputs {
 uint8_t to_u8(double v, const Limits& l) {
   if (!l.present) return saturate<uint8_t>(v);
   const double unit = (v - l.minimum) / (l.maximum - l.minimum);
-  return saturate<uint8_t>(std::round(unit * 255.0));
+  if (!(unit > 0)) return 0;  // NaN too
+  if (unit >= 1) return 255;
+  return static_cast<uint8_t>(unit * 255.0 + 0.5);  // rounded half up
 }
 
 PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scans, Progress* progress) const {
@@ -385,7 +405,7 @@ PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scan
       out.column<double>(static_cast<int>(f), fields[f].name, [](double v) { return v; });
 
   std::vector<double> positions;
-  positions.reserve(static_cast<size_t>(record_count) * 3);
+  Outputs::reserve_fresh(positions, static_cast<size_t>(record_count) * 3);
   const double* r = pose.r;
   e57::decode_compressed_vector(
       file_, file_offset, record_count, fields,
@@ -395,6 +415,7 @@ PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scan
         const double* st = state >= 0 ? c[static_cast<size_t>(state)] : nullptr;
         for (size_t i = 0; i < n; ++i)
           if (!st || st[i] == 0.0) rows.push_back(static_cast<uint32_t>(i));
+        double* o = Outputs::grow(positions, 3 * rows.size());
         for (uint32_t i : rows) {
           double p[3];
           if (cartesian) {
@@ -405,8 +426,7 @@ PointData E57Reader::read_scan(const XmlElement& scan, size_t index, size_t scan
             p[1] = range * std::cos(el) * std::sin(az);
             p[2] = range * std::sin(el);
           }
-          for (int a = 0; a < 3; ++a)
-            positions.push_back(r[3 * a] * p[0] + r[3 * a + 1] * p[1] + r[3 * a + 2] * p[2] + pose.t[a]);
+          for (int a = 0; a < 3; ++a) *o++ = r[3 * a] * p[0] + r[3 * a + 1] * p[1] + r[3 * a + 2] * p[2] + pose.t[a];
         }
         out.append(c);
       },
