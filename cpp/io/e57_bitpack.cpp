@@ -136,9 +136,10 @@ Section parse_section(const PagedFile& file, uint64_t section_physical, uint64_t
   const uint64_t end = start + length;
   uint64_t total_bits = 0;
   for (const FieldCodec& f : fields) total_bits += static_cast<uint64_t>(f.bits);
-  // Every record takes total_bits of the section's bytes; constant fields
-  // take none, yet a record count beyond the section's bits is still absurd.
-  const uint64_t max_records = length * 8 / std::max<uint64_t>(total_bits, 1);
+  // Every record takes total_bits of the section's bytes. Constant fields
+  // take none: records of constants alone are bounded by one per byte, so a
+  // small file cannot ask for an unbounded allocation.
+  const uint64_t max_records = total_bits == 0 ? length : length * 8 / total_bits;
   if (record_count > max_records)
     file.fail("recordCount " + std::to_string(record_count) + " is more than the " + std::to_string(length) +
                   "-byte section can hold (" + std::to_string(max_records) + " records of " +

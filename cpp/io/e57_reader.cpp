@@ -173,6 +173,7 @@ class E57Reader {
     coordinate_metadata_ = e57::xml_string(root.child("coordinateMetadata"));
     images_ = images_report(root.child("images2D"));
     images_count_ = root.child("images2D") ? root.child("images2D")->children.size() : 0;
+    check_sections_apart(data3d);
     std::vector<PointData> out(scans);
     // The caller's Progress (ProgressScope), handed to the worker threads.
     Progress* progress = current_progress();
@@ -192,6 +193,29 @@ class E57Reader {
 
  private:
   PointData read_scan(const XmlElement& scan, size_t index, size_t scans, Progress* progress) const;
+
+  // Each scan's records are bounded by its section's bytes; sections that
+  // share bytes would let many scans claim the same ones (and allocate for
+  // them), so no two may overlap.
+  void check_sections_apart(const XmlElement* data3d) const {
+    if (!data3d) return;
+    std::vector<std::pair<uint64_t, uint64_t>> sections;  // logical [begin, end)
+    for (const XmlElement& scan : data3d->children) {
+      const XmlElement* points = scan.child("points");
+      if (!points || !points->attributes.count("fileOffset")) continue;  // read_scan says why
+      const uint64_t begin = file_.to_logical(e57::attr_uint(file_, *points, "fileOffset"));
+      uint8_t header[32];
+      file_.copy(begin, sizeof(header), header);
+      const uint64_t length = io::load_le<uint64_t>(header + 8);
+      sections.emplace_back(begin, begin + std::max<uint64_t>(std::min(length, file_.logical_size() - begin), 1));
+    }
+    std::sort(sections.begin(), sections.end());
+    for (size_t i = 1; i < sections.size(); ++i)
+      if (sections[i].first < sections[i - 1].second)
+        file_.fail("two scans' CompressedVector sections overlap (at logical offsets " +
+                       std::to_string(sections[i - 1].first) + " and " + std::to_string(sections[i].first) + ")",
+                   static_cast<int64_t>(PagedFile::to_physical(sections[i].first)));
+  }
 
   PagedFile file_;
   std::string coordinate_metadata_;

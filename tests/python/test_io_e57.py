@@ -434,3 +434,12 @@ def test_index_and_empty_packets_are_skipped_and_values_straddle_data_packets(tm
 ])
 def test_broken_packets_are_one_read_error_each(tmp_path, normals_file, make, message):
     assert message in str(read_error(tmp_path, with_packets(normals_file, make)))
+
+
+def test_scans_sharing_a_section_are_a_read_error(tmp_path, normals_file):
+    def twice(xml):
+        start = xml.index("<vectorChild")
+        end = xml.index("</vectorChild>") + len("</vectorChild>")
+        return xml[:end] + xml[start:end] + xml[end:]
+
+    assert "two scans' CompressedVector sections overlap" in str(read_error(tmp_path, with_xml(normals_file, twice)))
