@@ -7,6 +7,7 @@ packages=(
   build-essential cmake pkg-config
   blender python3 python3-dev python3-numpy pybind11-dev
   libglm-dev libeigen3-dev libnanoflann-dev libtbb-dev libhwy-dev
+  libxml2-dev  # the XML section of E57 files
   libopenimageio-dev openimageio-tools
   libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 libgles-dev
   dpkg-dev  # dpkg-deb, dpkg-architecture: scripts/fetch_python313.sh (the cp313 module's headers)

@@ -9,10 +9,11 @@ namespace pointnpr {
 
 namespace {
 
-enum class Kind { Las, Ply, Pcd, Text, Unknown };
+enum class Kind { Las, E57, Ply, Pcd, Text, Unknown };
 
 Kind kind_from_extension(const std::string& ext) {
   if (ext == ".las" || ext == ".laz") return Kind::Las;
+  if (ext == ".e57") return Kind::E57;
   if (ext == ".ply") return Kind::Ply;
   if (ext == ".pcd") return Kind::Pcd;
   if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".csv" || ext == ".asc")
@@ -25,6 +26,7 @@ Kind kind_from_signature(const std::string& path) {
   const char* d = reinterpret_cast<const char*>(f.data());
   const size_t n = f.size();
   if (n >= 4 && std::memcmp(d, "LASF", 4) == 0) return Kind::Las;
+  if (n >= 8 && std::memcmp(d, "ASTM-E57", 8) == 0) return Kind::E57;
   if (n >= 4 && std::memcmp(d, "ply", 3) == 0 && (d[3] == '\n' || d[3] == '\r')) return Kind::Ply;
   const std::string head(d, std::min<size_t>(n, 256));
   if (head.rfind("# .PCD", 0) == 0 || head.rfind("VERSION", 0) == 0) return Kind::Pcd;
@@ -39,6 +41,7 @@ PointData read_point_cloud(const std::string& path) {
   if (kind == Kind::Unknown) kind = kind_from_signature(path);
   switch (kind) {
     case Kind::Las: return read_las(path);
+    case Kind::E57: return read_e57(path);
     case Kind::Ply: return read_ply(path);
     case Kind::Pcd: return read_pcd(path);
     case Kind::Text: return read_text(path);
@@ -47,7 +50,7 @@ PointData read_point_cloud(const std::string& path) {
   throw ReadError(path, "unrecognised point cloud format" +
                             (ext.empty() ? std::string(" (no file extension)")
                                          : " (extension '" + ext + "')") +
-                            "; supported: .las, .ply, .pcd, .xyz, .pts, .txt, .csv, .asc");
+                            "; supported: .las, .laz, .e57, .ply, .pcd, .xyz, .pts, .txt, .csv, .asc");
 }
 
 }  // namespace pointnpr

@@ -5,12 +5,13 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "io/point_data.h"
 
 namespace pointnpr {
 
-// Dispatches on the extension (.las .laz .ply .pcd .xyz .pts .txt .csv),
+// Dispatches on the extension (.las .laz .e57 .ply .pcd .xyz .pts .txt .csv),
 // falling back to the file's signature when the extension is unknown.
 PointData read_point_cloud(const std::string& path);
 
@@ -44,6 +45,22 @@ PointData read_pcd(const std::string& path);
 // Whitespace/comma separated text: x y z [r g b | intensity ...].
 PointData read_text(const std::string& path);
 
+// ASTM E2807 (E57) 1.x: every /data3D scan, one PointData each, in file
+// order: positions with the scan's pose applied, spherical coordinates made
+// cartesian (both in double), points whose cartesian/sphericalInvalidState
+// is not 0 left out; intensity (its limits in metadata), colours scaled to
+// 8 bits by their limits, normals (libE57's nor: extension, turned by the
+// pose), row/column indices, returns, timeStamp (see docs/io.md). Every
+// page's CRC-32C is checked. Metadata per scan: scan_name, scan_guid,
+// pose_rotation (w, x, y, z), pose_translation, coordinate_metadata,
+// images2d (one line per image), ...
+std::vector<PointData> read_e57_scans(const std::string& path);
+// All scans of an E57 file as one PointData: the attributes every scan has,
+// plus "scan_index" (uint32, the scan each point came from); metadata
+// "scan_names" (one per line), "scan_count" and "scan_origins" (each
+// scan's pose translation, its scanner position: 3 per scan).
+PointData read_e57(const std::string& path);
+
 // The same readers on bytes in memory (fuzzing, embedded data). `name` takes
 // the place of the path in messages and in extension-dependent choices
 // (".laz", ".pts"). The bytes must stay valid during the call.
@@ -51,6 +68,12 @@ PointData read_las_memory(const uint8_t* data, size_t size, const std::string& n
 PointData read_ply_memory(const uint8_t* data, size_t size, const std::string& name);
 PointData read_pcd_memory(const uint8_t* data, size_t size, const std::string& name);
 PointData read_text_memory(const uint8_t* data, size_t size, const std::string& name);
+// verify_checksums = false skips the pages' CRC-32C (fuzzing reaches the
+// layers behind them); files are always read with it.
+std::vector<PointData> read_e57_scans_memory(const uint8_t* data, size_t size, const std::string& name,
+                                             bool verify_checksums = true);
+PointData read_e57_memory(const uint8_t* data, size_t size, const std::string& name,
+                          bool verify_checksums = true);
 
 // Writes `data` to `path`, the format chosen by the extension: ".ply"
 // (binary little endian) or ".las" (LAS 1.4, point format 6, 7 or 8).

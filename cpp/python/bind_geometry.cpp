@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "geometry/analysis.h"
+#include "geometry/grid_normals.h"
 #include "python/bindings.h"
 #include "scene/point_cloud.h"
 
@@ -144,6 +145,30 @@ void bind_geometry(py::module_& m) {
       py::arg("orient_direction") = py::none(), py::arg("consistent") = true, py::arg("progress") = py::none(),
       "Unit normals (N,3) float32 by PCA of the k nearest neighbours (the point included), oriented "
       "toward a point (scanner/viewpoint), along a direction, else consistently (minimum spanning tree).");
+
+  m.def(
+      "grid_normals",
+      [](CArray<double> positions, CArray<int64_t> rows, CArray<int64_t> columns, CArray<double> scanner) {
+        if (positions.ndim() != 2 || positions.shape(1) != 3) throw py::value_error("positions must have shape (N, 3)");
+        const size_t n = static_cast<size_t>(positions.shape(0));
+        if (rows.ndim() != 1 || columns.ndim() != 1 || static_cast<size_t>(rows.shape(0)) != n ||
+            static_cast<size_t>(columns.shape(0)) != n)
+          throw py::value_error("rows and columns must have shape (N,), one per position");
+        if (scanner.size() != 3) throw py::value_error("scanner must hold 3 coordinates");
+        std::vector<float> normals;
+        {
+          py::gil_scoped_release release;
+          normals = geometry::grid_normals(positions.data(), n, rows.data(), columns.data(), scanner.data());
+        }
+        py::array_t<float> out({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+        if (n) std::memcpy(out.mutable_data(), normals.data(), normals.size() * sizeof(float));
+        return out;
+      },
+      py::arg("positions"), py::arg("rows"), py::arg("columns"), py::arg("scanner"),
+      "Unit normals (N,3) float32 of a structured scan from its row/column grid (an E57 scan's row_index and "
+      "column_index): per point the cross product of the differences to its nearer column and row neighbour, "
+      "facing the scanner position (an E57 scan's pose translation); points without grid neighbours face the "
+      "scanner. No neighbour search: much faster than estimate_normals, and oriented.");
 
   m.def(
       "curvature",

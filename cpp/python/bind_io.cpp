@@ -252,10 +252,31 @@ void bind_io(py::module_& m) {
         return convert(std::move(data));
       },
       py::arg("path"), py::arg("progress") = py::none(),
-      "Reads a point cloud file (.las, .laz, .ply, .pcd, .xyz/.pts/.txt/.csv) into a PointData. "
+      "Reads a point cloud file (.las, .laz, .e57 (all scans merged), .ply, .pcd, .xyz/.pts/.txt/.csv) into a PointData. "
       "Raises ReadError (a ValueError) with the file, the reason and the byte offset. "
       "progress: a pointnpr.Progress that LAZ decoding reports to by chunk and stops on "
       "(raising Cancelled) once cancelled.");
+
+  m.def(
+      "read_e57_scans",
+      [](py::object path, py::object progress) {
+        const std::string p = py::module_::import("os").attr("fsencode")(path).cast<std::string>();
+        Progress* watch = progress.is_none() ? nullptr : progress.cast<Progress*>();
+        std::vector<PointData> scans;
+        {
+          py::gil_scoped_release release;
+          const ProgressScope scope(watch);
+          scans = read_e57_scans(p);
+        }
+        py::list out;
+        for (PointData& s : scans) out.append(convert(std::move(s)));
+        return out;
+      },
+      py::arg("path"), py::arg("progress") = py::none(),
+      "Every scan of an .e57 file, one PointData each, in file order, with its pose applied "
+      "(metadata scan_name, scan_guid, pose_rotation, pose_translation, coordinate_metadata, "
+      "images2d, ...). read(path) gives the same points merged, with a scan_index attribute. progress: as read's. "
+      "Raises ReadError (a ValueError) with the file, the reason and the byte offset.");
 
   m.def(
       "read_header",

@@ -39,6 +39,7 @@ from ._pointnpr import (  # noqa: F401  (geometry: cpp/geometry, docs/geometry.m
     curvature,
     estimate_normals,
     feature_degree,
+    grid_normals,
     knn,
     line_fit,
     local_resolution,
@@ -49,7 +50,7 @@ from ._pointnpr import (  # noqa: F401  (geometry: cpp/geometry, docs/geometry.m
 )
 
 try:  # the readers are bound by cpp/python/bind_io.cpp
-    from ._pointnpr import PointData, ReadError, read, read_header, write  # noqa: F401
+    from ._pointnpr import PointData, ReadError, read, read_e57_scans, read_header, write  # noqa: F401
     from ._pointnpr import SCAN_CACHE_VERSION, CachedCloud, write_scan_cache, write_scan_caches  # noqa: F401  (docs/io.md#scan-cache)
 except ImportError:  # pragma: no cover - only while the readers are absent
     pass

@@ -9,7 +9,10 @@ Formats: LAS 1.0-1.4 and LAZ (LASzip, decoded in the project: point formats
 0-10, COPC read as plain LAZ; ``read(path, progress=pointnpr.Progress())``
 reports by chunk and can be cancelled), PLY (ascii / binary little and big endian; the vertex
 element), PCD (ascii / binary / binary_compressed; NaN points of organized
-clouds dropped) and delimited text (.xyz .pts .txt .csv .asc).
+clouds dropped), delimited text (.xyz .pts .txt .csv .asc) and E57 (ASTM
+E2807: every scan with its pose applied, merged with a "scan_index"
+attribute; ``read_e57_scans(path)`` gives one PointData per scan; see
+docs/io.md#e57 for its attributes and metadata).
 
 ``PointData.positions`` is an (N, 3) float64 array of exact georeferenced
 coordinates (LAS: integer * scale + offset). ``PointData.attributes`` holds
@@ -74,9 +77,10 @@ import numpy as _np
 
 from . import _pointnpr
 
-__all__ = ["read", "write", "to_cloud", "ReadError", "PointData", "RENDERED_ATTRIBUTES"]
+__all__ = ["read", "read_e57_scans", "write", "to_cloud", "ReadError", "PointData", "RENDERED_ATTRIBUTES"]
 
 read = _pointnpr.read
+read_e57_scans = _pointnpr.read_e57_scans
 write = _pointnpr.write
 ReadError = _pointnpr.ReadError
 PointData = _pointnpr.PointData

@@ -423,3 +423,80 @@ def test_a_dropped_file_imports_without_the_file_browser(scene):
         assert set(handler.bl_file_extensions.split(";")) >= {".las", ".laz", ".ply", ".pcd", ".xyz"}
     else:
         assert not hasattr(bpy.types, "FileHandler")
+
+
+TWO_SCANS_E57 = os.path.join(helpers.IO_DATA, "e57", "pointnpr_two_scans_odd_widths.e57")
+PUMP_E57 = os.path.join(helpers.IO_DATA, "e57", "pye57_pumpAVisualReferenceImage.e57")
+
+
+def test_import_e57_gives_one_object_per_scan_in_the_files_collection(scene):
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=TWO_SCANS_E57) == {'FINISHED'}
+    scans = pointnpr.read_e57_scans(TWO_SCANS_E57)
+    assert [s.metadata["scan_name"] for s in scans] == ["odd widths", "spherical"]
+    objs = {o.name: o for o in bpy.data.objects if o.type == 'MESH'}
+    assert set(objs) == {"odd widths", "spherical"}
+    for scan in scans:
+        obj = objs[scan.metadata["scan_name"]]
+        assert obj.users_collection[0].name == "pointnpr_two_scans_odd_widths"
+        assert obj["pointnpr_coordinate_metadata"] == "EPSG:2154"
+        local = np.empty(len(obj.data.vertices) * 3, np.float32)
+        obj.data.vertices.foreach_get("co", local)
+        origin = np.asarray(obj["pointnpr_origin"], np.float64)
+        expected = (scan.positions - origin).astype(np.float32)
+        np.testing.assert_array_equal(local.reshape(-1, 3), expected)
+
+
+def test_import_e57_merged_into_one_object(scene):
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=TWO_SCANS_E57, split_by_scan=False) == {'FINISHED'}
+    objs = [o for o in bpy.data.objects if o.type == 'MESH']
+    assert len(objs) == 1
+    assert len(objs[0].data.vertices) == sum(s.num_points for s in pointnpr.read_e57_scans(TWO_SCANS_E57))
+
+
+def test_import_e57_lists_its_images(scene):
+    warnings, notes = [], []
+    objects = importer.import_point_cloud(bpy.context, PUMP_E57, warnings=warnings, notes=notes)
+    assert [o.name for o in objects] == ["pumpA"]
+    assert len(objects[0].data.vertices) == 155201
+    assert warnings == []
+    assert notes == ["The file holds 1 image(s), not imported: "
+                     "pumpVisual (visualReferenceRepresentation, 3072x2304)"]
+    assert "pointnpr_coordinate_metadata" not in objects[0]  # the file has none
+
+
+def test_broken_e57_leaves_scene_unchanged(scene, tmp_path):
+    helpers.new_collection("Existing")
+    path = tmp_path / "broken.e57"
+    with open(TWO_SCANS_E57, "rb") as f:
+        raw = bytearray(f.read())
+    raw[2000] ^= 0x40  # a CRC mismatch in page 1
+    path.write_bytes(bytes(raw))
+    before = _scene_snapshot()
+    with pytest.raises(RuntimeError) as info:
+        bpy.ops.import_scene.pointnpr_cloud(filepath=str(path))
+    assert "CRC-32C mismatch in page 1" in str(info.value)
+    assert _scene_snapshot() == before
+
+
+def test_import_e57_gives_structured_scans_grid_normals_facing_the_scanner(scene):
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=TWO_SCANS_E57) == {'FINISHED'}
+    (gridded, spherical) = pointnpr.read_e57_scans(TWO_SCANS_E57)
+    obj = bpy.data.objects["odd widths"]
+    normals = _attribute(obj.data, "N", "vector", np.float32, 3)
+    expected = pointnpr.grid_normals(gridded.positions, gridded.attributes["row_index"].astype(np.int64),
+                                     gridded.attributes["column_index"].astype(np.int64),
+                                     np.asarray(gridded.metadata["pose_translation"]))
+    np.testing.assert_array_equal(normals, expected)
+    np.testing.assert_allclose(np.linalg.norm(normals, axis=1), 1.0, atol=1e-6)
+    facing = np.einsum("ij,ij->i", normals, np.asarray(gridded.metadata["pose_translation"]) - gridded.positions)
+    assert (facing >= 0).all()
+    # The spherical scan has no row/column grid: no normals, the render estimates them.
+    assert "N" not in bpy.data.objects["spherical"].data.attributes
+
+
+def test_import_e57_keeps_the_files_normals(scene):
+    path = os.path.join(helpers.IO_DATA, "e57", "pye57_testWithNormals.e57")
+    objects = importer.import_point_cloud(bpy.context, path)
+    (scan,) = pointnpr.read_e57_scans(path)
+    np.testing.assert_array_equal(_attribute(objects[0].data, "N", "vector", np.float32, 3),
+                                  scan.attributes["normals"])

@@ -6,7 +6,7 @@ import bpy
 import numpy as np
 from bpy_extras.io_utils import ImportHelper
 
-from . import sync
+from . import e57_import, sync
 
 # ASPRS LAS 1.4 standard point classes.
 ASPRS_CLASSES = {
@@ -32,7 +32,7 @@ ASPRS_CLASSES = {
 }
 
 # What pointnpr.read accepts (its ReadError lists them for unknown extensions).
-FILE_EXTENSIONS = ("las", "laz", "ply", "pcd", "xyz", "pts", "txt", "csv", "asc")
+FILE_EXTENSIONS = ("las", "laz", "e57", "ply", "pcd", "xyz", "pts", "txt", "csv", "asc")
 
 
 def class_name(code):
@@ -211,10 +211,16 @@ class ImportJob(PointObjectJob):
     the last step, so a failure or a cancel, followed by cleanup(), leaves
     the scene and bpy.data exactly as they were."""
 
-    def __init__(self, context, filepath, split_by_classification=False, recentre=True, out_of_core=None):
+    def __init__(self, context, filepath, split_by_classification=False, recentre=True, out_of_core=None,
+                 split_by_scan=True):
         self.context = context
         self.filepath = filepath
         self.split = split_by_classification
+        # E57: one object per scan (named after it) in the file's collection,
+        # or all scans merged into one object.
+        self.split_scans = split_by_scan
+        self._scan_groups = False
+        self._normals = None  # E57: the file's, or from the scans' row/column grids
         self.recentre = recentre
         # OutOfCore options, or None: scans above its threshold become proxies of a cache.
         self.out_of_core = out_of_core
@@ -227,6 +233,8 @@ class ImportJob(PointObjectJob):
         self._next_group = 0
         self.done = False
         self.warnings = []  # the reader's (metadata "warning")
+        self.notes = []  # what the import report lists besides (E57: images, coordinate metadata)
+        self._coordinate_metadata = ""
 
     # -- progress: steps done / total (total is known once the file is read)
     @property
@@ -263,6 +271,8 @@ class ImportJob(PointObjectJob):
         caches written from it (pointnpr.write_scan_caches)."""
         core = _core()
         if not self.streams():
+            if self.filepath.lower().endswith(".e57"):
+                return e57_import.read_e57(core, self.filepath, progress=progress)
             return core.read(self.filepath, progress=progress)
 
         def path_for(code):
@@ -314,7 +324,7 @@ class ImportJob(PointObjectJob):
             if self._next_group == len(self._groups):
                 # Blender holds the points now: free the file's arrays before
                 # the scene (and the first render) needs memory.
-                self._local = self._colors = self._intensity = self._classification = None
+                self._local = self._colors = self._intensity = self._classification = self._normals = None
             return False
         # Last step: make it visible.
         parent = self.context.view_layer.active_layer_collection.collection \
@@ -328,7 +338,7 @@ class ImportJob(PointObjectJob):
         if len(positions) == 0:
             # Nothing to add: an empty collection would be residue.
             raise ValueError("the file contains no points; nothing was imported")
-        metadata = dict(data.metadata)
+        metadata = metadata
         sensor = metadata.get("sensor_origin")  # an organized frame's sensor: estimated normals face it
         warning = metadata.get("warning")
         if warning:
@@ -340,6 +350,16 @@ class ImportJob(PointObjectJob):
         self._intensity = attrs.get("intensity")
         classification = attrs.get("classification")
         self._classification = None if classification is None else np.asarray(classification)
+        scan_index = attrs.get("scan_index")
+        scan_names = str(metadata.get("scan_names", "")).split("\n")
+        images = metadata.get("images2d")
+        if images:  # E57 photos: listed, not (yet) used to colour the points
+            self.notes.append("The file holds %d image(s), not imported: %s" % (
+                int(metadata.get("images2d_count", 0)), str(images).replace("\n", "; ")))
+        self._normals = attrs.get("normals") if metadata.get("format") == "e57" else None
+        self._coordinate_metadata = str(metadata.get("coordinate_metadata", ""))
+        if self._coordinate_metadata:  # E57: kept on the objects as 'pointnpr_coordinate_metadata'
+            self.notes.append("Coordinate metadata: %s" % self._coordinate_metadata)
         del attrs, data
         self._origin = rounded_centre(positions) if self.recentre else np.zeros(3)
         self._local = local_positions(positions, self._origin)
@@ -348,7 +368,14 @@ class ImportJob(PointObjectJob):
         self._cached = self.out_of_core is not None and self.out_of_core.wants(len(self._local))
         self._root = self.track(bpy.data.collections, bpy.data.collections.new(self.stem))
         groups = []
-        if self.split and self._classification is not None:
+        if self.split_scans and scan_index is not None:
+            scan_index = np.asarray(scan_index)
+            self._scan_groups = True
+            for i in np.unique(scan_index):
+                name = scan_names[i] if i < len(scan_names) and scan_names[i].strip() else \
+                    "%s scan %d" % (self.stem, i)
+                groups.append((name, np.nonzero(scan_index == i)[0]))
+        elif self.split and self._classification is not None:
             for code in np.unique(self._classification):
                 groups.append((class_name(code), np.nonzero(self._classification == code)[0]))
         else:
@@ -368,6 +395,8 @@ class ImportJob(PointObjectJob):
     def _create_group(self, label, index):
         if label is None:
             coll, name = self._root, self.stem
+        elif self._scan_groups:  # E57 scans: side by side in the file's collection
+            coll, name = self._root, label
         else:
             coll = self.track(bpy.data.collections, bpy.data.collections.new(label))
             self._root.children.link(coll)
@@ -381,9 +410,16 @@ class ImportJob(PointObjectJob):
         else:
             obj = self.add_point_object(name, coll, pick(self._local), pick(self._colors),
                                         pick(self._intensity), pick(self._classification))
+            normals = pick(self._normals)
+            if normals is not None and not np.isnan(normals).any():
+                # "N": the point normals the render takes instead of estimating them (sync.read_normals).
+                attr = obj.data.attributes.new("N", 'FLOAT_VECTOR', 'POINT')
+                attr.data.foreach_set("vector", np.ascontiguousarray(normals, np.float32).reshape(-1))
         obj["pointnpr_origin"] = [float(v) for v in self._origin]
         if getattr(self, "_sensor", None) is not None:
             obj["pointnpr_sensor"] = self._sensor  # in the object's (recentred) frame
+        if self._coordinate_metadata:
+            obj["pointnpr_coordinate_metadata"] = self._coordinate_metadata
 
     def _add_cached_object(self, name, collection, local, colors, intensity, classification):
         """Writes the group's points to an out-of-core cache and adds an
@@ -433,7 +469,8 @@ class ImportJob(PointObjectJob):
 
 
 def import_point_cloud(context, filepath, split_by_classification=False, recentre=True,
-                       progress=None, cancelled=None, warnings=None, out_of_core=None):
+                       progress=None, cancelled=None, warnings=None, out_of_core=None, split_by_scan=True,
+                       notes=None):
     """Read ``filepath`` and add it to the scene; returns the created objects.
 
     ``progress(done, total, stage)`` is called after each step and
@@ -442,8 +479,12 @@ def import_point_cloud(context, filepath, split_by_classification=False, recentr
     left exactly as it was, and so it is for a file with no points (ValueError).
     What the reader let pass with a warning is appended to ``warnings``.
     ``out_of_core`` (an OutOfCore): groups above its threshold are written
-    to caches and added as light proxies that reference them."""
-    job = ImportJob(context, filepath, split_by_classification, recentre, out_of_core)
+    to caches and added as light proxies that reference them.
+    ``split_by_scan`` (E57): one object per scan, named after the file's
+    scan names, in the file's collection; False merges the scans. What the
+    report lists besides (E57: its images, its coordinate metadata) is
+    appended to ``notes``."""
+    job = ImportJob(context, filepath, split_by_classification, recentre, out_of_core, split_by_scan)
     try:
         while True:
             if progress is not None:
@@ -459,6 +500,8 @@ def import_point_cloud(context, filepath, split_by_classification=False, recentr
         raise
     if warnings is not None:
         warnings.extend(job.warnings)
+    if notes is not None:
+        notes.extend(job.notes)
     return job.objects
 
 
@@ -484,13 +527,15 @@ class _WindowProgress:
             self.total = None
 
 
-def _report_result(op, objects, recentre, warnings=()):
+def _report_result(op, objects, recentre, warnings=(), notes=()):
     points = sum(int(o.get("pointnpr_cache_points", len(o.data.vertices))) for o in objects)
     op.report({'INFO'}, "Imported %d points into %d object(s)" % (points, len(objects)))
     cached = [o for o in objects if "pointnpr_cache" in o]
     if cached:
         op.report({'INFO'}, "%d object(s) out of core: light proxies of %s" % (
             len(cached), ", ".join(str(o["pointnpr_cache"]) for o in cached)))
+    for note in notes:
+        op.report({'INFO'}, note)
     for warning in warnings:  # what the reader let pass (e.g. extra data after a PLY's last element)
         op.report({'WARNING'}, warning)
     if not recentre and objects:
@@ -521,6 +566,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
 
     filepath: bpy.props.StringProperty(subtype='FILE_PATH', options={'HIDDEN'})
     split_by_classification: bpy.props.BoolProperty(default=False, options={'HIDDEN'})
+    split_by_scan: bpy.props.BoolProperty(default=True, options={'HIDDEN'})
     recentre: bpy.props.BoolProperty(default=True, options={'HIDDEN'})
     out_of_core: bpy.props.BoolProperty(default=True, options={'HIDDEN'})
     out_of_core_threshold: bpy.props.IntProperty(default=OUT_OF_CORE_THRESHOLD, options={'HIDDEN'})
@@ -528,7 +574,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
 
     def invoke(self, context, event):
         self._job = ImportJob(context, self.filepath, self.split_by_classification, self.recentre,
-                              _out_of_core(self))
+                              _out_of_core(self), self.split_by_scan)
         self._progress = _WindowProgress(context.window_manager)
         self._job.start_reading_in_thread()
         self._timer = context.window_manager.event_timer_add(0.05, window=context.window)
@@ -565,12 +611,12 @@ class IMPORT_SCENE_OT_pointnpr_cloud_job(bpy.types.Operator):
         if not complete:
             return {'RUNNING_MODAL'}
         self._finish(context)
-        _report_result(self, self._job.objects, self.recentre, self._job.warnings)
+        _report_result(self, self._job.objects, self.recentre, self._job.warnings, self._job.notes)
         return {'FINISHED'}
 
 
 class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
-    """Import a point cloud (LAS, PLY, PCD, XYZ) as vertex-only meshes"""
+    """Import a point cloud (LAS, E57, PLY, PCD, XYZ) as vertex-only meshes"""
     bl_idname = "import_scene.pointnpr_cloud"
     bl_label = "Import Point Cloud"
     bl_options = {'REGISTER', 'UNDO'}
@@ -582,6 +628,11 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
         name="Split by Classification",
         description="One collection (and object) per LAS class, named after the ASPRS classes",
         default=False)
+    split_by_scan: bpy.props.BoolProperty(
+        name="One Object per Scan",
+        description="E57 files with several scans: one object per scan, named after it, in the file's "
+                    "collection (off: the scans merged into one object)",
+        default=True)
     recentre: bpy.props.BoolProperty(
         name="Recentre",
         description="Subtract the rounded bounding box centre (kept as the object's "
@@ -620,27 +671,28 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
             # which reports its own result.
             started = bpy.ops.import_scene.pointnpr_cloud_job(
                 'INVOKE_DEFAULT', filepath=self.filepath,
-                split_by_classification=self.split_by_classification, recentre=self.recentre,
-                out_of_core=self.out_of_core, out_of_core_threshold=self.out_of_core_threshold,
+                split_by_classification=self.split_by_classification, split_by_scan=self.split_by_scan,
+                recentre=self.recentre, out_of_core=self.out_of_core, out_of_core_threshold=self.out_of_core_threshold,
                 cache_folder=self.cache_folder)
             return {'FINISHED'} if started & {'RUNNING_MODAL', 'FINISHED'} else {'CANCELLED'}
         progress = _WindowProgress(context.window_manager)
-        warnings = []
+        warnings, notes = [], []
         try:
             objects = import_point_cloud(context, self.filepath, self.split_by_classification,
                                          self.recentre, progress=progress, warnings=warnings,
-                                         out_of_core=_out_of_core(self))
+                                         out_of_core=_out_of_core(self), split_by_scan=self.split_by_scan,
+                                         notes=notes)
         except _import_errors() as exc:
             self.report({'ERROR'}, "Cannot import %s: %s" % (os.path.basename(self.filepath), exc))
             return {'CANCELLED'}
         finally:
             progress.end()
-        _report_result(self, objects, self.recentre, warnings)
+        _report_result(self, objects, self.recentre, warnings, notes)
         return {'FINISHED'}
 
 
 def menu_func_import(self, context):
-    self.layout.operator(IMPORT_SCENE_OT_pointnpr_cloud.bl_idname, text="Point Cloud (.las, .ply, .pcd, .xyz)")
+    self.layout.operator(IMPORT_SCENE_OT_pointnpr_cloud.bl_idname, text="Point Cloud (.las, .e57, .ply, .pcd, .xyz)")
 
 
 # Drag and drop of scans into the 3D viewport (FileHandler: Blender 4.1+).
