@@ -5,7 +5,7 @@ import bpy
 import numpy as np
 import pointnpr
 import pytest
-from pointnpr.blender import importer
+from pointnpr.blender import import_operators, importer
 
 import helpers
 
@@ -184,7 +184,7 @@ def test_broken_file_leaves_scene_unchanged(scene, tmp_path, kind):
 
 def test_import_menu_entry():
     funcs = getattr(bpy.types.TOPBAR_MT_file_import.draw, "_draw_funcs", [])
-    assert importer.menu_func_import in funcs
+    assert import_operators.menu_func_import in funcs
 
 
 def test_progress_is_reported_per_step(scene):

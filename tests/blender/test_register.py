@@ -1,7 +1,7 @@
 import bpy
 import pointnpr
 from pointnpr import blender as addon
-from pointnpr.blender import engine, importer, nodes, ui
+from pointnpr.blender import engine, import_operators, importer, nodes, ui
 
 
 def _registered_state():
@@ -11,7 +11,7 @@ def _registered_state():
         "scene_settings": "pointnpr" in bpy.types.Scene.bl_rna.properties,
         "default_style": "pointnpr_default_style" in bpy.types.Scene.bl_rna.properties,
         "collection_style": "pointnpr_style" in bpy.types.Collection.bl_rna.properties,
-        "importer": importer.IMPORT_SCENE_OT_pointnpr_cloud.is_registered,
+        "importer": import_operators.IMPORT_SCENE_OT_pointnpr_cloud.is_registered,
         "new_style_op": hasattr(bpy.ops.pointnpr, "new_style") and
         bpy.ops.pointnpr.new_style.get_rna_type() is not None,
     }
@@ -47,7 +47,7 @@ def test_register_unregister_twice():
         assert not nodes.PointNPRStyleTree.is_registered
         assert "pointnpr" not in bpy.types.Scene.bl_rna.properties
         assert "pointnpr_style" not in bpy.types.Collection.bl_rna.properties
-        assert not importer.IMPORT_SCENE_OT_pointnpr_cloud.is_registered
+        assert not import_operators.IMPORT_SCENE_OT_pointnpr_cloud.is_registered
         assert not _op_exists("new_style")
         assert nodes.node_classes() == []
         assert "POINTNPR" not in color_mgmt.COMPAT_ENGINES
@@ -63,7 +63,7 @@ def test_register_unregister_twice():
         assert _op_exists("new_style")
     # Import menu entry appears once, not once per registration.
     draw_funcs = getattr(bpy.types.TOPBAR_MT_file_import.draw, "_draw_funcs", [])
-    assert sum(1 for f in draw_funcs if f is importer.menu_func_import) == 1
+    assert sum(1 for f in draw_funcs if f is import_operators.menu_func_import) == 1
 
 
 def test_style_survives_reregistration(scene):

@@ -5,12 +5,12 @@ unregister() undoes everything register() did, so the add-on can be
 enabled and disabled repeatedly in one session.
 """
 
-from . import edits, engine, importer, nodes, segment, settings, sync, ui, versioning
+from . import edits, engine, import_operators, importer, nodes, segment, settings, sync, ui, versioning
 
 # Order matters: node classes before the properties that point to trees,
 # the engine before the panels that name it; versioning last (it migrates
 # the open file's legacy nodes, which needs all of them).
-_modules = (edits, nodes, settings, engine, ui, importer, segment, versioning)
+_modules = (edits, nodes, settings, engine, ui, import_operators, segment, versioning)
 _registered = []
 
 
@@ -36,5 +36,5 @@ def is_registered():
     return bool(_registered)
 
 
-__all__ = ("edits", "engine", "importer", "nodes", "segment", "settings", "sync", "ui", "versioning", "register",
+__all__ = ("edits", "engine", "import_operators", "importer", "nodes", "segment", "settings", "sync", "ui", "versioning", "register",
            "unregister")
