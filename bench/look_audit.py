@@ -6,19 +6,25 @@ the PCL mug scene (Kinect RGB-D frame), the PCL LMS400 table scene
 (terrestrial laser, intensity only) and Stanford's bun000 (one sparse
 colourless Cyberware range image). Presets: Toon, Ink outlines,
 Watercolor, Oil paint, Posterize, Urban map (its own mark colours by
-classification; scans without classes fall back to the points' colour).
+classification; scans without classes fall back to the points' colour),
+and the edge_enhance filter alone (eye-dome lighting and depth lines).
 
 Measures, per scan and preset:
   (a) holes: the points mark alone (the preset's own mark, no filters) is
       rendered; its silhouette (alpha >= 0.5) closed morphologically by a
       disk of radius CLOSE_RADIUS px is the *filled silhouette*. Holes = the
       share of the filled silhouette the preset leaves with alpha < 0.5
-      (background). Threshold 0.5 %.
+      (background). Threshold 0.5 %. Reported with it: the part of those
+      holes within CLOSE_RADIUS of covered pixels whose depths differ by
+      more than JUMP (5 %) of the nearest, i.e. where the closing bridged
+      two surfaces (an occlusion shadow, a gap between leaves), which a
+      depth-aware fill must leave open.
   (b) lines on planes: points whose surface variation (PCA of k = 64
       neighbours, lambda0 / sum) is below PLANAR_VARIATION are planar; the
       flag is rendered as the points' colour (same mark), made the majority
       over a 9x9 box of covered pixels (a noisy Kinect wall has scattered
-      non-planar points), and eroded by ERODE_PLANAR px so that true
+      non-planar points), kept within the filled silhouette (the gaps
+      between an aerial tile's scan lines belong to their plane) and eroded by ERODE_PLANAR px so that true
       silhouettes and creases at a plane's border do not count: the planar
       region. The preset is rendered
       with every point one constant grey (so colour texture draws no lines;
@@ -30,12 +36,14 @@ Measures, per scan and preset:
       ground, so scan-line dashes show here; on the Kinect frame the walls
       and the table.
 
-    PYTHONPATH=build /usr/bin/python3 bench/look_audit.py [out_dir] [--quick]
+    PYTHONPATH=build /usr/bin/python3 bench/look_audit.py [out_dir] [--quick] [--tiles]
+        [--scan=lion ...] [--preset="Oil paint" ...]
 
 Writes out_dir/look_audit.png (contact sheet: rows = scans, columns = the
 points mark then the presets; 1/4 scale), out_dir/look_audit_marked.png
 (the same with hole pixels red and line pixels blue) and prints a markdown
-table. `--quick` renders at 640x360.
+table. `--quick` renders at 640x360; `--tiles` also writes every render and
+its marked copy at full size; `--scan=`/`--preset=` pick some (by name).
 """
 import os
 import sys
@@ -46,13 +54,18 @@ import pointnpr
 from pointnpr import presets
 
 W, H = 1280, 720
-PRESETS = ["Toon", "Ink outlines", "Watercolor", "Oil paint", "Posterize", "Urban map"]
+PRESETS = ["Toon", "Ink outlines", "Watercolor", "Oil paint", "Posterize", "Urban map", "edge_enhance"]
+# Not a preset: the depth cues alone (eye-dome lighting and depth lines, defaults), which the issue saw draw line
+# noise on flat Kinect walls.
+EXTRA = {"edge_enhance": {"mark": ("points", {"point_size": 3.0}), "filters": [("edge_enhance", {})]}}
 CLOSE_RADIUS = 5          # px at 1280x720: closes gaps between splats, not a statue's legs
 PLANAR_K, PLANAR_VARIATION = 64, 0.02  # surface variation of 64 neighbours below this: a plane (1/3: isotropic)
 PLANAR_MAJORITY = 4       # px: the planar flag is the majority of the covered pixels within this box radius
 ERODE_PLANAR = 4          # px kept away from a planar region's border
-LINE_CONTRAST = 0.3       # display-sRGB luminance step that makes a line pixel (ink; the oil pass's impasto streaks stay under it)
+LINE_CONTRAST = 0.15      # display-sRGB luminance step that makes a line pixel (EDL's contour noise on a Kinect wall
+                          # is 0.1 to 0.2; the oil pass's impasto streaks mostly stay under it)
 HOLE_LIMIT, LINE_LIMIT = 0.5, 1.0  # percent
+JUMP = 0.05               # relative depth step within the closing disk that counts as a jump between surfaces
 SCANS_DIR = "/work/shared/data/scans"
 
 
@@ -107,12 +120,32 @@ def _cloud(pos, attrs, colors=None):
     return pointnpr.PointCloud((pos - centre).astype(np.float32), **kw), centre
 
 
-def _render(renderer, cloud, centre, mark, filters, cam):
+def _render(renderer, cloud, centre, mark, filters, cam, depth=False):
     scene = pointnpr.Scene()
     m = np.eye(4)
     m[:3, 3] = centre
     scene.add_segment("scan", pointnpr.Style(mark=mark, filters=filters), [(cloud, m)])
-    return np.asarray(renderer.render(scene, cam, W, H).color, np.float32)
+    r = renderer.render(scene, cam, W, H)
+    color = np.asarray(r.color, np.float32)
+    return (color, np.asarray(r.depth, np.float32)) if depth else color
+
+
+def depth_jumps(color, depth, r):
+    """Pixels within `r` of covered pixels whose depths differ by more than
+    JUMP (relative to the nearest): where a hole may lie between two
+    surfaces, which a depth-aware fill must not bridge."""
+    cov = color[..., 3] >= 0.5
+    near = np.where(cov, depth, np.inf)
+    far = np.where(cov, depth, 0.0)
+    pad_n, pad_f = np.pad(near, r, constant_values=np.inf), np.pad(far, r)
+    lo, hi = pad_n.copy(), pad_f.copy()
+    for dy in range(-r, r + 1):
+        for dx in range(-r, r + 1):
+            if dx * dx + dy * dy <= r * r:
+                lo = np.minimum(lo, np.roll(np.roll(pad_n, dy, 0), dx, 1))
+                hi = np.maximum(hi, np.roll(np.roll(pad_f, dy, 0), dx, 1))
+    lo, hi = lo[r:-r, r:-r], hi[r:-r, r:-r]
+    return np.isfinite(lo) & (hi > lo * (1.0 + JUMP))
 
 
 def _shift_reduce(mask, radius, op):
@@ -159,7 +192,7 @@ def line_pixels(rgba):
     return closing - lum > LINE_CONTRAST
 
 
-def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names):
+def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names, tiles_dir=None):
     cam = pointnpr.Camera.perspective(world_from_camera, lens=35.0, clip_start=clip[0], clip_end=clip[1],
                                       width=W, height=H)
     cloud, centre = _cloud(pos, attrs)
@@ -170,17 +203,18 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
     rows, tiles, marked = [], [], []
     base_mark = None
     for preset in preset_names:
-        spec = presets.PRESETS[preset]
+        spec = EXTRA.get(preset) or presets.PRESETS[preset]
         mark = (spec["mark"][0], dict(spec["mark"][1]))
         if mark != base_mark:  # the filled silhouette and planar region of this mark
             base_mark = mark
-            base = _render(renderer, cloud, centre, mark, [], cam)
+            base, base_depth = _render(renderer, cloud, centre, mark, [], cam, depth=True)
             filled = erode(dilate(base[..., 3] >= 0.5, CLOSE_RADIUS), CLOSE_RADIUS)
+            jumps = depth_jumps(base, base_depth, CLOSE_RADIUS)
             plain = dict(mark[1], color_source="rgb")
             pl = _render(renderer, planar_cloud, centre, (mark[0], plain), [], cam)
             cov = (pl[..., 3] >= 0.5).astype(np.float32)
             flag = box_mean(cov * pl[..., 0], PLANAR_MAJORITY) / np.maximum(box_mean(cov, PLANAR_MAJORITY), 1e-6)
-            region = erode((cov > 0) & (flag > 0.5), ERODE_PLANAR) & filled
+            region = erode(filled & (flag > 0.5), ERODE_PLANAR)
             if not tiles:
                 tiles.append(base)
                 marked.append(base)
@@ -191,7 +225,8 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
         lines = region & line_pixels(grey)
         hole_pct = 100.0 * holes.sum() / max(filled.sum(), 1)
         line_pct = 100.0 * lines.sum() / max(region.sum(), 1)
-        rows.append((name, preset, hole_pct, line_pct, int(filled.sum()), int(region.sum())))
+        jump_pct = 100.0 * (holes & jumps).sum() / max(filled.sum(), 1)
+        rows.append((name, preset, hole_pct, jump_pct, line_pct, int(filled.sum()), int(region.sum())))
         tiles.append(img)
         mk = img.copy()
         mk[holes] = (1.0, 0.0, 0.0, 1.0)
@@ -199,6 +234,10 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
         mk[..., :3] = np.where(region[..., None] & ~(holes | lines)[..., None], mk[..., :3] * 0.85 + 0.15 *
                                np.array([0.0, 1.0, 0.0], np.float32), mk[..., :3])
         marked.append(mk)
+        if tiles_dir:
+            stem = f"{name.split()[0]}_{preset.replace(' ', '_')}"
+            pointnpr.save_image(os.path.join(tiles_dir, stem + ".png"), np.ascontiguousarray(img))
+            pointnpr.save_image(os.path.join(tiles_dir, stem + "_marked.png"), np.ascontiguousarray(mk))
     return rows, tiles, marked
 
 
@@ -222,23 +261,28 @@ def main():
     out_dir = args[0] if args else "."
     if "--quick" in sys.argv:
         W, H = 640, 360
+    only = [a.split("=", 1)[1] for a in sys.argv if a.startswith("--scan=")]
+    presets_run = [a.split("=", 1)[1] for a in sys.argv if a.startswith("--preset=")] or PRESETS
     os.makedirs(out_dir, exist_ok=True)
     renderer = pointnpr.Renderer()
     print(f"{W}x{H}; holes: % of the filled silhouette (closing r={CLOSE_RADIUS} px) left with alpha < 0.5 "
           f"(limit {HOLE_LIMIT} %); lines: % of the planar region (variation < {PLANAR_VARIATION}, eroded "
           f"{ERODE_PLANAR} px) darker than its 5x5 closing by > {LINE_CONTRAST} on constant-grey input "
           f"(limit {LINE_LIMIT} %)")
-    print("| scan | preset | holes % | lines on planes % | filled px | planar px |")
-    print("|---|---|---|---|---|---|")
+    print("| scan | preset | holes % | of which at depth jumps % | lines on planes % | filled px | planar px |")
+    print("|---|---|---|---|---|---|---|")
     all_tiles, all_marked, fails = [], [], 0
     for name, pos, attrs, cam, clip in scans():
-        rows, tiles, marked = audit_scan(renderer, name, pos, attrs, cam, clip, PRESETS)
-        for scan, preset, hole_pct, line_pct, nf, npl in rows:
+        if only and not any(o.lower() in name.lower() for o in only):
+            continue
+        rows, tiles, marked = audit_scan(renderer, name, pos, attrs, cam, clip, presets_run,
+                                         out_dir if "--tiles" in sys.argv else None)
+        for scan, preset, hole_pct, jump_pct, line_pct, nf, npl in rows:
             flag_h = "" if hole_pct <= HOLE_LIMIT else " ✗"
             flag_l = "" if line_pct <= LINE_LIMIT else " ✗"
             fails += bool(flag_h) + bool(flag_l)
-            print(f"| {scan} | {preset} | {hole_pct:.2f}{flag_h} | {line_pct:.2f}{flag_l} | {nf:,} | {npl:,} |",
-                  flush=True)
+            print(f"| {scan} | {preset} | {hole_pct:.2f}{flag_h} | {jump_pct:.2f} | {line_pct:.2f}{flag_l} | {nf:,} | "
+                  f"{npl:,} |", flush=True)
         all_tiles.append(tiles)
         all_marked.append(marked)
     pointnpr.save_image(os.path.join(out_dir, "look_audit.png"), sheet(all_tiles))

@@ -23,25 +23,75 @@ int total_footprint(const std::vector<FilterStep>& steps) {
   return total;
 }
 
+namespace {
+
+// The gap fill's search: gaps up to 2 * kGapReach - 1 pixels across close
+// (a bound on its cost; whether a gap closes is decided by the depths of
+// the surface around it). Its ends are one surface when their depths differ
+// by no more than a surface turned kGapGrazing (tan 70 degrees) away from
+// the view changes over the gap, in the pixel's own footprint at that depth.
+constexpr int kGapReach = 12;
+constexpr float kGapGrazing = 2.75f;
+
+void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Texture& input, const gl::Texture& output,
+              const Rect& rect) {
+  FilterContext ctx;
+  ctx.shaders = in.shaders;
+  ctx.images = in.images;
+  ctx.input = &input;
+  ctx.output = &output;
+  ctx.raster_depth = in.raster_depth;
+  ctx.scratch = in.scratch;
+  ctx.rect = rect;
+  ctx.image_size = in.image_size;
+  ctx.time = in.time;
+  ctx.segment_seed = in.segment_seed;
+  ctx.surface = in.surface;
+  f.filter->apply(ctx, f.params);
+  gl::check_gl(("filter " + f.info->schema.id).c_str());
+}
+
+// The gap fill (shaders/gap_fill.comp) of the image `in` whose covered
+// pixels lie within `covered`, written over `write` of the chain's scratch.
+const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture& in, const Rect& covered,
+                             const Rect& write) {
+  const gl::Texture& out = images.scratch(kChainScratch);
+  const gl::Program& prog = images.shaders->compute("gap_fill.comp");
+  prog.use();
+  glUniform1i(prog.location("u_reach"), kGapReach);
+  glUniform1f(prog.location("u_grazing"), kGapGrazing);
+  glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
+  glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);
+  set_surface_uniforms(prog, images.surface);
+  glBindImageTexture(0, in.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(2, images.raster_depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  dispatch_rect(prog, write);
+  gl::check_gl("gap fill");
+  return out;
+}
+
+}  // namespace
+
 const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const FilterChainImages& in, Rect& rect) {
   const gl::Texture* current = in.first;
   const gl::Texture* other = in.second;
+  bool filled = false;
   for (const FilterStep& f : steps) {
+    if (!filled && f.filter->reads_neighbourhood() && in.raster_depth) {
+      // Filled as far as the filter reads: its rect grown by its footprint.
+      const int reach = f.filter->footprint(f.params);
+      const gl::Texture& gaps = fill_gaps(in, *current, rect, rect.grown(2 * reach, in.image_size));
+      filled = true;
+      // The filled image stands in for `current`; the filter writes `other`
+      // as usual.
+      rect = rect.grown(reach, in.image_size);
+      run_step(f, in, gaps, *other, rect);
+      std::swap(current, other);
+      continue;
+    }
     rect = rect.grown(f.filter->footprint(f.params), in.image_size);
-    FilterContext ctx;
-    ctx.shaders = in.shaders;
-    ctx.images = in.images;
-    ctx.input = current;
-    ctx.output = other;
-    ctx.raster_depth = in.raster_depth;
-    ctx.scratch = in.scratch;
-    ctx.rect = rect;
-    ctx.image_size = in.image_size;
-    ctx.time = in.time;
-    ctx.segment_seed = in.segment_seed;
-    ctx.surface = in.surface;
-    f.filter->apply(ctx, f.params);
-    gl::check_gl(("filter " + f.info->schema.id).c_str());
+    run_step(f, in, *current, *other, rect);
     std::swap(current, other);
   }
   return current;
