@@ -78,7 +78,7 @@ const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const 
   const gl::Texture* other = in.second;
   bool filled = false;
   for (const FilterStep& f : steps) {
-    if (!filled && f.filter->reads_neighbourhood() && in.raster_depth) {
+    if (!filled && in.fill_gaps && f.filter->reads_neighbourhood() && in.raster_depth) {
       // Filled as far as the filter reads: its rect grown by its footprint.
       const int reach = f.filter->footprint(f.params);
       const gl::Texture& gaps = fill_gaps(in, *current, rect, rect.grown(2 * reach, in.image_size));

@@ -339,6 +339,7 @@ struct Renderer::Impl {
       chain.time = s.time;
       chain.segment_seed = mark.segment_seed;
       chain.surface = make_surface_frame(cam, frame, surface_anchor(seg));
+      chain.fill_gaps = seg.style.mark.info->schema.id == "points";
       current = run_filter_chain(seg.style.filters, chain, rect);
     }
     stage_done(s);
