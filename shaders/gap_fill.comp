@@ -40,13 +40,15 @@ Hit march(ivec2 p, ivec2 dir, float behind) {
   for (int k = 1; k <= u_reach; ++k) {
     ivec2 q = p + k * dir;
     if (any(lessThan(q, u_cover_min)) || any(greaterThanEqual(q, u_cover_max))) return h;
-    float d = imageLoad(u_depth, q).r;
-    vec4 c = imageLoad(u_in, q);
-    if (covered(c) && d < behind) {
-      h.t = k;
-      h.depth = d;
-      h.color = c;
-      return h;
+    float d = imageLoad(u_depth, q).r;  // +inf where no point is
+    if (d < behind) {
+      vec4 c = imageLoad(u_in, q);
+      if (covered(c)) {
+        h.t = k;
+        h.depth = d;
+        h.color = c;
+        return h;
+      }
     }
   }
   return h;
@@ -65,6 +67,10 @@ int run_length(ivec2 p, ivec2 dir, int t, float limit, int cap) {
   return n;
 }
 
+// The lines through a pixel: horizontal, vertical, both diagonals (no
+// arrays: llvmpipe pays for local arrays in every invocation).
+ivec2 line_dir(int i) { return i == 0 ? ivec2(1, 0) : i == 1 ? ivec2(0, 1) : i == 2 ? ivec2(1, 1) : ivec2(1, -1); }
+
 void main() {
   ivec2 p;
   if (!rect_pixel(p)) return;
@@ -79,33 +85,49 @@ void main() {
     imageStore(u_out, p, c);
     return;
   }
-  const ivec2 dirs[8] = ivec2[8](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1), ivec2(-1, 0), ivec2(0, -1),
-                                 ivec2(-1, -1), ivec2(-1, 1));
-  Hit h[8];
-  int sides = 0;
-  for (int k = 0; k < 4; ++k) {
-    h[k] = march(p, dirs[k], own);
-    sides += h[k].t > 0 ? 1 : 0;
+  if (!isinf(own)) {
+    // A covered pixel can only be a back point seen through a gap where a
+    // gap or a nearer surface lies 2 px away (a splat's width) along an
+    // axis: most of a surface is not, and costs four loads.
+    float step_limit = own - 4.0 * pixel_size(own) * u_grazing;
+    ivec2 hi_corner = u_cover_max - 1;
+    vec4 z = vec4(imageLoad(u_depth, clamp(p + ivec2(2, 0), u_cover_min, hi_corner)).r,
+                  imageLoad(u_depth, clamp(p - ivec2(2, 0), u_cover_min, hi_corner)).r,
+                  imageLoad(u_depth, clamp(p + ivec2(0, 2), u_cover_min, hi_corner)).r,
+                  imageLoad(u_depth, clamp(p - ivec2(0, 2), u_cover_min, hi_corner)).r);
+    if (!any(isinf(z)) && !any(lessThan(z, vec4(step_limit)))) {
+      imageStore(u_out, p, c);
+      return;
+    }
   }
-  if (sides < 2) {  // two lines enclose the pixel at least
+  // The nearest surface met along the 8 directions; at least two lines must
+  // meet a surface on one side.
+  float near = INF;
+  int sides = 0;
+  for (int i = 0; i < 4; ++i) {
+    Hit a = march(p, line_dir(i), own);
+    sides += a.t > 0 ? 1 : 0;
+    near = min(near, a.depth);
+  }
+  if (sides < 2) {
     imageStore(u_out, p, c);
     return;
   }
-  for (int k = 4; k < 8; ++k) h[k] = h[k - 4].t > 0 ? march(p, dirs[k], own) : Hit(0, INF, vec4(0.0));
-  // The nearest surface met: hits beyond what it can reach over the search
-  // (a back surface seen through the same gap) are looked past.
-  float near = INF;
-  for (int k = 0; k < 8; ++k) near = min(near, h[k].depth);
+  for (int i = 0; i < 4; ++i) near = min(near, march(p, -line_dir(i), own).depth);
+  // Hits beyond what the nearest surface reaches over the search (a back
+  // surface seen through the same gap) are looked past.
   float limit = near + 2.0 * float(u_reach) * pixel_size(near) * u_grazing;
-  for (int k = 0; k < 8; ++k)
-    if (h[k].t > 0 && h[k].depth > limit) h[k] = march(p, dirs[k], limit);
+  float behind = min(own, limit);
   vec4 sum = vec4(0.0);
   float weight = 0.0, lo = INF, hi = 0.0;
   int lines = 0;
   for (int i = 0; i < 4; ++i) {
-    Hit a = h[i], b = h[i + 4];
-    if (a.t == 0 || b.t == 0) continue;
-    float step = length(vec2(dirs[i]));
+    ivec2 d = line_dir(i);
+    Hit a = march(p, d, behind);
+    if (a.t == 0) continue;
+    Hit b = march(p, -d, behind);
+    if (b.t == 0) continue;
+    float step = length(vec2(d));
     float gap = float(a.t + b.t - 1);
     // One surface: the ends' depths differ no more than its steepest slope
     // allows over the gap.
@@ -114,8 +136,7 @@ void main() {
     // surface runs on for at least half the gap (its splats are as wide as
     // its gaps).
     int need = (int(gap) + 1) / 2;
-    if (1 + run_length(p, dirs[i], a.t, limit, need - 1) < need ||
-        1 + run_length(p, dirs[i + 4], b.t, limit, need - 1) < need)
+    if (1 + run_length(p, d, a.t, limit, need - 1) < need || 1 + run_length(p, -d, b.t, limit, need - 1) < need)
       continue;
     ++lines;
     float wa = 1.0 / float(a.t), wb = 1.0 / float(b.t);

@@ -79,9 +79,6 @@ class Filter {
   virtual bool reads_neighbourhood() const { return false; }
 };
 
-// Scratch images from this index on belong to the filter chain (the gap
-// fill's output); filters use lower ones.
-constexpr int kChainScratch = 8;
 
 struct FilterInfo {
   static constexpr const char* kKind = "filter";

@@ -55,7 +55,7 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
 // pixels lie within `covered`, written over `write` of the chain's scratch.
 const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture& in, const Rect& covered,
                              const Rect& write) {
-  const gl::Texture& out = images.scratch(kChainScratch);
+  const gl::Texture& out = images.gap_image();
   const gl::Program& prog = images.shaders->compute("gap_fill.comp");
   prog.use();
   glUniform1i(prog.location("u_reach"), kGapReach);
@@ -78,7 +78,7 @@ const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const 
   const gl::Texture* other = in.second;
   bool filled = false;
   for (const FilterStep& f : steps) {
-    if (!filled && in.fill_gaps && f.filter->reads_neighbourhood() && in.raster_depth) {
+    if (!filled && in.fill_gaps && in.gap_image && f.filter->reads_neighbourhood() && in.raster_depth) {
       // Filled as far as the filter reads: its rect grown by its footprint.
       const int reach = f.filter->footprint(f.params);
       const gl::Texture& gaps = fill_gaps(in, *current, rect, rect.grown(2 * reach, in.image_size));
