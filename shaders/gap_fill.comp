@@ -35,11 +35,18 @@ struct Hit {
 };
 
 // The first pixel along `dir` nearer than `behind` (covered, finite depth).
+// How many steps along `dir` stay within the covered box, up to u_reach.
+int steps_inside(ivec2 p, ivec2 dir) {
+  ivec2 room = mix(mix(ivec2(u_reach), p - u_cover_min, lessThan(dir, ivec2(0))), u_cover_max - 1 - p,
+                   greaterThan(dir, ivec2(0)));
+  return min(u_reach, min(room.x, room.y));
+}
+
 Hit march(ivec2 p, ivec2 dir, float behind) {
   Hit h = Hit(0, INF, vec4(0.0));
-  for (int k = 1; k <= u_reach; ++k) {
+  int n = steps_inside(p, dir);
+  for (int k = 1; k <= n; ++k) {
     ivec2 q = p + k * dir;
-    if (any(lessThan(q, u_cover_min)) || any(greaterThanEqual(q, u_cover_max))) return h;
     float d = imageLoad(u_depth, q).r;  // +inf where no point is
     if (d < behind) {
       vec4 c = imageLoad(u_in, q);
@@ -54,22 +61,40 @@ Hit march(ivec2 p, ivec2 dir, float behind) {
   return h;
 }
 
-// How many covered pixels nearer than `limit` (the surface, not what lies
-// behind it) follow the hit at `t` along `dir`, up to `cap`.
+// How many pixels with points nearer than `limit` (the surface, not what
+// lies behind it) follow the hit at `t` along `dir`, up to `cap`.
 int run_length(ivec2 p, ivec2 dir, int t, float limit, int cap) {
-  int n = 0;
-  for (int k = t + 1; k <= t + cap; ++k) {
-    ivec2 q = p + k * dir;
-    if (any(lessThan(q, u_cover_min)) || any(greaterThanEqual(q, u_cover_max))) break;
-    if (!covered(imageLoad(u_in, q)) || !(imageLoad(u_depth, q).r <= limit)) break;
+  int n = 0, last = min(t + cap, steps_inside(p, dir));
+  for (int k = t + 1; k <= last; ++k) {
+    if (!(imageLoad(u_depth, p + k * dir).r <= limit)) break;  // +inf: no point
     ++n;
   }
   return n;
 }
 
-// The lines through a pixel: horizontal, vertical, both diagonals (no
-// arrays: llvmpipe pays for local arrays in every invocation).
-ivec2 line_dir(int i) { return i == 0 ? ivec2(1, 0) : i == 1 ? ivec2(0, 1) : i == 2 ? ivec2(1, 1) : ivec2(1, -1); }
+struct Acc {
+  vec4 sum;
+  float weight, lo, hi;
+  int lines;
+};
+
+// Line `d` through p with first pixels a (along d) and b (against it): a
+// gap of one surface when the ends' depths differ no more than its steepest
+// slope allows over the gap, and on either side the surface runs on for at
+// least half the gap (its splats are as wide as its gaps, not lone splats).
+void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
+  if (a.t == 0 || b.t == 0) return;
+  float gap = float(a.t + b.t - 1);
+  if (abs(a.depth - b.depth) > (gap + 1.0) * length(vec2(d)) * pixel_size(min(a.depth, b.depth)) * u_grazing) return;
+  int need = (int(gap) + 1) / 2;
+  if (1 + run_length(p, d, a.t, limit, need - 1) < need || 1 + run_length(p, -d, b.t, limit, need - 1) < need) return;
+  float wa = 1.0 / float(a.t), wb = 1.0 / float(b.t);
+  acc.sum += wa * a.color + wb * b.color;
+  acc.weight += wa + wb;
+  acc.lo = min(acc.lo, min(a.depth, b.depth));
+  acc.hi = max(acc.hi, max(a.depth, b.depth));
+  ++acc.lines;
+}
 
 void main() {
   ivec2 p;
@@ -100,51 +125,36 @@ void main() {
       return;
     }
   }
-  // The nearest surface met along the 8 directions; at least two lines must
-  // meet a surface on one side.
-  float near = INF;
-  int sides = 0;
-  for (int i = 0; i < 4; ++i) {
-    Hit a = march(p, line_dir(i), own);
-    sides += a.t > 0 ? 1 : 0;
-    near = min(near, a.depth);
-  }
-  if (sides < 2) {
+  // The first pixels met along the 8 directions (one variable each: no
+  // arrays); at least two lines must meet a surface on one side.
+  const ivec2 D0 = ivec2(1, 0), D1 = ivec2(0, 1), D2 = ivec2(1, 1), D3 = ivec2(1, -1);
+  Hit a0 = march(p, D0, own), a1 = march(p, D1, own), a2 = march(p, D2, own), a3 = march(p, D3, own);
+  if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) {
     imageStore(u_out, p, c);
     return;
   }
-  for (int i = 0; i < 4; ++i) near = min(near, march(p, -line_dir(i), own).depth);
+  Hit b0 = march(p, -D0, own), b1 = march(p, -D1, own), b2 = march(p, -D2, own), b3 = march(p, -D3, own);
+  float near = min(min(min(a0.depth, a1.depth), min(a2.depth, a3.depth)),
+                   min(min(b0.depth, b1.depth), min(b2.depth, b3.depth)));
   // Hits beyond what the nearest surface reaches over the search (a back
   // surface seen through the same gap) are looked past.
   float limit = near + 2.0 * float(u_reach) * pixel_size(near) * u_grazing;
-  float behind = min(own, limit);
-  vec4 sum = vec4(0.0);
-  float weight = 0.0, lo = INF, hi = 0.0;
-  int lines = 0;
-  for (int i = 0; i < 4; ++i) {
-    ivec2 d = line_dir(i);
-    Hit a = march(p, d, behind);
-    if (a.t == 0) continue;
-    Hit b = march(p, -d, behind);
-    if (b.t == 0) continue;
-    float step = length(vec2(d));
-    float gap = float(a.t + b.t - 1);
-    // One surface: the ends' depths differ no more than its steepest slope
-    // allows over the gap.
-    if (abs(a.depth - b.depth) > (gap + 1.0) * step * pixel_size(min(a.depth, b.depth)) * u_grazing) continue;
-    // A gap of the surface, not beside a lone splat: on either side the
-    // surface runs on for at least half the gap (its splats are as wide as
-    // its gaps).
-    int need = (int(gap) + 1) / 2;
-    if (1 + run_length(p, d, a.t, limit, need - 1) < need || 1 + run_length(p, -d, b.t, limit, need - 1) < need)
-      continue;
-    ++lines;
-    float wa = 1.0 / float(a.t), wb = 1.0 / float(b.t);
-    sum += wa * a.color + wb * b.color;
-    weight += wa + wb;
-    lo = min(lo, min(a.depth, b.depth));
-    hi = max(hi, max(a.depth, b.depth));
-  }
+  if (a0.depth > limit && a0.t > 0) a0 = march(p, D0, limit);
+  if (a1.depth > limit && a1.t > 0) a1 = march(p, D1, limit);
+  if (a2.depth > limit && a2.t > 0) a2 = march(p, D2, limit);
+  if (a3.depth > limit && a3.t > 0) a3 = march(p, D3, limit);
+  if (b0.depth > limit && b0.t > 0) b0 = march(p, -D0, limit);
+  if (b1.depth > limit && b1.t > 0) b1 = march(p, -D1, limit);
+  if (b2.depth > limit && b2.t > 0) b2 = march(p, -D2, limit);
+  if (b3.depth > limit && b3.t > 0) b3 = march(p, -D3, limit);
+  Acc acc = Acc(vec4(0.0), 0.0, INF, 0.0, 0);
+  line(p, D0, a0, b0, limit, acc);
+  line(p, D1, a1, b1, limit, acc);
+  line(p, D2, a2, b2, limit, acc);
+  line(p, D3, a3, b3, limit, acc);
+  vec4 sum = acc.sum;
+  float weight = acc.weight, lo = acc.lo, hi = acc.hi;
+  int lines = acc.lines;
   if (lines >= 2 && !isinf(own)) {
     // A covered pixel gives way only to a surface it cannot belong to: one
     // nearer by more than that surface's steepest slope over the search and

@@ -30,7 +30,7 @@ namespace {
 // the surface around it). Its ends are one surface when their depths differ
 // by no more than a surface turned kGapGrazing (tan 70 degrees) away from
 // the view changes over the gap, in the pixel's own footprint at that depth.
-constexpr int kGapReach = 12;
+constexpr int kGapReach = 8;
 constexpr float kGapGrazing = 2.75f;
 
 void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Texture& input, const gl::Texture& output,
