@@ -96,20 +96,14 @@ void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
   ++acc.lines;
 }
 
-void main() {
-  ivec2 p;
-  if (!rect_pixel(p)) return;
-  vec4 c = imageLoad(u_in, p);
-  if (any(lessThan(p, u_cover_min)) || any(greaterThanEqual(p, u_cover_max))) {
-    imageStore(u_out, p, c);
-    return;
-  }
-  float own = covered(c) ? imageLoad(u_depth, p).r : INF;
+// Whether pixel p (colour c) may change: a background pixel, or a covered
+// one with a gap or a nearer surface near it. Everything else is copied.
+bool needs_work(ivec2 p, vec4 c, out float own) {
+  own = INF;
+  if (any(lessThan(p, u_cover_min)) || any(greaterThanEqual(p, u_cover_max))) return false;
+  own = covered(c) ? imageLoad(u_depth, p).r : INF;
   // Covered without depth (a filter's paint): kept as it is.
-  if (covered(c) && isinf(own)) {
-    imageStore(u_out, p, c);
-    return;
-  }
+  if (covered(c) && isinf(own)) return false;
   if (!isinf(own)) {
     // A covered pixel can only be a back point seen through a gap where a
     // gap or a nearer surface lies 2 px away (a splat's width) along an
@@ -120,19 +114,17 @@ void main() {
                   imageLoad(u_depth, clamp(p - ivec2(2, 0), u_cover_min, hi_corner)).r,
                   imageLoad(u_depth, clamp(p + ivec2(0, 2), u_cover_min, hi_corner)).r,
                   imageLoad(u_depth, clamp(p - ivec2(0, 2), u_cover_min, hi_corner)).r);
-    if (!any(isinf(z)) && !any(lessThan(z, vec4(step_limit)))) {
-      imageStore(u_out, p, c);
-      return;
-    }
+    if (!any(isinf(z)) && !any(lessThan(z, vec4(step_limit)))) return false;
   }
+  return true;
+}
+
+void fill_pixel(ivec2 p, vec4 c, float own) {
   // The first pixels met along the 8 directions (one variable each: no
   // arrays); at least two lines must meet a surface on one side.
   const ivec2 D0 = ivec2(1, 0), D1 = ivec2(0, 1), D2 = ivec2(1, 1), D3 = ivec2(1, -1);
   Hit a0 = march(p, D0, own), a1 = march(p, D1, own), a2 = march(p, D2, own), a3 = march(p, D3, own);
-  if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) {
-    imageStore(u_out, p, c);
-    return;
-  }
+  if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) return;
   Hit b0 = march(p, -D0, own), b1 = march(p, -D1, own), b2 = march(p, -D2, own), b3 = march(p, -D3, own);
   float near = min(min(min(a0.depth, a1.depth), min(a2.depth, a3.depth)),
                    min(min(b0.depth, b1.depth), min(b2.depth, b3.depth)));
@@ -164,3 +156,37 @@ void main() {
   }
   imageStore(u_out, p, lines >= 2 ? sum / weight : c);
 }
+
+// Two passes, so that the search runs only where it may change something
+// (llvmpipe runs a shader's later code masked for lanes that returned, so
+// one pass cost the search everywhere): CLASSIFY copies every pixel and
+// lists the 16x16 tiles with a pixel that needs work; FILL runs on those
+// tiles only (dispatched indirectly from the list's count).
+layout(std430, binding = 3) buffer Tiles {
+  uint groups_x, groups_y, groups_z, pad;
+  uvec2 tiles[];
+};
+#ifdef PASS_CLASSIFY
+shared bool s_work;
+void main() {
+  if (gl_LocalInvocationIndex == 0u) s_work = false;
+  barrier();
+  ivec2 p;
+  if (rect_pixel(p)) {
+    vec4 c = imageLoad(u_in, p);
+    imageStore(u_out, p, c);
+    float own;
+    if (needs_work(p, c, own)) s_work = true;
+  }
+  barrier();
+  if (gl_LocalInvocationIndex == 0u && s_work) tiles[atomicAdd(groups_x, 1u)] = gl_WorkGroupID.xy;
+}
+#else
+void main() {
+  ivec2 p = u_rect_min + ivec2(tiles[gl_WorkGroupID.x] * 16u + gl_LocalInvocationID.xy);
+  if (any(greaterThanEqual(p, u_rect_max))) return;
+  vec4 c = imageLoad(u_in, p);
+  float own;
+  if (needs_work(p, c, own)) fill_pixel(p, c, own);
+}
+#endif

@@ -1,5 +1,6 @@
 #include "render/filter_chain.h"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
@@ -56,17 +57,44 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
 const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture& in, const Rect& covered,
                              const Rect& write) {
   const gl::Texture& out = images.gap_image();
-  const gl::Program& prog = images.shaders->compute("gap_fill.comp");
-  prog.use();
-  glUniform1i(prog.location("u_reach"), kGapReach);
-  glUniform1f(prog.location("u_grazing"), kGapGrazing);
-  glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
-  glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);
-  set_surface_uniforms(prog, images.surface);
+  // The list of tiles that need the search: 3 uints of indirect dispatch
+  // arguments, padding, then a uvec2 per 16x16 tile. Kept for the GL
+  // context's life (like the shader library), grown as frames need.
+  static gl::Buffer* tiles = new gl::Buffer();
+  static size_t tiles_bytes = 0;
+  const glm::ivec2 groups = (write.size() + 15) / 16;
+  const size_t bytes = 16 + 8 * size_t(std::max(groups.x, 1)) * size_t(std::max(groups.y, 1));
+  if (bytes > tiles_bytes) {
+    *tiles = gl::make_buffer(bytes, nullptr);
+    tiles_bytes = bytes;
+  }
+  const GLuint args[4] = {0, 1, 1, 0};
+  glNamedBufferSubData(tiles->id(), 0, sizeof(args), args);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, tiles->id());
   glBindImageTexture(0, in.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
   glBindImageTexture(1, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(2, images.raster_depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-  dispatch_rect(prog, write);
+  for (const bool classify : {true, false}) {
+    const gl::Program& prog = images.shaders->compute(
+        "gap_fill.comp", classify ? std::vector<std::string>{"PASS_CLASSIFY"} : std::vector<std::string>{});
+    prog.use();
+    glUniform1i(prog.location("u_reach"), kGapReach);
+    glUniform1f(prog.location("u_grazing"), kGapGrazing);
+    glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
+    glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);
+    set_surface_uniforms(prog, images.surface);
+    if (classify) {
+      dispatch_rect(prog, write);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    } else {
+      glUniform2i(prog.location("u_rect_min"), write.min.x, write.min.y);
+      glUniform2i(prog.location("u_rect_max"), write.max.x, write.max.y);
+      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tiles->id());
+      glDispatchComputeIndirect(0);
+      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+  }
   gl::check_gl("gap fill");
   return out;
 }
