@@ -1,19 +1,21 @@
 // Depth-aware gap fill before the filters that read neighbourhoods
 // (cpp/render/filter_chain.cpp). A pixel is a gap of a surface when that
-// surface's own pixels enclose it: along at least 3 of the 4 lines through
+// surface's own pixels enclose it: along at least 2 of the 4 lines through
 // it (horizontal, vertical, both diagonals) the first pixel of the surface
 // lies within u_reach on both sides, and the two ends are one surface: their
 // depths differ by no more than a surface seen at the steepest angle
 // (u_grazing = tan of it) can change over the gap, the gap's length times
 // the pixel's footprint at that depth, and on either side the surface runs
 // on for at least half the gap (its splats are as wide as its gaps: lone
-// splats do not merge, nor join a surface). Covered pixels count as gaps too when a surface
-// nearer than them by more than its slope over the whole search, and more
-// than twice the depth spread of its own enclosing pixels (the scan's
-// local noise), encloses them: back points seen through a front surface.
-// A gap takes the inverse-distance mean of its enclosing pixels (rgba,
-// straight alpha). Nothing crosses a depth jump: the background beside a
-// silhouette, or a far wall seen past an edge, is enclosed by no surface.
+// splats do not merge, nor join a surface). Covered pixels count as gaps
+// too when a surface nearer than them by more than its slope over the whole
+// search, and more than twice the depth spread of its own enclosing pixels
+// (the scan's local noise), encloses them: back points seen through a front
+// surface. A gap takes the inverse-distance mean of its enclosing pixels
+// (rgba, straight alpha). Nothing crosses a depth jump: the background
+// beside a silhouette, or a far wall seen past an edge, is enclosed by no
+// surface. Two passes (PASS_CLASSIFY, then the search on listed tiles: see
+// the end of the file).
 #include "filter_common.glsl"
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(rgba32f, binding = 0) uniform readonly image2D u_in;

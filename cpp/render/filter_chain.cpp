@@ -53,7 +53,7 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
 }
 
 // The gap fill (shaders/gap_fill.comp) of the image `in` whose covered
-// pixels lie within `covered`, written over `write` of the chain's scratch.
+// pixels lie within `covered`, written over `write` of the chain's gap image.
 const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture& in, const Rect& covered,
                              const Rect& write) {
   const gl::Texture& out = images.gap_image();
