@@ -29,11 +29,11 @@ const Image& frame() {
   return img;
 }
 
-void BM_Filter(benchmark::State& state, const std::string& id) {
+void BM_Filter(benchmark::State& state, const std::string& id, bool fill_gaps) {
   const Image& img = frame();
-  run_filters(img, {{id, {}}});  // warm-up: shader compilation
+  run_filters(img, {{id, {}}}, 0.0, 1, std::nullopt, fill_gaps);  // warm-up: shader compilation
   for (auto _ : state) {
-    const FilterRun run = run_filters(img, {{id, {}}}, 0.0, 3);
+    const FilterRun run = run_filters(img, {{id, {}}}, 0.0, 3, std::nullopt, fill_gaps);
     state.SetIterationTime(run.gpu_ms / 1000.0);
   }
   state.counters["Mpix/s"] =
@@ -79,11 +79,17 @@ void BM_SegmentsVsFrame(benchmark::State& state, const std::string& id) {
 // Benchmarks are registered in main: the filter registry fills during static
 // initialisation, in an order relative to this file that is unspecified.
 int main(int argc, char** argv) {
+  // Filters that read neighbourhoods also without the chain's gap fill
+  // (BM_Filter/<id>/no_gap_fill), so its cost is measured side by side.
   for (const FilterInfo* f : registered_filters())
-    benchmark::RegisterBenchmark(("BM_Filter/" + f->schema.id).c_str(), BM_Filter, f->schema.id)
-        ->UseManualTime()
-        ->Unit(benchmark::kMillisecond)
-        ->Iterations(2);
+    for (const bool fill : {true, false}) {
+      if (!fill && !f->create()->reads_neighbourhood()) continue;
+      benchmark::RegisterBenchmark(("BM_Filter/" + f->schema.id + (fill ? "" : "/no_gap_fill")).c_str(), BM_Filter,
+                                   f->schema.id, fill)
+          ->UseManualTime()
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(2);
+    }
   for (const char* id : {"blur", "xdog", "watercolor"})
     benchmark::RegisterBenchmark((std::string("BM_SegmentsVsFrame/") + id).c_str(), BM_SegmentsVsFrame, id)
         ->Arg(1)

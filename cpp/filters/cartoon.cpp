@@ -25,6 +25,7 @@ class Cartoon final : public Filter {
   static int bilateral_radius(const ParamValues& p) {
     return int(std::ceil(2.0 * p.get_float("smoothing_sigma")));
   }
+  bool reads_neighbourhood() const override { return true; }
   int footprint(const ParamValues& p) const override {
     // Writes up to outline_width outside; reads its kernel beyond that, and
     // each bilateral iteration reads its own radius further.

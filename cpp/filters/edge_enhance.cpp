@@ -33,6 +33,9 @@ class EdgeEnhance final : public Filter {
   // Creases compare normals up to w + 3 px away (shader: CREASE_STEP and
   // the non-maximum test), each fitted over 2 px around it.
   static constexpr int kCreaseReach = 3, kFitRadius = 2;
+  // Silhouettes read the coverage around each pixel: the gaps between an
+  // aerial tile's scan lines must not become lines.
+  bool reads_neighbourhood() const override { return true; }
   int footprint(const ParamValues& p) const override {
     return reach(p) + std::max(p.get_int("fill_gaps"), creases(p) ? kCreaseReach + kFitRadius : 0);
   }

@@ -25,6 +25,7 @@ class Kuwahara final : public Filter {
   }
   // Writes only covered pixels; reads the ellipse, and the tensor's kernel.
   static int impasto_margin(const ParamValues& p) { return p.get_float("impasto") > 0.0 ? 1 : 0; }
+  bool reads_neighbourhood() const override { return true; }
   int footprint(const ParamValues& p) const override {
     return std::max(window_radius(p), tensor_radius(p) + 1) + impasto_margin(p);
   }

@@ -47,6 +47,7 @@ Sizes sizes(const ParamValues& p) {
 class Watercolor final : public Filter {
  public:
   // Borders move by up to `wobble` px; lookups reach 2 px and the kernel beyond.
+  bool reads_neighbourhood() const override { return true; }
   int footprint(const ParamValues& p) const override {
     const Sizes s = sizes(p);
     return s.wobble + 2 + s.kernel;

@@ -35,6 +35,7 @@ Radii radii(const ParamValues& p) {
 class XDoG final : public Filter {
  public:
   // Draws the outline up to `thickness` px outside; reads the kernel beyond.
+  bool reads_neighbourhood() const override { return true; }
   int footprint(const ParamValues& p) const override {
     const Radii r = radii(p);
     return r.outline + r.kernel;

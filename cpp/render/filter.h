@@ -72,7 +72,13 @@ class Filter {
   // (and read): the segment's rect is grown by this before the filter runs.
   virtual int footprint(const ParamValues& params) const = 0;
   virtual void apply(const FilterContext& ctx, const ParamValues& params) const = 0;
+  // Whether the filter reads its neighbours' colours (smoothing, edges,
+  // paper): the chain then closes the gaps between the splats first
+  // (depth-aware, shaders/gap_fill.comp), so it never sees background
+  // inside a surface.
+  virtual bool reads_neighbourhood() const { return false; }
 };
+
 
 struct FilterInfo {
   static constexpr const char* kKind = "filter";

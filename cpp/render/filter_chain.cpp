@@ -1,5 +1,6 @@
 #include "render/filter_chain.h"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
@@ -23,25 +24,102 @@ int total_footprint(const std::vector<FilterStep>& steps) {
   return total;
 }
 
+namespace {
+
+// The gap fill's search: gaps up to 2 * kGapReach - 1 pixels across close
+// (a bound on its cost; whether a gap closes is decided by the depths of
+// the surface around it). Its ends are one surface when their depths differ
+// by no more than a surface turned kGapGrazing (tan 70 degrees) away from
+// the view changes over the gap, in the pixel's own footprint at that depth.
+constexpr int kGapReach = 8;
+constexpr float kGapGrazing = 2.75f;
+
+void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Texture& input, const gl::Texture& output,
+              const Rect& rect) {
+  FilterContext ctx;
+  ctx.shaders = in.shaders;
+  ctx.images = in.images;
+  ctx.input = &input;
+  ctx.output = &output;
+  ctx.raster_depth = in.raster_depth;
+  ctx.scratch = in.scratch;
+  ctx.rect = rect;
+  ctx.image_size = in.image_size;
+  ctx.time = in.time;
+  ctx.segment_seed = in.segment_seed;
+  ctx.surface = in.surface;
+  f.filter->apply(ctx, f.params);
+  gl::check_gl(("filter " + f.info->schema.id).c_str());
+}
+
+// The gap fill (shaders/gap_fill.comp) of the image `in` whose covered
+// pixels lie within `covered`, written over `write` of the chain's gap image.
+const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture& in, const Rect& covered,
+                             const Rect& write) {
+  const gl::Texture& out = images.gap_image();
+  // The list of tiles that need the search: 3 uints of indirect dispatch
+  // arguments, padding, then a uvec2 per 16x16 tile. Kept for the GL
+  // context's life (like the shader library), grown as frames need.
+  static gl::Buffer* tiles = new gl::Buffer();
+  static size_t tiles_bytes = 0;
+  const glm::ivec2 groups = (write.size() + 15) / 16;
+  const size_t bytes = 16 + 8 * size_t(std::max(groups.x, 1)) * size_t(std::max(groups.y, 1));
+  if (bytes > tiles_bytes) {
+    *tiles = gl::make_buffer(bytes, nullptr);
+    tiles_bytes = bytes;
+  }
+  const GLuint args[4] = {0, 1, 1, 0};
+  glNamedBufferSubData(tiles->id(), 0, sizeof(args), args);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, tiles->id());
+  glBindImageTexture(0, in.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(2, images.raster_depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  for (const bool classify : {true, false}) {
+    const gl::Program& prog = images.shaders->compute(
+        "gap_fill.comp", classify ? std::vector<std::string>{"PASS_CLASSIFY"} : std::vector<std::string>{});
+    prog.use();
+    glUniform1i(prog.location("u_reach"), kGapReach);
+    glUniform1f(prog.location("u_grazing"), kGapGrazing);
+    glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
+    glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);
+    set_surface_uniforms(prog, images.surface);
+    if (classify) {
+      dispatch_rect(prog, write);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    } else {
+      glUniform2i(prog.location("u_rect_min"), write.min.x, write.min.y);
+      glUniform2i(prog.location("u_rect_max"), write.max.x, write.max.y);
+      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tiles->id());
+      glDispatchComputeIndirect(0);
+      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+  }
+  gl::check_gl("gap fill");
+  return out;
+}
+
+}  // namespace
+
 const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const FilterChainImages& in, Rect& rect) {
   const gl::Texture* current = in.first;
   const gl::Texture* other = in.second;
+  bool filled = false;
   for (const FilterStep& f : steps) {
+    if (!filled && in.fill_gaps && in.gap_image && f.filter->reads_neighbourhood() && in.raster_depth) {
+      // Filled as far as the filter reads: its rect grown by its footprint.
+      const int reach = f.filter->footprint(f.params);
+      const gl::Texture& gaps = fill_gaps(in, *current, rect, rect.grown(2 * reach, in.image_size));
+      filled = true;
+      // The filled image stands in for `current`; the filter writes `other`
+      // as usual.
+      rect = rect.grown(reach, in.image_size);
+      run_step(f, in, gaps, *other, rect);
+      std::swap(current, other);
+      continue;
+    }
     rect = rect.grown(f.filter->footprint(f.params), in.image_size);
-    FilterContext ctx;
-    ctx.shaders = in.shaders;
-    ctx.images = in.images;
-    ctx.input = current;
-    ctx.output = other;
-    ctx.raster_depth = in.raster_depth;
-    ctx.scratch = in.scratch;
-    ctx.rect = rect;
-    ctx.image_size = in.image_size;
-    ctx.time = in.time;
-    ctx.segment_seed = in.segment_seed;
-    ctx.surface = in.surface;
-    f.filter->apply(ctx, f.params);
-    gl::check_gl(("filter " + f.info->schema.id).c_str());
+    run_step(f, in, *current, *other, rect);
     std::swap(current, other);
   }
   return current;

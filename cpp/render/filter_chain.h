@@ -31,6 +31,11 @@ struct FilterChainImages {
   double time = 0.0;
   uint32_t segment_seed = 0;
   SurfaceFrame surface;
+  // Close the gaps between splats before the first filter that reads
+  // neighbourhoods (shaders/gap_fill.comp), into `gap_image`: for point
+  // splats, not for marks whose gaps are the drawing (strokes, stipples).
+  bool fill_gaps = true;
+  std::function<const gl::Texture&()> gap_image;
 };
 
 // Runs `steps` from `rect` (the input's covered bounds); returns the image

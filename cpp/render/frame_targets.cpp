@@ -34,6 +34,11 @@ void FrameTargets::ensure(glm::ivec2 new_size, bool new_int64) {
   gl::check_gl("frame target allocation");
 }
 
+const gl::Texture& FrameTargets::gap_fill_image() {
+  if (gap_filled.id() == 0) gap_filled = gl::Texture(GL_RGBA32F, size);
+  return gap_filled;
+}
+
 const gl::Texture& FrameTargets::filter_scratch(int index) {
   while (int(scratch.size()) <= index) scratch.emplace_back(GL_RGBA32F, size);
   return scratch[size_t(index)];

@@ -24,12 +24,15 @@ struct FrameTargets {
   gl::Texture gl_depth;   // depth attachment of GL-drawn marks
   gl::Framebuffer fbo;
   std::deque<gl::Texture> scratch;  // RGBA32F for filters; deque: references stay valid as it grows
+  gl::Texture gap_filled;           // RGBA32F: the filter chain's gap fill (made on first use)
   std::map<std::pair<GLenum, int>, gl::Texture> mark_images;
 
   // Every target at `size` (with 64-bit atomics: one depth-and-key buffer).
   void ensure(glm::ivec2 size, bool int64);
   // The filters' RGBA32F scratch image `index`.
   const gl::Texture& filter_scratch(int index);
+  // The filter chain's gap-filled image (shaders/gap_fill.comp).
+  const gl::Texture& gap_fill_image();
   // A mark's scratch image of `format`, by index.
   const gl::Texture& mark_scratch(GLenum format, int index);
   // Clears whole rows [r.min.y, r.max.y) of a per-pixel buffer to ~0: one call.

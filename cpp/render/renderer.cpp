@@ -339,6 +339,8 @@ struct Renderer::Impl {
       chain.time = s.time;
       chain.segment_seed = mark.segment_seed;
       chain.surface = make_surface_frame(cam, frame, surface_anchor(seg));
+      chain.fill_gaps = seg.style.mark.info->schema.id == "points";
+      chain.gap_image = [this]() -> const gl::Texture& { return targets.gap_fill_image(); };
       current = run_filter_chain(seg.style.filters, chain, rect);
     }
     stage_done(s);

@@ -76,8 +76,10 @@ inline Rect covered_bounds(const Image& img) {
 
 // Runs `steps` on `in`; `repeat` > 1 runs the chain that many times (for
 // benchmarks) and reports the mean time.
+// `fill_gaps`: the chain's gap fill before neighbourhood filters (off:
+// the filters alone, for cost comparisons).
 inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, double time = 0.0, int repeat = 1,
-                             std::optional<Rect> start_rect = std::nullopt) {
+                             std::optional<Rect> start_rect = std::nullopt, bool fill_gaps = true) {
   std::vector<FilterStep> chain;
   for (const Step& s : steps) chain.push_back(make_filter_step(s.id, s.params, s.paths));
   std::vector<float> depth = in.depth;
@@ -89,7 +91,7 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
   return gl::Device::instance().run([&] {
     static gl::ShaderLibrary* shaders = new gl::ShaderLibrary();  // lives as long as the GL context
     const glm::ivec2 size = in.size;
-    gl::Texture a(GL_RGBA32F, size), b(GL_RGBA32F, size), z(GL_R32F, size);
+    gl::Texture a(GL_RGBA32F, size), b(GL_RGBA32F, size), z(GL_R32F, size), gap(GL_RGBA32F, size);
     std::deque<gl::Texture> scratch;
     const float nan4[4] = {std::nanf(""), std::nanf(""), std::nanf(""), std::nanf("")};
     glTextureSubImage2D(a.id(), 0, 0, 0, size.x, size.y, GL_RGBA, GL_FLOAT, in.rgba.data());
@@ -102,6 +104,7 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
     for (int rep = 0; rep < std::max(repeat, 1); ++rep) {
       glClearTexImage(b.id(), 0, GL_RGBA, GL_FLOAT, single ? sentinel : zero4);
       for (auto& t : scratch) glClearTexImage(t.id(), 0, GL_RGBA, GL_FLOAT, nan4);
+      glClearTexImage(gap.id(), 0, GL_RGBA, GL_FLOAT, nan4);  // as scratch: pixels the gap fill leaves are NaN
       glFinish();
       const auto t0 = std::chrono::steady_clock::now();
       Rect rect = start_rect ? *start_rect : covered_bounds(in);
@@ -121,6 +124,8 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
       images.image_size = size;
       images.time = time;
       images.segment_seed = 12345u;
+      images.fill_gaps = fill_gaps;
+      images.gap_image = [&]() -> const gl::Texture& { return gap; };
       // An orthographic view one world unit per pixel: the surface point
       // of pixel q at depth d is (q, -d).
       images.surface.x0 = {1.0f, 0.0f, 0.0f};

@@ -1,0 +1,194 @@
+// Depth-aware gap fill before the filters that read neighbourhoods
+// (cpp/render/filter_chain.cpp). A pixel is a gap of a surface when that
+// surface's own pixels enclose it: along at least 2 of the 4 lines through
+// it (horizontal, vertical, both diagonals) the first pixel of the surface
+// lies within u_reach on both sides, and the two ends are one surface: their
+// depths differ by no more than a surface seen at the steepest angle
+// (u_grazing = tan of it) can change over the gap, the gap's length times
+// the pixel's footprint at that depth, and on either side the surface runs
+// on for at least half the gap (its splats are as wide as its gaps: lone
+// splats do not merge, nor join a surface). Covered pixels count as gaps
+// too when a surface nearer than them by more than its slope over the whole
+// search, and more than twice the depth spread of its own enclosing pixels
+// (the scan's local noise), encloses them: back points seen through a front
+// surface. A gap takes the inverse-distance mean of its enclosing pixels
+// (rgba, straight alpha). Nothing crosses a depth jump: the background
+// beside a silhouette, or a far wall seen past an edge, is enclosed by no
+// surface. Two passes (PASS_CLASSIFY, then the search on listed tiles: see
+// the end of the file).
+#include "filter_common.glsl"
+layout(local_size_x = 16, local_size_y = 16) in;
+layout(rgba32f, binding = 0) uniform readonly image2D u_in;
+layout(rgba32f, binding = 1) uniform writeonly image2D u_out;
+layout(r32f, binding = 2) uniform readonly image2D u_depth;
+uniform int u_reach;
+uniform float u_grazing;
+uniform ivec2 u_cover_min;  // covered pixels lie within [u_cover_min, u_cover_max)
+uniform ivec2 u_cover_max;
+
+// Scene units one pixel spans at depth d (the view-space x of pixel q at
+// depth d is dot(x0, q) + d dot(x1, q): filter_common.glsl).
+float pixel_size(float d) { return abs(u_surface_x0.x + d * u_surface_x1.x); }
+
+struct Hit {
+  int t;  // 0: none within reach
+  float depth;
+  vec4 color;
+};
+
+// The first pixel along `dir` nearer than `behind` (covered, finite depth).
+// How many steps along `dir` stay within the covered box, up to u_reach.
+int steps_inside(ivec2 p, ivec2 dir) {
+  ivec2 room = mix(mix(ivec2(u_reach), p - u_cover_min, lessThan(dir, ivec2(0))), u_cover_max - 1 - p,
+                   greaterThan(dir, ivec2(0)));
+  return min(u_reach, min(room.x, room.y));
+}
+
+Hit march(ivec2 p, ivec2 dir, float behind) {
+  Hit h = Hit(0, INF, vec4(0.0));
+  int n = steps_inside(p, dir);
+  for (int k = 1; k <= n; ++k) {
+    ivec2 q = p + k * dir;
+    float d = imageLoad(u_depth, q).r;  // +inf where no point is
+    if (d < behind) {
+      vec4 c = imageLoad(u_in, q);
+      if (covered(c)) {
+        h.t = k;
+        h.depth = d;
+        h.color = c;
+        return h;
+      }
+    }
+  }
+  return h;
+}
+
+// How many pixels with points nearer than `limit` (the surface, not what
+// lies behind it) follow the hit at `t` along `dir`, up to `cap`.
+int run_length(ivec2 p, ivec2 dir, int t, float limit, int cap) {
+  int n = 0, last = min(t + cap, steps_inside(p, dir));
+  for (int k = t + 1; k <= last; ++k) {
+    if (!(imageLoad(u_depth, p + k * dir).r <= limit)) break;  // +inf: no point
+    ++n;
+  }
+  return n;
+}
+
+struct Acc {
+  vec4 sum;
+  float weight, lo, hi;
+  int lines;
+};
+
+// Line `d` through p with first pixels a (along d) and b (against it): a
+// gap of one surface when the ends' depths differ no more than its steepest
+// slope allows over the gap, and on either side the surface runs on for at
+// least half the gap (its splats are as wide as its gaps, not lone splats).
+void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
+  if (a.t == 0 || b.t == 0) return;
+  float gap = float(a.t + b.t - 1);
+  if (abs(a.depth - b.depth) > (gap + 1.0) * length(vec2(d)) * pixel_size(min(a.depth, b.depth)) * u_grazing) return;
+  int need = (int(gap) + 1) / 2;
+  if (1 + run_length(p, d, a.t, limit, need - 1) < need || 1 + run_length(p, -d, b.t, limit, need - 1) < need) return;
+  float wa = 1.0 / float(a.t), wb = 1.0 / float(b.t);
+  acc.sum += wa * a.color + wb * b.color;
+  acc.weight += wa + wb;
+  acc.lo = min(acc.lo, min(a.depth, b.depth));
+  acc.hi = max(acc.hi, max(a.depth, b.depth));
+  ++acc.lines;
+}
+
+// Whether pixel p (colour c) may change: a background pixel, or a covered
+// one with a gap or a nearer surface near it. Everything else is copied.
+bool needs_work(ivec2 p, vec4 c, out float own) {
+  own = INF;
+  if (any(lessThan(p, u_cover_min)) || any(greaterThanEqual(p, u_cover_max))) return false;
+  own = covered(c) ? imageLoad(u_depth, p).r : INF;
+  // Covered without depth (a filter's paint): kept as it is.
+  if (covered(c) && isinf(own)) return false;
+  if (!isinf(own)) {
+    // A covered pixel can only be a back point seen through a gap where a
+    // gap or a nearer surface lies 2 px away (a splat's width) along an
+    // axis: most of a surface is not, and costs four loads.
+    float step_limit = own - 4.0 * pixel_size(own) * u_grazing;
+    ivec2 hi_corner = u_cover_max - 1;
+    vec4 z = vec4(imageLoad(u_depth, clamp(p + ivec2(2, 0), u_cover_min, hi_corner)).r,
+                  imageLoad(u_depth, clamp(p - ivec2(2, 0), u_cover_min, hi_corner)).r,
+                  imageLoad(u_depth, clamp(p + ivec2(0, 2), u_cover_min, hi_corner)).r,
+                  imageLoad(u_depth, clamp(p - ivec2(0, 2), u_cover_min, hi_corner)).r);
+    if (!any(isinf(z)) && !any(lessThan(z, vec4(step_limit)))) return false;
+  }
+  return true;
+}
+
+void fill_pixel(ivec2 p, vec4 c, float own) {
+  // The first pixels met along the 8 directions (one variable each: no
+  // arrays); at least two lines must meet a surface on one side.
+  const ivec2 D0 = ivec2(1, 0), D1 = ivec2(0, 1), D2 = ivec2(1, 1), D3 = ivec2(1, -1);
+  Hit a0 = march(p, D0, own), a1 = march(p, D1, own), a2 = march(p, D2, own), a3 = march(p, D3, own);
+  if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) return;
+  Hit b0 = march(p, -D0, own), b1 = march(p, -D1, own), b2 = march(p, -D2, own), b3 = march(p, -D3, own);
+  float near = min(min(min(a0.depth, a1.depth), min(a2.depth, a3.depth)),
+                   min(min(b0.depth, b1.depth), min(b2.depth, b3.depth)));
+  // Hits beyond what the nearest surface reaches over the search (a back
+  // surface seen through the same gap) are looked past.
+  float limit = near + 2.0 * float(u_reach) * pixel_size(near) * u_grazing;
+  if (a0.depth > limit && a0.t > 0) a0 = march(p, D0, limit);
+  if (a1.depth > limit && a1.t > 0) a1 = march(p, D1, limit);
+  if (a2.depth > limit && a2.t > 0) a2 = march(p, D2, limit);
+  if (a3.depth > limit && a3.t > 0) a3 = march(p, D3, limit);
+  if (b0.depth > limit && b0.t > 0) b0 = march(p, -D0, limit);
+  if (b1.depth > limit && b1.t > 0) b1 = march(p, -D1, limit);
+  if (b2.depth > limit && b2.t > 0) b2 = march(p, -D2, limit);
+  if (b3.depth > limit && b3.t > 0) b3 = march(p, -D3, limit);
+  Acc acc = Acc(vec4(0.0), 0.0, INF, 0.0, 0);
+  line(p, D0, a0, b0, limit, acc);
+  line(p, D1, a1, b1, limit, acc);
+  line(p, D2, a2, b2, limit, acc);
+  line(p, D3, a3, b3, limit, acc);
+  vec4 sum = acc.sum;
+  float weight = acc.weight, lo = acc.lo, hi = acc.hi;
+  int lines = acc.lines;
+  if (lines >= 2 && !isinf(own)) {
+    // A covered pixel gives way only to a surface it cannot belong to: one
+    // nearer by more than that surface's steepest slope over the search and
+    // more than twice the spread of its own enclosing pixels (the scan's
+    // local noise).
+    if (own <= limit || own - hi <= 2.0 * (hi - lo) + pixel_size(hi) * u_grazing) lines = 0;
+  }
+  imageStore(u_out, p, lines >= 2 ? sum / weight : c);
+}
+
+// Two passes, so that the search runs only where it may change something
+// (llvmpipe runs a shader's later code masked for lanes that returned, so
+// one pass cost the search everywhere): CLASSIFY copies every pixel and
+// lists the 16x16 tiles with a pixel that needs work; FILL runs on those
+// tiles only (dispatched indirectly from the list's count).
+layout(std430, binding = 3) buffer Tiles {
+  uint groups_x, groups_y, groups_z, pad;
+  uvec2 tiles[];
+};
+#ifdef PASS_CLASSIFY
+shared bool s_work;
+void main() {
+  if (gl_LocalInvocationIndex == 0u) s_work = false;
+  barrier();
+  ivec2 p;
+  if (rect_pixel(p)) {
+    vec4 c = imageLoad(u_in, p);
+    imageStore(u_out, p, c);
+    float own;
+    if (needs_work(p, c, own)) s_work = true;
+  }
+  barrier();
+  if (gl_LocalInvocationIndex == 0u && s_work) tiles[atomicAdd(groups_x, 1u)] = gl_WorkGroupID.xy;
+}
+#else
+void main() {
+  ivec2 p = u_rect_min + ivec2(tiles[gl_WorkGroupID.x] * 16u + gl_LocalInvocationID.xy);
+  if (any(greaterThanEqual(p, u_rect_max))) return;
+  vec4 c = imageLoad(u_in, p);
+  float own;
+  if (needs_work(p, c, own)) fill_pixel(p, c, own);
+}
+#endif
