@@ -205,6 +205,21 @@ std::shared_ptr<const std::vector<glm::vec3>> Analysis::normals(const NormalOpti
   return r;
 }
 
+std::shared_ptr<const LocalResolution> Analysis::surface_resolution(int k) {
+  check_k(k);
+  const Call call(*this);
+  const std::string key = "surface_resolution:" + std::to_string(k);
+  if (auto hit = cached<LocalResolution>(key)) return hit;
+  call.plan(knn_work(k + 1) + 2 * size());
+  const Neighborhoods& nb = *knn(k + 1);
+  LocalResolution lr = geometry::surface_resolution(geometry::local_resolution(nb), nb);
+  lr.r = points().to_original(lr.r);
+  lr.eps = points().to_original(lr.eps);
+  auto r = std::make_shared<const LocalResolution>(std::move(lr));
+  cache_[key] = r;
+  return r;
+}
+
 std::shared_ptr<const std::vector<float>> Analysis::curvature(int k) {
   check_k(k);
   const Call call(*this);

@@ -68,6 +68,9 @@ class Analysis {
   std::shared_ptr<const std::vector<glm::vec3>> normals(const NormalOptions& options);
   std::shared_ptr<const std::vector<float>> curvature(int k);
   std::shared_ptr<const LocalResolution> local_resolution(int k);
+  // local_resolution with outliers' r capped by their neighbours'
+  // (geometry::surface_resolution): what marks size their marks from.
+  std::shared_ptr<const LocalResolution> surface_resolution(int k);
   std::shared_ptr<const std::vector<float>> feature_degree(int k, const FeatureOptions& options);
   std::vector<uint8_t> inliers(int k, float std_ratio);
   LineFit line_fit(const std::vector<uint8_t>& mask, int k);

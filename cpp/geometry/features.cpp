@@ -1,5 +1,6 @@
 #include "geometry/features.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -38,6 +39,28 @@ LocalResolution local_resolution(const Neighborhoods& nb) {
     const float median = sorted[n / 2];
     out.median_r = median > 0.0f && std::isfinite(median) ? median : 0.0f;
   }
+  return out;
+}
+
+LocalResolution surface_resolution(const LocalResolution& raw, const Neighborhoods& nb) {
+  LocalResolution out = raw;
+  const size_t n = raw.r.size();
+  const int m = nb.k - 1;  // the first entry is the point itself
+  if (m <= 0) return out;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
+    std::vector<float> around(static_cast<size_t>(m));
+    for (size_t i = range.begin(); i < range.end(); ++i) {
+      const uint32_t* idx = nb.at(i);
+      for (int j = 1; j <= m; ++j) around[size_t(j - 1)] = raw.r[idx[j]];
+      std::nth_element(around.begin(), around.begin() + m / 2, around.end());
+      const float cap = 2.0f * around[size_t(m / 2)];
+      if (cap > 0.0f && raw.r[i] > cap) {
+        out.eps[i] = raw.eps[i] * (cap / raw.r[i]);
+        out.r[i] = cap;
+      }
+    }
+  });
+  advance(current_progress(), n);
   return out;
 }
 

@@ -22,6 +22,14 @@ struct LocalResolution {
   float median_r = 0.0f;
 };
 LocalResolution local_resolution(const Neighborhoods& nb_with_self);
+// What marks size their surface from: `raw` (local_resolution of the same
+// neighbourhoods, in their order) with each point's r capped at twice the
+// median r of its neighbours, and eps scaled alike. A point far from the
+// surface it belongs to (an outlier, a stray point in the sky) has a large
+// r of its own while its neighbours, on that surface, have small ones: its
+// marks stay the size of its neighbourhood's instead of spanning the gap.
+// Surface points (r near their neighbours') keep theirs; median_r is raw's.
+LocalResolution surface_resolution(const LocalResolution& raw, const Neighborhoods& nb_with_self);
 
 // Seed 001 section 5.2, on points instead of scan images. Geometric part:
 // the variation (standard deviation over the kNN neighbourhood) of the

@@ -153,7 +153,7 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
         }
         break;
       case AttributeKind::Curvature: buffer = upload(*analysis->curvature(key.k)); break;
-      case AttributeKind::LocalResolution: buffer = upload(analysis->local_resolution(key.k)->r); break;
+      case AttributeKind::LocalResolution: buffer = upload(analysis->surface_resolution(key.k)->r); break;
       case AttributeKind::FeatureDegree: buffer = upload(*analysis->feature_degree(key.k, {})); break;
       case AttributeKind::QueueOrder:
         // Kept on the host where the native rasterizer (software devices) reads it too.
@@ -174,7 +174,7 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
         buffer = upload(packed);
         break;
       }
-      case AttributeKind::ResolutionDeviation: buffer = upload(analysis->local_resolution(key.k)->eps); break;
+      case AttributeKind::ResolutionDeviation: buffer = upload(analysis->surface_resolution(key.k)->eps); break;
       case AttributeKind::PrincipalAxis:
         buffer = upload(pack_normals(analysis->points().to_original(analysis->pca(key.k)->major)));
         break;

@@ -166,7 +166,7 @@ std::shared_ptr<const PointCloud> chunk_cloud(const VisibleChunk& v, const char*
 float median_spacing(const VisibleChunk& v, int k, float otherwise) {
   const std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
   if (!cloud || cloud->size() == 0) return otherwise;
-  const float median = cloud->analysis().local_resolution(k)->median_r;
+  const float median = cloud->analysis().surface_resolution(k)->median_r;
   return median > 0.0f ? median : otherwise;
 }
 

@@ -500,3 +500,25 @@ TEST(GeometryCache, ACloudComputesNothingUntilAskedThenOnce) {
     EXPECT_GT(glm::dot(glm::dvec3((*n1)[i]), glm::normalize(p)), 0.99);
   }
 }
+
+// Marks size themselves from surface_resolution: a stray point far off a
+// surface gets the size of its neighbourhood, not of the gap around it;
+// the surface's own points keep their spacing.
+TEST(Analysis, SurfaceResolutionCapsAStrayPointAtItsNeighbours) {
+  std::vector<double> xyz;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 30; ++x) xyz.insert(xyz.end(), {x * 0.1, y * 0.1, 0.0});
+  xyz.insert(xyz.end(), {1.5, 1.5, 5.0});  // 5 units above a 0.1 grid
+  Analysis a(xyz);
+  const auto& raw = *a.local_resolution(8);
+  const auto& surface = *a.surface_resolution(8);
+  const size_t stray = 900;
+  EXPECT_GT(raw.r[stray], 4.9f);
+  EXPECT_LE(surface.r[stray], 2.0f * 0.15f);  // twice its grid neighbours' (0.1 to 0.14)
+  EXPECT_NEAR(surface.eps[stray] / surface.r[stray], raw.eps[stray] / raw.r[stray], 1e-5f);
+  for (size_t i = 0; i < stray; ++i) {
+    EXPECT_EQ(surface.r[i], raw.r[i]) << i;
+    EXPECT_EQ(surface.eps[i], raw.eps[i]) << i;
+  }
+  EXPECT_EQ(surface.median_r, raw.median_r);
+}

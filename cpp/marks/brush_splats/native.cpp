@@ -156,7 +156,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           hold.push_back(normals);
         }
         if (s.resolution_size) {
-          auto resolution = analysis.local_resolution(k);
+          auto resolution = analysis.surface_resolution(k);
           in.r = resolution->r.data();
           in.eps = resolution->eps.data();
           hold.push_back(resolution);

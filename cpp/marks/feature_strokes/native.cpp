@@ -271,7 +271,7 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
     if (cloud.get() != last) {
       last = cloud.get();
       auto degree = cloud->analysis().feature_degree(s.feature_k, {});
-      auto resolution = cloud->analysis().local_resolution(kStrokeResolutionNeighbors);
+      auto resolution = cloud->analysis().surface_resolution(kStrokeResolutionNeighbors);
       std::shared_ptr<const std::vector<uint32_t>> lines = s.u.use_lines ? line_cache.get(v, s.line_key) : nullptr;
       proto = Chunk{};
       proto.positions = cloud->local_positions().data();

@@ -150,7 +150,7 @@ void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const Str
       held.push_back(curvature);
     }
     if (pass.select.coverage > 0.0f) {
-      auto resolution = analysis.local_resolution(pass.spacing_k);
+      auto resolution = analysis.surface_resolution(pass.spacing_k);
       c.spacing = resolution->r.data();
       held.push_back(resolution);
     }
