@@ -6,7 +6,9 @@ Used two ways:
   with a given package (they were made with the package from before the
   mark stage, whose styles still had a Rasterize node; urban_lidarhd was
   rendered again on purpose in issue 40, when eye-dome lighting began to
-  read its neighbours between pixels):
+  read its neighbours between pixels; urban_lidarhd, warsaw_styles and
+  lion_benchmark again when the gap fill began to close the gaps between
+  splats before neighbourhood filters):
 
       blender -b --factory-startup --python-exit-code 1 \
           --python tests/blender/example_renders.py -- <builddir> [names...]
