@@ -1,7 +1,7 @@
 import bpy
 import pointnpr
 from pointnpr import blender as addon
-from pointnpr.blender import engine, import_operators, importer, nodes, ui
+from pointnpr.blender import engine, import_operators, nodes, ui
 
 
 def _registered_state():

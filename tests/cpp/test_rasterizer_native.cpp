@@ -3,9 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
-#include <fstream>
-#include <regex>
-#include <sstream>
 
 #include <tbb/global_control.h>
 

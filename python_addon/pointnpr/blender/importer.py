@@ -235,6 +235,7 @@ class ImportJob(PointObjectJob):
         self.warnings = []  # the reader's (metadata "warning")
         self.notes = []  # what the import report lists besides (E57: images, coordinate metadata)
         self._coordinate_metadata = ""
+        self._sensor = None  # an organized frame's sensor, in the recentred frame
 
     # -- progress: steps done / total (total is known once the file is read)
     @property
@@ -416,8 +417,8 @@ class ImportJob(PointObjectJob):
                 attr = obj.data.attributes.new("N", 'FLOAT_VECTOR', 'POINT')
                 attr.data.foreach_set("vector", np.ascontiguousarray(normals, np.float32).reshape(-1))
         obj["pointnpr_origin"] = [float(v) for v in self._origin]
-        if getattr(self, "_sensor", None) is not None:
-            obj["pointnpr_sensor"] = self._sensor  # in the object's (recentred) frame
+        if self._sensor is not None:
+            obj["pointnpr_sensor"] = self._sensor  # estimated normals face it (sync.cloud_for)
         if self._coordinate_metadata:
             obj["pointnpr_coordinate_metadata"] = self._coordinate_metadata
 
