@@ -9,8 +9,9 @@
 //  - a file's include guard in the preprocessor both share;
 //  - mat_vec(m, v) for mat4 * vec4 (GLM sums the columns in another
 //    order than llvmpipe), PRECISE for GLSL's precise;
-//  - settings as one block of vec4s first and then 4-byte scalars, so the
-//    std140 layout and the C++ struct's agree (SETTINGS_BLOCK below;
+//  - settings as one block of mat4s and vec4s first, then vec2s and
+//    ivec2s, then 4-byte scalars, so the std140 layout and the C++
+//    struct's agree (SETTINGS_BLOCK below;
 //    gl::check_uniform_block compares the sizes when a program uses one).
 // The native file that includes kernels builds with -ffp-contract=off, as
 // GLSL on llvmpipe never fuses a product into a sum.

@@ -3,6 +3,7 @@
 // (min, max, add) or a per-texel gather, so the bytes never vary. For GPUs;
 // marks/stipples/native.cpp runs the same rules on the CPU.
 #include <algorithm>
+#include <tuple>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
@@ -43,21 +44,24 @@ class GlStipplePasses final : public StipplePasses {
         s_(s),
         quad_(gl::make_buffer(s.quad_n() * 4, nullptr, GL_DYNAMIC_STORAGE_BIT)),
         light_count_(gl::make_buffer(s.light_n() * 4, nullptr, GL_DYNAMIC_STORAGE_BIT)),
-        histogram_(gl::make_buffer(s.specular ? kStippleHistogramBins * 4 : 4, nullptr, 0)),
+        histogram_(gl::make_buffer(s.u.specular ? kStippleHistogramBins * 4 : 4, nullptr, 0)),
         globals_(gl::make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT)),
-        none_(gl::make_buffer(4, nullptr, 0)) {
+        none_(gl::make_buffer(4, nullptr, 0)),
+        settings_(gl::make_buffer(sizeof(s.u), &s.u)),
+        window_settings_(gl::make_buffer(sizeof(StippleWindow{}.k), nullptr, GL_DYNAMIC_STORAGE_BIT)) {
+    step_ = s.u.offset;
     const size_t clip_pixels = size_t(s.clip.size().x) * size_t(s.clip.size().y);
     dot_cov_ = &ctx.targets.scratch_buffer(clip_pixels * 4, 2);
     dot_depth_ = &ctx.targets.scratch_buffer(clip_pixels * 4, 3);
     uint32_t largest = 1;
     for (const VisibleChunk& v : ctx.chunks) largest = std::max(largest, v.chunk->count);
-    capture_ = gl::make_buffer(s.capture ? size_t(largest) * 16 : 16, nullptr, 0);
+    capture_ = gl::make_buffer(s.u.capture ? size_t(largest) * 16 : 16, nullptr, 0);
     clear_uint(quad_, s.quad_n(), 0xffffffffu);
     clear_uint(light_count_, s.light_n(), 0);
     clear_uint(*dot_cov_, clip_pixels, 0);
     clear_uint(*dot_depth_, clip_pixels, kInfBits);
     clear_uint(globals_, 4, 0);
-    clear_uint(histogram_, (s.specular ? kStippleHistogramBins : 1), 0);
+    clear_uint(histogram_, (s.u.specular ? kStippleHistogramBins : 1), 0);
     hp_ = hp_other_ = eye_count_ = eye_cover_ = surface_ = &none_;
   }
 
@@ -79,7 +83,7 @@ class GlStipplePasses final : public StipplePasses {
     const size_t n = w.fine_n();
     const gl::Buffer& hp_a = ctx_.targets.scratch_buffer(n * 4, 0);
     const gl::Buffer& hp_b = ctx_.targets.scratch_buffer(n * 4, 1);
-    eye_n_ = s_.specular ? w.eye_n() : 1;
+    eye_n_ = s_.u.specular ? w.eye_n() : 1;
     eye_count_ = &ctx_.targets.scratch_buffer(eye_n_ * 4, 7);
     eye_cover_ = &ctx_.targets.scratch_buffer(eye_n_ * 4, 8);
     clear_uint(hp_a, n, kInfBits);
@@ -94,7 +98,7 @@ class GlStipplePasses final : public StipplePasses {
     point_pass("PASS_PROJECT", chunks);
     project_quad_ = false;
     for (int it = 0; it < s_.iterations; ++it) {
-      image_pass("PASS_DILATE", w.fine);
+      image_pass("PASS_DILATE", w.k.fine_size);
       std::swap(hp_, hp_other_);
     }
     const gl::Buffer& surf_a = ctx_.targets.scratch_buffer(n * 4, 4);
@@ -114,15 +118,12 @@ class GlStipplePasses final : public StipplePasses {
       const gl::Buffer* keep_hp = hp_;
       hp_ = &surf_a;
       hp_other_ = &surf_b;
-      const gl::Program& dilate = ctx_.shaders->compute("stipples.comp", {"PASS_DILATE"});
+      step_ = 0.0f;
       for (int it = 0; it < s_.iterations + 1; ++it) {
-        set_uniforms(dilate);
-        glUniform1f(dilate.location("u_offset"), 0.0f);
-        bind_all();
-        glDispatchCompute(GLuint((w.fine.x + 15) / 16), GLuint((w.fine.y + 15) / 16), 1);
-        barrier();
+        image_pass("PASS_DILATE", w.k.fine_size);
         std::swap(hp_, hp_other_);
       }
+      step_ = s_.u.offset;
       surface_ = hp_;
       hp_ = keep_hp;
       hp_other_ = spare;
@@ -139,17 +140,17 @@ class GlStipplePasses final : public StipplePasses {
     const gl::Buffer* masks[2] = {&mask, hp_other_};  // hp_other: free once the spreading is done
     for (int it = 0; it < s_.iterations; ++it) {
       hp_other_ = masks[it % 2];
-      image_pass("PASS_ERODE", window_.fine);
+      image_pass("PASS_ERODE", window_.k.fine_size);
       hp_ = hp_other_;
     }
-    image_pass("PASS_COVER", window_.fine);
+    image_pass("PASS_COVER", window_.k.fine_size);
     hp_ = dilated;
     hp_other_ = spare;
   }
 
   void reduce_quadtree() override {
     const gl::Program& reduce = ctx_.shaders->compute("stipples.comp", {"PASS_REDUCE"});
-    for (int l = s_.levels - 1; l >= 0; --l) {
+    for (int l = s_.u.levels - 1; l >= 0; --l) {
       set_uniforms(reduce);
       bind_all();
       glUniform1i(reduce.location("u_reduce_level"), l);
@@ -225,50 +226,21 @@ class GlStipplePasses final : public StipplePasses {
   }
 
  private:
+  // The settings blocks (the window's as it is now) and the pass's uniforms.
   void set_uniforms(const gl::Program& prog) const {
     const StippleWindow& w = win_ ? *win_ : window_;
     prog.use();
-    glUniformMatrix4fv(prog.location("u_projection"), 1, GL_FALSE, glm::value_ptr(s_.projection));
-    glUniform2i(prog.location("u_size"), s_.frame_px.x, s_.frame_px.y);
-    glUniform2i(prog.location("u_origin"), s_.origin_px.x, s_.origin_px.y);
-    glUniform1f(prog.location("u_near"), s_.near);
-    glUniform1f(prog.location("u_far"), s_.far);
-    glUniform1i(prog.location("u_ortho"), s_.ortho ? 1 : 0);
-    glUniform1f(prog.location("u_px_per_unit"), s_.px_per_unit);
-    glUniform2i(prog.location("u_clip_min"), s_.clip.min.x, s_.clip.min.y);
-    glUniform2i(prog.location("u_clip_max"), s_.clip.max.x, s_.clip.max.y);
-    glUniform1f(prog.location("u_factor"), s_.factor);
-    glUniform2i(prog.location("u_fine_min"), w.fine_min.x, w.fine_min.y);
-    glUniform2i(prog.location("u_fine_size"), w.fine.x, w.fine.y);
-    glUniform2i(prog.location("u_owned_min"), w.owned_min.x, w.owned_min.y);
-    glUniform2i(prog.location("u_owned_max"), w.owned_max.x, w.owned_max.y);
+    for (const auto& [name, bytes, binding] : {std::tuple{"StippleSettings", sizeof(s_.u), 0u},
+                                               std::tuple{"StippleWindowSettings", sizeof(w.k), 1u}})
+      if (glGetUniformBlockIndex(prog.id(), name) != GL_INVALID_INDEX) gl::check_uniform_block(prog, name, bytes, binding);
+    glNamedBufferSubData(window_settings_.id(), 0, sizeof(w.k), &w.k);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, settings_.id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, 1, window_settings_.id());
     glUniform1i(prog.location("u_project_hp"), project_hp_ ? 1 : 0);
     glUniform1i(prog.location("u_project_quad"), project_quad_ ? 1 : 0);
     glUniform1i(prog.location("u_accumulate"), accumulate_ ? 1 : 0);
-    glUniform1f(prog.location("u_offset"), s_.offset);
-    glUniform1i(prog.location("u_casters_all"), s_.casters_all ? 1 : 0);
-    glUniform3fv(prog.location("u_light_dir"), 1, glm::value_ptr(s_.light_dir));
-    glUniform3fv(prog.location("u_light_right"), 1, glm::value_ptr(s_.light_right));
-    glUniform3fv(prog.location("u_light_up"), 1, glm::value_ptr(s_.light_up));
-    glUniform2fv(prog.location("u_light_origin"), 1, glm::value_ptr(s_.light_origin));
-    glUniform1f(prog.location("u_light_extent"), s_.light_extent);
-    glUniform1i(prog.location("u_levels"), s_.levels);
-    glUniform1i(prog.location("u_diffuse"), s_.diffuse ? 1 : 0);
-    glUniform1i(prog.location("u_level_lo"), s_.level_lo);
-    glUniform1f(prog.location("u_level_frac"), s_.level_frac);
-    glUniform1i(prog.location("u_specular"), s_.specular ? 1 : 0);
-    glUniform1f(prog.location("u_tau"), s_.tau);
+    glUniform1f(prog.location("u_step"), step_);
     glUniform1f(prog.location("u_spec_ref"), spec_ref_);
-    glUniform1f(prog.location("u_eye_cell"), s_.eye_cell);
-    glUniform2i(prog.location("u_eye_min"), w.eye_min.x, w.eye_min.y);
-    glUniform2i(prog.location("u_eye_cells"), w.eye_cells.x, w.eye_cells.y);
-    glUniform1i(prog.location("u_light_cells"), s_.light_cells);
-    glUniform1f(prog.location("u_dot_size"), s_.dot_size);
-    glUniform1f(prog.location("u_size_jitter"), s_.size_jitter);
-    glUniform1ui(prog.location("u_seed"), s_.seed);
-    glUniform1i(prog.location("u_capture"), s_.capture ? 1 : 0);
-    glUniform4fv(prog.location("u_dot_color"), 1, glm::value_ptr(s_.dot_color));
-    glUniform4fv(prog.location("u_paper"), 1, glm::value_ptr(s_.paper));
   }
 
   void bind_all() const {
@@ -308,7 +280,7 @@ class GlStipplePasses final : public StipplePasses {
 
   const MarkContext& ctx_;
   const StippleSetup& s_;
-  gl::Buffer quad_, light_count_, histogram_, globals_, none_, capture_;
+  gl::Buffer quad_, light_count_, histogram_, globals_, none_, settings_, window_settings_, capture_;
   const gl::Buffer* dot_cov_ = nullptr;
   const gl::Buffer* dot_depth_ = nullptr;
   // The window the passes run over (null: the last hidden_points' window),
@@ -323,6 +295,7 @@ class GlStipplePasses final : public StipplePasses {
   const gl::Buffer* eye_cover_;
   const gl::Buffer* surface_;
   float spec_ref_ = 1.0f;
+  float step_ = 0.0f;  // PASS_DILATE's depth per step
 };
 
 }  // namespace

@@ -1,8 +1,8 @@
 // The stipples mark's passes on the CPU's threads (TBB), for software GL
 // devices, where llvmpipe's per-texel passes and per-point atomics cost
-// several times a plain loop. The rules of shaders/stipples.comp, evaluated
-// in the same float operations in the same order (so the same texels,
-// cells and decisions), on the host's copy of the points:
+// several times a plain loop. The per-point and per-pixel rules are
+// shaders/stipples_kernels.glsl, the text the GL passes compile (so the
+// same texels, cells and decisions), on the host's copy of the points:
 //
 //  - Point passes project each point again (a few multiplies, cheaper than
 //    storing it) in work items of at most kPointGrain points; texels and cells
@@ -34,28 +34,54 @@
 
 #include "core/error.h"
 #include "core/hash.h"
-#include "marks/stipples/native_parts.h"
-#include "render/native_raster.h"
 #include "gl/device.h"
+#include "marks/stipples/native_parts.h"
 #include "marks/stipples/stipples.h"
+#include "render/native_raster.h"
 #include "scene/point_cloud.h"
 
 namespace pointnpr {
+namespace stipples {
 namespace {
 
 using namespace stipples_native;
 
+// What the shared kernels read: the settings, the window, and the pass's
+// host images (set as the passes size them).
+struct Kernels {
+  const StippleSettings& u;
+  StippleWindowSettings win{};
+  const uint32_t* hp = nullptr;
+  const uint32_t* quad = nullptr;
+  const uint32_t* eye_count = nullptr;
+  const uint32_t* eye_cover = nullptr;
+  const uint32_t* light_count = nullptr;
+  uint hp_at(uint i) const { return hp[i]; }
+  uint quad_at(uint i) const { return quad[i]; }
+  uint eye_count_at(uint i) const { return eye_count[i]; }
+  uint eye_cover_at(uint i) const { return eye_cover[i]; }
+  uint light_count_at(uint i) const { return light_count[i]; }
+  // The kernels' floor without a library call (std::floor is one without SSE4.1).
+  static float floor(float v) { return floor_f(v); }
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#include "stipples_kernels.glsl"
+#pragma GCC diagnostic pop
+};
+using Pt = Kernels::Pt;
+using StipplePixel = Kernels::StipplePixel;
+
 class NativeStipplePasses final : public StipplePasses {
  public:
   NativeStipplePasses(const MarkContext& ctx, const StippleSetup& s)
-      : ctx_(ctx), s_(s), host_(ctx.host->get<HostBuffers>()) {
+      : ctx_(ctx), s_(s), host_(ctx.host->get<HostBuffers>()), k_{s.u} {
     quad_ = sized(host_.quad, s.quad_n());
     fill(quad_, s.quad_n(), 0xffffffffu);
     light_count_ = sized(host_.light_count, s.light_n());
     fill(light_count_, s.light_n(), 0u);
     hist_.assign(kStippleHistogramBins, 0u);
-    quad_stride_ = 2u << s.levels;
-    for (int k = 0; k < 7; ++k) bin_edges_[k] = from_bits(kStippleBinEdgeBits[k]);
+    k_.quad = quad_;
+    k_.light_count = light_count_;
   }
 
   void project_casters(std::span<const VisibleChunk> chunks) override {
@@ -73,12 +99,16 @@ class NativeStipplePasses final : public StipplePasses {
                      bool surface) override {
     std::optional<PassTimer> timer(std::in_place, ctx_.stats, "stipples_native_project_ms");
     w_ = w;
+    k_.win = w.k;
     visible_ = 0;
     const size_t n = w.fine_n();
-    eye_n_ = s_.specular ? w.eye_n() : 1;
+    eye_n_ = s_.u.specular ? w.eye_n() : 1;
     eye_count_.assign(eye_n_, 0u);
     eye_cover_.assign(eye_n_, 0u);
+    k_.eye_count = eye_count_.data();
+    k_.eye_cover = eye_cover_.data();
     uint32_t* hp = sized(host_.hp, n);
+    k_.hp = hp;
     uint32_t* tmp = sized(host_.tmp, n);
     uint32_t* surf = sized(host_.surface, n);
     fill(hp, n, kInfBits);
@@ -88,11 +118,11 @@ class NativeStipplePasses final : public StipplePasses {
     window_chunks_ = chunks;
     uint32_t* point_texel = sized(host_.point_texel, points_);
     uint32_t* point_depth = sized(host_.point_depth, points_);
-    const bool cast_all = casters && s_.diffuse && s_.casters_all;
+    const bool cast_all = casters && s_.u.diffuse && s_.u.casters_all;
     for_points([&](const HostChunk& c, uint32_t begin, uint32_t end) {
       for (uint32_t i = begin; i < end; ++i) {
         const Pt p = project(c, local_index(c, i));
-        const uint32_t texel = p.inside ? uint32_t(fine_index(p.fine)) : kOutside;
+        const uint32_t texel = p.inside ? k_.fine_index(p.fine) : kOutside;
         point_texel[c.slot + i] = texel;
         point_depth[c.slot + i] = bits(p.depth);
         if (p.inside) fetch_min(hp[texel], bits(p.depth));
@@ -102,14 +132,14 @@ class NativeStipplePasses final : public StipplePasses {
     // Each texel takes its neighbours' depths, each a step deeper.
     timer.emplace(ctx_.stats, "stipples_native_spread_ms");
     for (int it = 0; it < s_.iterations; ++it) {
-      spread_step(w_.fine, s_.offset, hp, tmp);
+      spread_step(w_.k.fine_size, s_.u.offset, hp, tmp);
       std::memcpy(hp, tmp, n * 4);
     }
     // The visible points: counted, their surface, the frame's counts.
     timer.emplace(ctx_.stats, "stipples_native_visible_ms");
     std::atomic<uint32_t> visible{0};
-    const bool visible_casters = for_frame && s_.diffuse && !s_.casters_all;
-    const bool projects = visible_casters || s_.specular;  // else the texel and depth are all it needs
+    const bool visible_casters = for_frame && s_.u.diffuse && !s_.u.casters_all;
+    const bool projects = visible_casters || s_.u.specular;  // else the texel and depth are all it needs
     for_points([&](const HostChunk& c, uint32_t begin, uint32_t end) {
       uint32_t owned_visible = 0;
       for (uint32_t i = begin; i < end; ++i) {
@@ -121,9 +151,9 @@ class NativeStipplePasses final : public StipplePasses {
         if (!projects) continue;
         const Pt p = project(c, local_index(c, i));
         if (visible_casters && own) cast(p);
-        if (s_.specular) {
-          fetch_add(eye_count_[eye_index(p.center)], 1u);
-          if (for_frame && own) fetch_add(light_count_[light_cell_index(p.view)], 1u);
+        if (s_.u.specular) {
+          fetch_add(eye_count_[k_.eye_index(p.center)], 1u);
+          if (for_frame && own) fetch_add(light_count_[k_.light_cell_index(p.view)], 1u);
         }
       }
       visible.fetch_add(owned_visible, std::memory_order_relaxed);
@@ -134,7 +164,7 @@ class NativeStipplePasses final : public StipplePasses {
       // The surface's depth for the paper: the visible points spread one
       // texel further, without the step (a box minimum).
       timer.emplace(ctx_.stats, "stipples_native_surface_ms");
-      box_min(w_.fine, surf, tmp, s_.iterations + 1);
+      box_min(w_.k.fine_size, surf, tmp, s_.iterations + 1);
       std::memcpy(surf, tmp, n * 4);
     }
   }
@@ -144,15 +174,15 @@ class NativeStipplePasses final : public StipplePasses {
   // window, is), counted by the eye cell of the texel's centre.
   void cover() override {
     const PassTimer timer(ctx_.stats, "stipples_native_cover_ms");
-    const glm::ivec2 size = w_.fine;
+    const glm::ivec2 size = w_.k.fine_size;
     const int k = s_.iterations;
     const uint32_t* hp = host_.hp.data();
     // The eye cell of each column's and each row's texel centres.
     std::vector<int> cell_x(size_t(size.x)), cell_y(size_t(size.y));
     for (int x = 0; x < size.x; ++x)
-      cell_x[size_t(x)] = eye_axis((float(x + w_.fine_min.x) + 0.5f) / s_.factor, 0);
+      cell_x[size_t(x)] = k_.eye_axis((float(x + w_.k.fine_min.x) + 0.5f) / s_.u.factor, w_.k.eye_min.x, w_.k.eye_cells.x);
     for (int y = 0; y < size.y; ++y)
-      cell_y[size_t(y)] = eye_axis((float(y + w_.fine_min.y) + 0.5f) / s_.factor, 1);
+      cell_y[size_t(y)] = k_.eye_axis((float(y + w_.k.fine_min.y) + 0.5f) / s_.u.factor, w_.k.eye_min.y, w_.k.eye_cells.y);
     tbb::parallel_for(tbb::blocked_range<int>(0, size.y, kRowGrain), [&](const tbb::blocked_range<int>& rows) {
       std::vector<uint8_t> column(size_t(size.x));
       for (int y = rows.begin(); y < rows.end(); ++y) {
@@ -163,7 +193,7 @@ class NativeStipplePasses final : public StipplePasses {
           const uint32_t* line = hp + size_t(r) * size_t(size.x);
           for (int x = 0; x < size.x; ++x) column[size_t(x)] &= uint8_t(line[x] != kInfBits);
         }
-        uint32_t* counts = eye_cover_.data() + size_t(cell_y[size_t(y)]) * size_t(w_.eye_cells.x);
+        uint32_t* counts = eye_cover_.data() + size_t(cell_y[size_t(y)]) * size_t(w_.k.eye_cells.x);
         int run_cell = -1;
         uint32_t run = 0;
         for (int x = 0; x < size.x; ++x) {
@@ -186,14 +216,14 @@ class NativeStipplePasses final : public StipplePasses {
 
   void reduce_quadtree() override {
     const PassTimer timer(ctx_.stats, "stipples_native_quadtree_ms");
-    for (int l = s_.levels - 1; l >= 0; --l) {
+    for (int l = s_.u.levels - 1; l >= 0; --l) {
       const int side = 1 << l;
       tbb::parallel_for(tbb::blocked_range<int>(0, side, 64), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y < rows.end(); ++y)
           for (int x = 0; x < side; ++x) {
             uint32_t m = 0xffffffffu;
-            for (int k = 0; k < 4; ++k) m = std::min(m, quad_[quad_index({2 * x + (k & 1), 2 * y + (k >> 1)}, l + 1)]);
-            quad_[quad_index({x, y}, l)] = m;
+            for (int k = 0; k < 4; ++k) m = std::min(m, quad_[k_.quad_index({2 * x + (k & 1), 2 * y + (k >> 1)}, l + 1)]);
+            quad_[k_.quad_index({x, y}, l)] = m;
           }
       });
     }
@@ -203,17 +233,17 @@ class NativeStipplePasses final : public StipplePasses {
     const PassTimer timer(ctx_.stats, "stipples_native_specular_ms");
     const bool cached = same_chunks(chunks);
     prepare(chunks);
-    const uint32_t* hp = host_.hp.data();
+    const uint32_t* hp = k_.hp = host_.hp.data();
     float* point_spec = cached ? sized(host_.point_spec, points_) : nullptr;
     for_points([&](const HostChunk& c, uint32_t begin, uint32_t end) {
       std::vector<uint32_t> local(kStippleHistogramBins, 0u);
       for (uint32_t i = begin; i < end; ++i) {
         if (cached && !visible_slot(c.slot + i, hp)) continue;
         const Pt p = project(c, local_index(c, i));
-        if (!hp_visible(p, hp) || !owned(p)) continue;
-        const float raw = specular_raw(p);
+        if (!k_.hp_visible(p) || !k_.owned(p)) continue;
+        const float raw = k_.specular_raw(p);
         if (point_spec) point_spec[c.slot + i] = raw;
-        ++local[size_t(histogram_bin(raw))];
+        ++local[size_t(k_.specular_bin(raw))];
       }
       for (int b = 0; b < kStippleHistogramBins; ++b)
         if (local[size_t(b)]) fetch_add(hist_[size_t(b)], local[size_t(b)]);
@@ -244,11 +274,11 @@ class NativeStipplePasses final : public StipplePasses {
     const bool cached = same_chunks(chunks);
     const bool spec_cached = cached && spec_generation_ == window_generation_;
     prepare(chunks);
-    const uint32_t* hp = host_.hp.data();
+    const uint32_t* hp = k_.hp = host_.hp.data();
     const float* point_spec = host_.point_spec.data();
     std::atomic<uint32_t> kept{0};
     std::vector<std::vector<CapturedMark>> captured(capture ? items_.size() : 0);
-    const glm::ivec2 origin = s_.origin_px;
+    const glm::ivec2 origin = s_.u.origin_px;
     const glm::ivec2 clip_min = s_.clip.min, clip_max = s_.clip.max;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, items_.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t it = r.begin(); it < r.end(); ++it) {
@@ -259,47 +289,26 @@ class NativeStipplePasses final : public StipplePasses {
           if (cached && !visible_slot(c.slot + i, hp)) continue;
           const uint32_t local = local_index(c, i);
           const Pt p = project(c, local);
-          if (!hp_visible(p, hp)) continue;
+          if (!k_.hp_visible(p)) continue;
           const uint32_t id = c.ids[local];
-          if (s_.diffuse) {
-            // Fractional LEVEL: the finer level with probability frac.
-            const int level = s_.level_lo + (hash01(id, 1u) < s_.level_frac ? 1 : 0);
-            const glm::ivec2 t = light_texel(p.view, s_.levels) >> (s_.levels - level);
-            if (quad_[quad_index(t, level)] == order_key(-dot3(p.view, s_.light_dir))) continue;
-          }
-          if (s_.specular && s_.tau > 0.0f) {
-            // The histogram's value where it measured this point in this window.
-            const float raw = spec_cached && owned(p) ? point_spec[c.slot + i] : specular_raw(p);
-            const float diff = 1.0f - raw / spec_ref;
-            if (diff < s_.tau * hash01(id, 2u)) continue;  // hidden with probability 1 - diff / tau
-          }
+          if (s_.u.diffuse && k_.lit_out(p, id)) continue;
+          // The specular measure where the histogram took it in this window.
+          if (s_.u.specular && s_.u.tau > 0.0f &&
+              k_.specular_out(id, spec_cached && k_.owned(p) ? point_spec[c.slot + i] : k_.specular_raw(p), spec_ref))
+            continue;
           ++item_kept;
           if (capture) captured[it].push_back(captured_dot(s_, p.view, id));
-          // 1 + jitter * (2h - 1), written as the GL compiler (NIR) reassociates it,
-          // so both implementations round alike; the shader spells it the same.
-          const float diameter = std::max(
-              s_.dot_size * ((1.0f - s_.size_jitter) + 2.0f * s_.size_jitter * hash01(id, 3u)), 0.5f);
+          const float diameter = k_.dot_diameter(id);
           const float rad = 0.5f * diameter;
           const int lo_x = std::max(int(floor_f(p.center.x - rad - 0.5f)) - origin.x, clip_min.x);
           const int lo_y = std::max(int(floor_f(p.center.y - rad - 0.5f)) - origin.y, clip_min.y);
           const int hi_x = std::min(int(ceil_f(p.center.x + rad + 0.5f)) - origin.x, clip_max.x - 1);
           const int hi_y = std::min(int(ceil_f(p.center.y + rad + 0.5f)) - origin.y, clip_max.y - 1);
           const uint32_t depth_bits = bits(p.depth);
-          const float small = std::min(1.0f, diameter * diameter);
-          const float reach = rad + 0.5f;
-          // Beyond this squared distance the coverage is 0 (sqrt is
-          // monotonic and correctly rounded; the margin covers its rounding).
-          const float outside = reach * reach * 1.0001f;
           for (int y = lo_y; y <= hi_y; ++y)
             for (int x = lo_x; x <= hi_x; ++x) {
-              // Area coverage of a disc (1 px wide antialiased edge, at least a
-              // pixel's worth spread over the pixels a small dot touches).
-              const float dx = float(x + origin.x) + 0.5f - p.center.x;
-              const float dy = float(y + origin.y) + 0.5f - p.center.y;
-              const float d2 = dx * dx + dy * dy;
-              if (d2 > outside) continue;
-              const float dist = std::sqrt(d2);
-              const float cv = std::clamp(reach - dist, 0.0f, 1.0f) * small;
+              const float cv = k_.dot_coverage(float(x + origin.x) + 0.5f - p.center.x,
+                                               float(y + origin.y) + 0.5f - p.center.y, diameter);
               if (cv <= 0.0f) continue;
               const size_t pix = size_t(y - clip_min.y) * size_t(size.x) + size_t(x - clip_min.x);
               fetch_max(cov[pix], bits(cv));
@@ -325,38 +334,21 @@ class NativeStipplePasses final : public StipplePasses {
     const uint32_t* cov = host_.dot_cov.data();
     const uint32_t* dep = host_.dot_depth.data();
     const uint32_t* surf = host_.surface.data();
-    const glm::vec4 ink_color = s_.dot_color, paper_color = s_.paper;
     // The fine texel of each column's and each row's pixel centre.
     std::vector<int> tx(size_t(size.x)), ty(size_t(size.y));
-    for (int x = 0; x < size.x; ++x)
-      tx[size_t(x)] = std::clamp(int(floor_f((float(x + clip.min.x + s_.origin_px.x) + 0.5f) * s_.factor)) -
-                                     w_.fine_min.x, 0, w_.fine.x - 1);
-    for (int y = 0; y < size.y; ++y)
-      ty[size_t(y)] = std::clamp(int(floor_f((float(y + clip.min.y + s_.origin_px.y) + 0.5f) * s_.factor)) -
-                                     w_.fine_min.y, 0, w_.fine.y - 1);
+    for (int x = 0; x < size.x; ++x) tx[size_t(x)] = k_.resolve_texel(x + clip.min.x + s_.u.origin_px.x, 0);
+    for (int y = 0; y < size.y; ++y) ty[size_t(y)] = k_.resolve_texel(y + clip.min.y + s_.u.origin_px.y, 1);
     std::vector<glm::ivec2> row_span(size_t(size.y), glm::ivec2(size.x, -1));
     tbb::parallel_for(tbb::blocked_range<int>(0, size.y, kRowGrain), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y) {
-        const uint32_t* surf_row = surf + size_t(ty[size_t(y)]) * size_t(w_.fine.x);
+        const uint32_t* surf_row = surf + size_t(ty[size_t(y)]) * size_t(w_.k.fine_size.x);
         for (int x = 0; x < size.x; ++x) {
           const size_t pix = size_t(y) * size_t(size.x) + size_t(x);
           const float surface = has_surface_ ? from_bits(surf_row[tx[size_t(x)]]) : from_bits(kInfBits);
-          const bool on_surface = !std::isinf(surface) && paper_color.a > 0.0f;
-          const float ink = from_bits(cov[pix]) * ink_color.a;
-          const float paper = on_surface ? paper_color.a : 0.0f;
-          const float alpha = ink + paper * (1.0f - ink);
-          float* out = rgba + 4 * pix;
-          if (alpha > 0.0f) {
-            for (int k = 0; k < 3; ++k)
-              out[k] = std::clamp((ink_color[k] * ink + paper_color[k] * paper * (1.0f - ink)) / alpha, 0.0f, 1.0f);
-            out[3] = alpha;
-            const float dot_d = from_bits(dep[pix]);
-            depth[pix] = ink > 0.0f ? std::min(dot_d, on_surface ? surface : from_bits(kInfBits)) : surface;
-            row_span[size_t(y)] = {std::min(row_span[size_t(y)].x, x), x};
-          } else {
-            out[0] = out[1] = out[2] = out[3] = 0.0f;
-            depth[pix] = from_bits(kInfBits);
-          }
+          const StipplePixel out = k_.resolve_pixel(from_bits(cov[pix]), from_bits(dep[pix]), surface);
+          std::memcpy(rgba + 4 * pix, &out.color, 16);
+          depth[pix] = out.depth;
+          if (out.color.w > 0.0f) row_span[size_t(y)] = {std::min(row_span[size_t(y)].x, x), x};
         }
       }
     });
@@ -413,132 +405,18 @@ class NativeStipplePasses final : public StipplePasses {
   // hp_visible() from the first projection's texel and depth.
   bool visible_slot(size_t slot, const uint32_t* hp) const {
     const uint32_t texel = host_.point_texel[slot];
-    return texel != kOutside && from_bits(host_.point_depth[slot]) <= from_bits(hp[texel]) + s_.offset;
+    return texel != kOutside && from_bits(host_.point_depth[slot]) <= from_bits(hp[texel]) + s_.u.offset;
   }
   bool owned_texel(uint32_t texel) const {
-    const glm::ivec2 t(int(texel % uint32_t(w_.fine.x)), int(texel / uint32_t(w_.fine.x)));
-    return owned_fine(t + w_.fine_min);
+    const glm::ivec2 t(int(texel % uint32_t(w_.k.fine_size.x)), int(texel / uint32_t(w_.k.fine_size.x)));
+    return k_.owned_texel(t + w_.k.fine_min);
   }
 
-  Pt project(const HostChunk& c, uint32_t local) const {
-    Pt p;
-    p.view = affine(c.view_from_chunk, c.positions[local]);
-    p.depth = -p.view.z;
-    const glm::mat4& m = s_.projection;
-    const float cx = m[0][0] * p.view.x + m[1][0] * p.view.y + m[2][0] * p.view.z + m[3][0];
-    const float cy = m[0][1] * p.view.x + m[1][1] * p.view.y + m[2][1] * p.view.z + m[3][1];
-    const float cw = m[0][3] * p.view.x + m[1][3] * p.view.y + m[2][3] * p.view.z + m[3][3];
-    p.center = {(cx / cw * 0.5f + 0.5f) * float(s_.frame_px.x), (cy / cw * 0.5f + 0.5f) * float(s_.frame_px.y)};
-    p.in_depth = p.depth >= s_.near && p.depth <= s_.far;
-    const float fx = floor_f(p.center.x * s_.factor) - float(w_.fine_min.x);
-    const float fy = floor_f(p.center.y * s_.factor) - float(w_.fine_min.y);
-    p.inside = p.in_depth && cw > 0.0f && fx >= 0.0f && fy >= 0.0f && fx < float(w_.fine.x) && fy < float(w_.fine.y);
-    p.fine = p.inside ? glm::ivec2(int(fx), int(fy)) : glm::ivec2(0);
-    return p;
-  }
-
-  size_t fine_index(glm::ivec2 t) const { return size_t(t.y) * size_t(w_.fine.x) + size_t(t.x); }
-  bool owned(const Pt& p) const { return owned_fine(p.fine + w_.fine_min); }
-  bool owned_fine(glm::ivec2 t) const {
-    return t.x >= w_.owned_min.x && t.y >= w_.owned_min.y && t.x < w_.owned_max.x && t.y < w_.owned_max.y;
-  }
-  // Not behind the spread surface: within one step of its texel's depth.
-  bool hp_visible(const Pt& p, const uint32_t* hp) const {
-    return p.inside && p.depth <= from_bits(hp[fine_index(p.fine)]) + s_.offset;
-  }
-
-  glm::vec2 light_uv(const glm::vec3& v) const {
-    return {(dot3(v, s_.light_right) - s_.light_origin.x) / s_.light_extent,
-            (dot3(v, s_.light_up) - s_.light_origin.y) / s_.light_extent};
-  }
-  glm::ivec2 light_texel(const glm::vec3& v, int level) const {
-    const int side = 1 << level;
-    const glm::vec2 uv = light_uv(v);
-    return {floor_clamped(uv.x * float(side), 0, side - 1), floor_clamped(uv.y * float(side), 0, side - 1)};
-  }
-  size_t quad_index(glm::ivec2 t, int level) const {
-    const int x0 = int(quad_stride_) - (2 << level);
-    return size_t(t.y) * quad_stride_ + size_t(x0 + t.x);
-  }
+  Pt project(const HostChunk& c, uint32_t local) const { return k_.project(c.positions[local], c.view_from_chunk); }
   // Into the finest level of the quadtree: the caster closest to the light.
   void cast(const Pt& p) {
-    fetch_min(quad_[quad_index(light_texel(p.view, s_.levels), s_.levels)], order_key(-dot3(p.view, s_.light_dir)));
+    fetch_min(quad_[k_.quad_index(k_.light_texel(p.view, s_.u.levels), s_.u.levels)], k_.light_key(p.view));
   }
-
-  // The eye cell (one axis) of a position in frame pixels: floor(pixel / cell) - eye_min, clamped.
-  int eye_axis(float pixel, int axis) const {
-    return floor_clamped(floor_f(pixel / s_.eye_cell) - float(w_.eye_min[axis]), 0, w_.eye_cells[axis] - 1);
-  }
-  size_t eye_index(glm::vec2 center) const {
-    return size_t(eye_axis(center.y, 1)) * size_t(w_.eye_cells.x) + size_t(eye_axis(center.x, 0));
-  }
-  size_t light_cell_index(const glm::vec3& v) const {
-    const glm::vec2 uv = light_uv(v);
-    const int n = s_.light_cells;
-    return size_t(floor_clamped(uv.y * float(n), 0, n - 1)) * size_t(n) + size_t(floor_clamped(uv.x * float(n), 0, n - 1));
-  }
-
-  static float overlap(float c, float lo, float hi) { return std::clamp(std::min(c + 1.0f, hi) - std::max(c, lo), 0.0f, 1.0f); }
-
-  // The shader's specular_raw: area per point seen from the eye and from the light.
-  float specular_raw(const Pt& p) const {
-    const glm::vec2 e(p.center.x / s_.eye_cell - float(w_.eye_min.x), p.center.y / s_.eye_cell - float(w_.eye_min.y));
-    float points = 0.0f, covered = 0.0f;
-    const glm::ivec2 e0(int(floor_f(e.x - 1.5f)), int(floor_f(e.y - 1.5f)));
-    // Each cell's weight is the product of its overlaps along x and y.
-    float ox[4], oy[4];
-    for (int k = 0; k <= 3; ++k) {
-      ox[k] = overlap(float(e0.x + k), e.x - 1.5f, e.x + 1.5f);
-      oy[k] = overlap(float(e0.y + k), e.y - 1.5f, e.y + 1.5f);
-    }
-    for (int dy = 0; dy <= 3; ++dy)
-      for (int dx = 0; dx <= 3; ++dx) {
-        const glm::ivec2 c = e0 + glm::ivec2(dx, dy);
-        if (c.x < 0 || c.y < 0 || c.x >= w_.eye_cells.x || c.y >= w_.eye_cells.y) continue;
-        const float w = ox[dx] * oy[dy];
-        const size_t i = size_t(c.y) * size_t(w_.eye_cells.x) + size_t(c.x);
-        points += w * float(eye_count_[i]);
-        covered += w * float(eye_cover_[i]);
-      }
-    const float wd = s_.ortho ? 1.0f : p.depth;
-    const float px_area = wd / s_.px_per_unit;
-    const float eye_area = covered / (s_.factor * s_.factor) * px_area * px_area / std::max(points, 1.0f);
-    const glm::vec2 uv = light_uv(p.view);
-    const glm::vec2 l = uv * float(s_.light_cells);
-    float lpoints = 0.0f, occupied = 0.0f;
-    const glm::ivec2 l0(int(floor_f(l.x - 1.5f)), int(floor_f(l.y - 1.5f)));
-    for (int k = 0; k <= 3; ++k) {
-      ox[k] = overlap(float(l0.x + k), l.x - 1.5f, l.x + 1.5f);
-      oy[k] = overlap(float(l0.y + k), l.y - 1.5f, l.y + 1.5f);
-    }
-    for (int dy = 0; dy <= 3; ++dy)
-      for (int dx = 0; dx <= 3; ++dx) {
-        const glm::ivec2 c = l0 + glm::ivec2(dx, dy);
-        if (c.x < 0 || c.y < 0 || c.x >= s_.light_cells || c.y >= s_.light_cells) continue;
-        const float w = ox[dx] * oy[dy];
-        const uint32_t n = light_count_[size_t(c.y) * size_t(s_.light_cells) + size_t(c.x)];
-        lpoints += w * float(n);
-        occupied += n > 0u ? w : 0.0f;
-      }
-    const float cell = s_.light_extent / float(s_.light_cells);
-    const float light_area = occupied * cell * cell / std::max(lpoints, 1.0f);
-    return eye_area + light_area;
-  }
-
-  // 8 bins per octave of 2^-64 .. 2^64 (the shader's specular_bin): the
-  // octave from the exponent, the bin within it by the mantissa against
-  // 2^(k/8), exact in both.
-  int histogram_bin(float s) const {
-    s = std::max(s, 1e-30f);
-    const uint32_t b = bits(s);
-    const int octave = int(b >> 23) - 127;
-    const float mantissa = from_bits((b & 0x007fffffu) | 0x3f800000u);
-    int within = 0;
-    for (float edge : bin_edges_) within += mantissa >= edge ? 1 : 0;
-    return std::clamp((octave + 64) * 8 + within, 0, kStippleHistogramBins - 1);
-  }
-
-  float hash01(uint32_t id, uint32_t salt) const { return id_rand(id, salt, s_.seed); }
 
   const MarkContext& ctx_;
   const StippleSetup& s_;
@@ -550,20 +428,20 @@ class NativeStipplePasses final : public StipplePasses {
   std::vector<uint32_t> hist_, eye_count_, eye_cover_;
   uint32_t* quad_ = nullptr;         // host_.quad
   uint32_t* light_count_ = nullptr;  // host_.light_count
+  mutable Kernels k_;                // the shared kernels over the images above
   size_t points_ = 0;                // of the last prepare()
   std::span<const VisibleChunk> window_chunks_;
   uint64_t window_generation_ = 0, spec_generation_ = 0;
-  size_t quad_stride_ = 2;
   size_t eye_n_ = 1;
   uint32_t visible_ = 0;
   bool has_surface_ = false;
-  float bin_edges_[7]{};
 };
 
 }  // namespace
+}  // namespace stipples
 
 std::unique_ptr<StipplePasses> make_native_stipple_passes(const MarkContext& ctx, const StippleSetup& s) {
-  return std::make_unique<NativeStipplePasses>(ctx, s);
+  return std::make_unique<stipples::NativeStipplePasses>(ctx, s);
 }
 
 }  // namespace pointnpr

@@ -29,20 +29,6 @@ inline void fetch_add(uint32_t& slot, uint32_t value) {
   std::atomic_ref<uint32_t>(slot).fetch_add(value, std::memory_order_relaxed);
 }
 
-// GLSL's (column-major) mat4 x vec4(v, 1), summed in the shader's order.
-inline glm::vec3 affine(const glm::mat4& m, const glm::vec3& v) {
-  return {m[0][0] * v.x + m[1][0] * v.y + m[2][0] * v.z + m[3][0],
-          m[0][1] * v.x + m[1][1] * v.y + m[2][1] * v.z + m[3][1],
-          m[0][2] * v.x + m[1][2] * v.y + m[2][2] * v.z + m[3][2]};
-}
-inline float dot3(const glm::vec3& a, const glm::vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-
-// Monotonic float -> uint (any sign), as the shader's order_key.
-inline uint32_t order_key(float f) {
-  const uint32_t b = bits(f);
-  return (b & 0x80000000u) != 0u ? ~b : b | 0x80000000u;
-}
-
 // floor and ceil without a library call (without SSE4.1, std::floor is
 // one, a large part of a point's cost): exact for every float, since from
 // 2^23 on every float is an integer (NaN and infinities pass through).
@@ -57,14 +43,6 @@ inline float ceil_f(float v) {
   return t < v ? t + 1.0f : t;
 }
 
-// floor(v) clamped to [lo, hi], as an int (v may be far outside, or huge).
-inline int floor_clamped(float v, int lo, int hi) {
-  const float f = floor_f(v);
-  if (!(f >= float(lo))) return lo;  // also NaN
-  if (f > float(hi)) return hi;
-  return int(f);
-}
-
 // One chunk as the point passes see it.
 struct HostChunk {
   const glm::vec3* positions = nullptr;  // the chunk's first point
@@ -76,16 +54,6 @@ struct HostChunk {
 };
 
 using Item = PointItem;
-
-// A projected point (the shader's Pt).
-struct Pt {
-  glm::vec3 view;
-  glm::vec2 center;  // frame pixels
-  float depth;
-  glm::ivec2 fine;   // texel of the window's fine texture (valid when inside)
-  bool inside;
-  bool in_depth;     // within the clip depths
-};
 
 // The host images of the last frames, kept by the renderer (HostScratch) so
 // that a frame does not page in tens of megabytes anew (bounded by the

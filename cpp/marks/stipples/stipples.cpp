@@ -88,10 +88,10 @@ class Stipples final : public Mark {
 StippleWindow make_window(const Rect& r, float factor, float eye_cell, glm::ivec2 lo, glm::ivec2 hi) {
   StippleWindow w;
   w.px = r;
-  w.fine_min = glm::max(glm::ivec2(glm::floor(glm::vec2(r.min) * factor)), lo);
-  w.fine = glm::max(glm::min(glm::ivec2(glm::ceil(glm::vec2(r.max) * factor)), hi) - w.fine_min, glm::ivec2(1));
-  w.eye_min = glm::ivec2(glm::floor(glm::vec2(r.min) / eye_cell));
-  w.eye_cells = glm::max(glm::ivec2(glm::ceil(glm::vec2(r.max) / eye_cell)) - w.eye_min, glm::ivec2(1));
+  w.k.fine_min = glm::max(glm::ivec2(glm::floor(glm::vec2(r.min) * factor)), lo);
+  w.k.fine_size = glm::max(glm::min(glm::ivec2(glm::ceil(glm::vec2(r.max) * factor)), hi) - w.k.fine_min, glm::ivec2(1));
+  w.k.eye_min = glm::ivec2(glm::floor(glm::vec2(r.min) / eye_cell));
+  w.k.eye_cells = glm::max(glm::ivec2(glm::ceil(glm::vec2(r.max) / eye_cell)) - w.k.eye_min, glm::ivec2(1));
   return w;
 }
 
@@ -107,8 +107,8 @@ std::vector<StippleWindow> sweep_windows(const Rect& all, glm::ivec2 interior, i
       const Rect grown{glm::max(in.min - halo, all.min), glm::min(in.max + halo, all.max)};
       StippleWindow w = make_window(grown, factor, eye_cell, lo, hi);
       for (int k = 0; k < 2; ++k) {
-        if (in.min[k] > all.min[k]) w.owned_min[k] = int(std::floor(float(in.min[k]) * factor));
-        if (in.max[k] < all.max[k]) w.owned_max[k] = int(std::floor(float(in.max[k]) * factor));
+        if (in.min[k] > all.min[k]) w.k.owned_min[k] = int(std::floor(float(in.min[k]) * factor));
+        if (in.max[k] < all.max[k]) w.k.owned_max[k] = int(std::floor(float(in.max[k]) * factor));
       }
       out.push_back(w);
     }
@@ -161,18 +161,21 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   }
   StippleSetup s;
   s.params = &p;
-  s.projection = glm::mat4(cam.projection);
-  s.frame_px = frame_px;
-  s.origin_px = origin_px;
+  stipples::StippleSettings& u = s.u;
+  u.projection = glm::mat4(cam.projection);
+  u.frame_px = frame_px;
+  u.origin_px = origin_px;
   s.clip = clip;
-  s.near = float(cam.clip_start);
-  s.far = float(cam.clip_end);
-  s.ortho = cam.orthographic;
-  const float f = s.factor = float(factor);
+  u.clip_min = clip.min;
+  u.clip_max = clip.max;
+  u.near_plane = float(cam.clip_start);
+  u.far_plane = float(cam.clip_end);
+  u.ortho = cam.orthographic ? 1 : 0;
+  const float f = u.factor = float(factor);
   s.iterations = p.get_int("iterations");
-  s.px_per_unit = float(cam.pixels_per_unit(1.0, frame_px.y));
+  u.px_per_unit = float(cam.pixels_per_unit(1.0, frame_px.y));
   const float range = float(std::max(ctx.depth_max - ctx.depth_min, 1e-6));
-  s.offset = float(p.get_float("depth_offset")) * range;
+  u.offset = float(p.get_float("depth_offset")) * range;
 
   // Light frame: its axes and bounds are fixed in the world (a world light's
   // cells then stay on the same points as the camera moves: the quadtree
@@ -199,15 +202,16 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     }
   const double extent_d = std::max(std::max(hi.x - lo.x, hi.y - lo.y), 1e-6) * 1.001;
   const glm::dvec2 origin_world = 0.5 * (lo + hi) - 0.5 * extent_d;
-  s.light_dir = L;
-  s.light_right = right;
-  s.light_up = up;
-  s.light_extent = float(extent_d);
-  s.light_origin = glm::vec2(origin_world + glm::dvec2(glm::dot(view_translation, glm::dvec3(right)),
+  u.light_dir = glm::vec4(L, 0.0f);
+  u.light_right = glm::vec4(right, 0.0f);
+  u.light_up = glm::vec4(up, 0.0f);
+  u.light_extent = float(extent_d);
+  u.light_origin = glm::vec2(origin_world + glm::dvec2(glm::dot(view_translation, glm::dvec3(right)),
                                                        glm::dot(view_translation, glm::dvec3(up))));
 
-  const bool diffuse = s.diffuse = p.get_bool("diffuse");
-  const bool casters_all = s.casters_all = p.get_enum_name("shadow_casters") == "all";
+  const bool diffuse = p.get_bool("diffuse"), casters_all = p.get_enum_name("shadow_casters") == "all";
+  u.diffuse = diffuse ? 1 : 0;
+  u.casters_all = casters_all ? 1 : 0;
   double level = p.get_float("level");
   if (diffuse && p.get_enum_name("level_scale") == "point_count") {
     // LEVEL as for 4^7 points: a cloud of N points gets log4(N / 4^7)
@@ -216,21 +220,22 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     for (const VisibleChunk& v : frame_chunks) points += double(v.chunk->count);
     level = std::clamp(level + 0.5 * std::log2(std::max(points, 1.0) / 16384.0), 0.0, double(kMaxLevel));
   }
-  s.levels = std::clamp(int(std::ceil(level)), 1, kMaxLevel);
-  s.level_lo = std::min(int(std::floor(level)), s.levels);
-  s.level_frac = float(level - std::floor(level));
-  const bool specular = s.specular = p.get_bool("specular");
-  s.tau = float(p.get_float("tau"));
-  const float eye_cell = s.eye_cell = float(p.get_float("specular_cell"));
+  u.levels = std::clamp(int(std::ceil(level)), 1, kMaxLevel);
+  u.level_lo = std::min(int(std::floor(level)), u.levels);
+  u.level_frac = float(level - std::floor(level));
+  const bool specular = p.get_bool("specular");
+  u.specular = specular ? 1 : 0;
+  u.tau = float(p.get_float("tau"));
+  const float eye_cell = u.eye_cell = float(p.get_float("specular_cell"));
   const double mid_depth = cam.orthographic ? 1.0 : 0.5 * (ctx.depth_min + ctx.depth_max);
-  const double cell_world = eye_cell * mid_depth / s.px_per_unit;
-  s.light_cells = std::clamp(int(std::ceil(s.light_extent / cell_world)), 1, kMaxLightCells);
-  s.dot_size = float(p.get_float("dot_size"));
-  s.size_jitter = float(p.get_float("size_jitter"));
-  s.seed = uint32_t(p.get_int("seed"));
-  s.dot_color = p.get_color("dot_color");
-  s.paper = p.get_color("paper_color");
-  s.capture = ctx.capture != nullptr;
+  const double cell_world = eye_cell * mid_depth / u.px_per_unit;
+  u.light_cells = std::clamp(int(std::ceil(u.light_extent / cell_world)), 1, kMaxLightCells);
+  u.dot_size = float(p.get_float("dot_size"));
+  u.size_jitter = float(p.get_float("size_jitter"));
+  u.seed = uint32_t(p.get_int("seed"));
+  u.dot_color = p.get_color("dot_color");
+  u.paper = p.get_color("paper_color");
+  u.capture = ctx.capture != nullptr ? 1 : 0;
 
   // Fine texels and eye cells are anchored at the frame's corner (frame
   // pixel x lies in texel floor(x * factor)), so they stay put when the
@@ -332,8 +337,8 @@ CapturedMark captured_dot(const StippleSetup& s, glm::vec3 center, uint32_t id) 
   m.direction = glm::vec3(1, 0, 0);
   const float len = glm::length(m.center);
   m.normal = len > 0.0f ? -m.center / len : glm::vec3(0, 0, 1);
-  m.length = s.dot_size;
-  m.color = s.dot_color;
+  m.length = s.u.dot_size;
+  m.color = s.u.dot_color;
   return m;
 }
 

@@ -14,63 +14,36 @@
 
 #include <glm/glm.hpp>
 
+#include "marks/stipples/settings.h"
 #include "render/mark.h"
 
 namespace pointnpr {
 
-constexpr int kStippleHistogramBins = 1024;  // log2 of the specular measure, 8 bins per octave
-// The bins' edges within an octave, 2^(k/8) for k = 1..7 as float bits (the
-// same constants as shaders/stipples.comp's specular_bin).
-constexpr uint32_t kStippleBinEdgeBits[7] = {0x3f8b95c2u, 0x3f9837f0u, 0x3fa5fed7u, 0x3fb504f3u,
-                                             0x3fc5672au, 0x3fd744fdu, 0x3feac0c7u};
+constexpr int kStippleHistogramBins = 1024;  // log2 of the specular measure, 8 bins per octave (specular_bin)
 
-// Everything the passes read that is fixed for a frame (the shader's
-// uniforms): the camera's float projection, the fine texels' scale, the
-// light frame in view space, the shading and dot parameters.
+// What the passes read that is fixed for a frame: the kernels' settings
+// (shaders/stipples_settings.glsl: the camera's float projection, the fine
+// texels' scale, the light frame in view space, the shading and dot
+// parameters) and what only the passes' orchestration reads.
 struct StippleSetup {
   const ParamValues* params = nullptr;  // the resolution queue's (draws_queue, queue_count)
-  glm::mat4 projection{1.0f};
-  glm::ivec2 frame_px{0, 0};   // the whole frame's size (the projection maps to it)
-  glm::ivec2 origin_px{0, 0};  // the tile's corner in the frame
-  Rect clip;                   // the tile's pixels the mark draws (local)
-  float near = 0.0f, far = 0.0f;
-  bool ortho = false;
-  float px_per_unit = 1.0f;  // pixels per scene unit at view depth 1
-  float factor = 1.0f;       // fine texels per pixel
+  Rect clip;                            // the tile's pixels the mark draws (local; u.clip_min/max)
   int iterations = 0;
-  float offset = 0.0f;  // depth added per spreading step, scene units
-  // Light: orthographic along `light_dir` (towards the light, view space).
-  glm::vec3 light_dir{0.0f, 0.0f, 1.0f}, light_right{1.0f, 0.0f, 0.0f}, light_up{0.0f, 1.0f, 0.0f};
-  glm::vec2 light_origin{0.0f};  // (right, up) of the light texture's corner
-  float light_extent = 1.0f;     // its side, scene units
-  bool diffuse = false, casters_all = true;
-  int levels = 1;  // n: the quadtree's finest level is 2^n x 2^n
-  int level_lo = 0;
-  float level_frac = 0.0f;
-  bool specular = false;
-  float tau = 0.0f;
-  float eye_cell = 8.0f;  // pixels
-  int light_cells = 1;    // per side
-  float dot_size = 2.0f, size_jitter = 0.0f;
-  uint32_t seed = 0;
-  glm::vec4 dot_color{0.0f, 0.0f, 0.0f, 1.0f}, paper{1.0f};
-  bool capture = false;
+  stipples::StippleSettings u{};
 
-  size_t quad_n() const { return diffuse ? (size_t(2) << levels) * (size_t(1) << levels) : 1; }
-  size_t light_n() const { return specular ? size_t(light_cells) * size_t(light_cells) : 1; }
+  size_t quad_n() const { return u.diffuse ? (size_t(2) << u.levels) * (size_t(1) << u.levels) : 1; }
+  size_t light_n() const { return u.specular ? size_t(u.light_cells) * size_t(u.light_cells) : 1; }
 };
 
-// A piece of the frame the hidden-point passes run over: its fine texture
-// (frame texels [fine_min, fine_min + fine)), its eye cells, and the fine
-// texels whose points it counts for the frame (each point in exactly one
-// window's; the rest of the window is the halo its decisions read).
+// A piece of the frame the hidden-point passes run over (frame pixels px)
+// and its kernels' settings (shaders/stipples_settings.glsl's
+// StippleWindowSettings); by default it owns every texel.
 struct StippleWindow {
-  Rect px;  // frame pixels
-  glm::ivec2 fine_min{0, 0}, fine{0, 0};
-  glm::ivec2 owned_min{std::numeric_limits<int>::min()}, owned_max{std::numeric_limits<int>::max()};
-  glm::ivec2 eye_min{0, 0}, eye_cells{1, 1};
-  size_t fine_n() const { return size_t(fine.x) * size_t(fine.y); }
-  size_t eye_n() const { return size_t(eye_cells.x) * size_t(eye_cells.y); }
+  Rect px;
+  stipples::StippleWindowSettings k{{0, 0}, {0, 0}, glm::ivec2(std::numeric_limits<int>::min()),
+                                    glm::ivec2(std::numeric_limits<int>::max()), {0, 0}, {1, 1}};
+  size_t fine_n() const { return size_t(k.fine_size.x) * size_t(k.fine_size.y); }
+  size_t eye_n() const { return size_t(k.eye_cells.x) * size_t(k.eye_cells.y); }
 };
 
 // What the frame's tiles share, computed at its first tile from every

@@ -1,0 +1,214 @@
+// The stipples mark's per-point and per-pixel kernels, written once for the
+// GL passes (stipples.comp) and the native ones (cpp/marks/stipples/
+// native.cpp) in the subset of cpp/core/glsl.h. The includer defines what
+// reads the pass's images: hp_at(i) (the spread depth's bits of fine texel
+// i), quad_at(i) (the light quadtree), eye_count_at(i), eye_cover_at(i) and
+// light_count_at(i).
+#ifndef STIPPLES_KERNELS_GLSL
+#define STIPPLES_KERNELS_GLSL
+#include "id_hash.glsl"
+#include "stipples_settings.glsl"
+
+float hash01(uint id, uint salt) { return id_rand(id, salt, u.seed); }
+
+// Monotonic float -> uint (any sign).
+uint order_key(float f) {
+  uint b = floatBitsToUint(f);
+  return (b & 0x80000000u) != 0u ? ~b : b | 0x80000000u;
+}
+
+// floor(v) clamped to [lo, hi] as an int, for any v (far outside, NaN: lo).
+int floor_clamp(float v, int lo, int hi) {
+  float f = floor(v);
+  if (!(f >= float(lo))) return lo;
+  return f > float(hi) ? hi : int(f);
+}
+
+struct Pt {
+  vec3 view;
+  vec2 center;   // frame pixels
+  float depth;   // linear view depth
+  ivec2 fine;    // texel of the window's fine texture (0 unless inside)
+  bool inside;   // within the clip depths and the window's fine texture
+  bool in_depth; // within the clip depths
+};
+
+Pt project(vec3 position, mat4 view_from_chunk) {
+  Pt p;
+  p.view = vec3(mat_vec(view_from_chunk, vec4(position, 1.0f)));
+  p.depth = -p.view.z;
+  vec4 c = mat_vec(u.projection, vec4(p.view, 1.0f));
+  p.center = vec2((c.x / c.w * 0.5f + 0.5f) * float(u.frame_px.x), (c.y / c.w * 0.5f + 0.5f) * float(u.frame_px.y));
+  p.in_depth = p.depth >= u.near_plane && p.depth <= u.far_plane;
+  // Compared as floats: a point far off screen never overflows an int.
+  float fx = floor(p.center.x * u.factor) - float(win.fine_min.x);
+  float fy = floor(p.center.y * u.factor) - float(win.fine_min.y);
+  p.inside = p.in_depth && c.w > 0.0f && fx >= 0.0f && fy >= 0.0f && fx < float(win.fine_size.x) &&
+             fy < float(win.fine_size.y);
+  p.fine = p.inside ? ivec2(int(fx), int(fy)) : ivec2(0);
+  return p;
+}
+
+uint fine_index(ivec2 t) { return uint(t.y) * uint(win.fine_size.x) + uint(t.x); }
+// Whether the window counts a frame texel's points for the frame.
+bool owned_texel(ivec2 t) {
+  return t.x >= win.owned_min.x && t.y >= win.owned_min.y && t.x < win.owned_max.x && t.y < win.owned_max.y;
+}
+bool owned(Pt p) { return owned_texel(p.fine + win.fine_min); }
+// Not behind the spread surface: within one step of its texel's depth.
+bool hp_visible(Pt p) { return p.inside && p.depth <= uintBitsToFloat(hp_at(fine_index(p.fine))) + u.offset; }
+
+// Dot products written out: llvmpipe's dot() rounds otherwise than GLM's.
+vec2 light_uv(vec3 v) {
+  return vec2(((v.x * u.light_right.x + v.y * u.light_right.y + v.z * u.light_right.z) - u.light_origin.x) / u.light_extent,
+              ((v.x * u.light_up.x + v.y * u.light_up.y + v.z * u.light_up.z) - u.light_origin.y) / u.light_extent);
+}
+// Distance from the light (smaller: closer to it).
+uint light_key(vec3 v) { return order_key(-(v.x * u.light_dir.x + v.y * u.light_dir.y + v.z * u.light_dir.z)); }
+ivec2 light_texel(vec3 v, int level) {
+  int side = 1 << level;
+  vec2 uv = light_uv(v);
+  return ivec2(floor_clamp(uv.x * float(side), 0, side - 1), floor_clamp(uv.y * float(side), 0, side - 1));
+}
+// Level l of the quadtree texture: x from 2^(n+1) - 2^(l+1), width 2^l.
+uint quad_index(ivec2 t, int level) {
+  int x0 = (2 << u.levels) - (2 << level);
+  return uint(t.y) * uint(2 << u.levels) + uint(x0 + t.x);
+}
+// The caster closest to the light in its cell of the diffuse LEVEL (the
+// finer level with probability frac) stays paper.
+bool lit_out(Pt p, uint id) {
+  int level = u.level_lo + (hash01(id, 1u) < u.level_frac ? 1 : 0);
+  ivec2 t = light_texel(p.view, u.levels) >> (u.levels - level);
+  return quad_at(quad_index(t, level)) == light_key(p.view);
+}
+
+// The eye cell along one axis of a position in frame pixels.
+int eye_axis(float pixel, int eye_min, int cells) {
+  return floor_clamp(floor(pixel / u.eye_cell) - float(eye_min), 0, cells - 1);
+}
+uint eye_index(vec2 center) {
+  return uint(eye_axis(center.y, win.eye_min.y, win.eye_cells.y)) * uint(win.eye_cells.x) +
+         uint(eye_axis(center.x, win.eye_min.x, win.eye_cells.x));
+}
+uint light_cell_index(vec3 v) {
+  vec2 uv = light_uv(v);
+  int n = u.light_cells;
+  return uint(floor_clamp(uv.y * float(n), 0, n - 1)) * uint(n) + uint(floor_clamp(uv.x * float(n), 0, n - 1));
+}
+// Overlap of cell [c, c + 1) with the window [lo, hi) (cell units).
+float overlap(float c, float lo, float hi) { return clamp(min(c + 1.0f, hi) - max(c, lo), 0.0f, 1.0f); }
+
+// Area per point on the eye and light planes around a point: a surface of
+// a points per unit area shows a (n.v) and a (n.l) there, so their sum
+// grows with n.(v + l): largest where the surface faces the half-way
+// direction of eye and light (the highlight). Scene units^2. The sums run
+// over a window 3 cells wide centred on the point, each cell weighted by
+// its overlap, so they vary continuously as the point moves over the cells
+// (whole cells would jump at every cell edge, and the highlight's rim with
+// them, as the camera moves).
+float specular_raw(Pt p) {
+  vec2 e = vec2(p.center.x / u.eye_cell - float(win.eye_min.x), p.center.y / u.eye_cell - float(win.eye_min.y));
+  ivec2 e0 = ivec2(int(floor(e.x - 1.5f)), int(floor(e.y - 1.5f)));
+  float ox[4];
+  float oy[4];
+  for (int k = 0; k <= 3; ++k) {
+    ox[k] = overlap(float(e0.x + k), e.x - 1.5f, e.x + 1.5f);
+    oy[k] = overlap(float(e0.y + k), e.y - 1.5f, e.y + 1.5f);
+  }
+  float points = 0.0f, covered = 0.0f;
+  for (int dy = 0; dy <= 3; ++dy)
+    for (int dx = 0; dx <= 3; ++dx) {
+      ivec2 c = ivec2(e0.x + dx, e0.y + dy);
+      if (c.x < 0 || c.y < 0 || c.x >= win.eye_cells.x || c.y >= win.eye_cells.y) continue;
+      float w = ox[dx] * oy[dy];
+      uint i = uint(c.y) * uint(win.eye_cells.x) + uint(c.x);
+      points += w * float(eye_count_at(i));
+      covered += w * float(eye_cover_at(i));
+    }
+  float wd = u.ortho != 0 ? 1.0f : p.depth;
+  float px_area = wd / u.px_per_unit;
+  float eye_area = covered / (u.factor * u.factor) * px_area * px_area / max(points, 1.0f);
+  vec2 l = light_uv(p.view) * float(u.light_cells);
+  ivec2 l0 = ivec2(int(floor(l.x - 1.5f)), int(floor(l.y - 1.5f)));
+  for (int k = 0; k <= 3; ++k) {
+    ox[k] = overlap(float(l0.x + k), l.x - 1.5f, l.x + 1.5f);
+    oy[k] = overlap(float(l0.y + k), l.y - 1.5f, l.y + 1.5f);
+  }
+  float lpoints = 0.0f, occupied = 0.0f;
+  for (int dy = 0; dy <= 3; ++dy)
+    for (int dx = 0; dx <= 3; ++dx) {
+      ivec2 c = ivec2(l0.x + dx, l0.y + dy);
+      if (c.x < 0 || c.y < 0 || c.x >= u.light_cells || c.y >= u.light_cells) continue;
+      float w = ox[dx] * oy[dy];
+      uint n = light_count_at(uint(c.y) * uint(u.light_cells) + uint(c.x));
+      lpoints += w * float(n);
+      occupied += n > 0u ? w : 0.0f;
+    }
+  float cell = u.light_extent / float(u.light_cells);
+  float light_area = occupied * cell * cell / max(lpoints, 1.0f);
+  return eye_area + light_area;
+}
+
+// The histogram of specular_raw: 8 bins per octave of 2^-64 .. 2^64, the
+// octave from the exponent, the bin within it by the mantissa against
+// 2^(k/8) (float bits). Exact, unlike log2 (llvmpipe's approximates it).
+float bin_edge(int k) {
+  return uintBitsToFloat(k == 0 ? 0x3f8b95c2u : k == 1 ? 0x3f9837f0u : k == 2 ? 0x3fa5fed7u : k == 3 ? 0x3fb504f3u :
+                         k == 4 ? 0x3fc5672au : k == 5 ? 0x3fd744fdu : 0x3feac0c7u);
+}
+int specular_bin(float s) {
+  uint b = floatBitsToUint(max(s, 1e-30f));
+  int octave = int(b >> 23) - 127;
+  float mantissa = uintBitsToFloat((b & 0x007fffffu) | 0x3f800000u);
+  int within = 0;
+  for (int k = 0; k < 7; ++k) within += mantissa >= bin_edge(k) ? 1 : 0;
+  return clamp((octave + 64) * 8 + within, 0, 1023);  // kStippleHistogramBins - 1
+}
+// Hidden with probability 1 - diff / tau, diff the point's distance below
+// the segment's reference (a high percentile of specular_raw).
+bool specular_out(uint id, float raw, float spec_ref) { return 1.0f - raw / spec_ref < u.tau * hash01(id, 2u); }
+
+// 1 + jitter * (2h - 1), written as the GL compiler (NIR) reassociates it,
+// so both backends round alike.
+float dot_diameter(uint id) {
+  return max(u.dot_size * ((1.0f - u.size_jitter) + 2.0f * u.size_jitter * hash01(id, 3u)), 0.5f);
+}
+// Area coverage of a disc at (dx, dy) from a pixel's centre: a 1 px wide
+// antialiased edge, at least a pixel's worth spread over the pixels a small
+// dot touches.
+float dot_coverage(float dx, float dy, float diameter) {
+  float r = 0.5f * diameter;
+  return clamp(r + 0.5f - sqrt(dx * dx + dy * dy), 0.0f, 1.0f) * min(1.0f, diameter * diameter);
+}
+
+// The fine texel (one axis) under a frame pixel's centre, clamped to the window.
+int resolve_texel(int pixel, int axis) {
+  float t = floor((float(pixel) + 0.5f) * u.factor);
+  return axis == 0 ? floor_clamp(t - float(win.fine_min.x), 0, win.fine_size.x - 1)
+                   : floor_clamp(t - float(win.fine_min.y), 0, win.fine_size.y - 1);
+}
+
+// A pixel's dots over the paper (where the spread surface covers it).
+struct StipplePixel {
+  vec4 color;
+  float depth;
+};
+StipplePixel resolve_pixel(float coverage, float dot_depth, float surface) {
+  StipplePixel px;
+  bool on_surface = !isinf(surface) && u.paper.w > 0.0f;
+  float ink = coverage * u.dot_color.w;
+  float paper = on_surface ? u.paper.w : 0.0f;
+  float alpha = ink + paper * (1.0f - ink);
+  float inf = uintBitsToFloat(0x7f800000u);
+  if (alpha > 0.0f) {
+    vec3 rgb = (vec3(u.dot_color) * ink + vec3(u.paper) * paper * (1.0f - ink)) / alpha;
+    px.color = vec4(clamp(rgb, 0.0f, 1.0f), alpha);
+    px.depth = ink > 0.0f ? min(dot_depth, on_surface ? surface : inf) : surface;
+  } else {
+    px.color = vec4(0.0f);
+    px.depth = inf;
+  }
+  return px;
+}
+#endif
