@@ -15,6 +15,7 @@
 #include "marks/mesh_surface/mesh_surface.h"
 #include "render/box_projection.h"
 #include "render/point_budget.h"
+#include "render/segment_stages.h"
 #include "render/filter_chain.h"
 #include "render/frame_targets.h"
 #include "render/frame_warnings.h"
@@ -247,15 +248,9 @@ struct Renderer::Impl {
     return out;
   }
 
-  // The end of a stage: with stage_timings, its GPU work is waited for, so
-  // that the stage's time holds it (never in production: a stall a stage).
-  static void stage_done(const RenderSettings& s) {
-    if (s.stage_timings) glFinish();
-  }
-
   void render_segment(const Segment& seg, int index, const Camera& cam, const RenderSettings& s,
                       const Culled& in_frame, RenderResult& result) {
-    auto t0 = Clock::now();
+    std::optional<StageTimer> stage(std::in_place, result.stats, "mark_ms", s.stage_timings);
     const Culled visible = in_tile(in_frame);
     const MeshPass& mesh_pass = visible.meshes;
     if (visible.chunks.empty() && mesh_pass.visible.empty()) return;
@@ -314,11 +309,10 @@ struct Renderer::Impl {
     }
     // Where GL drew (or the mark did not say), a pass over the depth finds it.
     const Rect covered = mark_coverage && mesh_pass.visible.empty() ? *mark_coverage : coverage_bounds(screen);
-    stage_done(s);
-    result.stats["mark_ms"] += ms_since(t0);
+    stage.reset();
     if (covered.empty()) return;
 
-    t0 = Clock::now();
+    stage.emplace(result.stats, "filters_ms", s.stage_timings);
     const gl::Texture* current = &targets.raster_color;
     Rect rect = covered;
     if (!seg.style.filters.empty()) {
@@ -343,43 +337,13 @@ struct Renderer::Impl {
       chain.gap_image = [this]() -> const gl::Texture& { return targets.gap_fill_image(); };
       current = run_filter_chain(seg.style.filters, chain, rect);
     }
-    stage_done(s);
-    result.stats["filters_ms"] += ms_since(t0);
 
-    t0 = Clock::now();
-    const gl::Texture* depth = &targets.raster_depth;
-    if (mode == CompositeMode::Inpaint) {
-      const gl::Program& p = shaders.compute("inpaint_depth.comp");
-      p.use();
-      glUniform1f(p.location("u_threshold"), float(seg.style.inpaint.get_float("threshold")));
-      glUniform1i(p.location("u_radius"), radius);
-      glUniform1i(p.location("u_method"), seg.style.inpaint.get_enum("method"));
-      glUniform1f(p.location("u_discontinuity"), float(seg.style.inpaint.get_float("discontinuity")));
-      glBindImageTexture(0, targets.raster_color.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-      glBindImageTexture(1, current->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-      glBindImageTexture(2, targets.raster_depth.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-      glBindImageTexture(3, targets.inpainted.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-      dispatch_rect(p, rect);
-      depth = &targets.inpainted;
-    }
-    stage_done(s);
-    result.stats["inpaint_ms"] += ms_since(t0);
-
-    t0 = Clock::now();
-    const gl::Program& p = shaders.compute("composite.comp");
-    p.use();
-    glUniform1i(p.location("u_mode"), int(mode));
-    glUniform1i(p.location("u_segment"), index);
-    glBindImageTexture(0, current->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    glBindImageTexture(2, targets.accum.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-    glBindImageTexture(3, targets.accum_depth.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
-    glBindImageTexture(4, targets.accum_index.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32I);
-    glBindImageTexture(5, targets.accum_added.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32I);
-    dispatch_rect(p, rect);
-    gl::check_gl("compositing");
-    stage_done(s);
-    result.stats["composite_ms"] += ms_since(t0);
+    stage.emplace(result.stats, "inpaint_ms", s.stage_timings);
+    const gl::Texture& depth = mode == CompositeMode::Inpaint
+                                   ? inpaint_depth_stage(shaders, targets, seg.style.inpaint, *current, rect)
+                                   : targets.raster_depth;
+    stage.emplace(result.stats, "composite_ms", s.stage_timings);
+    composite_stage(shaders, targets, mode, index, *current, depth, rect);
   }
 
   // The tile's interior into the frame's buffers, in bands of rows that
