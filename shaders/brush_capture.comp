@@ -16,5 +16,5 @@ void main() {
   uint index = splat_point(i);
   BrushSplat s = brush_splat(index);
   records[i] = SplatRecord(vec4(s.center, s.visible ? 2.0 * s.radius * s.stretch : 0.0), vec4(s.t, s.two_layers ? 1.0 : 0.0),
-                           vec4(s.n, uintBitsToFloat(point_ids[index])), source_color(index));
+                           vec4(s.n, uintBitsToFloat(point_ids[index])), brush_color(index, s));
 }

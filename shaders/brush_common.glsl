@@ -34,6 +34,9 @@ uniform int u_clusters;          // 1: the point's cluster shapes its brush
 uniform float u_small_cluster;   // clusters with fewer points: two layers
 uniform float u_elongation_gain; // stretch = elongation ^ gain ...
 uniform float u_max_stretch;     // ... at most this
+uniform int u_shading;           // 1: the brush's colour lit by its splat's plane (two-sided diffuse)
+uniform float u_shading_strength;
+uniform vec3 u_light_dir;        // towards the light, view space
 
 // Randomness from point ids only (id_hash.glsl).
 float brush_rand(uint id, uint salt) { return id_rand(id, salt, u_seed); }
@@ -155,4 +158,12 @@ vec3 brush_column_angles(uint id) {
   float a1 = a0 + u_angle_jitter * (2.0 * brush_rand(id, 2u) - 1.0);
   float a2 = a1 + u_angle_jitter * (2.0 * brush_rand(id, 3u) - 1.0);
   return vec3(a0, a1, a2);
+}
+
+// The brush's colour: the point's, lit by the splat's plane where shading
+// is on (the same rule as the native setup's).
+vec4 brush_color(uint index, BrushSplat s) {
+  vec4 c = source_color(index);
+  if (u_shading == 0) return c;
+  return vec4(diffuse_shaded(vec3(c), cross(s.t, s.b), u_light_dir, u_shading_strength), c.a);
 }

@@ -35,7 +35,7 @@ void main() {
   if (u_ortho != 0) gl_Position = vec4(clip.xy / clip.w, 1.0 - (pd - u_near) / (u_far - u_near), 1.0);
   else gl_Position = vec4(clip.xy, u_near, clip.w);
   v_uv = corner;
-  v_color = source_color(index);
+  v_color = brush_color(index, s);
   uint id = point_ids[index];
   vec3 angles = brush_column_angles(id);
   v_cos = cos(angles);

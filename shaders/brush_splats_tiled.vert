@@ -59,7 +59,7 @@ void main() {
   v_v_axis = s.b / (2.0 * s.radius);
   v_normal = cross(s.t, s.b);
   v_offset = u_offset_radii * s.radius;
-  v_color = source_color(index);
+  v_color = brush_color(index, s);
   uint id = point_ids[index];
   vec3 angles = brush_column_angles(id);
   v_cos = cos(angles);

@@ -53,6 +53,11 @@ ParamSpec formerly(ParamSpec spec, std::vector<std::string> names) {
   return spec;
 }
 
+ParamSpec added_later(ParamSpec spec, std::vector<double> value) {
+  spec.older_files_value = std::move(value);
+  return spec;
+}
+
 const ParamSpec* Schema::find(const std::string& name) const {
   for (const auto& p : params)
     if (p.name == name) return &p;

@@ -33,12 +33,19 @@ struct ParamSpec {
   // validation takes them for this one, and the Blender add-on moves a
   // saved value (and its animation) to the current name when a file opens.
   std::vector<std::string> former_names;
+  // For a parameter added after files were saved without it: the value
+  // that renders those files as before (empty: the default does). The
+  // Blender add-on gives it to nodes made before the parameter existed.
+  std::vector<double> older_files_value;
 };
 
 // `spec`, applying only while `param` is one of `values` (see ParamSpec).
 ParamSpec only_when(ParamSpec spec, std::string param, std::vector<std::string> values);
 // `spec`, once named `names` (see ParamSpec::former_names).
 ParamSpec formerly(ParamSpec spec, std::vector<std::string> names);
+// `spec`, added after files were saved without it; they keep `value` (an
+// enum's index; see ParamSpec::older_files_value).
+ParamSpec added_later(ParamSpec spec, std::vector<double> value);
 
 // Builders keep declarations short and uniform in each filter's file.
 ParamSpec float_param(std::string name, double def, double min, double max, std::string unit, std::string doc);

@@ -126,8 +126,8 @@ uint32_t queue_count(const VisibleChunk& v, const ParamValues& p) {
   return wanted >= double(n) ? n : uint32_t(std::max(wanted, 0.0));
 }
 
-ParamSpec light_space_param() {
-  return enum_param("light_space", {"world", "camera", "scene_sun"}, 0,
+ParamSpec light_space_param(int default_space) {
+  return enum_param("light_space", {"world", "camera", "scene_sun"}, default_space,
                     "world: the light stays with the scene (marks do not change as the camera moves); "
                     "camera: it moves with the view; scene_sun: as world, from the direction of the host "
                     "scene's sun lamp (Blender), so scans and meshes share one light");

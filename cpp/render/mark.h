@@ -243,7 +243,7 @@ uint32_t queue_count(const VisibleChunk& chunk, const ParamValues& params);
 // The light of marks that shade (hatching, stipples): `light_space`
 // (world, camera, scene_sun: as world, the host putting its sun lamp's
 // direction into azimuth and elevation), `light_azimuth`, `light_elevation`.
-ParamSpec light_space_param();
+ParamSpec light_space_param(int default_space = 0);  // 0 world, 1 camera, 2 scene_sun
 ParamSpec light_azimuth_param(double default_deg);
 ParamSpec light_elevation_param(double default_deg);
 // A world direction from azimuth (around Z) and elevation (above XY), degrees.

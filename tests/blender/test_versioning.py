@@ -209,3 +209,30 @@ def test_a_value_saved_under_a_former_parameter_name_moves_to_the_current_one(fr
     assert nodes.read_style(tree, 1)["mark"][1]["rasterizer"] == "native"
     assert nodes.read_style(tree, 9)["mark"][1]["rasterizer"] == "auto"
     assert versioning.migrate_former_names(tree) == 0  # once
+
+
+def test_a_parameter_added_later_keeps_older_files_as_they_rendered(fresh_file, tmp_path):
+    """The brush splats' `shading` came after files were saved without it:
+    a node made before it (no record of the parameters it knew) renders
+    unlit as it did (`none`) when its file opens; a node made now takes the
+    default (`auto`) and keeps it; a value set by hand is never replaced."""
+    old_tree = nodes.new_style("Old Brushes", mark="brush_splats")
+    del nodes.mark_node(old_tree)[nodes.KNOWN_PARAMS_KEY]  # as a node of an earlier add-on version
+    set_tree = nodes.new_style("Set Brushes", mark="brush_splats")
+    set_node = nodes.mark_node(set_tree)
+    set_node.shading = "diffuse"
+    del set_node[nodes.KNOWN_PARAMS_KEY]
+    new_tree = nodes.new_style("New Brushes", mark="brush_splats")
+    for tree in (old_tree, set_tree, new_tree):
+        tree.use_fake_user = True
+    assert nodes.mark_node(old_tree).shading == "auto"
+    path = str(tmp_path / "brushes.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)  # the load handler migrates
+    old = nodes.mark_node(bpy.data.node_groups["Old Brushes"])
+    assert old.shading == "none"
+    assert nodes.read_style(old.id_data, 1)["mark"][1]["shading"] == "none"
+    assert nodes.mark_node(bpy.data.node_groups["Set Brushes"]).shading == "diffuse"
+    assert nodes.mark_node(bpy.data.node_groups["New Brushes"]).shading == "auto"
+    # Once: every node now records the parameters it knows.
+    assert sum(versioning.migrate_added_params(t) for t in bpy.data.node_groups) == 0

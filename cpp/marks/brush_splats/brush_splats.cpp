@@ -173,6 +173,8 @@ void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const Para
   glUniform1f(g.location("u_angle_jitter"), float(glm::radians(p.get_float("angle_jitter"))));
   glUniform1ui(g.location("u_seed"), uint32_t(p.get_int("seed")));
   glUniform4fv(g.location("u_constant_color"), 1, glm::value_ptr(p.get_color("color")));
+  glUniform1f(g.location("u_shading_strength"), float(p.get_float("shading_strength")));
+  glUniform3fv(g.location("u_light_dir"), 1, glm::value_ptr(view_light_direction(p, cam)));
   // Brush (fragment stage).
   glUniform1i(g.location("u_gaussians"), p.get_int("gaussians"));
   glUniform1f(g.location("u_amplitude"), float(p.get_float("amplitude")));
@@ -208,6 +210,8 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
   if (queued && !c.find({AttributeKind::QueueOrder})) throw GLError("brush_splats: the queue order was not uploaded");
   glUniform1i(g.location("u_queue"), queued ? 1 : 0);
   glUniform1ui(g.location("u_count"), queue_count(v, p));
+  glUniform1i(g.location("u_shading"),
+              brush_shading(p, resolve_color_source(ColorSource(p.get_enum("color_source")), c)) ? 1 : 0);
 }
 
 // The passes' framebuffer: colour attachments (none for the A-buffer's
@@ -468,6 +472,19 @@ const MarkRegistration registration{{
                          "clusters", {"true"}),
                color_source_param(),
                color_param("color", {0.8, 0.8, 0.8, 1.0}, "Constant color (display sRGB)"),
+               // New values last: stored enum indices keep their meaning.
+               // Files saved before it render unlit, as they did.
+               added_later(enum_param("shading", {"none", "diffuse", "auto"}, 2,
+                                      "Light each brush by its splat's plane (two-sided diffuse): none; diffuse; "
+                                      "auto: diffuse where the points have no colour of their own (a colourless "
+                                      "scan reads as a shaded shape), none where they have"),
+                           {0.0}),
+               only_when(float_param("shading_strength", 0.6, 0.0, 1.0, "",
+                                     "How dark brushes turned away from the light get"),
+                         "shading", {"diffuse", "auto"}),
+               only_when(light_space_param(1), "shading", {"diffuse", "auto"}),
+               only_when(light_azimuth_param(135.0), "shading", {"diffuse", "auto"}),
+               only_when(light_elevation_param(45.0), "shading", {"diffuse", "auto"}),
                float_param("depth_tolerance", 1.0, 0.0, 10.0, "",
                            "Splats blend with the nearest surface within this many radii behind it"),
                enum_param("blending", {"blur", "a_buffer", "none"}, 0,

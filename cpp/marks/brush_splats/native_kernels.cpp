@@ -5,6 +5,8 @@
 // x86-64) that tests compare them with.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "marks/brush_splats/native_kernels.cpp"
+#include "render/point_color.h"  // diffuse_shaded(), the shaders' light
+
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 

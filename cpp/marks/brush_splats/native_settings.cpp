@@ -166,6 +166,8 @@ Settings resolve_settings(const MarkContext& ctx, const ParamValues& p) {
   s.elongation_gain = float(p.get_float("elongation_stretch"));
   s.max_stretch = float(p.get_float("max_stretch"));
   s.depth_tolerance = float(p.get_float("depth_tolerance"));
+  s.shading_strength = float(p.get_float("shading_strength"));
+  s.light_dir = view_light_direction(p, *ctx.camera);
   s.gaussians = p.get_int("gaussians");
   const int rows = (s.gaussians + 2) / 3;
   const float dev = float(p.get_float("dev"));

@@ -58,6 +58,8 @@ struct Settings {
   bool clusters = false;
   float small_cluster = 0.0f, elongation_gain = 0.0f, max_stretch = 1.0f;
   float depth_tolerance = 1.0f;
+  float shading_strength = 0.0f;
+  glm::vec3 light_dir{0.0f, 0.0f, 1.0f};  // towards the light, view space
   // The brush (brush_texture.glsl): centres on the grid and their column.
   int gaussians = 9;
   float cx[9] = {}, cy[9] = {};
@@ -116,6 +118,7 @@ struct Chunk {
   FrameInputs in;
   const uint32_t* order = nullptr;  // queue order (chunk-local), or null
   HostColors colors;
+  bool shading = false;  // brush_shading(): the colour lit by the splat's plane
   uint32_t first = 0, count = 0;
   glm::mat4 view{1.0f};
 };

@@ -35,6 +35,10 @@ ROLE_INPAINT = "inpaint"
 # before there was a choice (Listing 1, "paper"), used where the style has
 # no Inpaint Depth node of its own.
 LEGACY_INPAINT_KEY = "pointnpr_inpaint_method"
+# The parameters a node's class had when the node was made (space-separated
+# names): a parameter added later is given its value for older files
+# (versioning.migrate_added_params) only on nodes made before it.
+KNOWN_PARAMS_KEY = "pointnpr_known_params"
 ROLE_OUTPUT = "output"
 
 POINTS_MARK = "points"        # the default mark: splats, what Rasterize was
@@ -213,6 +217,7 @@ class _StyleNodeMixin:
         return ntree.bl_idname == TREE_IDNAME
 
     def init(self, context):
+        self[KNOWN_PARAMS_KEY] = " ".join(param["name"] for param, _pid in self.pointnpr_params)
         # Mesh Surface goes after the point mark (it draws beside it).
         if self.pointnpr_role not in (ROLE_MARK, ROLE_RASTERIZE) or self.pointnpr_schema_id == SURFACE_MARK:
             self.inputs.new(SOCKET_IDNAME, "Image")

@@ -14,6 +14,12 @@ Rasterize node of every local style tree by a Points mark node with
 * ``rasterizer`` = the ``Scene.pointnpr.rasterizer`` of a scene that uses
   the style (the first scene when none does).
 
+A parameter added since files were saved without it may declare the
+value that renders them as before (the schema's ``older_files_value``,
+e.g. the brush splats' ``shading``: ``none``, where new nodes take
+``auto``): ``migrate_added_params`` gives it to nodes made before the
+parameter existed (a node records the parameters it knew when made).
+
 A parameter renamed since (the schema's ``former_names``, e.g. the
 stipples mark's ``implementation``, now ``rasterizer`` as on every mark
 with two backends) keeps its saved value and animation:
@@ -161,10 +167,41 @@ def migrate_former_names(tree):
     return moved
 
 
+def migrate_added_params(tree):
+    """Gives the nodes of a local style tree that were made before a
+    parameter existed (the schema's ``older_files_value``) the value that
+    renders them as before, where they store none, and records that they
+    know every parameter of their class now. Returns how many values it
+    set."""
+    if not nodes.is_style_tree(tree) or tree.library is not None:
+        return 0
+    changed = 0
+    for node in tree.nodes:
+        params = getattr(node, "pointnpr_params", ())
+        if not params:
+            continue
+        stamp = " ".join(param["name"] for param, _pid in params)
+        known = node.get(nodes.KNOWN_PARAMS_KEY)
+        if known == stamp:
+            continue
+        known = set(str(known).split()) if known is not None else set()
+        for param, pid in params:
+            older = param.get("older_files_value")
+            if older is not None and param["name"] not in known and node.get(pid) is None:
+                setattr(node, pid, older)
+                changed += 1
+        node[nodes.KNOWN_PARAMS_KEY] = stamp
+    if changed:
+        nodes.bump_generation()
+    return changed
+
+
 def migrate_legacy_nodes():
     """Migrates every local style tree of the open file; returns the number
-    of nodes replaced and of values moved to a parameter's current name."""
-    return sum(migrate_tree(tree) + migrate_former_names(tree) for tree in list(bpy.data.node_groups))
+    of nodes replaced, of values moved to a parameter's current name and of
+    added parameters given their older files' value."""
+    return sum(migrate_tree(tree) + migrate_former_names(tree) + migrate_added_params(tree)
+               for tree in list(bpy.data.node_groups))
 
 
 @persistent
