@@ -3,7 +3,8 @@
 // (cpp/marks/feature_strokes/native.cpp), in the subset of cpp/core/glsl.h.
 // The includer defines what reads the point data: point_degree(i),
 // has_lines(), point_line(i), point_resolution(i), inv_median_r(),
-// has_color(), point_color(i) and view_rotation().
+// has_color(), point_color(i), view_rotation(), lit() (the chunk is
+// shaded) and point_normal(i) (view space, zero: none).
 #ifndef FEATURE_STROKES_KERNELS_GLSL
 #define FEATURE_STROKES_KERNELS_GLSL
 #include "id_hash.glsl"
@@ -45,6 +46,9 @@ Record place_record(uint index, uint id, vec4 v) {
     float r = point_resolution(index);
     float rel = r == r ? r * inv_median_r() : 1.0f;
     float lum = has_color() ? dot(vec3(color), vec3(0.2126f, 0.7152f, 0.0722f)) : 0.5f;
+    // Lit (shading): the tone of the colour, or of white, under the light.
+    if (lit())
+      lum = diffuse_shaded(vec3(has_color() ? lum : 1.0f), point_normal(index), vec3(u.light_dir), u.shading_strength).x;
     float odds = u.dither * rel * rel * mix(1.0f, 2.0f * (1.0f - lum), u.dither_tone);
     if (id_rand(id, 1u, u.seed) >= odds) return rec;
     kind = 2u;

@@ -17,6 +17,7 @@ uniform int u_queue;           // 1: read queue_order
 uniform int u_has_lines;
 uniform float u_inv_median_r;
 uniform int u_has_color;
+uniform int u_lit;             // shading applies to this chunk (normals bound)
 
 float point_degree(uint index) { return degree[index]; }
 bool has_lines() { return u_has_lines != 0; }
@@ -26,6 +27,8 @@ float inv_median_r() { return u_inv_median_r; }
 bool has_color() { return u_has_color != 0; }
 vec4 point_color(uint index) { return source_color(index); }
 mat3 view_rotation() { return mat3(u_view_from_chunk); }
+bool lit() { return u_lit != 0; }
+vec3 point_normal(uint index) { return view_normal(index); }
 #include "feature_strokes_kernels.glsl"
 
 void main() {

@@ -8,6 +8,7 @@
 SETTINGS_BLOCK(FeatureStrokesSettings, 0)
   mat4 projection;
   vec4 constant_color;       // the stroke colour (display sRGB)
+  vec4 light_dir;            // towards the light, view space (xyz; shading)
   int size_x;                // the frame's (the projection maps to it)
   int size_y;
   int ortho;
@@ -32,6 +33,7 @@ SETTINGS_BLOCK(FeatureStrokesSettings, 0)
   float screen_dir_x;        // unit, pixels (x right, y up)
   float screen_dir_y;
   int stroke_texture;        // taper, brush, dry, image
+  float shading_strength;
 END_SETTINGS_BLOCK(u)
 
 struct Record {

@@ -133,6 +133,27 @@ ParamSpec light_space_param(int default_space) {
                     "scene's sun lamp (Blender), so scans and meshes share one light");
 }
 
+Schema with_surface_light(Schema schema, const std::string& what, double strength) {
+  const std::vector<std::string> lit{"diffuse", "auto"};
+  schema.params.push_back(added_later(
+      enum_param("shading", {"none", "diffuse", "auto"}, 2,
+                 "Light " + what + " (two-sided diffuse): none; diffuse; auto: diffuse where the points have no "
+                 "colour of their own (a colourless scan reads as a shaded shape), none where they have"),
+      {0.0}));
+  schema.params.push_back(only_when(
+      float_param("shading_strength", strength, 0.0, 1.0, "", "How dark surfaces turned away from the light get"),
+      "shading", lit));
+  schema.params.push_back(only_when(light_space_param(1), "shading", lit));
+  schema.params.push_back(only_when(light_azimuth_param(135.0), "shading", lit));
+  schema.params.push_back(only_when(light_elevation_param(45.0), "shading", lit));
+  return schema;
+}
+
+bool lit_by_shading(const ParamValues& p, ColorSource resolved) {
+  const std::string& shading = p.get_enum_name("shading");
+  return shading == "diffuse" || (shading == "auto" && resolved == ColorSource::Constant);
+}
+
 ParamSpec light_azimuth_param(double default_deg) {
   return float_param("light_azimuth", default_deg, -180.0, 180.0, "deg",
                      "Light direction: around world Z (world), or around the view axis (camera; 0 from the right)");

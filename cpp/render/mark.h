@@ -244,6 +244,14 @@ uint32_t queue_count(const VisibleChunk& chunk, const ParamValues& params);
 // (world, camera, scene_sun: as world, the host putting its sun lamp's
 // direction into azimuth and elevation), `light_azimuth`, `light_elevation`.
 ParamSpec light_space_param(int default_space = 0);  // 0 world, 1 camera, 2 scene_sun
+// A mark's light, so that points without colours of their own read as a
+// shape: `schema` with `shading` none / diffuse / auto (auto: lit where the
+// points' colour resolves to the constant one; files saved before it:
+// none), `shading_strength` (default `strength`) and the light's space
+// (camera by default) and direction. `what` says what is lit, for the docs.
+Schema with_surface_light(Schema schema, const std::string& what, double strength);
+// Whether a chunk whose colour resolves to `resolved` is lit (shading).
+bool lit_by_shading(const ParamValues& p, ColorSource resolved);
 ParamSpec light_azimuth_param(double default_deg);
 ParamSpec light_elevation_param(double default_deg);
 // A world direction from azimuth (around Z) and elevation (above XY), degrees.

@@ -107,12 +107,37 @@ def test_dithering_share_follows_the_parameter(renderer, path):
     c = pointnpr.PointCloud(pos)
     counts = []
     for d in (0.1, 0.3):
-        r = render(renderer, {"dither": d}, [c], capture=False)
+        r = render(renderer, {"dither": d, "shading": "none"}, [c], capture=False)  # unlit: the share alone
         counts.append(r.stats["strokes_dithering"])
         # A flat wall has no feature points.
         assert r.stats["strokes_directional"] + r.stats["strokes_non_directional"] == 0
         n = len(pos)
         assert abs(counts[-1] - d * n) < 4 * np.sqrt(d * (1 - d) * n) + 1, (counts[-1], d * n)
+
+
+def test_light_sets_the_dithering_tone_of_a_colourless_scan(renderer, path):
+    # Issue 39 ("light for every mark"): by default (shading auto) a sphere
+    # without colours dithers densely where it turns from the light and
+    # sparsely where it faces it; unlit, the density is the same all over.
+    n = 20000
+    i = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * i / n
+    a = 2.399963229728653 * np.arange(n)
+    normals = np.column_stack([np.sqrt(1 - z * z) * np.cos(a), np.sqrt(1 - z * z) * np.sin(a), z])
+    c = pointnpr.PointCloud(normals + [0.0, 0.0, -5.0], normals=normals.astype(np.float32))
+    az, el = np.radians(135.0), np.radians(45.0)  # the camera light's default direction (view = world here)
+    lam = np.abs(normals @ [np.sin(el) * np.cos(az), np.sin(el) * np.sin(az), np.cos(el)])
+    facing = normals[:, 2] > 0.3  # seen, away from the rim
+    shares = {}
+    for shading in ("auto", "none"):
+        r = render(renderer, {"dither": 0.3, "shading": shading, "dithering": "point_sprite"}, [c])
+        kept = np.zeros(n, bool)
+        kept[np.asarray(r.marks["point_id"])[np.asarray(r.marks["kind"]) == 2]] = True
+        shares[shading] = [kept[facing & (lam < 0.35)].mean(), kept[facing & (lam > 0.85)].mean()]
+    dark, lit = shares["auto"]
+    assert dark > 1.8 * lit, shares
+    dark, lit = shares["none"]
+    assert 0.8 < dark / lit < 1.25, shares
 
 
 def test_dithering_is_uniform_in_3d_on_unevenly_sampled_surfaces(renderer, path):

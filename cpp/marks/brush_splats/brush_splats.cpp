@@ -211,7 +211,7 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
   glUniform1i(g.location("u_queue"), queued ? 1 : 0);
   glUniform1ui(g.location("u_count"), queue_count(v, p));
   glUniform1i(g.location("u_shading"),
-              brush_shading(p, resolve_color_source(ColorSource(p.get_enum("color_source")), c)) ? 1 : 0);
+              lit_by_shading(p, resolve_color_source(ColorSource(p.get_enum("color_source")), c)) ? 1 : 0);
 }
 
 // The passes' framebuffer: colour attachments (none for the A-buffer's
@@ -410,7 +410,7 @@ double brush_reach(const ParamValues& p) {
 namespace {
 
 const MarkRegistration registration{{
-    Schema{"brush_splats",
+    with_surface_light(Schema{"brush_splats",
            "Brush splats",
            "Impressionist brush strokes on surface-aligned splats sized by the local point spacing (stroke-based "
            "splatting, seed 004): a brush of Gaussians per point, blended.",
@@ -473,18 +473,6 @@ const MarkRegistration registration{{
                color_source_param(),
                color_param("color", {0.8, 0.8, 0.8, 1.0}, "Constant color (display sRGB)"),
                // New values last: stored enum indices keep their meaning.
-               // Files saved before it render unlit, as they did.
-               added_later(enum_param("shading", {"none", "diffuse", "auto"}, 2,
-                                      "Light each brush by its splat's plane (two-sided diffuse): none; diffuse; "
-                                      "auto: diffuse where the points have no colour of their own (a colourless "
-                                      "scan reads as a shaded shape), none where they have"),
-                           {0.0}),
-               only_when(float_param("shading_strength", 0.6, 0.0, 1.0, "",
-                                     "How dark brushes turned away from the light get"),
-                         "shading", {"diffuse", "auto"}),
-               only_when(light_space_param(1), "shading", {"diffuse", "auto"}),
-               only_when(light_azimuth_param(135.0), "shading", {"diffuse", "auto"}),
-               only_when(light_elevation_param(45.0), "shading", {"diffuse", "auto"}),
                float_param("depth_tolerance", 1.0, 0.0, 10.0, "",
                            "Splats blend with the nearest surface within this many radii behind it"),
                enum_param("blending", {"blur", "a_buffer", "none"}, 0,
@@ -512,6 +500,7 @@ const MarkRegistration registration{{
                density_mode_param(),
                queue_level_param(0.5),
            }},
+                       "each brush by its splat's plane", 0.6),
     [] { return std::make_unique<BrushSplats>(); }}};
 
 }  // namespace

@@ -26,12 +26,6 @@ double brush_reach(const ParamValues& p);
 // coverage by uv in [0, 1] instead of the GL's fixed-point edges).
 void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p);
 
-// Whether a chunk's brushes are lit by their splat's plane: shading
-// diffuse, or auto where its colour resolves to the constant one (a
-// colourless scan then reads as a shaded shape, not a flat silhouette).
-inline bool brush_shading(const ParamValues& p, ColorSource resolved) {
-  const std::string shading = p.get_enum_name("shading");
-  return shading == "diffuse" || (shading == "auto" && resolved == ColorSource::Constant);
-}
+
 
 }  // namespace pointnpr

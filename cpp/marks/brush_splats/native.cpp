@@ -197,7 +197,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       }
       proto.positions = cloud->local_positions().data();
       proto.colors = host_colors(*v.gpu, *cloud, source, constant);
-      proto.shading = brush_shading(p, proto.colors.source);
+      proto.shading = lit_by_shading(p, proto.colors.source);
       held.push_back(cloud);
     }
     Chunk& c = chunks[i];

@@ -66,6 +66,7 @@ class FeatureStrokes final : public Mark {
     if (p.get_enum_name("directional") != "none") 
       set.insert(feature_line_key(p.get_int("line_neighbors"), k, p.get_float("feature_threshold")));
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
+    if (p.get_enum_name("shading") != "none") set.insert({AttributeKind::Normal, k});
     if (p.get_enum_name("coloring") == "point" || p.get_float("dither_tone") > 0.0) {
       const AttributeSet colors = color_attributes(ColorSource(p.get_enum("color_source")));
       set.insert(colors.begin(), colors.end());
@@ -128,6 +129,8 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   u.stroke_width = float(p.get_float("stroke_width"));
   u.line_width = float(p.get_float("line_width"));
   u.point_coloring = p.get_enum_name("coloring") == "point" ? 1 : 0;
+  u.light_dir = glm::vec4(view_light_direction(p, *ctx.camera), 0.0f);
+  u.shading_strength = float(p.get_float("shading_strength"));
   u.opacity = float(p.get_float("opacity"));
   u.seed = uint32_t(p.get_int("seed"));
   const double angle = glm::radians(p.get_float("screen_angle"));
@@ -135,6 +138,8 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   u.screen_dir_y = float(std::sin(angle));
   u.stroke_texture = p.get_enum("stroke_texture");
   s.feature_k = p.get_int("feature_neighbors");
+  s.params = &p;
+  s.lit = p.get_enum_name("shading") != "none";
   s.line_key = feature_line_key(p.get_int("line_neighbors"), s.feature_k, p.get_float("feature_threshold"));
   s.color_source = ColorSource(p.get_enum("color_source"));
   s.paper = p.get_color("paper_color");
@@ -240,13 +245,16 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
       const VisibleChunk& v = ctx.chunks[c];
       const GpuCloud& g = *v.gpu;
       const gl::Buffer* lines = s.u.use_lines ? g.find(s.line_key) : nullptr;
+      const ColorSource resolved = resolve_color_source(s.color_source, g);
+      const bool lit = lit_by_shading(p, resolved) && g.find({AttributeKind::Normal, k});
       bind_chunk(select, v, s.color_source,
-                 {{2, nullptr}, {3, g.find({AttributeKind::FeatureDegree, k})}, {4, lines},
+                 {{2, lit ? g.find({AttributeKind::Normal, k}) : nullptr},
+                  {3, g.find({AttributeKind::FeatureDegree, k})}, {4, lines},
                   {5, s.queue ? g.find({AttributeKind::QueueOrder}) : nullptr}, {6, g.find({AttributeKind::PointId})},
                   {9, g.find({AttributeKind::LocalResolution, kResolutionNeighbors})}});
       glUniform1i(select.location("u_has_lines"), lines ? 1 : 0);
-      glUniform1i(select.location("u_has_color"),
-                  resolve_color_source(s.color_source, g) != ColorSource::Constant ? 1 : 0);
+      glUniform1i(select.location("u_has_color"), resolved != ColorSource::Constant ? 1 : 0);
+      glUniform1i(select.location("u_lit"), lit ? 1 : 0);
       glUniform1f(select.location("u_inv_median_r"), s.inv_median_r[c]);
       glUniform1ui(select.location("u_drawn"), s.drawn[c]);
       glUniform1ui(select.location("u_out_base"), batch.offsets[c - batch.begin]);
@@ -287,7 +295,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
 const std::vector<std::string> kPrimitives = {"none", "point_sprite", "line_segment", "textured_stroke"};
 
 const MarkRegistration registration{{
-    Schema{"feature_strokes",
+    with_surface_light(Schema{"feature_strokes",
            "Feature strokes",
            "Feature points (high feature degree) and dithering points drawn as point sprites, line segments or "
            "textured strokes along their fitted 3D directions, behind a visibility-splatting depth pass (Xu et al., "
@@ -350,6 +358,7 @@ const MarkRegistration registration{{
                           "on the CPU's threads (the same images but for the kernels' last bits and rare coverage "
                           "ties); auto: native on a software GL device (llvmpipe), gl on a GPU"),
            }},
+                       "the dithering's tone by the points' normals", 0.8),
     [] { return std::make_unique<FeatureStrokes>(); }}};
 
 }  // namespace

@@ -48,6 +48,8 @@ struct FeatureStrokeSettings {
   float disc_scale = 1.5f, depth_offset = 1.5f;
   const gl::Texture* texture_image = nullptr;
   bool queue = false;
+  bool lit = false;                     // shading is not none (lit_by_shading decides per chunk)
+  const ParamValues* params = nullptr;  // the frame's (lit_by_shading)
   std::vector<uint32_t> drawn;      // per chunk: points of its queue considered
   std::vector<float> inv_median_r;  // per chunk: 1 / its cloud's median local resolution
 };

@@ -35,7 +35,9 @@
 #include "marks/feature_strokes/feature_strokes.h"
 #include "marks/points/points.h"
 #include "render/native_ink.h"
+#include "render/gpu_cloud.h"
 #include "render/native_raster.h"
+#include "render/point_color.h"
 #include "render/screen_bins.h"
 #include "scene/camera.h"
 #include "scene/point_cloud.h"
@@ -75,6 +77,8 @@ struct Chunk {
   const uint32_t* lines = nullptr;  // or null: no line fit
   const uint32_t* order = nullptr;  // the queue order (chunk-local), or null
   HostColors colors;
+  const glm::vec3* normals = nullptr;  // or null: not lit (shading)
+  glm::mat3 normal_matrix{1.0f};
   uint32_t first = 0, count = 0, drawn = 0, key_base = 0;
   float inv_median_r = 1.0f;
   glm::mat4 view{1.0f};
@@ -156,6 +160,11 @@ struct Kernels {
   bool has_color() const { return chunk_->colors.source != ColorSource::Constant; }
   vec4 point_color(uint index) const { return chunk_->colors.at(index); }
   mat3 view_rotation() const { return mat3(chunk_->view); }
+  bool lit() const { return chunk_->normals != nullptr; }
+  // point_attributes.glsl's view_normal() of the normal as uploaded (snorm8).
+  vec3 point_normal(uint index) const {
+    return unit_or_zero(chunk_->normal_matrix * unpack_normal(pack_normal(chunk_->normals[index])));
+  }
   vec4 stroke_image(vec2 uv) const { return image_->sample(uv.x, uv.y); }
 #include "feature_strokes_kernels.glsl"
 #include "feature_strokes_sprite.glsl"
@@ -281,6 +290,15 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
       proto.lines = lines ? lines->data() : nullptr;
       proto.order = s.queue ? v.gpu->host_queue_order().data() : nullptr;
       proto.colors = host_colors(*v.gpu, *cloud, s.color_source, s.u.constant_color);
+      if (s.lit && lit_by_shading(*s.params, proto.colors.source)) {
+        if (v.gpu->own_normals) {
+          proto.normals = cloud->normals().data();
+        } else {
+          auto normals = cloud->analysis().normals({s.feature_k, geometry::Orientation::Consistent, {}});
+          proto.normals = normals->data();
+          held.push_back(normals);
+        }
+      }
       held.push_back(cloud);
       held.push_back(degree);
       held.push_back(resolution);
@@ -295,6 +313,7 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
     c.key_base = v.key_base;
     c.inv_median_r = s.inv_median_r[i];
     c.view = v.view_from_chunk;
+    c.normal_matrix = glm::transpose(glm::inverse(glm::mat3(v.view_from_chunk)));
   }
 
   HostTexture image;
