@@ -69,26 +69,28 @@ float fbm(vec2 p, float cell, int octaves, uint seed) {
 }
 
 // Gradient (Perlin) noise in 3-D with quintic fade: smooth, no lattice
-// blocks like value noise's; zero mean, within [-0.8, 0.8] (std 0.19,
-// GRADIENT_NOISE_STD). One hash per lattice corner.
-const float GRADIENT_NOISE_STD = 0.19;
-vec3 lattice_gradient(ivec3 q, uint seed) {
+// blocks like value noise's; zero mean, within [-1.2, 1.2] (std 0.33,
+// GRADIENT_NOISE_STD). One hash per lattice corner; its gradient is one of
+// the 8 diagonals (+-1, +-1, +-1) (Perlin 2002 uses 12 edges; the diagonals
+// need no table and the same dot product costs only additions).
+const float GRADIENT_NOISE_STD = 0.33;
+float corner(ivec3 q, uint seed, vec3 f) {
   uint h = hash_u32(uint(q.x) * 0x8da6b343u + uint(q.y) * 0xd8163841u + uint(q.z) * 0xcb1ab31fu + seed * 0x9e3779b9u);
-  return vec3(uvec3(h, h >> 11, h >> 22) & uvec3(2047u, 2047u, 1023u)) / vec3(1023.5, 1023.5, 511.5) - 1.0;
+  return ((h & 1u) != 0u ? f.x : -f.x) + ((h & 2u) != 0u ? f.y : -f.y) + ((h & 4u) != 0u ? f.z : -f.z);
 }
 
 float gradient_noise(vec3 x, uint seed) {
   vec3 i = floor(x), f = x - i;
   ivec3 q = ivec3(i);
   vec3 u = f * f * f * (f * (f * 6.0 - 15.0) + 10.0);
-  float n000 = dot(lattice_gradient(q, seed), f);
-  float n100 = dot(lattice_gradient(q + ivec3(1, 0, 0), seed), f - vec3(1, 0, 0));
-  float n010 = dot(lattice_gradient(q + ivec3(0, 1, 0), seed), f - vec3(0, 1, 0));
-  float n110 = dot(lattice_gradient(q + ivec3(1, 1, 0), seed), f - vec3(1, 1, 0));
-  float n001 = dot(lattice_gradient(q + ivec3(0, 0, 1), seed), f - vec3(0, 0, 1));
-  float n101 = dot(lattice_gradient(q + ivec3(1, 0, 1), seed), f - vec3(1, 0, 1));
-  float n011 = dot(lattice_gradient(q + ivec3(0, 1, 1), seed), f - vec3(0, 1, 1));
-  float n111 = dot(lattice_gradient(q + ivec3(1, 1, 1), seed), f - vec3(1, 1, 1));
+  float n000 = corner(q, seed, f);
+  float n100 = corner(q + ivec3(1, 0, 0), seed, f - vec3(1, 0, 0));
+  float n010 = corner(q + ivec3(0, 1, 0), seed, f - vec3(0, 1, 0));
+  float n110 = corner(q + ivec3(1, 1, 0), seed, f - vec3(1, 1, 0));
+  float n001 = corner(q + ivec3(0, 0, 1), seed, f - vec3(0, 0, 1));
+  float n101 = corner(q + ivec3(1, 0, 1), seed, f - vec3(1, 0, 1));
+  float n011 = corner(q + ivec3(0, 1, 1), seed, f - vec3(0, 1, 1));
+  float n111 = corner(q + ivec3(1, 1, 1), seed, f - vec3(1, 1, 1));
   return mix(mix(mix(n000, n100, u.x), mix(n010, n110, u.x), u.y), mix(mix(n001, n101, u.x), mix(n011, n111, u.x), u.y),
              u.z);
 }
