@@ -16,19 +16,6 @@ const int MAX_RADIUS = 16;
 uniform ivec2 u_half_min;
 uniform int u_radius;  // half pixels
 uniform float u_fill_norm;
-uniform uint u_seed;
-uniform float u_paper_scale;
-
-// Object units one pixel spans at depth d (the view-space x of pixel q at
-// depth d is dot(x0, q) + d dot(x1, q)), times the anchor frame's scale.
-float surface_pixel(float d) { return abs(u_surface_x0.x + d * u_surface_x1.x) * length(u_object_from_view[0].xyz); }
-
-// The procedural paper's height in [0,1] (1 = a peak of the grain) at
-// surface point x whose pixel spans px units: fractal gradient noise, its
-// finest feature u_paper_scale px on screen (surface_fbm).
-float procedural_paper(vec3 x, float px) {
-  return clamp(0.5 + 0.22 * surface_fbm(x, px, u_paper_scale, 2, u_seed + 53u), 0.0, 1.0);
-}
 
 #ifdef PASS_DOWN
 void main() {
@@ -56,10 +43,6 @@ layout(rgba32f, binding = 5) uniform readonly image2D u_in_b;
 uniform float u_tolerance;  // range sigma of the bilateral weights (sRGB units)
 uniform float u_w_abstract[MAX_RADIUS + 1];  // spatial weights by |offset|
 uniform float u_w_fill[MAX_RADIUS + 1];
-#ifdef PASS_ABSTRACT_Y
-layout(r32f, binding = 6) uniform readonly image2D u_depth_y;
-uniform int u_paper_image;
-#endif
 
 // The colour and covered share a pass sees at i: the downsampled input (x),
 // or the x pass's normalized sums (y).
@@ -106,20 +89,7 @@ void main() {
 #else
   float f = b.w / u_fill_norm;
   imageStore(u_out, i, vec4(a.w > 0.0 ? a.rgb / a.w : vec3(0.0), f));
-  // The procedural paper at the half pixel's nearest surface point (-1:
-  // no depth under it); the compose interpolates it. An image paper is
-  // read per pixel there instead (a texture lookup costs little).
-  float grain = -1.0;
-  if (u_paper_image == 0) {
-    ivec2 first = 2 * (i + u_half_min) - u_origin;
-    ivec2 size = imageSize(u_depth_y);
-    float d = INF;
-    for (int j = 0; j <= 1; ++j)
-      for (int k = 0; k <= 1; ++k)
-        if (in_image(first + ivec2(k, j), size)) d = min(d, imageLoad(u_depth_y, first + ivec2(k, j)).r);
-    if (!isinf(d)) grain = procedural_paper(surface_point(vec2(2 * (i + u_half_min) + 1), d), surface_pixel(d));
-  }
-  imageStore(u_out_b, i, vec4(b.w > 0.0 ? b.rgb / b.w : vec3(0.0), grain));
+  imageStore(u_out_b, i, vec4(b.w > 0.0 ? b.rgb / b.w : vec3(0.0), f));
 #endif
 }
 #endif
@@ -129,12 +99,16 @@ layout(r32f, binding = 2) uniform readonly image2D u_depth;  // linear view dept
 uniform ivec2 u_node_min;   // the frame node of the fields images' (0, 0)
 uniform ivec2 u_abs_min;    // the abstracted images are valid in [u_abs_min, u_abs_max)
 uniform ivec2 u_abs_max;
+uniform uint u_seed;
+
+// Object units one pixel spans at depth d (the view-space x of pixel q at
+// depth d is dot(x0, q) + d dot(x1, q)), times the anchor frame's scale.
+float surface_pixel(float d) { return abs(u_surface_x0.x + d * u_surface_x1.x) * length(u_object_from_view[0].xyz); }
 #endif
 
 #ifdef PASS_FIELDS
 layout(rgba32f, binding = 3) uniform writeonly image2D u_fields;  // wobble x, y in [-1,1], dispersion, wetness
 layout(rgba32f, binding = 5) uniform writeonly image2D u_bleed;   // bleed rgb, node depth (0: no surface)
-layout(rgba32f, binding = 4) uniform readonly image2D u_abstract;  // .a: coverage f
 layout(rgba32f, binding = 6) uniform readonly image2D u_plain;
 uniform float u_wobble_scale;
 uniform float u_density_scale;
@@ -162,8 +136,8 @@ void main() {
     for (int i = -1; i <= 1; ++i) {
       ivec2 q = half_centre + (NODE / 2) * ivec2(i, j);
       if (any(lessThan(q, u_abs_min)) || any(greaterThanEqual(q, u_abs_max))) continue;
-      float f = imageLoad(u_abstract, q).a;
-      bleed += vec4(imageLoad(u_plain, q).rgb * f, f);
+      vec4 s = imageLoad(u_plain, q);
+      bleed += vec4(s.rgb * s.a, s.a);
     }
   if (isinf(d)) {
     imageStore(u_fields, p, vec4(0.0));
@@ -193,17 +167,20 @@ uniform float u_edge_darkening;
 uniform float u_density;
 uniform float u_granulation;
 uniform float u_wet;
+uniform float u_paper_scale;
 uniform sampler2D u_paper;   // height map, white = peaks (when u_paper_image)
 uniform int u_paper_image;
 uniform vec3 u_plane_weights;  // the paper image's planes (yz, xz, xy) by the view direction
 uniform float u_dry_brush;
 uniform vec4 u_paper_color;
 
-// The paper image's height in [0,1] (white = peaks) at surface point x
-// whose pixel spans px units: tiled at u_paper_scale px per texel on the
-// three axis planes weighted by the view direction, at powers of two of
-// the surface's units cross-faded (as surface_fbm).
-float paper_image(vec3 x, float px) {
+// Paper height in [0,1] (1 = a peak of the grain) at surface point x whose
+// pixel spans px units: procedural fractal noise with its finest feature
+// u_paper_scale px, or the image tiled at u_paper_scale px per texel, on
+// the three axis planes weighted by the view direction; both at powers of
+// two of the surface's units, cross-faded (surface_fbm).
+float paper_height(vec3 x, float px) {
+  if (u_paper_image == 0) return clamp(0.5 + 0.22 * surface_fbm(x, px, u_paper_scale, 2, u_seed + 53u), 0.0, 1.0);
   float level = log2(max(u_paper_scale * px, 1e-30));
   float l0 = floor(level), t = level - l0;
   vec2 texels = vec2(textureSize(u_paper, 0));
@@ -256,28 +233,22 @@ Slow sample_slow(vec2 x) {
 
 // The abstracted and plain colours times coverage, and coverage f,
 // bilinear (between half pixels) at frame position x.
-// (grain: the procedural paper, bilinear over the half pixels that have it;
-// -1 where none has.)
-void sample_abstract(vec2 x, out vec3 abstract_f, out vec3 plain_f, out float f, out float grain) {
+void sample_abstract(vec2 x, out vec3 abstract_f, out vec3 plain_f, out float f) {
   vec2 s = 0.5 * x - 0.5;
   ivec2 base = ivec2(floor(s));
   vec2 t = s - vec2(base);
   abstract_f = plain_f = vec3(0.0);
   f = 0.0;
-  vec2 g = vec2(0.0);
   for (int j = 0; j <= 1; ++j)
     for (int i = 0; i <= 1; ++i) {
       ivec2 q = base + ivec2(i, j) - u_half_min;
       if (any(lessThan(q, u_abs_min)) || any(greaterThanEqual(q, u_abs_max))) continue;
-      vec4 a = imageLoad(u_abstract, q), b = imageLoad(u_plain, q);
-      float wb = (i == 1 ? t.x : 1.0 - t.x) * (j == 1 ? t.y : 1.0 - t.y);
-      float w = wb * a.a;
+      vec4 a = imageLoad(u_abstract, q);
+      float w = (i == 1 ? t.x : 1.0 - t.x) * (j == 1 ? t.y : 1.0 - t.y) * a.a;
       abstract_f += w * a.rgb;
-      plain_f += w * b.rgb;
+      plain_f += w * imageLoad(u_plain, q).rgb;
       f += w;
-      if (b.a >= 0.0) g += vec2(wb * b.a, wb);
     }
-  grain = g.y > 0.0 ? g.x / g.y : -1.0;
 }
 
 // Bousseau's pigment density model: d > 1 darkens, d < 1 lightens.
@@ -290,8 +261,8 @@ void main() {
   vec4 c = imageLoad(u_in, p);
   Slow slow = sample_slow(pos);
   vec3 abstract_f, plain_f;
-  float f, grain;
-  sample_abstract(pos + u_wobble * slow.fields.xy, abstract_f, plain_f, f, grain);
+  float f;
+  sample_abstract(pos + u_wobble * slow.fields.xy, abstract_f, plain_f, f);
   vec3 rgb;
   float edge = 0.0, f_wet = 1.0, wet = u_wet * slow.fields.w;
   if (f >= 0.5) {
@@ -309,22 +280,18 @@ void main() {
   } else {
     vec3 a0, p0;
     float f0;
-    if (covered(c)) sample_abstract(pos, a0, p0, f0, grain);
+    if (covered(c)) sample_abstract(pos, a0, p0, f0);
     if (!covered(c) || f0 >= 0.5) {
       imageStore(u_out, p, c);
       return;
     }
     rgb = c.rgb;  // a lone point: no wobble, no rim
   }
-  // The paper: the procedural one from the half pixels (at their surface
-  // points), an image at the pixel's own surface point (or the nearest
-  // surface's, in a gap or a wobbled border).
-  float height = grain >= 0.0 ? grain : 0.5;
-  if (u_paper_image != 0) {
-    float d = imageLoad(u_depth, p).r;
-    if (isinf(d)) d = slow.w > 0.0 ? slow.depth : INF;
-    if (!isinf(d)) height = paper_image(surface_point(pos, d), surface_pixel(d));
-  }
+  // The pixel's own surface point (or the nearest surface's, in a gap or a
+  // wobbled border) carries the paper and the pigment's variation.
+  float d = imageLoad(u_depth, p).r;
+  if (isinf(d)) d = slow.w > 0.0 ? slow.depth : INF;
+  float height = isinf(d) ? 0.5 : paper_height(surface_point(pos, d), surface_pixel(d));
   float dispersion = slow.fields.z;
   rgb = density(rgb, 1.0 + u_edge_darkening * edge);
   rgb = density(rgb, 1.0 + u_density * dispersion);

@@ -100,8 +100,6 @@ class Watercolor final : public Filter {
     const gl::Texture& sums_b = ctx.scratch(2);
     const gl::Texture& abstract = ctx.scratch(3);
     const gl::Texture& plain = ctx.scratch(4);
-    const uint32_t seed = uint32_t(p.get_int("seed"));
-    const std::string& paper_path = p.get_path("paper");
     const std::vector<float> ws = half_weights(s.sigma_abstract, r), wf = half_weights(s.sigma_fill, r);
     double norm = wf[0];
     for (int k = 1; k <= r; ++k) norm += 2.0 * wf[size_t(k)];
@@ -125,12 +123,6 @@ class Watercolor final : public Filter {
         filters::bind_image(3, sums_b, GL_WRITE_ONLY);
         dispatch_rect(prog, Rect{{r, 0}, {n.x + r, n.y + 2 * r}});
       } else {
-        // The procedural paper at each half pixel's surface point.
-        set_surface_uniforms(prog, ctx.surface);
-        glUniform1ui(prog.location("u_seed"), seed);
-        glUniform1f(prog.location("u_paper_scale"), float(p.get_float("paper_scale")));
-        glUniform1i(prog.location("u_paper_image"), paper_path.empty() ? 0 : 1);
-        glBindImageTexture(6, ctx.raster_depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
         filters::bind_image(4, sums_a, GL_READ_ONLY);
         filters::bind_image(5, sums_b, GL_READ_ONLY);
         filters::bind_image(1, abstract, GL_WRITE_ONLY);
@@ -147,6 +139,7 @@ class Watercolor final : public Filter {
                               floor_div(origin.y + ctx.rect.max.y - 1 + g, kNode) + 2};
     const gl::Texture& fields = ctx.scratch(0);
     const gl::Texture& bleed = ctx.scratch(1);
+    const uint32_t seed = uint32_t(p.get_int("seed"));
     auto set_half = [&](const gl::Program& prog) {
       glUniform2i(prog.location("u_half_min"), half_min.x, half_min.y);
       glUniform2i(prog.location("u_abs_min"), valid.min.x, valid.min.y);
@@ -164,10 +157,10 @@ class Watercolor final : public Filter {
       glBindImageTexture(2, ctx.raster_depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
       filters::bind_image(3, fields, GL_WRITE_ONLY);
       filters::bind_image(5, bleed, GL_WRITE_ONLY);
-      filters::bind_image(4, abstract, GL_READ_ONLY);
       filters::bind_image(6, plain, GL_READ_ONLY);
       dispatch_rect(prog, Rect{{0, 0}, node_max - node_min});
     }
+    const std::string& paper_path = p.get_path("paper");
     const gl::Texture* paper = nullptr;
     if (!paper_path.empty())
       paper = &ctx.images->get(paper_path, "paper", ImageTextures::Sampling::Tiled, [](Image i) { return i; });
