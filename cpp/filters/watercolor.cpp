@@ -2,7 +2,9 @@
 // watercolor rendering with temporal coherence and abstraction") and the
 // pigment effects of Curtis et al. 1997:
 //  - abstraction: a coverage-normalized separable bilateral filter of the
-//    colours (Bousseau uses mean shift; this keeps edges at GPU speed);
+//    colours (Bousseau uses mean shift; this keeps edges at GPU speed), at
+//    half resolution (a 2x2 mean of the covered pixels first; the compose
+//    reads it bilinearly);
 //  - wobbling: the abstracted image is looked up through a smooth noise
 //    displacement, so region borders turn irregular;
 //  - edge darkening: pigment gathers at colour edges (where a plain blur of
