@@ -68,6 +68,58 @@ float fbm(vec2 p, float cell, int octaves, uint seed) {
   return sum / norm;
 }
 
+// Gradient (Perlin) noise in 3-D with quintic fade: smooth, no lattice
+// blocks like value noise's; zero mean, within [-1.2, 1.2] (std 0.33,
+// GRADIENT_NOISE_STD). One hash per lattice corner; its gradient is one of
+// the 8 diagonals (+-1, +-1, +-1) (Perlin 2002 uses 12 edges; the diagonals
+// need no table and the same dot product costs only additions).
+const float GRADIENT_NOISE_STD = 0.33;
+float corner(ivec3 q, uint seed, vec3 f) {
+  uint h = hash_u32(uint(q.x) * 0x8da6b343u + uint(q.y) * 0xd8163841u + uint(q.z) * 0xcb1ab31fu + seed * 0x9e3779b9u);
+  return ((h & 1u) != 0u ? f.x : -f.x) + ((h & 2u) != 0u ? f.y : -f.y) + ((h & 4u) != 0u ? f.z : -f.z);
+}
+
+float gradient_noise(vec3 x, uint seed) {
+  vec3 i = floor(x), f = x - i;
+  ivec3 q = ivec3(i);
+  vec3 u = f * f * f * (f * (f * 6.0 - 15.0) + 10.0);
+  float n000 = corner(q, seed, f);
+  float n100 = corner(q + ivec3(1, 0, 0), seed, f - vec3(1, 0, 0));
+  float n010 = corner(q + ivec3(0, 1, 0), seed, f - vec3(0, 1, 0));
+  float n110 = corner(q + ivec3(1, 1, 0), seed, f - vec3(1, 1, 0));
+  float n001 = corner(q + ivec3(0, 0, 1), seed, f - vec3(0, 0, 1));
+  float n101 = corner(q + ivec3(1, 0, 1), seed, f - vec3(1, 0, 1));
+  float n011 = corner(q + ivec3(0, 1, 1), seed, f - vec3(0, 1, 1));
+  float n111 = corner(q + ivec3(1, 1, 1), seed, f - vec3(1, 1, 1));
+  return mix(mix(mix(n000, n100, u.x), mix(n010, n110, u.x), u.y), mix(mix(n001, n101, u.x), mix(n011, n111, u.x), u.y),
+             u.z);
+}
+
+// Fractal gradient noise fixed to the surface (a dynamic solid texture,
+// Benard et al. 2009): `x` is the pixel's surface point, `px` how many of
+// its units one pixel spans there. `octaves` octaves of ratio 2, amplitude
+// halving towards the finest, whose feature is `cell` pixels on screen.
+// The cells are powers of two in the surface's units, so a point keeps its
+// pattern while the camera moves; as the distance changes the pattern
+// cross-fades to the next power (a fraction t of an octave), so the size on
+// screen holds. Each scale is its own noise (seeded by its power), so the
+// sum is the same pattern at any pixel. Zero mean, unit variance.
+float surface_fbm(vec3 x, float px, float cell, int octaves, uint seed) {
+  float level = log2(max(cell * px, 1e-30));
+  float l0 = floor(level), t = level - l0;
+  float sum = 0.0, norm2 = 0.0;
+  for (int j = 0; j <= octaves; ++j) {
+    float here = j < octaves ? exp2(float(j - octaves + 1)) : 0.0;
+    float below = j >= 1 ? exp2(float(j - octaves)) : 0.0;
+    float w = (1.0 - t) * here + t * below;
+    if (w <= 0.0) continue;
+    int power = int(l0) + j;
+    sum += w * gradient_noise(x * exp2(-float(power)), seed + uint(power) * 0x2c1b3c6du);
+    norm2 += w * w;
+  }
+  return sum / (GRADIENT_NOISE_STD * sqrt(norm2));
+}
+
 float gauss(float d2, float sigma) { return exp(-d2 / (2.0 * sigma * sigma)); }
 
 // CIELAB (D65), L in [0,100]: the space Winnemoeller et al. 2006 smooth in.

@@ -45,22 +45,20 @@ int steps_inside(ivec2 p, ivec2 dir) {
 }
 
 Hit march(ivec2 p, ivec2 dir, float behind) {
-  Hit h = Hit(0, INF, vec4(0.0));
   int n = steps_inside(p, dir);
+  // Depths only in the loop, the colour once after it (llvmpipe runs a
+  // load in a loop for every lane while any lane needs it).
   for (int k = 1; k <= n; ++k) {
-    ivec2 q = p + k * dir;
-    float d = imageLoad(u_depth, q).r;  // +inf where no point is
-    if (d < behind) {
-      vec4 c = imageLoad(u_in, q);
-      if (covered(c)) {
-        h.t = k;
-        h.depth = d;
-        h.color = c;
-        return h;
-      }
+    float d = INF;
+    for (; k <= n; ++k) {
+      d = imageLoad(u_depth, p + k * dir).r;  // +inf where no point is
+      if (d < behind) break;
     }
+    if (k > n) break;
+    vec4 c = imageLoad(u_in, p + k * dir);
+    if (covered(c)) return Hit(k, d, c);
   }
-  return h;
+  return Hit(0, INF, vec4(0.0));
 }
 
 // How many pixels with points nearer than `limit` (the surface, not what

@@ -7,6 +7,14 @@
 // background and holes between points never make edges; the silhouette is
 // drawn only around "solid" regions (covered with enough covered
 // neighbours, or holes surrounded by points), so lone points get no rings.
+//
+// With `flow_length` > 0 the lines follow the image's flow (FDoG: Kang, Lee
+// and Chui 2007, separable as in Kyprianidis and Doellner 2008): the
+// structure tensor's edge direction (the Kuwahara filter's passes,
+// shaders/kuwahara.comp) guides a 1-D DoG across the edges, which is then
+// smoothed along the flow curves (a Gaussian line integral of sigma
+// flow_length): coherent, unbroken lines where the isotropic DoG breaks
+// into dots on scan noise.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -21,6 +29,7 @@ constexpr double kSurround = 1.6;  // k: sigma of the surround / sigma of the ce
 struct Radii {
   double sigma, fill_sigma;
   int outline, kernel;
+  int flow, dog, tensor;  // FDoG: flow curve half length, DoG reach across edges, tensor smoothing (px); flow 0 = off
 };
 
 Radii radii(const ParamValues& p) {
@@ -29,7 +38,16 @@ Radii radii(const ParamValues& p) {
   r.fill_sigma = 0.5 * p.get_int("fill_gaps");
   r.outline = p.get_bool("outline") ? int(std::ceil(p.get_float("thickness"))) : 0;
   r.kernel = std::max(filters::gauss_radius(kSurround * r.sigma), filters::gauss_radius(r.fill_sigma));
+  r.flow = filters::gauss_radius(p.get_float("flow_length"));
+  r.dog = filters::gauss_radius(kSurround * r.sigma);
+  r.tensor = filters::gauss_radius(p.get_float("tensor_sigma"));
   return r;
+}
+
+// How far the FDoG reads beyond the pixels it draws: along the flow, then
+// across the edges (plus a pixel of bilinear lookup each), the tensor's
+// smoothing and its Sobel pixel.
+int flow_reach(const Radii& r) { return r.flow == 0 ? 0 : r.flow + 1 + r.dog + 1 + r.tensor + 1;
 }
 
 class XDoG final : public Filter {
@@ -38,7 +56,7 @@ class XDoG final : public Filter {
   bool reads_neighbourhood() const override { return true; }
   int footprint(const ParamValues& p) const override {
     const Radii r = radii(p);
-    return r.outline + r.kernel;
+    return r.outline + std::max(r.kernel, flow_reach(r));
   }
 
   void apply(const FilterContext& ctx, const ParamValues& p) const override {
@@ -62,6 +80,7 @@ class XDoG final : public Filter {
       filters::bind_image(5, b0, GL_READ_ONLY);
       dispatch_rect(prog, x ? filters::grown_rows(sums_rect, r.kernel, ctx.image_size) : sums_rect);
     }
+    const gl::Texture* flow = r.flow > 0 ? &flow_dog(ctx, p, r, sums_rect) : nullptr;
     double norm = 0.0;  // 1D weight of the fill kernel; the 2D weight is its square
     for (int i = -r.kernel; i <= r.kernel; ++i)
       norm += r.fill_sigma > 0.0 ? std::exp(-double(i * i) / (2.0 * r.fill_sigma * r.fill_sigma)) : 0.0;
@@ -79,7 +98,65 @@ class XDoG final : public Filter {
     filters::bind_image(1, *ctx.output, GL_WRITE_ONLY);
     filters::bind_image(4, a1, GL_READ_ONLY);
     filters::bind_image(5, b1, GL_READ_ONLY);
+    glUniform1i(prog.location("u_flow"), flow ? 1 : 0);
+    filters::bind_image(6, flow ? *flow : a1, GL_READ_ONLY);
     dispatch_rect(prog, ctx.rect);
+  }
+
+ private:
+  // The FDoG response (u, coverage) over `area`, in scratch(1).
+  static const gl::Texture& flow_dog(const FilterContext& ctx, const ParamValues& p, const Radii& r, const Rect& area) {
+    const Rect along = area.grown(r.flow + 1, ctx.image_size);     // the DoG across edges, read along the flow
+    const Rect lightness = along.grown(r.dog + 1, ctx.image_size);  // the lightness it samples
+    const gl::Texture& L = ctx.scratch(4);
+    const gl::Texture& tensor = ctx.scratch(0);  // free after the blur passes
+    const gl::Texture& smooth_x = ctx.scratch(1);
+    const gl::Texture& smooth = ctx.scratch(5);
+    const gl::Texture& dog = ctx.scratch(0);
+    const gl::Texture& out = ctx.scratch(1);
+    const gl::Program& lp = ctx.shaders->compute("xdog.comp", {"PASS_LIGHTNESS"});
+    lp.use();
+    filters::bind_image(0, *ctx.input, GL_READ_ONLY);
+    filters::bind_image(2, L, GL_WRITE_ONLY);
+    dispatch_rect(lp, lightness);
+    // The edge direction: the Kuwahara filter's structure tensor passes.
+    struct Pass {
+      const char* define;
+      const gl::Texture* in;
+      const gl::Texture* out;
+      Rect rect;
+    };
+    const Pass passes[] = {
+        {"PASS_TENSOR", ctx.input, &tensor, along.grown(r.tensor, ctx.image_size)},
+        {"PASS_SMOOTH_X", &tensor, &smooth_x, filters::grown_rows(along, r.tensor, ctx.image_size)},
+        {"PASS_SMOOTH_Y", &smooth_x, &smooth, along},
+    };
+    for (const Pass& pass : passes) {
+      const gl::Program& prog = ctx.shaders->compute("kuwahara.comp", {pass.define});
+      prog.use();
+      glUniform1f(prog.location("u_sigma"), float(p.get_float("tensor_sigma")));
+      glUniform1i(prog.location("u_radius"), r.tensor);
+      filters::bind_image(0, *pass.in, GL_READ_ONLY);
+      filters::bind_image(1, *pass.out, GL_WRITE_ONLY);
+      dispatch_rect(prog, pass.rect);
+    }
+    for (const char* define : {"PASS_FDOG_ACROSS", "PASS_FDOG_ALONG"}) {
+      const bool across = std::string(define) == "PASS_FDOG_ACROSS";
+      const gl::Program& prog = ctx.shaders->compute("xdog.comp", {define});
+      prog.use();
+      glUniform1f(prog.location("u_sigma"), float(r.sigma));
+      glUniform1f(prog.location("u_p"), float(p.get_float("sharpen")));
+      glUniform1i(prog.location("u_radius"), across ? r.dog : r.flow);
+      glUniform1f(prog.location("u_flow_sigma"), float(std::max(p.get_float("flow_length"), 1e-3)));
+      glUniform2i(prog.location("u_valid_min"), across ? lightness.min.x : along.min.x, across ? lightness.min.y : along.min.y);
+      glUniform2i(prog.location("u_valid_max"), across ? lightness.max.x : along.max.x, across ? lightness.max.y : along.max.y);
+      filters::bind_image(0, *ctx.input, GL_READ_ONLY);
+      filters::bind_image(4, across ? L : dog, GL_READ_ONLY);
+      filters::bind_image(5, smooth, GL_READ_ONLY);
+      filters::bind_image(2, across ? dog : out, GL_WRITE_ONLY);
+      dispatch_rect(prog, across ? along : area);
+    }
+    return out;
   }
 };
 
@@ -97,6 +174,11 @@ const FilterRegistration registration{{
                bool_param("outline", true, "Draw the silhouette of the segment's dense regions"),
                int_param("fill_gaps", 4, 0, 8, "px",
                          "Holes up to this radius count as surface; points sparser than this get no outline"),
+               float_param("flow_length", 0.0, 0.0, 12.0, "px",
+                           "FDoG: smooth the lines along the image's flow over this sigma (0 = isotropic XDoG)"),
+               only_when(float_param("tensor_sigma", 2.0, 0.5, 8.0, "px",
+                                     "FDoG: smoothing of the structure tensor that gives the flow"),
+                         "flow_length", {"nonzero"}),
            }},
     [] { return std::make_unique<XDoG>(); }}};
 

@@ -31,6 +31,17 @@ PRESETS = {
             ("color_grade", {"saturation": 0.0, "exposure": 1.5}),
         ],
     },
+    # Pen lines that follow the image's flow (FDoG: XDoG smoothed along the
+    # structure tensor's edge direction), over a pale wash of the colours:
+    # coherent strokes where the isotropic lines break into specks.
+    "Flow ink": {
+        "mark": ("points", {"point_size": 3.0}),
+        "filters": [
+            ("kuwahara", {"radius": 3.0, "impasto": 0.0}),
+            ("xdog", {"thickness": 1.5, "sharpen": 60.0, "threshold": 0.02, "flow_length": 3.0}),
+            ("color_grade", {"saturation": 0.35, "exposure": 1.2}),
+        ],
+    },
     # The watercolor filter over 3 px splats.
     "Watercolor": {
         "mark": ("points", {"point_size": 3.0}),

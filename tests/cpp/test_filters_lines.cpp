@@ -128,4 +128,32 @@ TEST(FilterXDoG, LinesModeKeepsOnlyTheLines) {
   expect_one_closed_contour(run.out, glm::vec3(0.0f), {48, 48});
 }
 
+TEST(FilterXDoG, FlowGuidedLinesAreUnbrokenAndIgnoreNoise) {
+  // FDoG (flow_length > 0): on a noisy step the line along the step is
+  // unbroken, and the noise on either side makes under half the specks of
+  // the isotropic DoG's (measured: 372 against 1236 px; the isotropic one
+  // must make some, or the test says nothing).
+  const Image in = step_image({128, 96}, {0.75f, 0.75f, 0.75f}, {0.35f, 0.35f, 0.35f}, 0.3f);
+  auto ink = [&](const FilterRun& run, int x0, int x1) {
+    int n = 0;
+    for (int y = 16; y < 80; ++y)
+      for (int x = x0; x < x1; ++x) n += run.out.at(x, y).a > 0.3f;
+    return n;
+  };
+  const FilterRun iso = run_filter(in, "xdog", {{"outline", {0}}, {"mode", {1}}, {"sharpen", {60}}});
+  const FilterRun flow =
+      run_filter(in, "xdog", {{"outline", {0}}, {"mode", {1}}, {"sharpen", {60}}, {"flow_length", {3}}});
+  maybe_dump(flow.out, "xdog_flow_step");
+  int rows_with_line = 0;
+  for (int y = 16; y < 80; ++y) {
+    bool any = false;
+    for (int x = 61; x < 67; ++x) any = any || flow.out.at(x, y).a > 0.3f;
+    rows_with_line += any;
+  }
+  EXPECT_EQ(rows_with_line, 64) << "the line along the step has no gap";
+  const int iso_specks = ink(iso, 16, 56) + ink(iso, 72, 112), flow_specks = ink(flow, 16, 56) + ink(flow, 72, 112);
+  EXPECT_GT(iso_specks, 20) << "the isotropic DoG turns this noise into specks";
+  EXPECT_LT(flow_specks * 2, iso_specks) << "flow " << flow_specks << " isotropic " << iso_specks;
+}
+
 }  // namespace

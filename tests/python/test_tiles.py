@@ -79,6 +79,13 @@ def test_each_filter_tiled_is_the_bytes_of_the_whole_frame(renderer, clouds, fil
     assert_same_bytes(whole, tiled)
 
 
+def test_flow_guided_lines_tiled_are_the_bytes_of_the_whole_frame(renderer, clouds):
+    """xdog's FDoG reads along flow curves and across edges: its own passes
+    and footprint (flow_length off by default, so the case above misses them)."""
+    whole, tiled = render_both(renderer, two_segments(clouds, [("xdog", {"flow_length": 3.0})]), 301, 233, 64)
+    assert_same_bytes(whole, tiled)
+
+
 def test_every_filter_in_one_chain_tiled_is_the_bytes_of_the_whole_frame(renderer, clouds):
     whole, tiled = render_both(renderer, two_segments(clouds, FILTERS), 430, 330, 112)
     assert tiled.stats["tile_halo"] > 50  # the chain's footprints, not just the splats'
