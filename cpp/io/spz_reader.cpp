@@ -49,6 +49,7 @@ class SpzReader : private io::ReaderBase {
 
  private:
   bool inflate_more(size_t want);
+  size_t drain();  // inflates the rest of the stream (checking its CRC); how many bytes it held
 
   z_stream z_{};
   bool z_open_ = false, z_end_ = false;
@@ -86,6 +87,25 @@ bool SpzReader::inflate_more(size_t want) {
   return raw_.size() >= want;
 }
 
+size_t SpzReader::drain() {
+  size_t extra = 0;
+  uint8_t scratch[16384];
+  while (!z_end_) {
+    z_.next_out = scratch;
+    z_.avail_out = sizeof(scratch);
+    const int r = inflate(&z_, Z_NO_FLUSH);
+    extra += sizeof(scratch) - z_.avail_out;
+    if (r == Z_STREAM_END) {
+      z_end_ = true;
+    } else if (r == Z_BUF_ERROR && z_.avail_in == 0) {
+      fail("the gzip stream is truncated (after " + std::to_string(raw_.size() + extra) + " decompressed bytes)");
+    } else if (r != Z_OK) {
+      fail(std::string("the gzip stream is corrupt: ") + (z_.msg ? z_.msg : "zlib error " + std::to_string(r)));
+    }
+  }
+  return extra;
+}
+
 PointData SpzReader::read() {
   if (size_ == 0) fail("file is empty (0 bytes)");
   if (size_ >= 4 && std::memcmp(d_, "NGSP", 4) == 0)
@@ -116,7 +136,7 @@ PointData SpzReader::read() {
   const size_t sh_dim = size_t(dim_for_degree(degree));
   const size_t per_point = 9 + 1 + 3 + 3 + rot_bytes + sh_dim * 3;
   const size_t expected = 16 + size_t(n) * per_point;
-  if (!inflate_more(expected + 1) && raw_.size() < expected)
+  if (!inflate_more(expected))
     fail("the data is truncated: the header declares " + std::to_string(n) + " points (" +
          std::to_string(expected) + " decompressed bytes) but the stream holds " + std::to_string(raw_.size()));
 
@@ -199,7 +219,8 @@ PointData SpzReader::read() {
   md["antialiased"] = int64_t{flags & 1};
   md["coordinate_system"] = std::string("RDF (SPZ's RUB turned to the axes of 3DGS PLY files)");
   if (degree > kMaxDegree) md["warning"] = std::string("SH degree 4 bands were read past: degree 3 is kept");
-  if (raw_.size() > expected) md["trailing_data"] = int64_t{1};  // decompressed bytes after the last band
+  const size_t trailing = raw_.size() - expected + drain();  // the whole stream is checked (CRC-32)
+  if (trailing > 0) md["trailing_bytes"] = int64_t(trailing);  // decompressed bytes after the last band
   return out;
 }
 
