@@ -1,0 +1,202 @@
+"""The gaussians mark (cpp/marks/gaussians/): a splat capture drawn as the
+3DGS reference rasterizer draws it, checked against an independent numpy
+implementation of the paper's equations (tests/python/gaussian_reference.py)
+on a real capture and on synthetic splats, against closed forms for one
+Gaussian (its footprint's integral and second moments, its SH colour), at
+the near plane and with degenerate scales; the same bytes in another
+process with one thread; floaters dropped by their thresholds."""
+import hashlib
+import os
+
+import numpy as np
+import pytest
+
+import pointnpr
+from conftest import one_thread_in_another_process
+from gaussian_reference import (perspective, premultiplied_srgb, psnr, quat_matrix, random_splats, render,
+                                sh_color, view_matrix)
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+PLAYBOT = os.path.join(ROOT, "tests", "data", "io", "gaussians", "playbot_lod3.spz")
+W, H = 200, 150
+
+
+def _cloud(means, quats, scales, opacity, sh, degree):
+    n = len(means)
+    return pointnpr.PointCloud(np.asarray(means, np.float64), opacity=np.asarray(opacity, np.float32),
+                               scales=np.asarray(scales, np.float32), rotations=np.asarray(quats, np.float32),
+                               sh=np.asarray(sh, np.float32).reshape(n, -1), sh_degree=degree)
+
+
+def _render(renderer, cloud, view, proj, params=None, width=W, height=H):
+    scene = pointnpr.Scene()
+    scene.add_segment("splats", pointnpr.Style(mark=("gaussians", params or {})), [(cloud, np.eye(4))])
+    return renderer.render(scene, pointnpr.Camera.from_matrices(view, proj), width, height, background=(0, 0, 0, 0))
+
+
+@pytest.fixture(scope="module")
+def playbot():
+    return pointnpr.read(PLAYBOT)
+
+
+def _playbot_camera(d, offset=(1.6, 0.5, -2.0)):
+    c = d.positions.mean(0)
+    return view_matrix(c + np.asarray(offset), c, up=(0, 1, 0)), perspective(1.6, 1.6 * W / H, 0.1, 100.0)
+
+
+def test_a_real_capture_matches_the_reference_rasterizer(renderer, playbot):
+    d = playbot
+    assert d.metadata["sh_degree"] == 2 and d.num_points == 31000
+    A = d.attributes
+    for offset in ((1.6, 0.5, -2.0), (-2.2, -0.4, 1.0)):
+        view, proj = _playbot_camera(d, offset)
+        res = _render(renderer, d.to_cloud(), view, proj)
+        mine, a = premultiplied_srgb(res.color)
+        ref, ra = render(d.positions, A["rotations"].astype(float), A["scales"].astype(float),
+                         A["opacity"].astype(float), A["sh"].reshape(d.num_points, -1, 3).astype(float), 2,
+                         view, proj, W, H)
+        assert (ra > 0.01).mean() > 0.2  # the capture fills the frame
+        assert psnr(mine, ref) >= 40.0, psnr(mine, ref)
+        assert psnr(a, ra) >= 40.0
+        assert res.stats["gaussians_drawn"] > 25000
+
+
+@pytest.mark.parametrize("degree", [0, 1, 2, 3])
+def test_synthetic_splats_match_the_reference_rasterizer(renderer, degree):
+    means, q, scales, opacity, sh = random_splats(400, degree, seed=degree + 10)
+    sh[:, 1:] *= 0.5  # captures' view-dependent bands are small beside their DC
+    view, proj = view_matrix((0.4, -3.2, 0.9), (0, 0, 0)), perspective(1.8, 1.8 * W / H, 0.1, 100.0)
+    res = _render(renderer, _cloud(means, q, scales, opacity, sh, degree), view, proj)
+    mine, a = premultiplied_srgb(res.color)
+    ref, ra = render(means, q, scales, opacity, sh, degree, view, proj, W, H)
+    assert (ra > 0.01).mean() > 0.3
+    # Where a pixel's premultiplied colour exceeds its opacity (a colour
+    # above 1 per unit of coverage), the mark's straight-alpha image clamps
+    # it as every segment's colour is clamped; everywhere else, the paper.
+    fits = ~(ref > ra[..., None] + 1e-6).any(-1)
+    assert fits.mean() > 0.95
+    assert psnr(mine[fits], ref[fits]) >= 40.0, psnr(mine[fits], ref[fits])
+    assert psnr(a, ra) >= 40.0
+
+
+def _one(renderer, quat, scale, opacity=0.9, mean=(0.0, 0.0, 0.0), sh=None, degree=0, params=None, eye=(0, -4, 0)):
+    sh = np.zeros((1, (degree + 1) ** 2, 3)) if sh is None else sh
+    view, proj = view_matrix(eye, (0, 0, 0)), perspective(1.5, 1.5 * W / H, 0.1, 100.0)
+    res = _render(renderer, _cloud([mean], [quat], [scale], [opacity], sh, degree), view, proj, params)
+    return res, view, proj
+
+
+def test_one_anisotropic_rotated_gaussian_has_the_footprint_of_its_projected_covariance(renderer):
+    angle = np.radians(35.0)
+    quat = np.array([np.cos(angle / 2), 0.0, np.sin(angle / 2), 0.0])  # about the view axis (y)
+    quat = quat / np.linalg.norm(quat)
+    scale = np.array([0.35, 0.05, 0.12])
+    opacity = 0.6  # below the 0.99 clamp everywhere
+    res, view, proj = _one(renderer, quat, scale, opacity)
+    alpha = np.asarray(res.color)[..., 3].astype(np.float64)
+    # The analytic projection (orthographic limit is not exact: use the paper's Jacobian at the centre).
+    fx, fy = 0.5 * W * proj[0, 0], 0.5 * H * proj[1, 1]
+    rs = quat_matrix(quat) @ np.diag(scale)
+    cov3 = view[:3, :3] @ rs @ rs.T @ view[:3, :3].T
+    depth = 4.0
+    jac = np.array([[fx / depth, 0, 0], [0, fy / depth, 0]])
+    cov2 = jac @ cov3 @ jac.T + 0.3 * np.eye(2)
+    integral = opacity * 2.0 * np.pi * np.sqrt(np.linalg.det(cov2))  # of o * exp(-d^T S^-1 d / 2)
+    assert abs(alpha.sum() / integral - 1.0) < 0.02, (alpha.sum(), integral)
+    ys, xs = np.mgrid[0:H, 0:W] + 0.5
+    m = alpha.sum()
+    cx, cy = (alpha * xs).sum() / m, (alpha * ys).sum() / m
+    assert abs(cx - W / 2) < 0.05 and abs(cy - H / 2) < 0.05
+    moments = np.array([[(alpha * (xs - cx) ** 2).sum(), (alpha * (xs - cx) * (ys - cy)).sum()],
+                        [(alpha * (xs - cx) * (ys - cy)).sum(), (alpha * (ys - cy) ** 2).sum()]]) / m
+    # The 3-sigma square and the 1/255 cut trim the tails a little.
+    assert np.allclose(moments, cov2, rtol=0.06, atol=0.3), (moments, cov2)
+    assert abs(moments[0, 1]) > 5.0  # rotated: the axes are not the screen's
+    # The peak: opacity, in the centre pixel's neighbourhood.
+    assert abs(alpha.max() - opacity) < 0.01
+
+
+@pytest.mark.parametrize("degree", [1, 2, 3])
+def test_the_view_dependent_colour_is_the_sh_evaluated_from_the_camera(renderer, degree):
+    rng = np.random.default_rng(degree)
+    sh = rng.normal(0.0, 0.25, (1, (degree + 1) ** 2, 3))
+    sh[0, 0] = (0.1, -0.2, 0.3)
+    for eye in ((0, -4, 0), (2.5, -3, 1.5), (-3, 1, -2)):
+        for used in range(degree + 1):
+            res, view, proj = _one(renderer, (1, 0, 0, 0), (0.3, 0.3, 0.3), 0.99, sh=sh, degree=degree,
+                                   params={"sh_degree": used}, eye=eye)
+            c = np.asarray(res.color, np.float64)
+            centre = c[H // 2, W // 2]
+            straight = centre[:3] / centre[3]
+            expected = np.clip(sh_color(sh[0], used, -np.asarray(eye, float) / np.linalg.norm(eye)), 0, 1)
+            lin = np.where(expected <= 0.04045, expected / 12.92, ((expected + 0.055) / 1.055) ** 2.4)
+            assert np.allclose(straight, lin, atol=2e-5), (eye, used, straight, lin)
+
+
+def test_near_plane_and_degenerate_scales_draw_nothing_wrong(renderer):
+    # Behind the clip start: not drawn; zero and huge scales: finite images.
+    view, proj = view_matrix((0, -4, 0), (0, 0, 0)), perspective(1.5, 1.5 * W / H, 0.1, 100.0)
+    q, s = np.array([[1.0, 0, 0, 0]] * 2), np.full((2, 3), 0.1)
+    both = _render(renderer, _cloud([(0, 0, 0), (0.0, -3.95, 0.0)], q, s, [0.9, 0.9], np.zeros((2, 1, 3)), 0), view, proj)
+    alone = _render(renderer, _cloud([(0, 0, 0)], q[:1], s[:1], [0.9], np.zeros((1, 1, 3)), 0), view, proj)
+    assert both.stats["gaussians_culled"] == 1 and both.stats["gaussians_drawn"] == 1
+    assert np.array_equal(np.asarray(both.color), np.asarray(alone.color))
+    flat, _, _ = _one(renderer, (1, 0, 0, 0), (0.2, 0.0, 0.2))  # a disc seen face on
+    assert np.asarray(flat.color)[..., 3].max() > 0.5
+    edge, _, _ = _one(renderer, (1, 0, 0, 0), (0.0, 0.2, 0.0))  # a needle seen end on: the 0.3 px dilation alone
+    a = np.asarray(edge.color)[..., 3]
+    # sigma^2 = 0.3 px^2: 0.9 exp(-r^2 / 0.6) >= 1/255 within r = 1.81 px of
+    # the centre (a pixel corner here): 4 pixel centres at 0.71 px, 8 at 1.58.
+    assert np.isfinite(np.asarray(edge.color)).all() and (a > 0).sum() == 12
+    point, _, _ = _one(renderer, (0, 0, 0, 0), (0.0, 0.0, 0.0))  # no size, zero quaternion
+    assert np.isfinite(np.asarray(point.color)).all()
+    huge, _, _ = _one(renderer, (1, 0, 0, 0), (50.0, 50.0, 50.0), params={"max_radius": 64})
+    assert np.isfinite(np.asarray(huge.color)).all() and np.asarray(huge.color)[..., 3].max() > 0
+
+
+def test_depth_is_where_the_opacity_reaches_one_half(renderer):
+    # Two splats on the view axis: a faint one in front, an opaque one behind.
+    means = np.array([[0.0, -1.0, 0.0], [0.0, 1.0, 0.0]])
+    q = np.array([[1.0, 0, 0, 0]] * 2)
+    s = np.full((2, 3), 0.3)
+    view, proj = view_matrix((0, -4, 0), (0, 0, 0)), perspective(1.5, 1.5 * W / H, 0.1, 100.0)
+    cloud = _cloud(means, q, s, [0.3, 0.95], np.zeros((2, 1, 3)), 0)
+    depth = np.asarray(_render(renderer, cloud, view, proj).depth)
+    assert abs(depth[H // 2, W // 2] - 5.0) < 1e-4  # the faint one alone gives 0.3
+    front = np.asarray(_render(renderer, cloud, view, proj, {"depth_alpha": 0.25}).depth)
+    assert abs(front[H // 2, W // 2] - 3.0) < 1e-4
+
+
+def test_floaters_are_dropped_by_opacity_scale_and_isolation(renderer, playbot):
+    view, proj = _playbot_camera(playbot)
+    cloud = playbot.to_cloud()
+    base = _render(renderer, cloud, view, proj)
+    A = playbot.attributes
+    for params, expected in (({"min_opacity": 0.1}, int((A["opacity"] < 0.1).sum())),
+                             ({"max_scale": 0.05}, int((A["scales"].max(1) > 0.05).sum()))):
+        r = _render(renderer, cloud, view, proj, params)
+        assert r.stats["gaussians_floaters"] == expected > 0, params
+        assert not np.array_equal(np.asarray(r.color), np.asarray(base.color))
+    lone = _render(renderer, cloud, view, proj, {"isolation": 4.0})
+    assert 0 < lone.stats["gaussians_floaters"] < 0.05 * playbot.num_points
+    assert base.stats["gaussians_floaters"] == 0
+
+
+def render_bytes(renderer):
+    """The playbot capture's frame as a hash of its bytes (another process)."""
+    d = pointnpr.read(PLAYBOT)
+    view, proj = _playbot_camera(d)
+    r = _render(renderer, d.to_cloud(), view, proj, {"isolation": 6.0})
+    return hashlib.sha256(np.ascontiguousarray(r.color).tobytes() + np.ascontiguousarray(r.depth).tobytes()).hexdigest()
+
+
+def test_the_same_bytes_in_another_process_with_one_thread(renderer):
+    assert render_bytes(renderer) == one_thread_in_another_process("test_marks_gaussians", "render_bytes")
+
+
+def test_plain_points_are_not_drawn_and_said_so(renderer):
+    cloud = pointnpr.PointCloud(np.zeros((3, 3)))
+    view, proj = view_matrix((0, -4, 0), (0, 0, 0)), perspective(1.5, 1.5 * W / H, 0.1, 100.0)
+    r = _render(renderer, cloud, view, proj)
+    assert np.asarray(r.color)[..., 3].max() == 0.0
+    assert any("no Gaussian splat parameters" in w for w in r.warnings)
