@@ -72,7 +72,7 @@ ScreenSplat project_splat(vec3 t, mat3 cov) {
     // t's x and y with its NDC limited to +-1.3 (P = [p00 0 p02 0; 0 p11 p12 0; .; 0 0 -1 0]).
     float lx = clamp(cx, -1.3f, 1.3f);
     float ly = clamp(cy, -1.3f, 1.3f);
-    tj = vec3((lx * w - u.proj_row0.z * t.z) / u.proj_row0.x, (ly * w - u.proj_row1.z * t.z) / u.proj_row1.x, t.z);
+    tj = vec3((lx * w - u.proj_row0.z * t.z) / u.proj_row0.x, (ly * w - u.proj_row1.z * t.z) / u.proj_row1.y, t.z);
   }
   vec4 tj4 = vec4(tj, 1.0f);
   float wj = dot(u.proj_row3, tj4);

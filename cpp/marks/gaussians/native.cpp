@@ -299,6 +299,8 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
     (*ctx.stats)["gaussians_raster_ms"] += ms(t2, t3);
     (*ctx.stats)["gaussians_drawn"] += double(counts.drawn);
     (*ctx.stats)["gaussians_floaters"] += double(counts.floaters);
+    (*ctx.stats)["gaussians_culled"] += double(counts.culled);
+    (*ctx.stats)["gaussians_tile_entries"] += double(lists.size());
   }
   return counts;
 }
