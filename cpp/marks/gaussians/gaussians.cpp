@@ -19,7 +19,11 @@ class Gaussians final : public Mark {
  public:
   // Positions only from the GPU cache: the splats' own parameters are read
   // from the cloud on the host.
-  AttributeSet attributes(const ParamValues&) const override { return {}; }
+  AttributeSet attributes(const ParamValues& p) const override {
+    AttributeSet set;
+    if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
+    return set;
+  }
 
   MarkExtent extent(const ParamValues& p) const override { return {0.0, float(p.get_float("max_radius")) + 1.0f}; }
 
@@ -31,6 +35,10 @@ class Gaussians final : public Mark {
     s.min_opacity = float(p.get_float("min_opacity"));
     s.max_scale = float(p.get_float("max_scale"));
     s.isolation = float(p.get_float("isolation"));
+    // The resolution queue (render/mark.h), or the frame's point budget:
+    // a prefix of each chunk's seeded order, as the other marks draw.
+    if (draws_queue(ctx, p))
+      for (const VisibleChunk& v : ctx.chunks) s.queue_counts.push_back(queue_count(v, p));
     const DrawCounts counts = draw_native(ctx, s);
     if (counts.plain_points > 0 && ctx.warnings)
       ctx.warnings->push_back("gaussians: " + std::to_string(counts.plain_points) +
@@ -63,6 +71,8 @@ const MarkRegistration registration{{
                float_param("depth_alpha", 0.5, 0.01, 1.0, "",
                            "A pixel's depth (for compositing) is that of the splat at which its opacity first "
                            "reaches this, else of the splat that gave it most"),
+               density_mode_param(),
+               queue_level_param(0.5),
            }},
     [] { return std::make_unique<Gaussians>(); }}};
 

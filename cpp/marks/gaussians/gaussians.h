@@ -15,6 +15,8 @@ struct DrawSettings {
   float min_opacity = 0.0f;
   float max_scale = 0.0f;     // scene units, the largest axis
   float isolation = 0.0f;     // x the cloud's median spacing (mean distance to 8 neighbours)
+  // Not empty: chunk c draws the first queue_counts[c] splats of its queue order.
+  std::vector<uint32_t> queue_counts;
 };
 
 // Counts of what a frame drew and dropped, for stats and tests.

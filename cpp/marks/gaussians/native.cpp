@@ -67,6 +67,7 @@ struct Chunk {
   const float* isolation_r = nullptr;
   float isolation_limit = 0.0f;
   uint32_t first = 0, count = 0, key_base = 0;
+  const uint32_t* order = nullptr;  // the queue order (chunk-local indices), or null: all in index order
   size_t record_base = 0;
   mat4 view{1.0f};
   mat3 view_rows{1.0f};
@@ -117,7 +118,8 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
   std::vector<std::shared_ptr<const PointCloud>> clouds;
   std::vector<std::shared_ptr<const geometry::LocalResolution>> isolation;
   size_t total = 0;
-  for (const VisibleChunk& v : ctx.chunks) {
+  for (size_t i = 0; i < ctx.chunks.size(); ++i) {
+    const VisibleChunk& v = ctx.chunks[i];
     std::shared_ptr<const PointCloud> cloud = chunk_cloud(v, "gaussians");
     if (!cloud->gaussians()) {
       counts.plain_points += v.chunk->count;
@@ -135,6 +137,10 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
     if (clouds.empty() || clouds.back().get() != cloud.get()) clouds.push_back(cloud);
     c.first = v.chunk->first;
     c.count = v.chunk->count;
+    if (!s.queue_counts.empty()) {
+      c.order = v.gpu->host_queue_order().data() + v.chunk->first;
+      c.count = s.queue_counts[i];
+    }
     c.key_base = v.key_base;
     c.record_base = total;
     total += c.count;
@@ -159,9 +165,10 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
     Kernels k{u, c.g->sh.data(), c.g->coefficients()};
     const int degree = std::min(s.sh_degree, c.g->sh_degree);
     const glm::vec3* positions = c.cloud->local_positions().data();
-    for (uint32_t local = item.begin; local < item.end; ++local) {
+    for (uint32_t i = item.begin; i < item.end; ++i) {
+      const uint32_t local = c.order ? c.order[i] : i;
       const uint32_t index = c.first + local;
-      const size_t r = c.record_base + local;
+      const size_t r = c.record_base + i;
       const float opacity = c.g->opacity[index];
       const vec3 scale = c.g->scales[index];
       if ((s.min_opacity > 0.0f && opacity < s.min_opacity) ||
