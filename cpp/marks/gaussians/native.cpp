@@ -58,6 +58,7 @@ struct Record {
   float opacity = 0.0f;
   float depth = 0.0f;
   uint32_t key = 0;
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;      // pixels it may reach (inclusive, the images' coordinates)
   int tx0 = 0, ty0 = 0, tx1 = -1, ty1 = -1;  // tiles reached (inclusive); tx1 < tx0: not drawn
 };
 
@@ -182,13 +183,25 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
       const Kernels::ScreenSplat ss = k.project_splat(t, k.view_covariance(c.view_rows, c.g->rotations[index], scale));
       dropped[r] = 2;
       if (!(ss.radius > 0.0f)) continue;
+      // The pixels it can reach: those of its 3-sigma square (the reference's
+      // [floor(c - r), ceil(c + r)]) whose centre lies in the ellipse where
+      // its alpha reaches 1/255 (1/2 d^T S^-1 d <= ln(255 o)): outside it the
+      // alpha is skipped anyway, so the box changes no pixel, and no pixel's
+      // result depends on how the frame is cut into tiles.
+      const float reach = std::log(255.0f * opacity);
+      if (!(reach > 0.0f)) continue;
+      const float det = ss.conic.x * ss.conic.z - ss.conic.y * ss.conic.y;
+      const float ex = std::sqrt(2.0f * reach * ss.conic.z / det) * 1.001f + 0.01f;
+      const float ey = std::sqrt(2.0f * reach * ss.conic.x / det) * 1.001f + 0.01f;
+      if (!(ex > 0.0f && ey > 0.0f && std::isfinite(ex) && std::isfinite(ey))) continue;
       const vec2 lo = ss.center - vec2(ss.radius), hi = ss.center + vec2(ss.radius);
-      // Pixels whose centre (x + 0.5) lies within the square, in the clip.
       if (!(hi.x >= float(clip.min.x) && lo.x <= float(clip.max.x) && hi.y >= float(clip.min.y) &&
             lo.y <= float(clip.max.y)))
         continue;
-      const int x0 = std::max(floor_int(lo.x), clip.min.x), x1 = std::min(ceil_int(hi.x), clip.max.x - 1);
-      const int y0 = std::max(floor_int(lo.y), clip.min.y), y1 = std::min(ceil_int(hi.y), clip.max.y - 1);
+      const int x0 = std::max({floor_int(lo.x), ceil_int(ss.center.x - ex - 0.5f), clip.min.x});
+      const int x1 = std::min({ceil_int(hi.x), floor_int(ss.center.x + ex - 0.5f), clip.max.x - 1});
+      const int y0 = std::max({floor_int(lo.y), ceil_int(ss.center.y - ey - 0.5f), clip.min.y});
+      const int y1 = std::min({ceil_int(hi.y), floor_int(ss.center.y + ey - 0.5f), clip.max.y - 1});
       if (x1 < x0 || y1 < y0) continue;
       dropped[r] = 0;
       Record& rec = records[r];
@@ -199,6 +212,7 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
       rec.key = c.key_base + local;
       const vec3 dir = u.ortho != 0 ? c.view_dir : glm::normalize(p - c.camera);
       rec.color = k.sh_color(index, degree, dir);
+      rec.x0 = x0 - clip.min.x, rec.x1 = x1 - clip.min.x, rec.y0 = y0 - clip.min.y, rec.y1 = y1 - clip.min.y;
       rec.tx0 = (x0 - clip.min.x) / kTile, rec.tx1 = (x1 - clip.min.x) / kTile;
       rec.ty0 = (y0 - clip.min.y) / kTile, rec.ty1 = (y1 - clip.min.y) / kTile;
     }
@@ -253,35 +267,60 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
       const int tx = int(t % size_t(tiles_x)), ty = int(t / size_t(tiles_x));
       const int xa = tx * kTile, xb = std::min(xa + kTile, size.x);
       const int ya = ty * kTile, yb = std::min(ya + kTile, size.y);
+      // Splat after splat (each pixel sees them in the sorted order), over
+      // the pixels of its box in this tile; a tile whose every pixel has
+      // terminated stops early.
+      constexpr float kNone = std::numeric_limits<float>::infinity();
+      float T[kTile * kTile], d[kTile * kTile], best_weight[kTile * kTile], best_depth[kTile * kTile];
+      vec3 C[kTile * kTile];
+      bool done[kTile * kTile];
+      std::fill(T, T + kTile * kTile, 1.0f);
+      std::fill(d, d + kTile * kTile, kNone);
+      std::fill(best_weight, best_weight + kTile * kTile, 0.0f);
+      std::fill(best_depth, best_depth + kTile * kTile, kNone);
+      std::fill(C, C + kTile * kTile, vec3(0.0f));
+      std::fill(done, done + kTile * kTile, false);
+      int alive = (xb - xa) * (yb - ya);
+      for (size_t i = 0; i < n && alive > 0; ++i) {
+        const Record& rec = records[list[i]];
+        const int x0 = std::max(rec.x0, xa), x1 = std::min(rec.x1, xb - 1);
+        const int y0 = std::max(rec.y0, ya), y1 = std::min(rec.y1, yb - 1);
+        for (int y = y0; y <= y1; ++y) {
+          const float py = float(clip.min.y + y) + 0.5f;
+          for (int x = x0; x <= x1; ++x) {
+            const int q = (y - ya) * kTile + (x - xa);
+            if (done[q]) continue;
+            const float px = float(clip.min.x + x) + 0.5f;
+            const float alpha = splat_alpha_host(rec.conic, rec.opacity, rec.center.x - px, rec.center.y - py);
+            if (alpha == 0.0f) continue;
+            const float test = T[q] * (1.0f - alpha);
+            if (test < 1e-4f) {
+              done[q] = true;
+              --alive;
+              continue;
+            }
+            const float weight = alpha * T[q];
+            C[q] += rec.color * weight;
+            if (weight > best_weight[q]) best_weight[q] = weight, best_depth[q] = rec.depth;
+            if (d[q] == kNone && 1.0f - test >= s.depth_alpha) d[q] = rec.depth;
+            T[q] = test;
+          }
+        }
+      }
       for (int y = ya; y < yb; ++y) {
         glm::ivec2& span = tile_span[t * kTile + size_t(y - ya)];
         for (int x = xa; x < xb; ++x) {
-          const float px = float(clip.min.x + x) + 0.5f, py = float(clip.min.y + y) + 0.5f;
-          float T = 1.0f;
-          vec3 C(0.0f);
-          float d = std::numeric_limits<float>::infinity(), best_weight = 0.0f, best_depth = d;
-          for (size_t i = 0; i < n; ++i) {
-            const Record& rec = records[list[i]];
-            const float alpha = splat_alpha_host(rec.conic, rec.opacity, rec.center.x - px, rec.center.y - py);
-            if (alpha == 0.0f) continue;
-            const float test = T * (1.0f - alpha);
-            if (test < 1e-4f) break;
-            const float weight = alpha * T;
-            C += rec.color * weight;
-            if (weight > best_weight) best_weight = weight, best_depth = rec.depth;
-            if (d == std::numeric_limits<float>::infinity() && 1.0f - test >= s.depth_alpha) d = rec.depth;
-            T = test;
-          }
+          const int q = (y - ya) * kTile + (x - xa);
           const size_t p = size_t(y) * size_t(size.x) + size_t(x);
-          const float a = 1.0f - T;
+          const float a = 1.0f - T[q];
           if (!(a > 0.0f)) {
             std::fill(&rgba[4 * p], &rgba[4 * p + 4], 0.0f);
-            depth[p] = std::numeric_limits<float>::infinity();
+            depth[p] = kNone;
             continue;
           }
-          const vec3 straight = glm::clamp(C / a, vec3(0.0f), vec3(1.0f));
+          const vec3 straight = glm::clamp(C[q] / a, vec3(0.0f), vec3(1.0f));
           rgba[4 * p] = straight.x, rgba[4 * p + 1] = straight.y, rgba[4 * p + 2] = straight.z, rgba[4 * p + 3] = a;
-          depth[p] = d != std::numeric_limits<float>::infinity() ? d : best_depth;
+          depth[p] = d[q] != kNone ? d[q] : best_depth[q];
           span = {std::min(span.x, x), std::max(span.y, x)};
         }
       }
