@@ -182,6 +182,34 @@ def test_floaters_are_dropped_by_opacity_scale_and_isolation(renderer, playbot):
     assert base.stats["gaussians_floaters"] == 0
 
 
+def test_a_frame_drawn_in_tiles_is_the_bytes_of_the_whole_frame(renderer, playbot):
+    view, proj = _playbot_camera(playbot)
+    cam = pointnpr.Camera.from_matrices(view, proj)
+    scene = pointnpr.Scene()
+    scene.add_segment("splats", pointnpr.Style(mark=("gaussians", {"max_radius": 24})), [(playbot.to_cloud(), np.eye(4))])
+    whole = renderer.render(scene, cam, W, H, background=(0, 0, 0, 0))
+    tiled = renderer.render(scene, cam, W, H, background=(0, 0, 0, 0), tile_size=64)
+    assert whole.stats["tiles"] == 1 and tiled.stats["tiles"] > 1
+    assert np.asarray(whole.color)[..., 3].mean() > 0.2
+    for name in ("color", "depth"):
+        assert np.asarray(getattr(whole, name)).tobytes() == np.asarray(getattr(tiled, name)).tobytes(), name
+
+
+def test_filters_take_the_faithful_render_as_their_input(renderer, playbot):
+    view, proj = _playbot_camera(playbot)
+    cam = pointnpr.Camera.from_matrices(view, proj)
+    plain, painted = pointnpr.Scene(), pointnpr.Scene()
+    plain.add_segment("s", pointnpr.Style(mark=("gaussians", {})), [(playbot.to_cloud(), np.eye(4))])
+    painted.add_segment("s", pointnpr.Style(mark=("gaussians", {}), filters=[("watercolor", {})]),
+                        [(playbot.to_cloud(), np.eye(4))])
+    a = np.asarray(renderer.render(plain, cam, W, H, background=(1, 1, 1, 1)).color)
+    b = np.asarray(renderer.render(painted, cam, W, H, background=(1, 1, 1, 1)).color)
+    assert np.isfinite(b).all()
+    changed = np.abs(a - b).max(axis=-1) > 0.02
+    assert 0.2 < changed.mean()  # the capture, painted over
+    assert np.abs(a[..., :3].mean() - b[..., :3].mean()) < 0.2  # its colours, not another picture
+
+
 def render_bytes(renderer):
     """The playbot capture's frame as a hash of its bytes (another process)."""
     d = pointnpr.read(PLAYBOT)
@@ -200,3 +228,22 @@ def test_plain_points_are_not_drawn_and_said_so(renderer):
     r = _render(renderer, cloud, view, proj)
     assert np.asarray(r.color)[..., 3].max() == 0.0
     assert any("no Gaussian splat parameters" in w for w in r.warnings)
+
+
+def test_a_splat_capture_s_normals_are_its_splats_shortest_axes_oriented(renderer):
+    # Flat splats on two parallel planes, turned at random about their
+    # normal (+-z): the normals every mark reads are +-z, consistently
+    # oriented, where a neighbourhood fit of the centres would see two planes
+    # 2 cm apart as one noisy surface.
+    rng = np.random.default_rng(5)
+    n = 4000
+    means = np.column_stack([rng.uniform(-1, 1, n), rng.uniform(-1, 1, n), rng.choice([0.0, 0.02], n)])
+    angle = rng.uniform(0, 2 * np.pi, n)
+    q = np.column_stack([np.cos(angle / 2), np.zeros(n), np.zeros(n), np.sin(angle / 2)])
+    flip = rng.random(n) < 0.5  # half of them upside down: q and a half turn about x
+    q[flip] = np.column_stack([np.zeros(flip.sum()), np.cos(angle[flip] / 2), np.sin(angle[flip] / 2), np.zeros(flip.sum())])
+    scales = np.column_stack([rng.uniform(0.02, 0.05, n), rng.uniform(0.02, 0.05, n), np.full(n, 1e-4)])
+    cloud = _cloud(means, q, scales, np.full(n, 0.9), np.zeros((n, 1, 3)), 0)
+    normals = np.asarray(pointnpr.estimate_normals(cloud, k=16))
+    assert np.abs(np.abs(normals[:, 2]) - 1.0).max() < 1e-5
+    assert (normals[:, 2] > 0).all()  # one orientation: the consistent propagation's (+z at the top)

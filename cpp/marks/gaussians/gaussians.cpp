@@ -27,6 +27,11 @@ class Gaussians final : public Mark {
 
   MarkExtent extent(const ParamValues& p) const override { return {0.0, float(p.get_float("max_radius")) + 1.0f}; }
 
+  // A pixel's splats are those whose box (within max_radius of their
+  // centre, in frame pixels less the tile's origin) holds it, in one total
+  // order: every tile draws the frame's bytes.
+  bool draws_tiles(const ParamValues&) const override { return true; }
+
   void draw(const MarkContext& ctx, const ParamValues& p) const override {
     DrawSettings s;
     s.sh_degree = p.get_int("sh_degree");
