@@ -247,3 +247,27 @@ def test_a_splat_capture_s_normals_are_its_splats_shortest_axes_oriented(rendere
     normals = np.asarray(pointnpr.estimate_normals(cloud, k=16))
     assert np.abs(np.abs(normals[:, 2]) - 1.0).max() < 1e-5
     assert (normals[:, 2] > 0).all()  # one orientation: the consistent propagation's (+z at the top)
+
+
+def test_the_gl_compute_pass_composites_what_the_native_path_does(renderer, playbot):
+    # Same records in the same order; GL's exp may differ from the C++
+    # library's in the last bits, so a tolerance rather than bytes.
+    view, proj = _playbot_camera(playbot)
+    cloud = playbot.to_cloud()
+    native = _render(renderer, cloud, view, proj, {"rasterizer": "native"})
+    gl = _render(renderer, cloud, view, proj, {"rasterizer": "compute"})
+    a, b = np.asarray(native.color, np.float64), np.asarray(gl.color, np.float64)
+    assert (a[..., 3] > 0.01).mean() > 0.2
+    assert np.abs(a - b).max() < 1e-3
+    da, db = np.asarray(native.depth), np.asarray(gl.depth)
+    assert np.array_equal(da == 1e10, db == 1e10) and np.allclose(da, db, rtol=1e-5)
+    mine, alpha = premultiplied_srgb(gl.color)
+    A = playbot.attributes
+    ref, ra = render(playbot.positions, A["rotations"].astype(float), A["scales"].astype(float),
+                     A["opacity"].astype(float), A["sh"].reshape(playbot.num_points, -1, 3).astype(float), 2,
+                     view, proj, W, H)
+    assert psnr(mine, ref) >= 40.0 and psnr(alpha, ra) >= 40.0
+    # auto: native where GL is software, the compute pass on a GPU.
+    auto = _render(renderer, cloud, view, proj)
+    software = bool(pointnpr.gl_info()["software"])
+    assert np.array_equal(np.asarray(auto.color), np.asarray(native.color if software else gl.color))

@@ -12,6 +12,8 @@
 
 #include <string>
 
+#include "render/backend.h"
+
 namespace pointnpr::gaussians {
 namespace {
 
@@ -44,6 +46,7 @@ class Gaussians final : public Mark {
     // a prefix of each chunk's seeded order, as the other marks draw.
     if (draws_queue(ctx, p))
       for (const VisibleChunk& v : ctx.chunks) s.queue_counts.push_back(queue_count(v, p));
+    s.gl = chosen_backend(p) == Backend::Gl;
     const DrawCounts counts = draw_native(ctx, s);
     if (counts.plain_points > 0 && ctx.warnings)
       ctx.warnings->push_back("gaussians: " + std::to_string(counts.plain_points) +
@@ -58,8 +61,11 @@ const MarkRegistration registration{{
            "Draws a 3D Gaussian splat capture (3DGS PLY, SPZ) as the 3DGS reference rasterizer does: anisotropic "
            "Gaussians, view-dependent SH colour, front-to-back alpha in display sRGB; plain points are not drawn.",
            {
-               enum_param("rasterizer", {"native"}, 0,
-                          "native: the 3DGS forward pass on the CPU's threads (TBB over 16 px tiles)"),
+               // New values last: stored enum indices keep their meaning.
+               enum_param("rasterizer", {"native", "compute", "auto"}, 2,
+                          "native: the 3DGS forward pass on the CPU's threads (TBB over 16 px tiles); compute: its "
+                          "per-pixel compositing as a GL compute pass (projection, SH and sort on the CPU's "
+                          "threads); auto: native on a software GL device (llvmpipe), compute on a GPU"),
                int_param("sh_degree", 3, 0, 3, "",
                          "Spherical-harmonic bands of the view-dependent colour (at most the capture's own): "
                          "0 gives every splat one colour from every side"),

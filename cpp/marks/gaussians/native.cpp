@@ -244,7 +244,39 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
   }
   const auto t2 = Clock::now();
 
-  // 3. Sort and composite, tile by tile.
+  // 3. Each tile's list sorted by (view depth, point key): a total order.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t t = range.begin(); t < range.end(); ++t)
+      std::sort(lists.data() + start[t], lists.data() + start[t + 1], [&](uint32_t a, uint32_t b) {
+        const Record& ra = records[a];
+        const Record& rb = records[b];
+        return ra.depth < rb.depth || (ra.depth == rb.depth && ra.key < rb.key);
+      });
+  });
+  auto report = [&](Clock::time_point t3) {
+    if (!ctx.stats) return;
+    auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+    (*ctx.stats)["gaussians_preprocess_ms"] += ms(t0, t1);
+    (*ctx.stats)["gaussians_bin_ms"] += ms(t1, t2);
+    (*ctx.stats)["gaussians_raster_ms"] += ms(t2, t3);
+    (*ctx.stats)["gaussians_drawn"] += double(counts.drawn);
+    (*ctx.stats)["gaussians_floaters"] += double(counts.floaters);
+    (*ctx.stats)["gaussians_culled"] += double(counts.culled);
+    (*ctx.stats)["gaussians_tile_entries"] += double(lists.size());
+  };
+  if (s.gl) {
+    std::vector<GpuRecord> gpu(records.size());
+    tbb::parallel_for(size_t(0), records.size(), [&](size_t r) {
+      const Record& rec = records[r];
+      gpu[r] = {vec4(rec.center, rec.depth, rec.opacity), vec4(rec.conic, 0.0f), vec4(rec.color, 1.0f),
+                glm::ivec4(rec.x0, rec.y0, rec.x1, rec.y1)};
+    });
+    composite_gl(ctx, s, gpu, start, lists, tiles_x, tiles_y);
+    report(Clock::now());
+    return counts;
+  }
+
+  // 4. Composite, tile by tile.
   HostImages& host = ctx.host->get<HostImages>();
   const size_t pixels = size_t(size.x) * size_t(size.y);
   if (host.depth.size() < pixels) {
@@ -257,13 +289,8 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
   std::vector<glm::ivec2> tile_span(tiles * kTile, glm::ivec2(size.x, -1));  // per tile, per row in it
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t t = range.begin(); t < range.end(); ++t) {
-      uint32_t* list = lists.data() + start[t];
+      const uint32_t* list = lists.data() + start[t];
       const size_t n = start[t + 1] - start[t];
-      std::sort(list, list + n, [&](uint32_t a, uint32_t b) {
-        const Record& ra = records[a];
-        const Record& rb = records[b];
-        return ra.depth < rb.depth || (ra.depth == rb.depth && ra.key < rb.key);
-      });
       const int tx = int(t % size_t(tiles_x)), ty = int(t / size_t(tiles_x));
       const int xa = tx * kTile, xb = std::min(xa + kTile, size.x);
       const int ya = ty * kTile, yb = std::min(ya + kTile, size.y);
@@ -338,16 +365,7 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
   }
   const auto t3 = Clock::now();
   upload_cpu_mark(ctx.targets, clip, rgba, depth, row_span, ctx.coverage, "gaussians");
-  if (ctx.stats) {
-    auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-    (*ctx.stats)["gaussians_preprocess_ms"] += ms(t0, t1);
-    (*ctx.stats)["gaussians_bin_ms"] += ms(t1, t2);
-    (*ctx.stats)["gaussians_raster_ms"] += ms(t2, t3);
-    (*ctx.stats)["gaussians_drawn"] += double(counts.drawn);
-    (*ctx.stats)["gaussians_floaters"] += double(counts.floaters);
-    (*ctx.stats)["gaussians_culled"] += double(counts.culled);
-    (*ctx.stats)["gaussians_tile_entries"] += double(lists.size());
-  }
+  report(t3);
   return counts;
 }
 
