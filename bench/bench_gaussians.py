@@ -10,7 +10,8 @@ Splats: the lion scan's 342k points, three copies moved by a seeded 2 mm
 jitter (1,025,967 splats), each a Gaussian of seeded random rotation and
 axes of 3-12 mm (the scan's spacing is about 1 cm), opacity 0.3-1, its
 colour as the DC term and SH degree 3 bands of small seeded values; the
-lion benchmark's camera. GL backend: none yet (the GL column is empty).
+lion benchmark's camera. The compute row composites by GL's compute pass
+(projection, SH and sort on the CPU's threads in both).
 """
 import sys
 import time
@@ -49,7 +50,8 @@ def main():
                                 sh_degree=3)
     camera = pointnpr.Camera.perspective(pointnpr.look_at(EYE, TARGET), lens=35.0, clip_start=0.1,
                                          clip_end=100.0, width=W, height=H)
-    marks = {"gaussians (native)": ("gaussians", {}),
+    marks = {"gaussians (native)": ("gaussians", {"rasterizer": "native"}),
+             "gaussians (compute)": ("gaussians", {"rasterizer": "compute"}),
              "points (native, 2 px)": ("points", {"rasterizer": "native", "color_source": "rgb"})}
     renderer = pointnpr.Renderer()
     scenes = {}
