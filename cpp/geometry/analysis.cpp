@@ -152,22 +152,10 @@ std::shared_ptr<const PcaResult> Analysis::pca(int k) {
 }
 
 namespace {
-// Each splat's shortest axis (the column of its rotation with the smallest
-// scale), in the analysis's sorted order.
+// Each splat's shortest axis, in the analysis's sorted order.
 std::vector<glm::vec3> splat_axes(const GaussianSplats& g, const LocalPoints& pts) {
   std::vector<glm::vec3> n(pts.size());
-  tbb::parallel_for(size_t(0), pts.size(), [&](size_t s) {
-    const uint32_t i = pts.original[s];
-    const glm::vec4 q = g.rotations[i];  // w, x, y, z
-    const glm::vec3 sc = g.scales[i];
-    const int a = sc.x <= sc.y && sc.x <= sc.z ? 0 : (sc.y <= sc.z ? 1 : 2);
-    const float w = q.x, x = q.y, y = q.z, z = q.w;
-    const glm::vec3 columns[3] = {{1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)},
-                                  {2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)},
-                                  {2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)}};
-    const float len = glm::length(columns[a]);
-    n[s] = len > 0.0f ? columns[a] / len : glm::vec3(0.0f, 0.0f, 1.0f);
-  });
+  tbb::parallel_for(size_t(0), pts.size(), [&](size_t s) { n[s] = splat_axis(g, pts.original[s], false); });
   return n;
 }
 }  // namespace
