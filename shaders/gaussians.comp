@@ -23,6 +23,7 @@ uniform ivec2 u_clip_min;
 uniform ivec2 u_size;
 uniform int u_tiles_x;
 uniform float u_depth_alpha;
+uniform float u_min_coverage;  // pixels less opaque than this are left empty
 
 // The kernels' SH fetch (the colours were evaluated on the host).
 vec3 sh_at(uint base, int k) { return vec3(0.0); }
@@ -59,7 +60,7 @@ void main() {
   }
   ivec2 p = u_clip_min + local;
   float a = 1.0 - T;
-  if (!(a > 0.0)) {
+  if (!(a > 0.0) || a < u_min_coverage) {
     imageStore(u_color, p, vec4(0.0));
     imageStore(u_depth, p, vec4(none));
     return;

@@ -298,3 +298,16 @@ def test_brush_splats_lie_in_each_splat_s_own_frame(renderer):
         along = np.abs((np.asarray(m["direction"], np.float64) * axis).sum(1))
         assert along.min() > 0.99, rasterizer
         assert np.abs(np.asarray(m["normal"], np.float64)[:, 2]).min() > 0.999
+
+
+def test_min_coverage_leaves_the_faint_haze_empty_and_the_rest_unchanged(renderer, playbot):
+    view, proj = _playbot_camera(playbot)
+    cloud = playbot.to_cloud()
+    for rasterizer in ("native", "compute"):
+        full = _render(renderer, cloud, view, proj, {"rasterizer": rasterizer})
+        cut = _render(renderer, cloud, view, proj, {"rasterizer": rasterizer, "min_coverage": 0.3})
+        a, b = np.asarray(full.color), np.asarray(cut.color)
+        faint = (a[..., 3] > 0) & (a[..., 3] < 0.3)
+        assert faint.mean() > 0.01  # a capture's haze
+        assert (b[faint] == 0).all() and (np.asarray(cut.depth)[faint] == 1e10).all()
+        assert np.array_equal(a[~faint], b[~faint])

@@ -39,6 +39,7 @@ class Gaussians final : public Mark {
     s.sh_degree = p.get_int("sh_degree");
     s.max_radius = float(p.get_float("max_radius"));
     s.depth_alpha = float(p.get_float("depth_alpha"));
+    s.min_coverage = float(p.get_float("min_coverage"));
     s.min_opacity = float(p.get_float("min_opacity"));
     s.max_scale = float(p.get_float("max_scale"));
     s.isolation = float(p.get_float("isolation"));
@@ -82,6 +83,9 @@ const MarkRegistration registration{{
                float_param("depth_alpha", 0.5, 0.01, 1.0, "",
                            "A pixel's depth (for compositing) is that of the splat at which its opacity first "
                            "reaches this, else of the splat that gave it most"),
+               float_param("min_coverage", 0.0, 0.0, 1.0, "",
+                           "Pixels less opaque than this are left empty: a capture's faint haze, which filters "
+                           "that see any coverage as surface (cartoon, watercolor) would paint over (0: faithful)"),
                density_mode_param(),
                queue_level_param(0.5),
            }},

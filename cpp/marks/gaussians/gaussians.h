@@ -13,6 +13,7 @@ struct DrawSettings {
   int sh_degree = 3;          // at most the cloud's
   float max_radius = 512.0f;  // px
   float depth_alpha = 0.5f;   // a pixel's depth: where its opacity first reaches this
+  float min_coverage = 0.0f;  // pixels less opaque than this are left empty
   // Floaters: splats dropped before drawing (0: that test off).
   float min_opacity = 0.0f;
   float max_scale = 0.0f;     // scene units, the largest axis

@@ -28,6 +28,7 @@ void composite_gl(const MarkContext& ctx, const DrawSettings& s, const std::vect
   glUniform2i(p.location("u_size"), clip.size().x, clip.size().y);
   glUniform1i(p.location("u_tiles_x"), tiles_x);
   glUniform1f(p.location("u_depth_alpha"), s.depth_alpha);
+  glUniform1f(p.location("u_min_coverage"), s.min_coverage);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, rec.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, starts.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, list.id());

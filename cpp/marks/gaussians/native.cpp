@@ -340,7 +340,7 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
           const int q = (y - ya) * kTile + (x - xa);
           const size_t p = size_t(y) * size_t(size.x) + size_t(x);
           const float a = 1.0f - T[q];
-          if (!(a > 0.0f)) {
+          if (!(a > 0.0f) || a < s.min_coverage) {
             std::fill(&rgba[4 * p], &rgba[4 * p + 4], 0.0f);
             depth[p] = kNone;
             continue;
