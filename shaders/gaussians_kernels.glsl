@@ -17,6 +17,9 @@ struct ScreenSplat {
   vec3 conic;
   float radius;
   float depth;  // linear view depth
+  // det S / det(S + dilation I) of the 2D covariance S: what anti-aliased
+  // (Mip-Splatting) captures scale their opacity by, square-rooted.
+  float det_ratio;
 };
 
 // Rotation matrix of a unit quaternion (w, x, y, z), as rows.
@@ -61,6 +64,7 @@ ScreenSplat project_splat(vec3 t, mat3 cov) {
   s.depth = -t.z;
   s.center = vec2(0.0f);
   s.conic = vec3(0.0f);
+  s.det_ratio = 1.0f;
   if (!(s.depth >= u.near_far.x && s.depth <= u.near_far.y)) return s;
   vec4 t4 = vec4(t, 1.0f);
   float w = dot(u.proj_row3, t4);
@@ -83,11 +87,14 @@ ScreenSplat project_splat(vec3 t, mat3 cov) {
   vec3 j1 = (0.5f * u.frame.y / (wj * wj)) * (vec3(u.proj_row1) * wj - bj * vec3(u.proj_row3));
   vec3 cj0 = vec3(dot(row_of(cov, 0), j0), dot(row_of(cov, 1), j0), dot(row_of(cov, 2), j0));
   vec3 cj1 = vec3(dot(row_of(cov, 0), j1), dot(row_of(cov, 1), j1), dot(row_of(cov, 2), j1));
-  float a = dot(j0, cj0) + u.dilation;
+  float a0 = dot(j0, cj0);
   float b = dot(j0, cj1);
-  float c = dot(j1, cj1) + u.dilation;
+  float c0 = dot(j1, cj1);
+  float a = a0 + u.dilation;
+  float c = c0 + u.dilation;
   float det = a * c - b * b;
   if (!(det > 0.0f)) return s;
+  s.det_ratio = max(a0 * c0 - b * b, 0.0f) / det;
   s.conic = vec3(c / det, -b / det, a / det);
   float mid = 0.5f * (a + c);
   float lambda = mid + sqrt(max(0.1f, mid * mid - det));

@@ -18,7 +18,7 @@ std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::ob
                                        const py::object& point_index, const py::object& normals,
                                        uint32_t chunk_size, const py::object& sensor, const py::object& opacity,
                                        const py::object& scales, const py::object& rotations, const py::object& sh,
-                                       int sh_degree) {
+                                       int sh_degree, bool antialiased) {
   // float32 positions (Blender's vertices) are read as they are; anything
   // else is converted to float64 (the exact georeferenced coordinates).
   CArray<double> pos;
@@ -92,6 +92,7 @@ std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::ob
     in.rotations = {rot.data(), size_t(rot.size())};
     in.sh = {shc.data(), size_t(shc.size())};
     in.sh_degree = sh_degree;
+    in.antialiased = antialiased;
   }
   py::gil_scoped_release release;
   return std::make_shared<PointCloud>(in, chunk_size);

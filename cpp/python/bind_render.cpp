@@ -265,7 +265,8 @@ void bind_render(py::module_& m) {
            py::arg("intensity") = py::none(), py::arg("classification") = py::none(),
            py::arg("point_index") = py::none(), py::arg("normals") = py::none(), py::arg("chunk_size") = 16384,
            py::arg("sensor") = py::none(), py::arg("opacity") = py::none(), py::arg("scales") = py::none(),
-           py::arg("rotations") = py::none(), py::arg("sh") = py::none(), py::arg("sh_degree") = 0)
+           py::arg("rotations") = py::none(), py::arg("sh") = py::none(), py::arg("sh_degree") = 0,
+           py::arg("antialiased") = false)
       .def_property_readonly("sh_degree", [](const PointCloud& c) -> py::object {
         if (!c.gaussians()) return py::none();
         return py::int_(c.gaussians()->sh_degree);

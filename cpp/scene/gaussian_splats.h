@@ -21,6 +21,9 @@ struct GaussianSplats {
   // coefficient k, channel c at sh[(i * coefficients + k) * 3 + c].
   std::vector<float> sh;
   int sh_degree = 0;
+  // Trained with anti-aliasing (Mip-Splatting): each splat's opacity is
+  // scaled by sqrt(det S / det(S + 0.3 I)) of its 2D covariance S.
+  bool antialiased = false;
   int coefficients() const { return (sh_degree + 1) * (sh_degree + 1); }
 };
 

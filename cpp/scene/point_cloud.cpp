@@ -149,6 +149,7 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points)
   if (splats) {
     g = std::make_shared<GaussianSplats>();
     g->sh_degree = in.sh_degree;
+    g->antialiased = in.antialiased;
     g->opacity.resize(n);
     g->scales.resize(n);
     g->rotations.resize(n);

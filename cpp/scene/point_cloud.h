@@ -58,6 +58,9 @@ struct PointCloudInput {
   std::span<const float> rotations;
   std::span<const float> sh;
   int sh_degree = 0;
+  // Trained with anti-aliasing (Mip-Splatting, SPZ's flag 0x1): the
+  // renderer scales a splat's opacity by the 2D filter's compensation.
+  bool antialiased = false;
 };
 
 // Points already laid out in chunks (an out-of-core cache's prefixes,

@@ -119,6 +119,7 @@ def to_cloud(data):
         for name in ("opacity", "scales", "rotations", "sh"):
             kwargs[name] = _np.ascontiguousarray(attrs[name], dtype=_np.float32)
         kwargs["sh_degree"] = int(data.metadata["sh_degree"])
+        kwargs["antialiased"] = bool(data.metadata.get("antialiased", 0))  # SPZ's Mip-Splatting flag
     sensor = data.metadata.get("sensor_origin")  # a depth camera's frame: its normals face the sensor
     if sensor is not None:
         kwargs["sensor"] = tuple(float(v) for v in sensor)

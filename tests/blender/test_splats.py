@@ -44,6 +44,7 @@ def test_importing_an_spz_and_a_3dgs_ply_gives_one_object_with_the_splats(scene)
         assert np.allclose(_values(mesh, "sh_1", "vector", 3), A["sh"].reshape(64, K, 3)[:, 1])
         back = splats.read(objs[0])
         assert back["sh_degree"] == degree and np.allclose(back["sh"], A["sh"])
+        assert mesh["pointnpr_antialiased"] == 0 and back["antialiased"] is False
 
 
 def test_the_gaussians_mark_renders_an_imported_capture(tmp_path):

@@ -158,14 +158,14 @@ def random_splats(n, degree, seed=1, extent=1.0, scale=(0.01, 0.08)):
     return means, q, scales, opacity, sh
 
 
-def write_spz(path, means, quats, scales, opacity, sh, degree, version=3, fractional_bits=12):
+def write_spz(path, means, quats, scales, opacity, sh, degree, version=3, fractional_bits=12, flags=0):
     """An SPZ file of these splats (given in the PLY's right-down-front axes;
     SPZ stores right-up-back, so y and z are negated), from the format's
     description."""
     n = len(means)
     flip = np.array([1.0, -1.0, -1.0])
     odd = [False, True, True, False, True, False, False, True, False, True, False, True, True, False, True, False]
-    out = bytearray(struct.pack("<IIIBBBB", 0x5053474E, version, n, degree, fractional_bits, 0, 0))
+    out = bytearray(struct.pack("<IIIBBBB", 0x5053474E, version, n, degree, fractional_bits, flags, 0))
     fixed = np.round(means * flip * (1 << fractional_bits)).astype(np.int64)
     for v in fixed.ravel():
         out += int(v & 0xFFFFFF).to_bytes(3, "little")

@@ -311,3 +311,24 @@ def test_min_coverage_leaves_the_faint_haze_empty_and_the_rest_unchanged(rendere
         assert faint.mean() > 0.01  # a capture's haze
         assert (b[faint] == 0).all() and (np.asarray(cut.depth)[faint] == 1e10).all()
         assert np.array_equal(a[~faint], b[~faint])
+
+
+def test_an_antialiased_capture_scales_opacity_by_the_filter_compensation(renderer, tmp_path):
+    # SPZ's flag 0x1 (Mip-Splatting): opacity x sqrt(det S / det(S + 0.3 I)).
+    from gaussian_reference import write_spz
+    quat, scale, opacity = np.array([1.0, 0, 0, 0]), np.array([0.004, 0.004, 0.004]), 0.8
+    for flags in (0, 1):
+        path = str(tmp_path / f"one_{flags}.spz")
+        write_spz(path, np.zeros((1, 3)), quat[None], scale[None], np.array([opacity]), np.zeros((1, 1, 3)), 0,
+                  flags=flags)
+        d = pointnpr.read(path)
+        assert d.metadata["antialiased"] == flags
+        view, proj = view_matrix((0, -4, 0), (0, 0, 0)), perspective(1.5, 1.5 * W / H, 0.1, 100.0)
+        alpha = np.asarray(_render(renderer, d.to_cloud(), view, proj).color)[..., 3]
+        o = float(d.attributes["opacity"][0])
+        s = float(d.attributes["scales"][0, 0])
+        sigma2 = (0.5 * W * proj[0, 0] * s / 4.0) ** 2  # the splat's variance on screen, px^2
+        factor = np.sqrt(sigma2 * sigma2 / (sigma2 + 0.3) ** 2) if flags else 1.0
+        # The centre pixel sits half a pixel off the splat's centre on each axis.
+        expected = o * factor * np.exp(-0.5 * 0.5 / (sigma2 + 0.3))
+        assert abs(alpha.max() - expected) < 1e-3, (flags, alpha.max(), expected)

@@ -183,12 +183,14 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
       const Kernels::ScreenSplat ss = k.project_splat(t, k.view_covariance(c.view_rows, c.g->rotations[index], scale));
       dropped[r] = 2;
       if (!(ss.radius > 0.0f)) continue;
+      // Anti-aliased captures: the 2D filter's compensation (Mip-Splatting).
+      const float drawn_opacity = c.g->antialiased ? opacity * std::sqrt(ss.det_ratio) : opacity;
       // The pixels it can reach: those of its 3-sigma square (the reference's
       // [floor(c - r), ceil(c + r)]) whose centre lies in the ellipse where
       // its alpha reaches 1/255 (1/2 d^T S^-1 d <= ln(255 o)): outside it the
       // alpha is skipped anyway, so the box changes no pixel, and no pixel's
       // result depends on how the frame is cut into tiles.
-      const float reach = std::log(255.0f * opacity);
+      const float reach = std::log(255.0f * drawn_opacity);
       if (!(reach > 0.0f)) continue;
       const float det = ss.conic.x * ss.conic.z - ss.conic.y * ss.conic.y;
       const float ex = std::sqrt(2.0f * reach * ss.conic.z / det) * 1.001f + 0.01f;
@@ -208,7 +210,7 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
       rec.center = ss.center;
       rec.conic = ss.conic;
       rec.depth = ss.depth;
-      rec.opacity = opacity;
+      rec.opacity = drawn_opacity;
       rec.key = c.key_base + local;
       const vec3 dir = u.ortho != 0 ? c.view_dir : glm::normalize(p - c.camera);
       rec.color = k.sh_color(index, degree, dir);

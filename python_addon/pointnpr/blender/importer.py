@@ -363,6 +363,7 @@ class ImportJob(PointObjectJob):
         # A 3D Gaussian splat capture (3DGS PLY, SPZ): its parameters go on the object (splats.py).
         self._splats = [attrs[k] for k in ("opacity", "scales", "rotations", "sh")] \
             if metadata.get("gaussian_splats") else None
+        self._splats_antialiased = bool(metadata.get("antialiased", 0))
         self._coordinate_metadata = str(metadata.get("coordinate_metadata", ""))
         if self._coordinate_metadata:  # E57: kept on the objects as 'pointnpr_coordinate_metadata'
             self.notes.append("Coordinate metadata: %s" % self._coordinate_metadata)
@@ -420,7 +421,7 @@ class ImportJob(PointObjectJob):
             obj = self.add_point_object(name, coll, pick(self._local), pick(self._colors),
                                         pick(self._intensity), pick(self._classification))
             if self._splats is not None:
-                splats.write(obj.data, *(pick(values) for values in self._splats))
+                splats.write(obj.data, *(pick(values) for values in self._splats), antialiased=self._splats_antialiased)
             normals = pick(self._normals)
             if normals is not None and not np.isnan(normals).any():
                 # "N": the point normals the render takes instead of estimating them (sync.read_normals).

@@ -9,7 +9,9 @@ Point attributes (all POINT domain):
   "scale"            FLOAT_VECTOR   standard deviations along the splat's axes
   "rotation"         QUATERNION     w, x, y, z (Blender 4.2+; FLOAT_COLOR before)
   "sh_0" .. "sh_<K-1>" FLOAT_VECTOR the SH coefficients r, g, b, K = (degree + 1)^2
-plus the colour attribute every scan gets, the DC term's colour."""
+plus the colour attribute every scan gets, the DC term's colour, and the
+mesh's custom property "pointnpr_antialiased" (1: trained with
+anti-aliasing, SPZ's flag)."""
 import numpy as np
 
 # The source attribute name the sync reads them under.
@@ -22,8 +24,9 @@ def wanted(core_style):
     return core_style.mark[0] == "gaussians"
 
 
-def write(mesh, opacity, scales, rotations, sh):
+def write(mesh, opacity, scales, rotations, sh, antialiased=False):
     """Adds the splat attributes to ``mesh`` (one row per vertex)."""
+    mesh["pointnpr_antialiased"] = int(bool(antialiased))
     n = len(mesh.vertices)
     attr = mesh.attributes.new("opacity", 'FLOAT', 'POINT')
     attr.data.foreach_set("value", np.ascontiguousarray(opacity, np.float32).reshape(-1))
@@ -71,4 +74,5 @@ def read(obj):
     if degree is None:
         return None
     return {"opacity": opacity, "scales": scales, "rotations": rotations,
-            "sh": np.ascontiguousarray(np.stack(bands, axis=1).reshape(n, -1)), "sh_degree": degree}
+            "sh": np.ascontiguousarray(np.stack(bands, axis=1).reshape(n, -1)), "sh_degree": degree,
+            "antialiased": bool(obj.data.get("pointnpr_antialiased", 0))}
