@@ -81,3 +81,39 @@ def test_the_gaussians_mark_renders_an_imported_capture(tmp_path):
     points, _ = helpers.render_pixels(tmp_path, "points.png")
     assert (points[..., 3] > 0.5).mean() > 0.01
     assert np.abs(points - splat).mean() > 0.01
+
+
+def test_blender_5_3_splat_attributes_are_read_as_splats(tmp_path):
+    # Blender 5.3's GAUSSIAN_SPLAT point clouds carry "rotation", "scale",
+    # "radiance:base" (DC + opacity) and "radiance:sh_N"; built here on a
+    # mesh (the reader looks at attributes, whatever holds them), with
+    # FLOAT_COLOR standing in for FLOAT4 where this Blender lacks it.
+    data = pointnpr.read(os.path.join(SPLATS, "synthetic_v3.spz"))
+    A = data.attributes
+    n = data.num_points
+    mesh = bpy.data.meshes.new("Blender splats")
+    mesh.vertices.add(n)
+    mesh.vertices.foreach_set("co", np.asarray(data.positions, np.float32).ravel())
+    sh = A["sh"].reshape(n, 16, 3)
+    try:
+        base = mesh.attributes.new("radiance:base", 'FLOAT4', 'POINT')
+        prop = "vector"
+    except TypeError:
+        base = mesh.attributes.new("radiance:base", 'FLOAT_COLOR', 'POINT')
+        prop = "color"
+    base.data.foreach_set(prop, np.column_stack([sh[:, 0], A["opacity"]]).astype(np.float32).ravel())
+    mesh.attributes.new("scale", 'FLOAT_VECTOR', 'POINT').data.foreach_set("vector", A["scales"].ravel())
+    try:
+        rot, prop = mesh.attributes.new("rotation", 'QUATERNION', 'POINT'), "value"
+    except TypeError:
+        rot, prop = mesh.attributes.new("rotation", 'FLOAT_COLOR', 'POINT'), "color"
+    rot.data.foreach_set(prop, A["rotations"].ravel())
+    for k in range(1, 16):
+        mesh.attributes.new("radiance:sh_%d" % (k - 1), 'FLOAT_VECTOR', 'POINT').data.foreach_set(
+            "vector", np.ascontiguousarray(sh[:, k]).ravel())
+    obj = bpy.data.objects.new("Blender splats", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    back = splats.read(obj)
+    assert back["sh_degree"] == 3
+    assert np.allclose(back["sh"], A["sh"]) and np.allclose(back["opacity"], A["opacity"])
+    assert np.allclose(back["scales"], A["scales"]) and np.allclose(back["rotations"], A["rotations"], atol=1e-6)

@@ -11,12 +11,19 @@ Point attributes (all POINT domain):
   "sh_0" .. "sh_<K-1>" FLOAT_VECTOR the SH coefficients r, g, b, K = (degree + 1)^2
 plus the colour attribute every scan gets, the DC term's colour, and the
 mesh's custom property "pointnpr_antialiased" (1: trained with
-anti-aliasing, SPZ's flag)."""
+anti-aliasing, SPZ's flag).
+
+Blender 5.3's own splat point clouds (PointCloud type 'GAUSSIAN_SPLAT', as
+its glTF importer makes them from KHR_gaussian_splatting) are read too:
+"rotation" (QUATERNION), "scale" (FLOAT_VECTOR, linear), "radiance:base"
+(FLOAT4: the DC coefficients r, g, b and the opacity in [0, 1]) and
+"radiance:sh_0" .. (FLOAT_VECTOR, the higher bands in the object's frame)."""
 import numpy as np
 
 # The source attribute name the sync reads them under.
 SOURCE = "gaussians"
 _ROTATION_TYPES = {'QUATERNION': "value", 'FLOAT_COLOR': "color"}
+_FLOAT4_TYPES = {'FLOAT4': "vector", 'FLOAT_COLOR': "color"}
 
 
 def wanted(core_style):
@@ -56,8 +63,10 @@ def read(obj):
     """The splat parameters of ``obj`` as pointnpr.PointCloud's keywords
     (opacity, scales, rotations, sh, sh_degree), or None where it has none."""
     attrs = getattr(obj.data, "attributes", None)
-    if not attrs or attrs.get("opacity") is None:
+    if not attrs:
         return None
+    if attrs.get("opacity") is None:
+        return _read_radiance(obj, attrs)
     n = len(attrs["opacity"].data)
     opacity = _values(attrs, "opacity", {'FLOAT': "value"}, n, 1)
     scales = _values(attrs, "scale", {'FLOAT_VECTOR': "vector"}, n, 3)
@@ -74,5 +83,30 @@ def read(obj):
     if degree is None:
         return None
     return {"opacity": opacity, "scales": scales, "rotations": rotations,
+            "sh": np.ascontiguousarray(np.stack(bands, axis=1).reshape(n, -1)), "sh_degree": degree,
+            "antialiased": bool(obj.data.get("pointnpr_antialiased", 0))}
+
+
+def _read_radiance(obj, attrs):
+    """Blender 5.3's splat attributes (module docstring), or None."""
+    base = attrs.get("radiance:base")
+    if base is None:
+        return None
+    n = len(base.data)
+    base = _values(attrs, "radiance:base", _FLOAT4_TYPES, n, 4)
+    scales = _values(attrs, "scale", {'FLOAT_VECTOR': "vector"}, n, 3)
+    rotations = _values(attrs, "rotation", _ROTATION_TYPES, n, 4)
+    if base is None or scales is None or rotations is None:
+        return None
+    bands = [np.ascontiguousarray(base[:, :3])]
+    while len(bands) < 16:
+        values = _values(attrs, "radiance:sh_%d" % (len(bands) - 1), {'FLOAT_VECTOR': "vector"}, n, 3)
+        if values is None:
+            break
+        bands.append(values)
+    degree = {1: 0, 4: 1, 9: 2, 16: 3}.get(len(bands))
+    if degree is None:
+        return None
+    return {"opacity": np.ascontiguousarray(base[:, 3]), "scales": scales, "rotations": rotations,
             "sh": np.ascontiguousarray(np.stack(bands, axis=1).reshape(n, -1)), "sh_degree": degree,
             "antialiased": bool(obj.data.get("pointnpr_antialiased", 0))}

@@ -594,7 +594,7 @@ def _sample(obj_type, data, n, attributes):
 # The point attributes each reader reads (see _READERS).
 _SAMPLED_ATTRIBUTES = {"intensity": ("intensity",), "classification": ("classification",),
                        "point_index": ("point_index",), "normals": ("normal", "N"),
-                       splats.SOURCE: ("opacity",)}
+                       splats.SOURCE: ("opacity", "radiance:base")}
 
 
 def _value_tuple(value):
