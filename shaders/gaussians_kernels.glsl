@@ -133,14 +133,23 @@ vec3 sh_color(uint base, int degree, vec3 dir) {
   return max(result + vec3(0.5f), vec3(0.0f));
 }
 
-// A splat's alpha at a pixel centre offset (dx, dy) from its centre: its
-// opacity times the Gaussian, at most 0.99; 0 below 1/255 or past the
-// Gaussian's peak direction (a power above 0, as the reference skips).
-float splat_alpha(vec3 conic, float opacity, float dx, float dy) {
-  float power = -0.5f * (conic.x * dx * dx + conic.z * dy * dy) - conic.y * dx * dy;
+// The exponent of a splat's Gaussian at a pixel centre offset (dx, dy)
+// from its centre: -1/2 d^T S^-1 d.
+float splat_power(vec3 conic, float dx, float dy) {
+  return -0.5f * (conic.x * dx * dx + conic.z * dy * dy) - conic.y * dx * dy;
+}
+
+// A splat's alpha for that exponent: its opacity times the Gaussian, at
+// most 0.99; 0 below 1/255 or for a power above 0 (as the reference skips).
+float alpha_of_power(float power, float opacity) {
   if (power > 0.0f) return 0.0f;
   float alpha = min(0.99f, opacity * exp(power));
   return alpha < 1.0f / 255.0f ? 0.0f : alpha;
+}
+
+// A splat's alpha at a pixel centre offset (dx, dy) from its centre.
+float splat_alpha(vec3 conic, float opacity, float dx, float dy) {
+  return alpha_of_power(splat_power(conic, dx, dy), opacity);
 }
 
 #endif

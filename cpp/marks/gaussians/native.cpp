@@ -56,6 +56,7 @@ struct Record {
   vec3 conic{0.0f};
   vec3 color{0.0f};
   float opacity = 0.0f;
+  float skip_below = 0.0f;  // a power below this gives an alpha under 1/255 (with a margin): no exp needed
   float depth = 0.0f;
   uint32_t key = 0;
   int x0 = 0, y0 = 0, x1 = -1, y1 = -1;      // pixels it may reach (inclusive, the images' coordinates)
@@ -76,12 +77,10 @@ struct Chunk {
   vec3 view_dir{0.0f};     // chunk-local viewing direction (orthographic)
 };
 
-// splat_alpha() of the kernels, outside a Kernels (it reads no settings).
-float splat_alpha_host(vec3 conic, float opacity, float dx, float dy) {
-  const GaussianSettings none{};
-  Kernels k{none};
-  return k.splat_alpha(conic, opacity, dx, dy);
-}
+// The kernels' per-pixel functions, outside a Kernels (they read no settings).
+const GaussianSettings kNoSettings{};
+float splat_power_host(vec3 conic, float dx, float dy) { return Kernels{kNoSettings}.splat_power(conic, dx, dy); }
+float alpha_of_power_host(float power, float opacity) { return Kernels{kNoSettings}.alpha_of_power(power, opacity); }
 
 struct HostImages {
   std::vector<float> rgba, depth;
@@ -211,6 +210,7 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
       rec.conic = ss.conic;
       rec.depth = ss.depth;
       rec.opacity = drawn_opacity;
+      rec.skip_below = -reach - 1e-3f;
       rec.key = c.key_base + local;
       const vec3 dir = u.ortho != 0 ? c.view_dir : glm::normalize(p - c.camera);
       rec.color = k.sh_color(index, degree, dir);
@@ -320,7 +320,9 @@ DrawCounts draw_native(const MarkContext& ctx, const DrawSettings& s) {
             const int q = (y - ya) * kTile + (x - xa);
             if (done[q]) continue;
             const float px = float(clip.min.x + x) + 0.5f;
-            const float alpha = splat_alpha_host(rec.conic, rec.opacity, rec.center.x - px, rec.center.y - py);
+            const float power = splat_power_host(rec.conic, rec.center.x - px, rec.center.y - py);
+            if (power < rec.skip_below) continue;  // alpha_of_power() would give 0 (below 1/255)
+            const float alpha = alpha_of_power_host(power, rec.opacity);
             if (alpha == 0.0f) continue;
             const float test = T[q] * (1.0f - alpha);
             if (test < 1e-4f) {
