@@ -20,7 +20,7 @@ root=$PWD
 secs=${FUZZ_SECONDS:-}
 runs=${FUZZ_RUNS:-100000}
 formats=("$@")
-((${#formats[@]})) || formats=(las laz e57 ply pcd text roundtrip scan_cache)
+((${#formats[@]})) || formats=(las laz e57 ply spz pcd text roundtrip scan_cache)
 
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DPOINTNPR_FUZZ=ON -DPOINTNPR_BUILD_TESTS=OFF -DPOINTNPR_BUILD_BENCH=OFF >/dev/null
@@ -35,6 +35,7 @@ seed_files() {
     e57) names=(-name '*.e57') ;;  # checksums unchecked: fuzz/fuzz_e57.cpp
     ply | roundtrip) names=(-name '*.ply') ;;
     pcd) names=(-name '*.pcd') ;;
+    spz) names=(-name '*.spz') ;;
     text) names=(-name '*.xyz' -o -name '*.pts' -o -name '*.txt' -o -name '*.csv' -o -name '*.asc') ;;
     scan_cache) names=(-name '*.pnprcache') ;;
   esac

@@ -8,6 +8,7 @@ packages=(
   blender python3 python3-dev python3-numpy pybind11-dev
   libglm-dev libeigen3-dev libnanoflann-dev libtbb-dev libhwy-dev
   libxml2-dev  # the XML section of E57 files
+  zlib1g-dev  # SPZ splat files are gzip streams (io/spz_reader.cpp)
   libopenimageio-dev openimageio-tools
   libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 libgles-dev
   dpkg-dev  # dpkg-deb, dpkg-architecture: scripts/fetch_python313.sh (the cp313 module's headers)

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include <tbb/parallel_for.h>
+#include "scene/gaussian_splats.h"
 #include "scene/point_cloud.h"
 
 namespace pointnpr::geometry {
@@ -150,6 +151,15 @@ std::shared_ptr<const PcaResult> Analysis::pca(int k) {
   return r;
 }
 
+namespace {
+// Each splat's shortest axis, in the analysis's sorted order.
+std::vector<glm::vec3> splat_axes(const GaussianSplats& g, const LocalPoints& pts) {
+  std::vector<glm::vec3> n(pts.size());
+  tbb::parallel_for(size_t(0), pts.size(), [&](size_t s) { n[s] = splat_axis(g, pts.original[s], false); });
+  return n;
+}
+}  // namespace
+
 std::shared_ptr<const std::vector<glm::vec3>> Analysis::normals(const NormalOptions& o) {
   check_k(o.k);
   const Call call(*this);
@@ -166,10 +176,13 @@ std::shared_ptr<const std::vector<glm::vec3>> Analysis::normals(const NormalOpti
     key += buf;
   }
   if (auto hit = cached<std::vector<glm::vec3>>(key)) return hit;
-  call.plan(pca_work(k) + (o.orientation == Orientation::Consistent ? size() : 0) +
-            (o.radius_factor > 0.0 ? knn_work(9) + 2 * size() : 0));
-  std::vector<glm::vec3> n = pca(k)->normal;
-  if (o.radius_factor > 0.0) {
+  // 3D Gaussian splats carry their surface: each splat's shortest axis is
+  // its normal (then oriented as any estimate), no neighbourhood fit.
+  const GaussianSplats* splats = cloud_ ? cloud_->gaussians() : nullptr;
+  call.plan((splats ? size() : pca_work(k)) + (o.orientation == Orientation::Consistent ? size() : 0) +
+            (o.radius_factor > 0.0 && !splats ? knn_work(9) + 2 * size() : 0));
+  std::vector<glm::vec3> n = splats ? splat_axes(*splats, points()) : pca(k)->normal;
+  if (o.radius_factor > 0.0 && !splats) {
     // Least squares within radius_factor x r, per point (sorted order).
     const std::vector<float>& r = local_resolution(8)->r;  // input order
     const LocalPoints& pts = points();

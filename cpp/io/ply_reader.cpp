@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/gaussians.h"
 #include "io/mapped_file.h"
 #include "io/readers.h"
 
@@ -684,6 +685,7 @@ PointData PlyReader::read() {
     md["comments"] = c;
   }
   out.drop_nonfinite_points();
+  io::convert_3dgs_ply(out, path_);  // 3D Gaussian splats: f_dc_*, opacity, scale_*, rot_* (io/gaussians.h)
   return out;
 }
 

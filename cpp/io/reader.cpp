@@ -9,12 +9,13 @@ namespace pointnpr {
 
 namespace {
 
-enum class Kind { Las, E57, Ply, Pcd, Text, Unknown };
+enum class Kind { Las, E57, Ply, Spz, Pcd, Text, Unknown };
 
 Kind kind_from_extension(const std::string& ext) {
   if (ext == ".las" || ext == ".laz") return Kind::Las;
   if (ext == ".e57") return Kind::E57;
   if (ext == ".ply") return Kind::Ply;
+  if (ext == ".spz") return Kind::Spz;
   if (ext == ".pcd") return Kind::Pcd;
   if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".csv" || ext == ".asc")
     return Kind::Text;
@@ -43,6 +44,7 @@ PointData read_point_cloud(const std::string& path) {
     case Kind::Las: return read_las(path);
     case Kind::E57: return read_e57(path);
     case Kind::Ply: return read_ply(path);
+    case Kind::Spz: return read_spz(path);
     case Kind::Pcd: return read_pcd(path);
     case Kind::Text: return read_text(path);
     case Kind::Unknown: break;
@@ -50,7 +52,7 @@ PointData read_point_cloud(const std::string& path) {
   throw ReadError(path, "unrecognised point cloud format" +
                             (ext.empty() ? std::string(" (no file extension)")
                                          : " (extension '" + ext + "')") +
-                            "; supported: .las, .laz, .e57, .ply, .pcd, .xyz, .pts, .txt, .csv, .asc");
+                            "; supported: .las, .laz, .e57, .ply, .spz, .pcd, .xyz, .pts, .txt, .csv, .asc");
 }
 
 }  // namespace pointnpr

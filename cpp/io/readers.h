@@ -11,7 +11,7 @@
 
 namespace pointnpr {
 
-// Dispatches on the extension (.las .laz .e57 .ply .pcd .xyz .pts .txt .csv),
+// Dispatches on the extension (.las .laz .e57 .ply .spz .pcd .xyz .pts .txt .csv),
 // falling back to the file's signature when the extension is unknown.
 PointData read_point_cloud(const std::string& path);
 
@@ -40,6 +40,10 @@ void stream_las(const std::string& path, const ScanBlockSink& sink, uint64_t blo
 
 // Stanford PLY: ascii, binary_little_endian, binary_big_endian; vertices only.
 PointData read_ply(const std::string& path);
+// Niantic's SPZ (3D Gaussian splats), versions 2 and 3: the attributes of
+// io/gaussians.h, turned from SPZ's right-up-back axes to 3DGS PLY's
+// right-down-front ones. (A 3DGS PLY is read by read_ply, the same way.)
+PointData read_spz(const std::string& path);
 // PCL PCD v0.7 (ascii, binary, binary_compressed); non-finite points dropped.
 PointData read_pcd(const std::string& path);
 // Whitespace/comma separated text: x y z [r g b | intensity ...].
@@ -66,6 +70,7 @@ PointData read_e57(const std::string& path);
 // (".laz", ".pts"). The bytes must stay valid during the call.
 PointData read_las_memory(const uint8_t* data, size_t size, const std::string& name);
 PointData read_ply_memory(const uint8_t* data, size_t size, const std::string& name);
+PointData read_spz_memory(const uint8_t* data, size_t size, const std::string& name);
 PointData read_pcd_memory(const uint8_t* data, size_t size, const std::string& name);
 PointData read_text_memory(const uint8_t* data, size_t size, const std::string& name);
 // verify_checksums = false skips the pages' CRC-32C (fuzzing reaches the

@@ -252,7 +252,8 @@ void bind_io(py::module_& m) {
         return convert(std::move(data));
       },
       py::arg("path"), py::arg("progress") = py::none(),
-      "Reads a point cloud file (.las, .laz, .e57 (all scans merged), .ply, .pcd, .xyz/.pts/.txt/.csv) into a PointData. "
+      "Reads a point cloud file (.las, .laz, .e57 (all scans merged), .ply (3DGS splats recognised), .spz, .pcd, "
+      ".xyz/.pts/.txt/.csv) into a PointData. "
       "Raises ReadError (a ValueError) with the file, the reason and the byte offset. "
       "progress: a pointnpr.Progress that LAZ decoding reports to by chunk and stops on "
       "(raising Cancelled) once cancelled.");

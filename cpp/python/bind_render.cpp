@@ -7,9 +7,11 @@
 
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/make_cloud.h"
 #include "marks/mesh_surface/mesh_surface.h"
 #include "render/renderer.h"
 #include "scene/cached_cloud.h"
+#include "scene/gaussian_splats.h"
 
 namespace py = pybind11;
 
@@ -28,72 +30,6 @@ glm::dmat4 to_dmat4(const py::object& obj, const char* what) {
 }
 
 namespace {
-
-std::shared_ptr<PointCloud> make_cloud(const py::object& positions, const py::object& colors,
-                                       const py::object& intensity, const py::object& classification,
-                                       const py::object& point_index, const py::object& normals,
-                                       uint32_t chunk_size, const py::object& sensor) {
-  // float32 positions (Blender's vertices) are read as they are; anything
-  // else is converted to float64 (the exact georeferenced coordinates).
-  CArray<double> pos;
-  CArray<float> pos32;
-  const py::array given = py::array::ensure(positions);
-  const bool single = given && given.dtype().is(py::dtype::of<float>());
-  if (single)
-    pos32 = given.cast<CArray<float>>();
-  else
-    pos = positions.cast<CArray<double>>();
-  const py::ssize_t ndim = single ? pos32.ndim() : pos.ndim();
-  if (ndim != 2 || (single ? pos32.shape(1) : pos.shape(1)) != 3) throw Error("positions must be an (N,3) array");
-  const size_t n = size_t(single ? pos32.shape(0) : pos.shape(0));
-  PointCloudInput in;
-  if (single)
-    in.positions_f32 = {pos32.data(), n * 3};
-  else
-    in.positions = {pos.data(), n * 3};
-  CArray<uint8_t> col;
-  if (!colors.is_none()) {
-    py::array any = py::array::ensure(colors);
-    if (!any) throw Error("colors must be an array");
-    if (any.dtype().kind() == 'f') {
-      // Float colours are display sRGB in [0,1].
-      auto f = py::module_::import("numpy").attr("clip")(any, 0.0, 1.0);
-      any = py::array::ensure(py::module_::import("numpy").attr("rint")(f * py::float_(255.0)));
-    }
-    col = any.cast<CArray<uint8_t>>();
-    if (col.ndim() != 2 || (col.shape(1) != 3 && col.shape(1) != 4) || size_t(col.shape(0)) != n)
-      throw Error("colors must be an (N,3) or (N,4) array");
-    in.colors = {col.data(), size_t(col.size())};
-    in.color_channels = int(col.shape(1));
-  }
-  CArray<float> inten;
-  if (!intensity.is_none()) {
-    inten = intensity.cast<CArray<float>>();
-    in.intensity = {inten.data(), size_t(inten.size())};
-  }
-  CArray<uint8_t> cls;
-  if (!classification.is_none()) {
-    cls = classification.cast<CArray<uint8_t>>();
-    in.classification = {cls.data(), size_t(cls.size())};
-  }
-  CArray<uint32_t> idx;
-  if (!point_index.is_none()) {
-    idx = point_index.cast<CArray<uint32_t>>();
-    in.point_index = {idx.data(), size_t(idx.size())};
-  }
-  CArray<float> nrm;
-  if (!normals.is_none()) {
-    nrm = normals.cast<CArray<float>>();
-    in.normals = {nrm.data(), size_t(nrm.size())};
-  }
-  if (!sensor.is_none()) {
-    const auto xyz = sensor.cast<std::vector<double>>();
-    if (xyz.size() != 3) throw Error("sensor must be (x, y, z)");
-    in.sensor = glm::dvec3(xyz[0], xyz[1], xyz[2]);
-  }
-  py::gil_scoped_release release;
-  return std::make_shared<PointCloud>(in, chunk_size);
-}
 
 // "vertex" or "corner" for an attribute of `rows` rows ("auto": by its count).
 MeshDomain mesh_domain(const std::string& given, size_t rows, size_t vertices, size_t corners, const char* what) {
@@ -328,7 +264,13 @@ void bind_render(py::module_& m) {
       .def(py::init(&make_cloud), py::arg("positions"), py::arg("colors") = py::none(),
            py::arg("intensity") = py::none(), py::arg("classification") = py::none(),
            py::arg("point_index") = py::none(), py::arg("normals") = py::none(), py::arg("chunk_size") = 16384,
-           py::arg("sensor") = py::none())
+           py::arg("sensor") = py::none(), py::arg("opacity") = py::none(), py::arg("scales") = py::none(),
+           py::arg("rotations") = py::none(), py::arg("sh") = py::none(), py::arg("sh_degree") = 0,
+           py::arg("antialiased") = false)
+      .def_property_readonly("sh_degree", [](const PointCloud& c) -> py::object {
+        if (!c.gaussians()) return py::none();
+        return py::int_(c.gaussians()->sh_degree);
+      }, "The SH degree of a cloud of 3D Gaussian splats, or None: plain points.")
       .def_property_readonly("num_points", &PointCloud::size)
       .def_property_readonly("sensor", [](const PointCloud& c) -> py::object {
         if (!c.sensor()) return py::none();

@@ -9,6 +9,7 @@
 #include "geometry/analysis.h"
 #include "geometry/features.h"
 #include "gl/device.h"
+#include "scene/gaussian_splats.h"
 
 namespace pointnpr {
 
@@ -176,7 +177,12 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
       }
       case AttributeKind::ResolutionDeviation: buffer = upload(analysis->surface_resolution(key.k)->eps); break;
       case AttributeKind::PrincipalAxis:
-        buffer = upload(pack_normals(analysis->points().to_original(analysis->pca(key.k)->major)));
+        if (const GaussianSplats* splats = cloud->gaussians()) {
+          // A splat's own frame: its longest axis (seed 004's brush direction).
+          buffer = upload(pack_normals(splat_axes(*splats, true)));
+        } else {
+          buffer = upload(pack_normals(analysis->points().to_original(analysis->pca(key.k)->major)));
+        }
         break;
       case AttributeKind::RadiusNormal:
         if (g.own_normals) {

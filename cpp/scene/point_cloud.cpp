@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/morton.h"
 #include "geometry/analysis.h"
+#include "scene/gaussian_splats.h"
 
 namespace pointnpr {
 
@@ -101,6 +102,17 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points)
   if (!in.point_index.empty() && in.point_index.size() != n) throw Error("point_index must have one value per point");
   if (!in.normals.empty() && in.normals.size() != n * 3) throw Error("normals must be an N x 3 array");
   if (max_chunk_points == 0) throw Error("max_chunk_points must be positive");
+  const bool splats = !in.opacity.empty() || !in.scales.empty() || !in.rotations.empty() || !in.sh.empty();
+  const size_t coeffs = size_t(in.sh_degree + 1) * size_t(in.sh_degree + 1);
+  if (splats) {
+    if (in.sh_degree < 0 || in.sh_degree > 3) throw Error("sh_degree must be 0 to 3");
+    if (in.opacity.size() != n) throw Error("Gaussian splats need one opacity per point");
+    if (in.scales.size() != n * 3) throw Error("Gaussian splats need scales as an N x 3 array");
+    if (in.rotations.size() != n * 4) throw Error("Gaussian splats need rotations as an N x 4 array (w, x, y, z)");
+    if (in.sh.size() != n * 3 * coeffs)
+      throw Error("Gaussian splats need sh as an N x " + std::to_string(3 * coeffs) + " array (degree " +
+                  std::to_string(in.sh_degree) + ")");
+  }
 
   const InputPositions p{in.positions.empty() ? nullptr : in.positions.data(),
                          in.positions.empty() ? in.positions_f32.data() : nullptr};
@@ -133,6 +145,16 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points)
   if (!in.intensity.empty()) intensity_.resize(n);
   if (!in.classification.empty()) classification_.resize(n);
   if (!in.normals.empty()) normals_.resize(n);
+  std::shared_ptr<GaussianSplats> g;
+  if (splats) {
+    g = std::make_shared<GaussianSplats>();
+    g->sh_degree = in.sh_degree;
+    g->antialiased = in.antialiased;
+    g->opacity.resize(n);
+    g->scales.resize(n);
+    g->rotations.resize(n);
+    g->sh.resize(n * 3 * coeffs);
+  }
 
   for (size_t first = 0; first < n; first += max_chunk_points) {
     const size_t count = std::min<size_t>(max_chunk_points, n - first);
@@ -158,9 +180,17 @@ PointCloud::PointCloud(const PointCloudInput& in, uint32_t max_chunk_points)
       if (!in.classification.empty()) classification_[k] = in.classification[i];
       if (!in.normals.empty())
         normals_[k] = glm::vec3(in.normals[3 * i], in.normals[3 * i + 1], in.normals[3 * i + 2]);
+      if (g) {
+        g->opacity[k] = in.opacity[i];
+        g->scales[k] = glm::vec3(in.scales[3 * i], in.scales[3 * i + 1], in.scales[3 * i + 2]);
+        g->rotations[k] = glm::vec4(in.rotations[4 * i], in.rotations[4 * i + 1], in.rotations[4 * i + 2],
+                                    in.rotations[4 * i + 3]);
+        std::copy_n(in.sh.data() + 3 * coeffs * i, 3 * coeffs, g->sh.data() + 3 * coeffs * k);
+      }
     }
     chunks_.push_back(chunk);
   }
+  gaussians_ = std::move(g);
 }
 
 PointCloud::PointCloud(PointCloudChunks&& in) : id_(g_next_cloud_id++) {

@@ -16,6 +16,7 @@ namespace pointnpr {
 namespace geometry {
 class Analysis;
 }
+struct GaussianSplats;  // scene/gaussian_splats.h
 
 // Attributes a style can ask for; each is uploaded to the GPU only when some
 // style rendering the cloud needs it.
@@ -48,6 +49,18 @@ struct PointCloudInput {
   // Where the sensor stood, in the positions' frame, where the scan knows
   // it (a depth camera's frame: PCD's VIEWPOINT): estimated normals face it.
   std::optional<glm::dvec3> sensor;
+  // 3D Gaussian splats (scene/gaussian_splats.h; all empty: plain points):
+  // opacity N in [0, 1], scales N*3 (standard deviations, scene units),
+  // rotations N*4 (unit quaternions w, x, y, z), sh N*3*(sh_degree+1)^2
+  // (coefficient-major, r g b inner; DC first, display-referred sRGB).
+  std::span<const float> opacity;
+  std::span<const float> scales;
+  std::span<const float> rotations;
+  std::span<const float> sh;
+  int sh_degree = 0;
+  // Trained with anti-aliasing (Mip-Splatting, SPZ's flag 0x1): the
+  // renderer scales a splat's opacity by the 2D filter's compensation.
+  bool antialiased = false;
 };
 
 // Points already laid out in chunks (an out-of-core cache's prefixes,
@@ -90,6 +103,8 @@ class PointCloud {
   glm::dvec3 bounds_min() const { return bounds_min_; }
   glm::dvec3 bounds_max() const { return bounds_max_; }
   const std::optional<glm::dvec3>& sensor() const { return sensor_; }  // see PointCloudInput
+  // The splats' parameters in the cloud's order, or null: plain points.
+  const GaussianSplats* gaussians() const { return gaussians_.get(); }
   // Reconstructs world-space (object-space) positions in double, in the
   // cloud's internal order.
   std::vector<double> positions_double() const;
@@ -110,6 +125,7 @@ class PointCloud {
   std::vector<glm::vec3> normals_;
   glm::dvec3 bounds_min_{0.0}, bounds_max_{0.0};
   std::optional<glm::dvec3> sensor_;
+  std::shared_ptr<const GaussianSplats> gaussians_;
   mutable std::mutex analysis_mutex_;
   mutable std::shared_ptr<geometry::Analysis> analysis_;
 };

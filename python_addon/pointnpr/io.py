@@ -39,6 +39,17 @@ normals                float32 (N, 3)  PLY nx/ny/nz, PCD normal_x/y/z, text
 <field/column name>    float32         any other PCD/text field
 =====================  ==============  =========================================
 
+Gaussian splats: a 3DGS PLY (recognised by its f_dc_*, opacity, scale_*
+and rot_* properties) and an SPZ file (versions 2 and 3) give the same
+attributes, with their meaning rather than their storage: "opacity" float32
+(N,) after the sigmoid, "scales" float32 (N, 3) standard deviations after
+exp, "rotations" float32 (N, 4) unit quaternions w, x, y, z, "sh" float32
+(N, 3K) the K = (degree + 1)^2 spherical-harmonic coefficients, each r, g, b
+(DC first; display-referred sRGB as trained), and "colors" uint8 (N, 3) =
+0.5 + 0.2820948 DC, clamped; metadata "gaussian_splats" = 1 and
+"sh_degree". SPZ's right-up-back axes are turned into the PLY's (y and z
+negated) so both formats of one capture coincide.
+
 ``PointData.metadata`` always has "format" ("las", "ply", "pcd", "text") and
 "point_count"; LAS adds "version", "point_format", "point_record_length",
 "scale", "offset", "bounds_min", "bounds_max", "crs_wkt" and "crs_epsg" (when
@@ -96,13 +107,19 @@ RENDERED_ATTRIBUTES = {
 def to_cloud(data):
     """PointCloud (pointnpr.PointCloud) from a PointData: positions plus the
     colors, intensity and classification the file has (others are dropped),
-    and where the sensor stood when the file says (an organized PCD frame)."""
+    a splat capture's opacity, scales, rotations and SH (see "Gaussian
+    splats" above), and where the sensor stood when the file says (an organized PCD frame)."""
     kwargs = {}
     attrs = data.attributes
     for name, dtype in RENDERED_ATTRIBUTES.items():
         values = attrs.get(name)
         if values is not None:
             kwargs[name] = _np.ascontiguousarray(values, dtype=dtype)
+    if data.metadata.get("gaussian_splats"):  # 3D Gaussian splats (3DGS PLY, SPZ): their parameters too
+        for name in ("opacity", "scales", "rotations", "sh"):
+            kwargs[name] = _np.ascontiguousarray(attrs[name], dtype=_np.float32)
+        kwargs["sh_degree"] = int(data.metadata["sh_degree"])
+        kwargs["antialiased"] = bool(data.metadata.get("antialiased", 0))  # SPZ's Mip-Splatting flag
     sensor = data.metadata.get("sensor_origin")  # a depth camera's frame: its normals face the sensor
     if sensor is not None:
         kwargs["sensor"] = tuple(float(v) for v in sensor)

@@ -34,6 +34,22 @@ def sphere(n=12000, radius=1.0, centre=(0.0, 0.0, -5.0), colors=None):
     return pos, normals
 
 
+def mark_cloud(mark, pos, colors=None, intensity=None):
+    """The cloud a mark draws in the every-mark tests: plain points, or for
+    the gaussians mark (which draws nothing else) the same centres as small
+    isotropic splats of those colours (seeded opacity and rotations)."""
+    if mark != "gaussians":
+        return pointnpr.PointCloud(pos, colors=colors, intensity=intensity)
+    n = len(pos)
+    rng = np.random.default_rng(2)
+    q = rng.normal(size=(n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    spacing = np.sqrt(4.0 * np.pi / n)  # of sphere()'s unit sphere
+    dc = (np.asarray(colors, float) / 255.0 - 0.5) / 0.28209479177387814
+    return pointnpr.PointCloud(pos, colors=colors, intensity=intensity, opacity=rng.uniform(0.6, 1.0, n),
+                               scales=np.full((n, 3), 0.6 * spacing), rotations=q, sh=dc, sh_degree=0)
+
+
 def cloud(pos, normals=None, colors=None):
     return pointnpr.PointCloud(np.asarray(pos, float), normals=None if normals is None else np.asarray(normals, np.float32),
                                colors=colors)
@@ -368,6 +384,8 @@ MARK_STYLES = {
                      {"size_mode": "world", "world_radius": 0.03, "color_source": "constant",
                       "tangent_frame": "covariance"},
                      {"blending": "a_buffer", "tangent_frame": "square_plate", "normals": "radius_3r"}],
+    "gaussians": [{}, {"rasterizer": "compute", "depth_alpha": 0.2}, {"min_opacity": 0.7, "isolation": 3.0},
+                  {"density_mode": "constant_on_screen", "queue_level": 1.0}],
 }
 
 
@@ -385,8 +403,8 @@ def test_marks_write_depth_exactly_where_they_cover_and_upload_what_they_declare
     renderer = pointnpr.Renderer()  # fresh: its uploads are this style's alone
     pos, normals = sphere(6000)
     rng = np.random.default_rng(1)
-    c = pointnpr.PointCloud(pos, colors=(rng.random((len(pos), 3)) * 255).astype(np.uint8),
-                            intensity=rng.random(len(pos)).astype(np.float32))
+    c = mark_cloud(mark, pos, colors=(rng.random((len(pos), 3)) * 255).astype(np.uint8),
+                   intensity=rng.random(len(pos)).astype(np.float32))
     style = pointnpr.Style(mark=(mark, MARK_STYLES[mark][case]))
     r = render(renderer, style, [c], capture=False, composite={"mode": "depth_test"}, background=(0, 0, 0, 0))
     alpha, depth = np.asarray(r.color)[..., 3], np.asarray(r.depth)
@@ -433,7 +451,7 @@ import test_marks as t
 for mark, params in t.MARK_STYLES.items():
     for p in params:
         pos, normals = t.sphere(6000)
-        c = pointnpr.PointCloud(pos, colors=(np.random.default_rng(1).random((len(pos), 3)) * 255).astype(np.uint8))
+        c = t.mark_cloud(mark, pos, colors=(np.random.default_rng(1).random((len(pos), 3)) * 255).astype(np.uint8))
         r = t.render(pointnpr.Renderer(), pointnpr.Style(mark=(mark, p)), [c], capture=False)
         print(mark, hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest())
 """
@@ -454,7 +472,7 @@ def test_every_mark_renders_the_same_bytes_in_another_process():
     for mark, params in MARK_STYLES.items():
         for p, line in zip(params, [l for l in first if l.startswith(mark + " ")]):
             pos, normals = sphere(6000)
-            c = pointnpr.PointCloud(pos, colors=(np.random.default_rng(1).random((len(pos), 3)) * 255).astype(np.uint8))
+            c = mark_cloud(mark, pos, colors=(np.random.default_rng(1).random((len(pos), 3)) * 255).astype(np.uint8))
             r = render(pointnpr.Renderer(), pointnpr.Style(mark=(mark, p)), [c], capture=False)
             digest = hashlib.sha256(np.asarray(r.color).tobytes() + np.asarray(r.depth).tobytes()).hexdigest()
             assert line == f"{mark} {digest}"

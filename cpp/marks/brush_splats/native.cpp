@@ -51,6 +51,7 @@
 #include "marks/brush_splats/native_types.h"
 #include "render/native_raster.h"
 #include "render/screen_bins.h"
+#include "scene/gaussian_splats.h"
 #include "scene/point_cloud.h"
 
 namespace pointnpr {
@@ -162,8 +163,10 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           hold.push_back(resolution);
         }
         if (s.tangent_frame == 3) {
-          auto pca = analysis.pca(normal_k);
-          auto axes = std::make_shared<const std::vector<glm::vec3>>(analysis.points().to_original(pca->major));
+          // A splat capture's own frame: each splat's longest axis (as the GPU cache uploads it).
+          const GaussianSplats* splats = cloud->gaussians();
+          auto axes = std::make_shared<const std::vector<glm::vec3>>(
+              splats ? splat_axes(*splats, true) : analysis.points().to_original(analysis.pca(normal_k)->major));
           in.axes = axes->data();
           hold.push_back(axes);
         }

@@ -198,7 +198,7 @@ class IMPORT_SCENE_OT_pointnpr_cloud(bpy.types.Operator, ImportHelper):
 
 
 def menu_func_import(self, context):
-    self.layout.operator(IMPORT_SCENE_OT_pointnpr_cloud.bl_idname, text="Point Cloud (.las, .e57, .ply, .pcd, .xyz)")
+    self.layout.operator(IMPORT_SCENE_OT_pointnpr_cloud.bl_idname, text="Point Cloud (.las, .e57, .ply, .spz, .pcd, .xyz)")
 
 
 # Drag and drop of scans into the 3D viewport (FileHandler: Blender 4.1+).

@@ -6,7 +6,7 @@ import os
 import bpy
 import numpy as np
 
-from . import e57_import, sync
+from . import e57_import, splats, sync
 
 # ASPRS LAS 1.4 standard point classes.
 ASPRS_CLASSES = {
@@ -32,7 +32,7 @@ ASPRS_CLASSES = {
 }
 
 # What pointnpr.read accepts (its ReadError lists them for unknown extensions).
-FILE_EXTENSIONS = ("las", "laz", "e57", "ply", "pcd", "xyz", "pts", "txt", "csv", "asc")
+FILE_EXTENSIONS = ("las", "laz", "e57", "ply", "spz", "pcd", "xyz", "pts", "txt", "csv", "asc")
 
 
 def class_name(code):
@@ -221,6 +221,7 @@ class ImportJob(PointObjectJob):
         self.split_scans = split_by_scan
         self._scan_groups = False
         self._normals = None  # E57: the file's, or from the scans' row/column grids
+        self._splats = None  # a splat capture's opacity, scales, rotations, SH (splats.py)
         self.recentre = recentre
         # OutOfCore options, or None: scans above its threshold become proxies of a cache.
         self.out_of_core = out_of_core
@@ -326,6 +327,7 @@ class ImportJob(PointObjectJob):
                 # Blender holds the points now: free the file's arrays before
                 # the scene (and the first render) needs memory.
                 self._local = self._colors = self._intensity = self._classification = self._normals = None
+                self._splats = None
             return False
         # Last step: make it visible.
         parent = self.context.view_layer.active_layer_collection.collection \
@@ -358,6 +360,10 @@ class ImportJob(PointObjectJob):
             self.notes.append("The file holds %d image(s), not imported: %s" % (
                 int(metadata.get("images2d_count", 0)), str(images).replace("\n", "; ")))
         self._normals = attrs.get("normals") if metadata.get("format") == "e57" else None
+        # A 3D Gaussian splat capture (3DGS PLY, SPZ): its parameters go on the object (splats.py).
+        self._splats = [attrs[k] for k in ("opacity", "scales", "rotations", "sh")] \
+            if metadata.get("gaussian_splats") else None
+        self._splats_antialiased = bool(metadata.get("antialiased", 0))
         self._coordinate_metadata = str(metadata.get("coordinate_metadata", ""))
         if self._coordinate_metadata:  # E57: kept on the objects as 'pointnpr_coordinate_metadata'
             self.notes.append("Coordinate metadata: %s" % self._coordinate_metadata)
@@ -367,6 +373,9 @@ class ImportJob(PointObjectJob):
         self._sensor = None if sensor is None else [float(v) for v in np.asarray(sensor, float) - self._origin]
         del positions
         self._cached = self.out_of_core is not None and self.out_of_core.wants(len(self._local))
+        if self._cached and self._splats is not None:
+            self.warnings.append("the out-of-core cache keeps the splats' centres and colours only: the "
+                                 "gaussians mark cannot draw them (raise the Out-of-Core threshold)")
         self._root = self.track(bpy.data.collections, bpy.data.collections.new(self.stem))
         groups = []
         if self.split_scans and scan_index is not None:
@@ -411,6 +420,8 @@ class ImportJob(PointObjectJob):
         else:
             obj = self.add_point_object(name, coll, pick(self._local), pick(self._colors),
                                         pick(self._intensity), pick(self._classification))
+            if self._splats is not None:
+                splats.write(obj.data, *(pick(values) for values in self._splats), antialiased=self._splats_antialiased)
             normals = pick(self._normals)
             if normals is not None and not np.isnan(normals).any():
                 # "N": the point normals the render takes instead of estimating them (sync.read_normals).

@@ -16,7 +16,7 @@ import zlib
 import bpy
 import numpy as np
 
-from . import edits, mesh_sync, nodes
+from . import edits, mesh_sync, nodes, splats
 
 
 _COLOR_TYPES = {'BYTE_COLOR', 'FLOAT_COLOR'}
@@ -66,8 +66,9 @@ def resolve_style(scene, collection):
 def source_attributes(core_style):
     """The per-point attributes (names as pointnpr.PointCloud's keywords) the
     host reads for ``core_style`` (a pointnpr.Style), as a tuple in a fixed
-    order: what the core's ``Style.source_attributes`` lists."""
-    return tuple(sorted(set(core_style.source_attributes)))
+    order: what the core's ``Style.source_attributes`` lists, and a splat
+    capture's parameters for the gaussians mark (splats.py)."""
+    return tuple(sorted(set(core_style.source_attributes) | ({splats.SOURCE} if splats.wanted(core_style) else set())))
 
 
 # color_source 'auto' draws the first of these an object has (the core's
@@ -217,6 +218,7 @@ _READERS = {
     "classification": read_classification,
     "point_index": read_point_index,
     "normals": read_normals,
+    splats.SOURCE: splats.read,
 }
 
 # Attributes read per object, for tests and diagnostics:
@@ -453,7 +455,8 @@ class PendingCloud:
                 crc = 0
                 for value in values.values():   # in read order, then the positions
                     # zlib reads the arrays' own memory (tobytes() would copy them).
-                    crc = zlib.crc32(np.ascontiguousarray(value), crc)
+                    for part in (value.values() if isinstance(value, dict) else (value,)):
+                        crc = zlib.crc32(np.ascontiguousarray(part), crc)
                 self._key = (tuple(sorted(values)), len(positions), zlib.crc32(positions, crc))
             return self._key
 
@@ -470,7 +473,8 @@ class PendingCloud:
                 # The core reads float32 positions as they are (in double,
                 # point by point); the object's matrix is composed with them
                 # in double per chunk.
-                self._cloud = _core().PointCloud(positions, **values)
+                splat = values.pop(splats.SOURCE, None) or {}  # its keywords, spelled out
+                self._cloud = _core().PointCloud(positions, **values, **splat)
                 self._arrays = None
             return self._cloud
 
@@ -589,7 +593,8 @@ def _sample(obj_type, data, n, attributes):
 
 # The point attributes each reader reads (see _READERS).
 _SAMPLED_ATTRIBUTES = {"intensity": ("intensity",), "classification": ("classification",),
-                       "point_index": ("point_index",), "normals": ("normal", "N")}
+                       "point_index": ("point_index",), "normals": ("normal", "N"),
+                       splats.SOURCE: ("opacity", "radiance:base")}
 
 
 def _value_tuple(value):

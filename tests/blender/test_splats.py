@@ -1,0 +1,119 @@
+"""3D Gaussian splat captures in Blender: File > Import > Point Cloud takes
+an SPZ and detects a 3DGS PLY; one object carries the splats' parameters as
+point attributes (blender/splats.py); a collection styled with the gaussians
+mark renders them (the sync reads them back), other marks draw the centres."""
+import os
+
+import bpy
+import mathutils
+import numpy as np
+import pointnpr
+from pointnpr.blender import nodes, splats, sync
+
+import helpers
+
+SPLATS = os.path.join(helpers.IO_DATA, "gaussians")
+PLAYBOT = os.path.join(SPLATS, "playbot_lod3.spz")
+
+
+def _values(mesh, name, prop, width):
+    attr = mesh.attributes[name]
+    values = np.empty(len(attr.data) * width, dtype=np.float32)
+    attr.data.foreach_get(prop, values)
+    return values.reshape(-1, width)
+
+
+def test_importing_an_spz_and_a_3dgs_ply_gives_one_object_with_the_splats(scene):
+    for name, degree in (("synthetic_v3.spz", 3), ("synthetic_3dgs.ply", 2)):
+        path = os.path.join(SPLATS, name)
+        before = set(bpy.data.objects)
+        assert bpy.ops.import_scene.pointnpr_cloud(filepath=path) == {'FINISHED'}
+        objs = [o for o in bpy.data.objects if o not in before]
+        assert len(objs) == 1
+        mesh = objs[0].data
+        data = pointnpr.read(path)
+        A = data.attributes
+        assert len(mesh.vertices) == data.num_points == 64
+        assert np.allclose(_values(mesh, "opacity", "value", 1)[:, 0], A["opacity"])
+        assert np.allclose(_values(mesh, "scale", "vector", 3), A["scales"])
+        rotation = mesh.attributes["rotation"]
+        prop = "value" if rotation.data_type == 'QUATERNION' else "color"
+        assert np.allclose(_values(mesh, "rotation", prop, 4), A["rotations"], atol=1e-6)
+        K = (degree + 1) ** 2
+        assert "sh_%d" % (K - 1) in mesh.attributes and "sh_%d" % K not in mesh.attributes
+        assert np.allclose(_values(mesh, "sh_1", "vector", 3), A["sh"].reshape(64, K, 3)[:, 1])
+        back = splats.read(objs[0])
+        assert back["sh_degree"] == degree and np.allclose(back["sh"], A["sh"])
+        assert mesh["pointnpr_antialiased"] == 0 and back["antialiased"] is False
+
+
+def test_the_gaussians_mark_renders_an_imported_capture(tmp_path):
+    scene = helpers.reset_scene()
+    scene.render.resolution_x, scene.render.resolution_y = 160, 120
+    scene.render.film_transparent = True
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=PLAYBOT) == {'FINISHED'}
+    obj = next(o for o in bpy.data.objects if o.type == 'MESH')
+    # Look at the capture from its side (its up is +y in its file).
+    corners = np.array([obj.matrix_world @ mathutils.Vector(c) for c in obj.bound_box])
+    centre = corners.mean(axis=0)
+    offset = np.array([1.0, -1.4, -3.6])
+    cam = helpers.add_camera(location=tuple(centre + offset))
+    forward = -offset / np.linalg.norm(offset)
+    right = np.cross(forward, (0.0, 1.0, 0.0))
+    right /= np.linalg.norm(right)
+    basis = np.column_stack([right, np.cross(right, forward), -forward])
+    cam.rotation_euler = mathutils.Matrix(basis.tolist()).to_euler()
+    coll = obj.users_collection[0]
+    coll.pointnpr_style = nodes.new_style("Splats", mark="gaussians")
+    sync.read_log.clear()
+    splat, _ = helpers.render_pixels(tmp_path, "gaussians.png")
+    assert (obj.name, "gaussians") in sync.read_log
+    covered = splat[..., 3] > 0.5
+    assert 0.05 < covered.mean() < 0.9, covered.mean()
+    # Floaters: a keyframeable threshold reaches the render.
+    node = nodes.mark_node(coll.pointnpr_style)
+    setattr(node, helpers.pid("min_opacity"), 0.9)
+    fewer, _ = helpers.render_pixels(tmp_path, "fewer.png")
+    assert (fewer[..., 3] > 0.5).mean() < covered.mean()
+    node.keyframe_insert(helpers.pid("min_opacity"), frame=1)
+    # The Points mark draws the same object's centres.
+    coll.pointnpr_style = nodes.new_style("Points")
+    points, _ = helpers.render_pixels(tmp_path, "points.png")
+    assert (points[..., 3] > 0.5).mean() > 0.01
+    assert np.abs(points - splat).mean() > 0.01
+
+
+def test_blender_5_3_splat_attributes_are_read_as_splats(tmp_path):
+    # Blender 5.3's GAUSSIAN_SPLAT point clouds carry "rotation", "scale",
+    # "radiance:base" (DC + opacity) and "radiance:sh_N"; built here on a
+    # mesh (the reader looks at attributes, whatever holds them), with
+    # FLOAT_COLOR standing in for FLOAT4 where this Blender lacks it.
+    data = pointnpr.read(os.path.join(SPLATS, "synthetic_v3.spz"))
+    A = data.attributes
+    n = data.num_points
+    mesh = bpy.data.meshes.new("Blender splats")
+    mesh.vertices.add(n)
+    mesh.vertices.foreach_set("co", np.asarray(data.positions, np.float32).ravel())
+    sh = A["sh"].reshape(n, 16, 3)
+    try:
+        base = mesh.attributes.new("radiance:base", 'FLOAT4', 'POINT')
+        prop = "vector"
+    except TypeError:
+        base = mesh.attributes.new("radiance:base", 'FLOAT_COLOR', 'POINT')
+        prop = "color"
+    base.data.foreach_set(prop, np.column_stack([sh[:, 0], A["opacity"]]).astype(np.float32).ravel())
+    mesh.attributes.new("scale", 'FLOAT_VECTOR', 'POINT').data.foreach_set("vector", A["scales"].ravel())
+    try:
+        rot, prop = mesh.attributes.new("rotation", 'QUATERNION', 'POINT'), "value"
+    except TypeError:
+        rot, prop = mesh.attributes.new("rotation", 'FLOAT_COLOR', 'POINT'), "color"
+    rot.data.foreach_set(prop, A["rotations"].ravel())
+    for k in range(1, 16):
+        mesh.attributes.new("radiance:sh_%d" % (k - 1), 'FLOAT_VECTOR', 'POINT').data.foreach_set(
+            "vector", np.ascontiguousarray(sh[:, k]).ravel())
+    obj = bpy.data.objects.new("Blender splats", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    back = splats.read(obj)
+    assert back["sh_degree"] == 3
+    assert np.allclose(back["sh"], A["sh"]) and np.allclose(back["opacity"], A["opacity"])
+    assert np.allclose(back["scales"], A["scales"]) and np.allclose(back["rotations"], A["rotations"], atol=1e-6)
