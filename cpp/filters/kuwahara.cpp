@@ -38,27 +38,7 @@ class Kuwahara final : public Filter {
     const bool impasto = impasto_margin(p) > 0;
     // The impasto shading reads the filtered image and height 1 px around.
     const Rect area = ctx.rect.grown(impasto_margin(p), ctx.image_size);
-    const Rect tensor_rect = area.grown(rt, ctx.image_size);
-    struct Pass {
-      const char* define;
-      const gl::Texture* in;
-      const gl::Texture* out;
-      Rect rect;
-    };
-    const Pass passes[] = {
-        {"PASS_TENSOR", ctx.input, &tensor, tensor_rect},
-        {"PASS_SMOOTH_X", &tensor, &smooth_x, filters::grown_rows(area, rt, ctx.image_size)},
-        {"PASS_SMOOTH_Y", &smooth_x, &smooth, area},
-    };
-    for (const Pass& pass : passes) {
-      const gl::Program& prog = ctx.shaders->compute("kuwahara.comp", {pass.define});
-      prog.use();
-      glUniform1f(prog.location("u_sigma"), float(p.get_float("tensor_sigma")));
-      glUniform1i(prog.location("u_radius"), rt);
-      filters::bind_image(0, *pass.in, GL_READ_ONLY);
-      filters::bind_image(1, *pass.out, GL_WRITE_ONLY);
-      dispatch_rect(prog, pass.rect);
-    }
+    filters::structure_tensor(ctx, *ctx.input, area, rt, float(p.get_float("tensor_sigma")), tensor, smooth_x, smooth);
     const gl::Program& prog = ctx.shaders->compute("kuwahara.comp", {"PASS_FILTER"});
     prog.use();
     const double r = p.get_float("radius");

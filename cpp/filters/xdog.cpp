@@ -120,26 +120,8 @@ class XDoG final : public Filter {
     filters::bind_image(2, L, GL_WRITE_ONLY);
     dispatch_rect(lp, lightness);
     // The edge direction: the Kuwahara filter's structure tensor passes.
-    struct Pass {
-      const char* define;
-      const gl::Texture* in;
-      const gl::Texture* out;
-      Rect rect;
-    };
-    const Pass passes[] = {
-        {"PASS_TENSOR", ctx.input, &tensor, along.grown(r.tensor, ctx.image_size)},
-        {"PASS_SMOOTH_X", &tensor, &smooth_x, filters::grown_rows(along, r.tensor, ctx.image_size)},
-        {"PASS_SMOOTH_Y", &smooth_x, &smooth, along},
-    };
-    for (const Pass& pass : passes) {
-      const gl::Program& prog = ctx.shaders->compute("kuwahara.comp", {pass.define});
-      prog.use();
-      glUniform1f(prog.location("u_sigma"), float(p.get_float("tensor_sigma")));
-      glUniform1i(prog.location("u_radius"), r.tensor);
-      filters::bind_image(0, *pass.in, GL_READ_ONLY);
-      filters::bind_image(1, *pass.out, GL_WRITE_ONLY);
-      dispatch_rect(prog, pass.rect);
-    }
+    filters::structure_tensor(ctx, *ctx.input, along, r.tensor, float(p.get_float("tensor_sigma")), tensor, smooth_x,
+                              smooth);
     for (const char* define : {"PASS_FDOG_ACROSS", "PASS_FDOG_ALONG"}) {
       const bool across = std::string(define) == "PASS_FDOG_ACROSS";
       const gl::Program& prog = ctx.shaders->compute("xdog.comp", {define});
