@@ -167,6 +167,13 @@ def migrate_former_names(tree):
     return moved
 
 
+def _is_set(node, pid):
+    """Whether a node stores a value of its own for property ``pid``. Blender
+    5 keeps bpy.props values apart from the dict interface (``node.get``
+    no longer sees them), so RNA is asked first."""
+    return node.is_property_set(pid) or node.get(pid) is not None
+
+
 def migrate_added_params(tree):
     """Gives the nodes of a local style tree that were made before a
     parameter existed (the schema's ``older_files_value``) the value that
@@ -187,7 +194,7 @@ def migrate_added_params(tree):
         known = set(str(known).split()) if known is not None else set()
         for param, pid in params:
             older = param.get("older_files_value")
-            if older is not None and param["name"] not in known and node.get(pid) is None:
+            if older is not None and param["name"] not in known and not _is_set(node, pid):
                 setattr(node, pid, older)
                 changed += 1
         node[nodes.KNOWN_PARAMS_KEY] = stamp
