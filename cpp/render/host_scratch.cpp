@@ -12,13 +12,15 @@ size_t HostScratch::bytes() const {
   return n;
 }
 
-void HostScratch::release() {
-  kept_.clear();
+void return_freed_pages() {
 #if defined(__GLIBC__)
-  // Images below glibc's (adaptive) mmap threshold were taken from the heap:
-  // without a trim the process would keep their pages.
   malloc_trim(0);
 #endif
+}
+
+void HostScratch::release() {
+  kept_.clear();
+  return_freed_pages();
 }
 
 }  // namespace pointnpr

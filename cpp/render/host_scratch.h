@@ -19,6 +19,11 @@ size_t held_bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
 }
 
+// Hands pages freed on the heap back to the system: blocks below glibc's
+// (adaptive) mmap threshold come from the heap, and without a trim the
+// process keeps their pages after they are freed.
+void return_freed_pages();
+
 class HostScratch {
  public:
   // The kept object of type T, made on first use; T tells its size by

@@ -402,7 +402,12 @@ Renderer::~Renderer() {
     return;
   }
   try {
-    gl::Device::instance().run([this] { impl_.reset(); });
+    // The trim after every member is gone: the frame targets, buffers and
+    // caches are freed after the host scratch's own trim.
+    gl::Device::instance().run([this] {
+      impl_.reset();
+      return_freed_pages();
+    });
   } catch (...) {
     (void)impl_.release();  // no context left: leaking beats crashing the host
   }
