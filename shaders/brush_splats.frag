@@ -49,7 +49,11 @@ void main() {
     a = a_total;
   }
 #endif
+#ifdef PASS_DEPTH
+  if (!(a >= u_surface_cut)) discard;  // the surface: brushes that cover half the pixel
+#else
   if (!(a >= u_cut)) discard;
+#endif
 #ifdef PASS_DEPTH
   o_depth = vec4(v_depth);
 #elif defined(PASS_COUNT)

@@ -3,7 +3,8 @@
 // across, 2 radius x stretch along), textured by brush_splats.frag.
 #include "brush_common.glsl"
 
-uniform float u_offset_radii;  // PASS_BLEND: moved toward the camera by this many radii
+uniform float u_offset_radii;  // PASS_BLEND: moved toward the camera by this many radii ...
+uniform float u_noise_offset;  // ... or at least this far (scene units: brush_noise_offset)
 
 out vec2 v_uv;                 // texture coordinates in [0, 1]
 out float v_depth;             // linear view depth on the splat's plane
@@ -26,7 +27,11 @@ void main() {
   vec3 p = s.center + (s.t * ((corner.x - 0.5) * s.stretch) + s.b * (corner.y - 0.5)) * (2.0 * s.radius);
   v_depth = -p.z;
   // Toward the camera along the view ray (the screen position is kept).
-  float offset = u_offset_radii * s.radius;
+#ifdef PASS_DEPTH
+  float offset = 0.0;  // the surface itself
+#else
+  float offset = max(u_offset_radii * s.radius, u_noise_offset);
+#endif
   if (u_ortho != 0) p.z += offset;
   else p *= max(1.0 - offset / max(length(p), 1e-20), 0.0);
   float pd = -p.z;

@@ -86,7 +86,11 @@ void main() {
     a = a_total;
   }
 #endif
+#ifdef PASS_DEPTH
+  if (!(a >= u_surface_cut)) discard;  // the surface: brushes that cover half the pixel
+#else
   if (!(a >= u_cut)) discard;
+#endif
 #ifdef PASS_DEPTH
   gl_FragDepth = clamp(u_ortho != 0 ? 1.0 - (depth - u_near) / (u_far - u_near) : u_near / depth, 0.0, 1.0);
   o_depth = vec4(depth);

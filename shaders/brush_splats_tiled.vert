@@ -12,14 +12,15 @@
 #include "brush_common.glsl"
 #include "exact_window.glsl"
 
-uniform float u_offset_radii;  // PASS_BLEND ...: tested this many radii toward the camera
+uniform float u_offset_radii;  // PASS_BLEND ...: tested this many radii toward the camera ...
+uniform float u_noise_offset;  // ... or at least this far (scene units: brush_noise_offset)
 uniform vec2 u_frame_size;     // the frame's (the projection maps to it)
 
 flat out vec3 v_center;        // view space
 flat out vec3 v_u_axis;        // t / (2 radius stretch): u = dot(p - center, this) + 0.5
 flat out vec3 v_v_axis;        // b / (2 radius)
 flat out vec3 v_normal;        // the splat's plane
-flat out float v_offset;       // scene units toward the camera (u_offset_radii radii)
+flat out float v_offset;       // scene units toward the camera (u_offset_radii radii, at least u_noise_offset)
 flat out vec2 v_depth_range;   // the splat's view depths: a fragment's is clamped into them
 flat out vec4 v_color;         // display sRGB
 flat out vec3 v_cos;           // cos and sin of theta per column
@@ -50,7 +51,12 @@ void main() {
   // camera), which is never behind the fragment's own test (the shader's,
   // exact): hidden splats are dropped before shading.
   float depth = -s.center.z;
-  float nearest = depth - reach_z - u_offset_radii * s.radius;
+#ifdef PASS_DEPTH
+  float offset = 0.0;  // the surface itself
+#else
+  float offset = max(u_offset_radii * s.radius, u_noise_offset);
+#endif
+  float nearest = depth - reach_z - offset;
   float z = u_ortho != 0 ? 1.0 - (nearest - u_near) / (u_far - u_near) : u_near / max(nearest, 1e-30);
   gl_Position = vec4(ndc, clamp(z * (1.0 + 1e-5) + 1e-6, 0.0, 1.0), 1.0);
   v_depth_range = vec2(depth - reach_z, depth + reach_z);
@@ -58,7 +64,7 @@ void main() {
   v_u_axis = s.t / (2.0 * s.radius * s.stretch);
   v_v_axis = s.b / (2.0 * s.radius);
   v_normal = cross(s.t, s.b);
-  v_offset = u_offset_radii * s.radius;
+  v_offset = offset;
   v_color = brush_color(index, s);
   uint id = point_ids[index];
   vec3 angles = brush_column_angles(id);

@@ -12,6 +12,7 @@ uniform float u_layer_scale; // second layer: the grid shrunk about the centre
 uniform float u_layer_angle; // ... and turned (radians)
 uniform float u_layer_tint;  // ... and its colour toward white (> 0) or black (< 0)
 uniform float u_cut;         // alpha below this is no coverage
+uniform float u_surface_cut; // alpha from which a brush is the pixel's surface (the depth pass; kSurfaceCut)
 uniform float u_reach;       // |q| beyond which a Gaussian adds less than u_cut / (A N) (skipped)
 
 // |(x_theta - x0) / sx|, |(y_theta - y0) / sy| of eq. 1: uv relative to

@@ -233,6 +233,18 @@ std::shared_ptr<const LocalResolution> Analysis::surface_resolution(int k) {
   return r;
 }
 
+float Analysis::plane_deviation(int k) {
+  check_k(k);
+  const Call call(*this);
+  k = clamp_k(k);
+  const std::string key = "plane_deviation:" + std::to_string(k);
+  if (auto hit = cached<float>(key)) return *hit;
+  call.plan(pca_work(k) + size());
+  auto r = std::make_shared<const float>(geometry::median_plane_deviation(points(), *knn(k), *pca(k)));
+  cache_[key] = r;
+  return *r;
+}
+
 std::shared_ptr<const std::vector<float>> Analysis::curvature(int k) {
   check_k(k);
   const Call call(*this);

@@ -71,6 +71,8 @@ class Analysis {
   // local_resolution with outliers' r capped by their neighbours'
   // (geometry::surface_resolution): what marks size their marks from.
   std::shared_ptr<const LocalResolution> surface_resolution(int k);
+  // The scan's depth noise over k neighbours (geometry::median_plane_deviation).
+  float plane_deviation(int k);
   std::shared_ptr<const std::vector<float>> feature_degree(int k, const FeatureOptions& options);
   std::vector<uint8_t> inliers(int k, float std_ratio);
   LineFit line_fit(const std::vector<uint8_t>& mask, int k);

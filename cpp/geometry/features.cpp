@@ -64,6 +64,27 @@ LocalResolution surface_resolution(const LocalResolution& raw, const Neighborhoo
   return out;
 }
 
+float median_plane_deviation(const LocalPoints& pts, const Neighborhoods& nb, const PcaResult& pca) {
+  const size_t n = pts.size();
+  const int m = nb.k - 1;  // the first entry is the point itself
+  if (n < 3 || m <= 0) return 0.0f;
+  std::vector<float> deviation(n, 0.0f);
+  tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    const uint32_t* idx = nb.at(i);
+    const glm::vec3 normal = pca.normal[i], p = pts.points[i];
+    double s2 = 0.0;
+    for (int j = 1; j <= m; ++j) {
+      const double along = glm::dot(normal, pts.points[idx[j]] - p);
+      s2 += along * along;
+    }
+    deviation[i] = float(std::sqrt(s2 / m));
+  });
+  advance(current_progress(), n);
+  std::nth_element(deviation.begin(), deviation.begin() + long(n / 2), deviation.end());
+  const float median = deviation[n / 2];
+  return std::isfinite(median) ? median : 0.0f;
+}
+
 float percentile99(std::vector<float> v) {
   if (v.empty()) return 0.0f;
   const size_t at = std::min(v.size() - 1, size_t(double(v.size() - 1) * 0.99));

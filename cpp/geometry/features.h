@@ -31,6 +31,14 @@ LocalResolution local_resolution(const Neighborhoods& nb_with_self);
 // Surface points (r near their neighbours') keep theirs; median_r is raw's.
 LocalResolution surface_resolution(const LocalResolution& raw, const Neighborhoods& nb_with_self);
 
+// The scan's own depth noise: the median over its points of the RMS
+// distance of a point's neighbours from the plane through it (its PCA
+// normal): about sigma for noise of sigma along the normal (measured
+// 1.07 sigma with 15 neighbours; test_geometry.cpp), so a test of "on the
+// same surface" must allow a few times it. 0 for fewer than 3 points.
+// LocalPoints order for pca and nb.
+float median_plane_deviation(const LocalPoints& pts, const Neighborhoods& nb_with_self, const PcaResult& pca);
+
 // Seed 001 section 5.2, on points instead of scan images. Geometric part:
 // the variation (standard deviation over the kNN neighbourhood) of the
 // normal-estimation error (the plane fit's surface variation,

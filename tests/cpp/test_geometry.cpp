@@ -522,3 +522,22 @@ TEST(Analysis, SurfaceResolutionCapsAStrayPointAtItsNeighbours) {
   }
   EXPECT_EQ(surface.median_r, raw.median_r);
 }
+
+// The scan's depth noise (what the brush's depth tolerance reaches at
+// least): on a plane with Gaussian noise of sigma along its normal, the
+// median RMS of a point's neighbours off its plane is about sigma (the
+// plane's fit takes a little up); on a clean plane, nothing.
+TEST(Analysis, PlaneDeviationMeasuresTheScansDepthNoise) {
+  const double sigma = 0.01;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, sigma);
+  std::vector<double> noisy, clean;
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 80; ++x) {
+      noisy.insert(noisy.end(), {x * 0.1, y * 0.1, noise(rng)});
+      clean.insert(clean.end(), {x * 0.1, y * 0.1, 0.0});
+    }
+  Analysis a(noisy), b(clean);
+  EXPECT_NEAR(a.plane_deviation(16), sigma, 0.2 * sigma);
+  EXPECT_LT(b.plane_deviation(16), 1e-6f);
+}

@@ -12,11 +12,11 @@
 //    shape exponent lambda, sigma x / y, theta per column: the brush angle
 //    plus seeded noise (point id), each column within a bound of the
 //    previous. Up to two layers (the second smaller, turned, tinted).
-//  - Depth pass: every brush (alpha above the cut) into depth, nearest wins.
-//    Splats then blend order-independently within `depth_tolerance` radii
-//    of that surface: weighted average colour, coverage = 1 - product of
-//    transmittances (sums and products in a fixed primitive order: the
-//    same bytes in every process).
+//  - Depth pass: every brush (alpha from kSurfaceCut) into depth, nearest
+//    wins. Splats then blend order-independently within `depth_tolerance`
+//    radii of that surface (at least brush_noise_offset): weighted average
+//    colour, coverage = 1 - product of transmittances (sums and products
+//    in a fixed primitive order: the same bytes in every process).
 //  - Blending (a): two-pass Gaussian blur of the colour with depth
 //    occlusion (neighbours at other depths do not mix), coverage unchanged.
 //  - Blending (b): an A-buffer of the splats near the surface, sorted and
@@ -38,6 +38,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
+#include "geometry/analysis.h"
 #include "marks/brush_splats/brush_splats.h"
 #include "marks/brush_splats/gl_passes.h"
 #include "marks/points/points.h"
@@ -192,11 +193,13 @@ void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const Para
   glUniform1f(g.location("u_elongation_gain"), float(p.get_float("elongation_stretch")));
   glUniform1f(g.location("u_max_stretch"), float(p.get_float("max_stretch")));
   glUniform1f(g.location("u_cut"), kCut);
+  glUniform1f(g.location("u_surface_cut"), kSurfaceCut);
   glUniform1f(g.location("u_reach"), float(brush_reach(p)));
 }
 
 void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamValues& p) {
   const GpuCloud& c = *v.gpu;
+  glUniform1f(g.location("u_noise_offset"), brush_noise_offset(*chunk_cloud(v, "brush_splats"), p));
   const int k = p.get_int("resolution_neighbors");
   bind_chunk(g, v, ColorSource(p.get_enum("color_source")),
              {{2, c.find(normal_key(p))},
@@ -400,6 +403,13 @@ void BrushSplats::capture_splats(const MarkContext& ctx, const ParamValues& p) c
 
 }  // namespace
 
+float brush_noise_offset(const PointCloud& cloud, const ParamValues& p) {
+  // Two samples of one surface differ by sqrt(2) sigma (RMS): three sigma
+  // holds 97 % of their differences.
+  constexpr float kDeviations = 3.0f;
+  return kDeviations * cloud.analysis().plane_deviation(p.get_int("normal_neighbors"));
+}
+
 double brush_reach(const ParamValues& p) {
   // A N exp(-q^lambda / 2) < cut / 16 beyond q = (2 ln(16 A N / cut))^(1 / lambda): skipped Gaussians
   // change the alpha by less than a 16th of the cut.
@@ -474,7 +484,8 @@ const MarkRegistration registration{{
                color_param("color", {0.8, 0.8, 0.8, 1.0}, "Constant color (display sRGB)"),
                // New values last: stored enum indices keep their meaning.
                float_param("depth_tolerance", 1.0, 0.0, 10.0, "",
-                           "Splats blend with the nearest surface within this many radii behind it"),
+                           "Splats blend with the nearest surface within this many radii behind it (and always "
+                           "within three standard deviations of the scan's own depth noise)"),
                enum_param("blending", {"blur", "a_buffer", "none"}, 0,
                           "blur: splats averaged, then a two-pass Gaussian blur with depth occlusion; a_buffer: per "
                           "pixel lists sorted by depth and alpha-blended front to back; none: splats averaged"),

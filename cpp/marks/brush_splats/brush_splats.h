@@ -10,6 +10,20 @@
 namespace pointnpr {
 
 constexpr float kBrushCut = 1.0f / 255.0f;  // alpha below this is no coverage
+// A brush is the pixel's surface (the depth pass) only where it covers at
+// least half of it: a brush's faint rim in front of another surface blends
+// over that surface instead of hiding it (the white cracks around a
+// splat's border, where the surface behind was cut away and the rim alone
+// left the pixel mostly uncovered).
+constexpr float kSurfaceCut = 0.5f;
+
+// The least a splat's depth tolerance reaches toward the camera, in the
+// cloud's units: three standard deviations of the scan's own depth noise
+// (Analysis::plane_deviation over normal_neighbors), so the row-to-row
+// steps of a depth sensor or the noise of a range scan never cut the
+// brushes behind the nearest one away (the cracks along a Kinect frame's
+// rows). The depth_tolerance radii apply where they reach farther.
+float brush_noise_offset(const PointCloud& cloud, const ParamValues& p);
 
 // |q| beyond which one of the brush's Gaussians adds less than a 16th of
 // the cut to the alpha (skipped: it counts as 0 on both paths).

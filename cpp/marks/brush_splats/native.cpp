@@ -62,14 +62,14 @@ using namespace brush_native;
 // renderer (HostScratch) so a frame does not page-fault them in anew
 // (bounded by the largest clip, a tile's region at most).
 struct HostImages {
-  std::vector<float> surface, accum, reveal, sums, color;
+  std::vector<float> surface, accum, reveal, nearest, sums, color;
   std::vector<Splat> splats;  // a batch's (at most kBatch)
   std::vector<SplatKey> keys;  // theirs
   tbb::enumerable_thread_specific<BinScratch> bins;
   std::atomic<size_t> candidate_capacity{0};  // the workers' largest (Candidates::shared)
   size_t bytes() const {
-    size_t n = held_bytes(surface) + held_bytes(accum) + held_bytes(reveal) + held_bytes(sums) +
-               held_bytes(color) + held_bytes(splats) + held_bytes(keys);
+    size_t n = held_bytes(surface) + held_bytes(accum) + held_bytes(reveal) + held_bytes(nearest) +
+               held_bytes(sums) + held_bytes(color) + held_bytes(splats) + held_bytes(keys);
     for (const BinScratch& b : bins) n += b.bytes();
     return n;
   }
@@ -80,6 +80,7 @@ HostImages& host_images(HostScratch& host, size_t pixels) {
     images.surface.resize(pixels + kMaxLanes);  // slack for the row loop's last lanes
     images.accum.resize(4 * pixels);
     images.reveal.resize(pixels);
+    images.nearest.resize(pixels);
     images.sums.resize(4 * pixels);
     images.color.resize(4 * pixels);
   }
@@ -201,6 +202,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       proto.positions = cloud->local_positions().data();
       proto.colors = host_colors(*v.gpu, *cloud, source, constant);
       proto.shading = lit_by_shading(p, proto.colors.source);
+      proto.noise_offset = brush_noise_offset(*cloud, p);
       held.push_back(cloud);
     }
     Chunk& c = chunks[i];
@@ -218,11 +220,12 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   const glm::ivec2 size = clip.size();
   const size_t pixels = size_t(size.x) * size_t(size.y);
   HostImages& host = host_images(*ctx.host, pixels);
-  const Images im{host.surface.data(), host.accum.data(), host.reveal.data(), size.x, clip.min};
+  const Images im{host.surface.data(), host.accum.data(), host.reveal.data(), host.nearest.data(), size.x, clip.min};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
     std::fill(im.surface + r.begin(), im.surface + r.end(), kInf);
     std::fill(im.accum + 4 * r.begin(), im.accum + 4 * r.end(), 0.0f);
     std::fill(im.reveal + r.begin(), im.reveal + r.end(), 1.0f);
+    std::fill(im.nearest + r.begin(), im.nearest + r.end(), kInf);
   });
 
   // Batches of whole chunks (a chunk larger than a batch is one), set up
@@ -315,7 +318,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   const auto t2 = Clock::now();
 
   // Resolve (brush_resolve.comp): straight colour, coverage, the surface's
-  // depth (every blended fragment lies on a pixel the depth pass covered).
+  // depth, else (no brush covered half the pixel) the blended splats' own.
   float* color = host.color.data();
   float* depth = im.surface;
   std::vector<glm::ivec2> row_span(size_t(size.y), glm::ivec2(size.x, -1));
@@ -326,9 +329,10 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         const float alpha = 1.0f - std::clamp(im.reveal[q], 0.0f, 1.0f);
         const float* acc = im.accum + 4 * q;
         float* c = color + 4 * q;
-        if (alpha > 0.0f && acc[3] > 0.0f && !std::isinf(depth[q])) {
+        if (alpha > 0.0f && acc[3] > 0.0f) {
           for (int ch = 0; ch < 3; ++ch) c[ch] = std::clamp(acc[ch] / acc[3], 0.0f, 1.0f);
           c[3] = alpha;
+          if (std::isinf(depth[q])) depth[q] = im.nearest[q];
           row_span[size_t(y)] = {std::min(row_span[size_t(y)].x, x), x};
         } else {
           std::fill(c, c + 4, 0.0f);

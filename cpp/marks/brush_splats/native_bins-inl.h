@@ -42,7 +42,7 @@ void BlendRun(const Splat& sp, const Settings& s, const Images& im, const Candid
     const MF keep = hn::Or(hn::Le(depth, surface), hn::And(hn::Le(hn::Sub(depth, offset), surface), near));
     for (unsigned m = MaskBits(hn::And(keep, live)); m != 0; m &= m - 1) {
       const uint32_t k = i + uint32_t(__builtin_ctz(m));
-      blend(sp, s, im, qs[k], a1[k], a2[k]);
+      blend(sp, s, im, qs[k], depths[k], a1[k], a2[k]);
     }
   }
 }

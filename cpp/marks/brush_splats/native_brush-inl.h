@@ -251,8 +251,8 @@ inline void BrushAlphas(const Settings& s, const Layer& l, const float* u, const
   }
 }
 
-// A fragment's blend of its brush's alpha a (a2: the second layer's).
-inline void blend(const Splat& sp, const Settings& s, const Images& im, size_t q, float a, float a2) {
+// A fragment's blend of its brush's alpha a (a2: the second layer's) at its depth.
+inline void blend(const Splat& sp, const Settings& s, const Images& im, size_t q, float depth, float a, float a2) {
   glm::vec3 rgb = sp.rgb;
   if (sp.two) {
     const glm::vec3 rgb2 = s.layer_tint >= 0.0f ? rgb * (1.0f - s.layer_tint) + glm::vec3(s.layer_tint)
@@ -268,6 +268,7 @@ inline void blend(const Splat& sp, const Settings& s, const Images& im, size_t q
   acc[2] += rgb.b * a;
   acc[3] += a;
   im.reveal[q] *= 1.0f - a;
+  im.nearest[q] = std::min(im.nearest[q], depth);
 }
 
 }  // namespace pointnpr::brush_native::HWY_NAMESPACE

@@ -154,21 +154,21 @@ HWY_INLINE void KeepCovering(const Splat& sp, Fragments& f, const float* a1, con
   const DI di;
   const DU du;
   const int lanes = int(hn::Lanes(d)), n = f.n;
-  const VF cut = hn::Set(d, kBrushCut), one = hn::Set(d, 1.0f);
+  const VF cut = hn::Set(d, kBrushCut), surface_cut = hn::Set(d, kSurfaceCut), one = hn::Set(d, 1.0f);
   const VI lane = hn::Iota(di, 0);
   size_t recorded = out ? out->count : 0;
   for (int j = 0; j < n; j += lanes) {
     const VF a = hn::Load(d, a1 + j);
     MF covers = hn::Ge(a, cut);
-    VF b = hn::Zero(d);
+    VF total = a, b = hn::Zero(d);
     if (sp.two) {  // (neither layer reached the cut alone, in the depth pass: both sums are whole)
       b = hn::Load(d, a2 + j);
-      const VF total = hn::Add(b, hn::Mul(a, hn::Sub(one, b)));
+      total = hn::Add(b, hn::Mul(a, hn::Sub(one, b)));
       covers = hn::Or(covers, hn::Or(hn::Ge(b, cut), hn::Ge(total, cut)));
     }
     covers = hn::And(covers, FirstLanes(lane, n - j));
     if (hn::AllFalse(d, covers)) continue;
-    MF moves = covers;
+    MF moves = hn::And(covers, hn::Ge(total, surface_cut));
     if (P == Pass::kBoth)
       moves = hn::And(moves, hn::RebindMask(d, hn::Ne(hn::LoadU(di, f.nearer + j), hn::Zero(di))));
     for (unsigned m = MaskBits(moves); m != 0; m &= m - 1) {
@@ -208,7 +208,7 @@ void Shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
     BrushAlphas(s, second, u2, v2, n, a2);
   }
   if (P == Pass::kBlend) {
-    for (int j = 0; j < n; ++j) blend(sp, s, im, f.q[j], a1[j], sp.two ? a2[j] : 0.0f);
+    for (int j = 0; j < n; ++j) blend(sp, s, im, f.q[j], f.depth[j], a1[j], sp.two ? a2[j] : 0.0f);
     f.n = 0;
     return;
   }

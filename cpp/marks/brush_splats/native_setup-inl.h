@@ -136,7 +136,7 @@ void SetUpLanes(const Chunk& c, const Settings& s, const uint32_t* index, int n,
   hn::Store(hn::Sub(hn::Mul(tvz, bvx), hn::Mul(bvz, tvx)), d, o[10]);
   hn::Store(hn::Sub(hn::Mul(tvx, bvy), hn::Mul(bvx, tvy)), d, o[11]);
   hn::Store(hn::Sub(depth, reach_z), d, o[12]), hn::Store(hn::Add(depth, reach_z), d, o[13]);
-  hn::Store(hn::Mul(hn::Set(d, s.depth_tolerance), radius), d, o[14]);
+  hn::Store(hn::Max(hn::Mul(hn::Set(d, s.depth_tolerance), radius), hn::Set(d, c.noise_offset)), d, o[14]);
   const unsigned valid = MaskBits(ok);
   for (int i = 0; i < n; ++i) {
     Splat& sp = out[i];

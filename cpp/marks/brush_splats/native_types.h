@@ -119,6 +119,7 @@ struct Chunk {
   const uint32_t* order = nullptr;  // queue order (chunk-local), or null
   HostColors colors;
   bool shading = false;  // brush_shading(): the colour lit by the splat's plane
+  float noise_offset = 0.0f;  // brush_noise_offset(): the least offset toward the camera
   uint32_t first = 0, count = 0;
   glm::mat4 view{1.0f};
 };
@@ -130,7 +131,7 @@ struct Splat {
   glm::vec3 v_axis{0.0f};  // b / (2 radius)
   glm::vec3 normal{0.0f};  // the plane's
   glm::vec2 depth_range{0.0f};
-  float offset = 0.0f;  // depth_tolerance radii
+  float offset = 0.0f;  // depth_tolerance radii, at least the chunk's noise offset
   glm::vec3 rgb{0.0f};
   float cs[3] = {}, sn[3] = {};
   bool two = false;
@@ -152,6 +153,7 @@ struct Images {
   float* surface;  // the depth pass's nearest depth (kMaxLanes of slack past the end)
   float* accum;    // rgb * a, a
   float* reveal;   // transmittance
+  float* nearest;  // the blended fragments' nearest depth (where no brush is the surface)
   int stride;
   glm::ivec2 min;
 };

@@ -1,0 +1,230 @@
+"""The marks' look audit of issue 39: every mark preset (hatching, stipples,
+feature strokes, brush splats) on six real scans of five kinds at 1280x720,
+measured for what an art director sees first. The scans are the filters'
+audit's (bench/look_audit.py: the lion, the LiDAR HD tile, the Kinect mug
+frame, the LMS400 table, bun000) and a 10 % subsample of Igea (the sparse
+case the brush's acceptance names).
+
+Measures, per scan and preset (the preset whole: its mark and its filters):
+  holes:  the points mark (3 px) closed by a disk of CLOSE_RADIUS px is the
+          filled silhouette; holes = its share the preset leaves with alpha
+          < 0.5. The brush's limit is HOLE_LIMIT (it is meant to cover the
+          surface); for the ink marks paper showing is the look, so only
+          reported.
+  stray:  pixels the preset draws (alpha > STRAY_ALPHA) farther than
+          STRAY_PX from every pixel a point covers (the points mark at 1 px),
+          in per mille of the drawn pixels and as a count. Limit: none drawn.
+  r:      ink against Lambert shading: the block correlation (16 px blocks
+          fully covered) of the preset's ink (1 - luminance / paper, or
+          luminance on dark paper) with the points mark's diffuse shading
+          of a white scan under the preset's own light (its light_space,
+          azimuth and elevation, defaults included). Limit R_LIMIT for
+          hatching, stipples and feature strokes. A light drawing (chalk on
+          its board: LIGHT_DRAWINGS) is measured against the light instead.
+  flicker (--orbit): a slow orbit (ORBIT_FRAMES frames, ORBIT_STEP degrees
+          about the camera's up axis through the scan's centre) at half size;
+          the mean reprojected frame-to-frame change over the frame's own
+          detail (bench/filter_flicker.py's measure), over the points
+          mark's (lit by diffuse shading on a colourless scan, whose flat
+          grey has no detail). Limit FLICKER_LIMIT.
+
+    PYTHONPATH=build python3 bench/marks_audit.py OUT_DIR [--orbit] [--scan=kinect ...] [--preset=Pencil ...]
+        [--set='{"light_space": "camera"}']   (parameters laid over every preset: a trial)
+
+Writes OUT_DIR/marks_<mark>.png (a labelled contact sheet per mark: rows =
+scans, columns = the points mark then the mark's presets; 1/4 scale) and
+prints a markdown table.
+"""
+import json
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import pointnpr  # noqa: E402
+from pointnpr import presets  # noqa: E402
+
+import filter_flicker  # noqa: E402
+import look_audit as la  # noqa: E402
+
+W, H = la.W, la.H
+MARKS = ("hatching", "stipples", "feature_strokes", "brush_splats")
+CLOSE_RADIUS = la.CLOSE_RADIUS
+STRAY_PX, STRAY_ALPHA = 12, 0.05
+HOLE_LIMIT, R_LIMIT, FLICKER_LIMIT = 1.0, 0.7, 1.1
+BLOCK = 16
+ORBIT_FRAMES, ORBIT_STEP = 6, 0.5
+LIGHT_DRAWINGS = {"Chalk"}  # its X-Toon draws light strokes where lit (docs/marks.md)
+LUMA = np.array([0.2126, 0.7152, 0.0722], np.float32)
+
+
+def scans():
+    yield from la.scans()
+    scan = pointnpr.read(f"{la.SCANS_DIR}/igea.ply")
+    pos = np.asarray(scan.positions, np.float64)[::10]
+    cam, clip = la._frame(pos, (0.3, -1.0, 0.3))
+    yield ("Igea 10 % (sparse photogrammetry)", pos, {}, cam, clip)
+
+
+def light_of(mark, params):
+    """The preset's light with the mark's defaults filled in."""
+    defaults = {p["name"]: p["default"] for p in pointnpr.schema(mark, "mark")["params"]}
+    return {k: params.get(k, defaults[k]) for k in ("light_space", "light_azimuth", "light_elevation")
+            if k in defaults}
+
+
+def ink_of(img, mark, params):
+    """Ink per pixel in [0, 1]: how far the drawing is from its paper."""
+    defaults = {p["name"]: p["default"] for p in pointnpr.schema(mark, "mark")["params"]}
+    paper = np.asarray(params.get("paper_color", defaults.get("paper_color", (1.0, 1.0, 1.0, 1.0)))[:3], np.float32)
+    a = img[..., 3:4]
+    rgb = img[..., :3] * a + paper * (1.0 - a)  # composited over its own paper
+    lum, paper_lum = rgb @ LUMA, max(float(paper @ LUMA), 1e-3)
+    return np.clip(1.0 - lum / paper_lum, 0, 1) if paper_lum > 0.5 else np.clip(lum, 0, 1)
+
+
+def blocks(a):
+    hb, wb = H // BLOCK, W // BLOCK
+    return a[:hb * BLOCK, :wb * BLOCK].reshape(hb, BLOCK, wb, BLOCK).mean((1, 3))
+
+
+def tone_r(ink, lambert, filled):
+    """Blocks fully inside the filled silhouette; the shading is averaged over
+    the pixels its points cover (a sparse scan's 3 px points leave gaps)."""
+    covered = filled & (lambert[..., 3] >= 0.5)
+    full = blocks(filled.astype(np.float32)) > 0.9
+    lit = blocks(covered.astype(np.float32))
+    full &= lit > 0
+    if full.sum() < 10:
+        return float("nan")
+    ib = blocks(ink * filled) / np.maximum(blocks(filled.astype(np.float32)), 1e-6)
+    lb = blocks((1.0 - lambert[..., 0]) * covered) / np.maximum(lit, 1e-6)
+    return float(np.corrcoef(ib[full], lb[full])[0, 1])
+
+
+def orbit(world_from_camera, pivot, k):
+    """The camera turned by k * ORBIT_STEP degrees about its own up axis
+    through `pivot`."""
+    m = np.asarray(world_from_camera, np.float64)
+    up = m[:3, 1] / np.linalg.norm(m[:3, 1])
+    a = np.radians(ORBIT_STEP * k)
+    kx = np.array([[0, -up[2], up[1]], [up[2], 0, -up[0]], [-up[1], up[0], 0]])
+    rot = np.eye(3) + np.sin(a) * kx + (1 - np.cos(a)) * kx @ kx
+    out = m.copy()
+    out[:3, :3] = rot @ m[:3, :3]
+    out[:3, 3] = pivot + rot @ (m[:3, 3] - pivot)
+    return out
+
+
+def flicker(renderer, cloud, centre, mark, filters, world_from_camera, clip):
+    """Reprojected frame-to-frame change over spatial detail (filter_flicker's
+    measure) on a slow orbit at half size."""
+    w, h = W // 2, H // 2
+    filter_flicker.W, filter_flicker.H, filter_flicker.LENS = w, h, 35.0
+    m = np.asarray(world_from_camera, np.float64)
+    pivot = m[:3, 3] - m[:3, 2] * np.linalg.norm(m[:3, 3] - centre)  # the point the camera looks at
+    cams = [orbit(m, pivot, k) for k in range(ORBIT_FRAMES)]
+    scene = pointnpr.Scene()
+    shift = np.eye(4)
+    shift[:3, 3] = centre
+    scene.add_segment("scan", pointnpr.Style(mark=mark, filters=filters), [(cloud, shift)])
+    frames = [renderer.render(scene, pointnpr.Camera.perspective(c, lens=35.0, clip_start=clip[0], clip_end=clip[1],
+                                                                 width=w, height=h), w, h) for c in cams]
+    mads = [filter_flicker.reprojected_mad(frames[k], frames[k + 1], cams[k], cams[k + 1])[0]
+            for k in range(ORBIT_FRAMES - 1)]
+    detail = float(np.mean([filter_flicker.spatial_mad(f) for f in frames[1:]]))
+    return float(np.mean(mads)) / detail if detail > 0 else float("nan")
+
+
+def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names, with_orbit, overlay):
+    cam = pointnpr.Camera.perspective(world_from_camera, lens=35.0, clip_start=clip[0], clip_end=clip[1],
+                                      width=W, height=H)
+    cloud, centre = la._cloud(pos, attrs)
+    white, _ = la._cloud(pos, {}, colors=np.ones((len(pos), 3), np.float32))
+    base = la._render(renderer, cloud, centre, ("points", {"point_size": 3.0}), [], cam)
+    filled = la.erode(la.dilate(base[..., 3] >= 0.5, CLOSE_RADIUS), CLOSE_RADIUS)
+    dots = la._render(renderer, cloud, centre, ("points", {"point_size": 1.0}), [], cam)
+    near = la.dilate(dots[..., 3] > 0, STRAY_PX)
+    # The baseline of a colourless scan is its lit shape (flat grey has no detail to compare with).
+    lit = {} if attrs else {"shading": "diffuse"}
+    base_flicker = flicker(renderer, cloud, centre, ("points", {"point_size": 3.0, **lit}), [], world_from_camera,
+                           clip) if with_orbit else None
+    rows, tiles = [], {m: [base] for m in MARKS}
+    for preset in preset_names:
+        spec = presets.PRESETS[preset]
+        mark, params = spec["mark"][0], dict(spec["mark"][1])
+        known = {p["name"] for p in pointnpr.schema(mark, "mark")["params"]}
+        params.update({k: v for k, v in overlay.items() if k in known})
+        img = la._render(renderer, cloud, centre, (mark, params), spec["filters"], cam)
+        drawn = img[..., 3] > STRAY_ALPHA
+        stray = drawn & ~near
+        holes = filled & (img[..., 3] < 0.5)
+        lambert = la._render(renderer, white, centre, ("points", {
+            "shading": "diffuse", "shading_strength": 1.0, "color_source": "rgb", "point_size": 3.0,
+            **light_of(mark, params)}), [], cam)
+        r = tone_r(ink_of(img, mark, params), lambert, filled)
+        r = -r if preset in LIGHT_DRAWINGS else r
+        fl = (flicker(renderer, cloud, centre, (mark, params), spec["filters"], world_from_camera, clip) / base_flicker
+              if with_orbit else float("nan"))
+        rows.append(dict(scan=name, preset=preset, mark=mark, holes=100.0 * holes.sum() / max(filled.sum(), 1),
+                         stray=int(stray.sum()), stray_pm=1000.0 * stray.sum() / max(drawn.sum(), 1), r=r,
+                         flicker=fl))
+        mk = img.copy()
+        mk[stray] = (1.0, 0.0, 1.0, 1.0)
+        tiles[mark].append(mk)
+    return rows, tiles
+
+
+def verdict(row):
+    bad = []
+    if row["mark"] == "brush_splats" and row["holes"] > HOLE_LIMIT:
+        bad.append("holes")
+    if row["stray"] > 0:
+        bad.append("stray")
+    if row["mark"] != "brush_splats" and not row["r"] >= R_LIMIT:
+        bad.append("r")
+    if row["flicker"] == row["flicker"] and row["flicker"] > FLICKER_LIMIT:
+        bad.append("flicker")
+    return bad
+
+
+def main():
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    out_dir = args[0] if args else "."
+    only = [a.split("=", 1)[1] for a in sys.argv if a.startswith("--scan=")]
+    picked = [a.split("=", 1)[1] for a in sys.argv if a.startswith("--preset=")]
+    names = [n for n, s in presets.PRESETS.items() if s["mark"][0] in MARKS and (not picked or n in picked)]
+    with_orbit = "--orbit" in sys.argv
+    overlay = {}
+    for a in sys.argv:
+        if a.startswith("--set="):
+            overlay.update(json.loads(a.split("=", 1)[1]))
+    os.makedirs(out_dir, exist_ok=True)
+    renderer = pointnpr.Renderer()
+    print(f"{W}x{H}; holes: % of the filled silhouette (closing r={CLOSE_RADIUS} px) with alpha < 0.5 (brush limit "
+          f"{HOLE_LIMIT} %); stray: pixels drawn > {STRAY_PX} px from the points (limit 0); r: ink vs Lambert, "
+          f"{BLOCK} px blocks (limit {R_LIMIT}); flicker: vs the points mark (limit {FLICKER_LIMIT}x)")
+    print("| scan | preset | holes % | stray px (‰ of drawn) | ink vs Lambert r | flicker vs points | over |")
+    print("|---|---|---|---|---|---|---|")
+    sheets, fails = {m: [] for m in MARKS}, 0
+    for name, pos, attrs, cam, clip in scans():
+        if only and not any(o.lower() in name.lower() for o in only):
+            continue
+        rows, tiles = audit_scan(renderer, name, pos, attrs, cam, clip, names, with_orbit, overlay)
+        for row in rows:
+            bad = verdict(row)
+            fails += len(bad)
+            print(f"| {row['scan']} | {row['preset']} | {row['holes']:.2f} | {row['stray']} ({row['stray_pm']:.2f}) | "
+                  f"{row['r']:+.2f} | {row['flicker']:.2f} | {', '.join(bad)} |", flush=True)
+        for mark, t in tiles.items():
+            if len(t) > 1:
+                sheets[mark].append(t)
+    for mark, rows_of_tiles in sheets.items():
+        if rows_of_tiles:
+            pointnpr.save_image(os.path.join(out_dir, f"marks_{mark}.png"), la.sheet(rows_of_tiles))
+    print(f"{fails} measures over their limit")
+
+
+if __name__ == "__main__":
+    main()
