@@ -1,9 +1,10 @@
 // Feature strokes, pass 1 (seed 001 section 6.1, visibility splatting):
 // every point an opaque disc whose diameter is its local resolution
-// projected (hole-free), pushed away along the view ray by u_offset local
+// projected (hole-free), in its tangent plane (feature_strokes_disc.glsl), pushed away along the view ray by u_offset local
 // resolutions so strokes on the visible surface pass the depth test.
 #include "point_attributes.glsl"
 #include "exact_window.glsl"
+#include "feature_strokes_disc.glsl"
 
 layout(std430, binding = 9) readonly buffer Resolution { float resolution[]; };  // mean distance to 8 neighbours
 
@@ -16,10 +17,12 @@ uniform float u_px_per_unit;
 uniform float u_disc_scale;
 uniform float u_offset;
 uniform float u_max_size;
+uniform int u_disc_normals;  // 1: normals bound (binding 2): discs in the tangent plane
 
 flat out float v_depth;
 flat out float v_diameter;
 flat out vec2 v_center;  // window position in the images (pixels)
+flat out vec3 v_shape;   // feature_strokes_disc.glsl's disc_shape
 
 void main() {
   uint index = uint(gl_VertexID);
@@ -31,6 +34,7 @@ void main() {
   float diameter = clamp(u_disc_scale * r * u_px_per_unit / max(w, 1e-30), 1.0, u_max_size);
   v_depth = depth;
   v_diameter = diameter;
+  v_shape = disc_shape(u_disc_normals != 0 ? view_normal(index) : vec3(0.0), v.xyz, u_ortho != 0);
   gl_PointSize = diameter;
   if (!(depth >= u_near && depth <= u_far)) {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume

@@ -423,3 +423,28 @@ def test_hatching_mark_keeps_its_stroke_density_on_screen_with_the_queue():
         dens.append(r.stats["strokes_drawn"] / (np.asarray(r.color)[..., 3] > 0).sum())
     assert dens[1] > 0.01
     assert abs(dens[1] / dens[0] - 1.0) < 0.15, dens
+
+
+# ---------------------------------------------------------------------------
+# Visibility discs in the tangent plane
+
+def test_a_surface_seen_edge_on_hides_no_more_than_its_own_strip(renderer, path):
+    # A sparse plane tilted 84 degrees from the view: it projects to a thin
+    # strip, and its discs (in its tangent plane, feature_strokes_disc.glsl)
+    # to slivers inside that strip. Round discs of its 3D spacing (about
+    # 15 px across here) would paint paper 7 px beyond it.
+    g = np.arange(-0.6, 0.6 + 1e-9, 0.06)
+    A, B = np.meshgrid(g, g)
+    flat = np.column_stack([A.ravel(), B.ravel(), np.zeros(A.size)])
+    pos = flat @ rotation(np.radians(84.0), 0.0).T + np.array([0.0, 0.0, -3.0])
+    normals = np.tile((rotation(np.radians(84.0), 0.0) @ [0.0, 0.0, 1.0]).astype(np.float32), (len(pos), 1))
+    plane = pointnpr.PointCloud(pos, normals=normals)
+    params = {"directional": "none", "non_directional": "none", "dithering": "point_sprite", "dither": 1.0}
+    drawn = np.asarray(render(renderer, params, [plane], background=(0, 0, 0, 0)).color)[..., 3] > 0
+    scene = pointnpr.Scene()
+    scene.add_segment("s", pointnpr.Style(mark=("points", {"point_size": 1.0})), [(plane, np.eye(4))])
+    dots = np.asarray(renderer.render(scene, camera(), W, H, background=(0, 0, 0, 0)).color)[..., 3] > 0
+    rows = np.nonzero(dots.any(axis=1))[0]
+    assert drawn.sum() > 0 and len(rows) < 0.2 * H
+    # Within 2 px of the rows the points cover (round discs: about 7).
+    assert not drawn[:max(rows.min() - 2, 0)].any() and not drawn[rows.max() + 3:].any()

@@ -66,7 +66,7 @@ class FeatureStrokes final : public Mark {
     if (p.get_enum_name("directional") != "none") 
       set.insert(feature_line_key(p.get_int("line_neighbors"), k, p.get_float("feature_threshold")));
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
-    if (p.get_enum_name("shading") != "none") set.insert({AttributeKind::Normal, k});
+    set.insert({AttributeKind::Normal, k});  // the visibility discs' planes (and the light)
     if (p.get_enum_name("coloring") == "point" || p.get_float("dither_tone") > 0.0) {
       const AttributeSet colors = color_attributes(ColorSource(p.get_enum("color_source")));
       set.insert(colors.begin(), colors.end());
@@ -197,8 +197,10 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     glUniform1f(d.location("u_max_size"), kMaxDiscPixels);
     raster.set_uniforms(d);
     for (const VisibleChunk& v : ctx.chunks) {
+      const gl::Buffer* normals = v.gpu->find({AttributeKind::Normal, k});
       bind_chunk(d, v, ColorSource::Constant,
-                 {{2, nullptr}, {9, v.gpu->find({AttributeKind::LocalResolution, kResolutionNeighbors})}});
+                 {{2, normals}, {9, v.gpu->find({AttributeKind::LocalResolution, kResolutionNeighbors})}});
+      glUniform1i(d.location("u_disc_normals"), normals ? 1 : 0);
       glBindVertexArray(v.gpu->vao.id());
       glDrawArrays(GL_POINTS, GLint(v.chunk->first), GLsizei(v.chunk->count));
     }

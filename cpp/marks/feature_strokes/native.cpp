@@ -67,6 +67,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kBatchRecords = 1u << 18;  // as the GL path's batches
 
 using namespace feature_strokes;
+#include "feature_strokes_disc.glsl"
 
 // One visible chunk's host data (index = first + local into the cloud's arrays).
 struct Chunk {
@@ -78,6 +79,7 @@ struct Chunk {
   const uint32_t* order = nullptr;  // the queue order (chunk-local), or null
   HostColors colors;
   const glm::vec3* normals = nullptr;  // or null: not lit (shading)
+  const glm::vec3* disc_normals = nullptr;  // the visibility discs' planes
   glm::mat3 normal_matrix{1.0f};
   uint32_t first = 0, count = 0, drawn = 0, key_base = 0;
   float inv_median_r = 1.0f;
@@ -124,6 +126,9 @@ void scatter_discs(const Chunk& c, const Frame& f, const FeatureStrokeSettings& 
     // The window position on the 1/256 grid, less the tile's origin (exact).
     const float wx = float(round_even(fx * 256.0f)) / 256.0f - float(f.origin.x);
     const float wy = float(round_even(fy * 256.0f)) / 256.0f - float(f.origin.y);
+    // point_attributes.glsl's view_normal() of the normal as uploaded (snorm8).
+    const glm::vec3 n = unit_or_zero(c.normal_matrix * unpack_normal(pack_normal(c.disc_normals[index])));
+    const vec3 shape = disc_shape(n, glm::vec3(v), f.ortho);
     const float rad = 0.5f * diameter;
     const int x0 = std::max(floor_int(wx - rad), f.clip.min.x);
     const int x1 = std::min(ceil_int(wx + rad), f.clip.max.x - 1);
@@ -132,14 +137,14 @@ void scatter_discs(const Chunk& c, const Frame& f, const FeatureStrokeSettings& 
     uint32_t z_bits;
     std::memcpy(&z_bits, &z, 4);
     const uint64_t packed = uint64_t(~z_bits) << 32 | uint64_t(c.key_base + i);
-    const float r2 = 0.25f * diameter * diameter;
     for (int y = y0; y <= y1; ++y) {
       const float dy = float(y) + 0.5f - wy;
       uint64_t* line = keys + size_t(y - f.clip.min.y) * size_t(stride) - f.clip.min.x;
       for (int x = x0; x <= x1; ++x) {
         const float dx = float(x) + 0.5f - wx;
         // The point's square, and the disc from 2 px on (the shader's discard).
-        const bool in = diameter >= 2.0f ? dx * dx + dy * dy <= r2 : std::abs(dx) <= rad && std::abs(dy) <= rad;
+        const bool in = diameter >= 2.0f ? on_disc(vec2(dx, dy), diameter, shape)
+                                         : std::abs(dx) <= rad && std::abs(dy) <= rad;
         if (in) fetch_min(line[x], packed);
       }
     }
@@ -290,15 +295,14 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
       proto.lines = lines ? lines->data() : nullptr;
       proto.order = s.queue ? v.gpu->host_queue_order().data() : nullptr;
       proto.colors = host_colors(*v.gpu, *cloud, s.color_source, s.u.constant_color);
-      if (s.lit && lit_by_shading(*s.params, proto.colors.source)) {
-        if (v.gpu->own_normals) {
-          proto.normals = cloud->normals().data();
-        } else {
-          auto normals = cloud->analysis().normals({s.feature_k, geometry::Orientation::Consistent, {}});
-          proto.normals = normals->data();
-          held.push_back(normals);
-        }
+      if (v.gpu->own_normals) {
+        proto.disc_normals = cloud->normals().data();
+      } else {
+        auto normals = cloud->analysis().normals({s.feature_k, geometry::Orientation::Consistent, {}});
+        proto.disc_normals = normals->data();
+        held.push_back(normals);
       }
+      if (s.lit && lit_by_shading(*s.params, proto.colors.source)) proto.normals = proto.disc_normals;
       held.push_back(cloud);
       held.push_back(degree);
       held.push_back(resolution);
