@@ -31,12 +31,13 @@ Measures, per scan and preset (the preset whole: its mark and its filters):
     PYTHONPATH=build python3 bench/marks_audit.py OUT_DIR [--orbit] [--scan=kinect ...] [--preset=Pencil ...]
         [--set='{"light_space": "camera"}']   (parameters laid over every preset: a trial)
 
-Writes OUT_DIR/marks_<mark>.png (a labelled contact sheet per mark: rows =
-scans, columns = the points mark then the mark's presets; 1/4 scale) and
-prints a markdown table.
+Writes OUT_DIR/marks_<mark>.png (a contact sheet per mark, labelled with
+oiiotool: rows = scans, columns = the points mark then the mark's presets;
+1/4 scale; stray pixels magenta) and prints a markdown table.
 """
 import json
 import os
+import subprocess
 import sys
 
 import numpy as np
@@ -176,6 +177,23 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
     return rows, tiles
 
 
+def label_sheet(path, scan_names, column_names, scale=4):
+    """Names each tile of a contact sheet (la.sheet's layout): the column's
+    style at its top, the scan in the first column."""
+    w, h = W // scale + 4, H // scale + 4
+    found = subprocess.run(["fc-match", "-f", "%{file}", "sans"], capture_output=True, text=True)
+    font = found.stdout.strip() if found.returncode == 0 else ""
+    if not font:
+        print(f"(no font found by fc-match: {path} left unlabelled)")
+        return
+    args = ["oiiotool", path]
+    for r, scan in enumerate(scan_names):
+        for c, column in enumerate(column_names):
+            text = f"{scan}: {column}" if c == 0 else column
+            args += [f"--text:x={c * w + 6}:y={r * h + 16}:size=13:color=0.8,0.1,0.1:font={font}", text]
+    subprocess.run(args + ["-o", path], check=True)
+
+
 def verdict(row):
     bad = []
     if row["mark"] == "brush_splats" and row["holes"] > HOLE_LIMIT:
@@ -207,7 +225,7 @@ def main():
           f"{BLOCK} px blocks (limit {R_LIMIT}); flicker: vs the points mark (limit {FLICKER_LIMIT}x)")
     print("| scan | preset | holes % | stray px (‰ of drawn) | ink vs Lambert r | flicker vs points | over |")
     print("|---|---|---|---|---|---|---|")
-    sheets, fails = {m: [] for m in MARKS}, 0
+    sheets, fails, sheet_scans = {m: [] for m in MARKS}, 0, []
     for name, pos, attrs, cam, clip in scans():
         if only and not any(o.lower() in name.lower() for o in only):
             continue
@@ -220,9 +238,12 @@ def main():
         for mark, t in tiles.items():
             if len(t) > 1:
                 sheets[mark].append(t)
+        sheet_scans.append(name)
     for mark, rows_of_tiles in sheets.items():
         if rows_of_tiles:
-            pointnpr.save_image(os.path.join(out_dir, f"marks_{mark}.png"), la.sheet(rows_of_tiles))
+            path = os.path.join(out_dir, f"marks_{mark}.png")
+            pointnpr.save_image(path, la.sheet(rows_of_tiles))
+            label_sheet(path, sheet_scans, ["points (3 px)"] + [n for n in names if presets.PRESETS[n]["mark"][0] == mark])
     print(f"{fails} measures over their limit")
 
 
