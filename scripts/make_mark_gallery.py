@@ -92,7 +92,8 @@ PICTURES = [
                                            dict(COLOURED, pencil_quantize=True, pencil_set="box_12")]]),
     ("stroke_texture", "lion_close", W, [[{"stroke_texture": t, "line_width": 3.0} for t in ("pencil", "crayon")],
                                          [{"stroke_texture": t, "line_width": 3.0} for t in ("ink", "soft")]]),
-    ("light_direction", "lion", W, [[{"light_azimuth": -60.0}, {"light_azimuth": 120.0}]]),
+    ("light_direction", "lion", W, [[{"light_space": "world", "light_azimuth": -60.0},
+                                     {"light_space": "world", "light_azimuth": 120.0}]]),
 ]
 
 

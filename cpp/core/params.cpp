@@ -58,6 +58,12 @@ ParamSpec added_later(ParamSpec spec, std::vector<double> value) {
   return spec;
 }
 
+ParamSpec default_changed(ParamSpec spec, std::vector<double> former) {
+  spec.older_files_value = std::move(former);
+  spec.default_changed = true;
+  return spec;
+}
+
 const ParamSpec* Schema::find(const std::string& name) const {
   for (const auto& p : params)
     if (p.name == name) return &p;

@@ -33,10 +33,13 @@ struct ParamSpec {
   // validation takes them for this one, and the Blender add-on moves a
   // saved value (and its animation) to the current name when a file opens.
   std::vector<std::string> former_names;
-  // For a parameter added after files were saved without it: the value
-  // that renders those files as before (empty: the default does). The
-  // Blender add-on gives it to nodes made before the parameter existed.
+  // For a parameter added after files were saved without it, or whose
+  // default changed since: the value that renders those files as before
+  // (empty: the default does). The Blender add-on gives it to nodes made
+  // before the parameter existed, or before its default changed, that
+  // store no value of their own.
   std::vector<double> older_files_value;
+  bool default_changed = false;  // (older_files_value is the former default)
 };
 
 // `spec`, applying only while `param` is one of `values` (see ParamSpec).
@@ -46,6 +49,9 @@ ParamSpec formerly(ParamSpec spec, std::vector<std::string> names);
 // `spec`, added after files were saved without it; they keep `value` (an
 // enum's index; see ParamSpec::older_files_value).
 ParamSpec added_later(ParamSpec spec, std::vector<double> value);
+// `spec`, whose default was `former` when files that keep it were saved
+// (see ParamSpec::older_files_value).
+ParamSpec default_changed(ParamSpec spec, std::vector<double> former);
 
 // Builders keep declarations short and uniform in each filter's file.
 ParamSpec float_param(std::string name, double def, double min, double max, std::string unit, std::string doc);

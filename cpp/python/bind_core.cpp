@@ -82,6 +82,7 @@ py::dict schema_to_dict(const Schema& schema) {
     d["items"] = p.items;
     d["former_names"] = p.former_names;
     d["older_files_value"] = p.older_files_value.empty() ? py::object(py::none()) : param_value(p, p.older_files_value);
+    d["default_changed"] = p.default_changed;
     if (p.when_param.empty()) {
       d["when"] = py::none();
     } else {

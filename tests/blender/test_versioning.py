@@ -236,3 +236,33 @@ def test_a_parameter_added_later_keeps_older_files_as_they_rendered(fresh_file, 
     assert nodes.mark_node(bpy.data.node_groups["New Brushes"]).shading == "auto"
     # Once: every node now records the parameters it knows.
     assert sum(versioning.migrate_added_params(t) for t in bpy.data.node_groups) == 0
+
+
+def test_a_changed_default_keeps_older_files_as_they_rendered(fresh_file, tmp_path):
+    """The hatching mark's light came from the world (Z up), with the scan's
+    own normal orientation, until its defaults became a key light with the
+    camera and normals turned toward it: a node made before (it recorded
+    the parameters by name alone) keeps `world` and one-sided light; one
+    whose light was set by hand keeps it; a node made now keeps the new
+    defaults."""
+    old_tree = nodes.new_style("Old Hatching", mark="hatching")
+    old_node = nodes.mark_node(old_tree)
+    old_node[nodes.KNOWN_PARAMS_KEY] = " ".join(p["name"] for p, _pid in old_node.pointnpr_params)
+    set_tree = nodes.new_style("Set Hatching", mark="hatching")
+    set_node = nodes.mark_node(set_tree)
+    set_node.light_space = "camera"
+    set_node[nodes.KNOWN_PARAMS_KEY] = old_node[nodes.KNOWN_PARAMS_KEY]
+    new_tree = nodes.new_style("New Hatching", mark="hatching")
+    for tree in (old_tree, set_tree, new_tree):
+        tree.use_fake_user = True
+    path = str(tmp_path / "hatching.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)  # the load handler migrates
+    old = nodes.mark_node(bpy.data.node_groups["Old Hatching"])
+    assert (old.light_space, old.two_sided) == ("world", False)
+    assert nodes.read_style(old.id_data, 1)["mark"][1]["light_space"] == "world"
+    kept = nodes.mark_node(bpy.data.node_groups["Set Hatching"])
+    assert (kept.light_space, kept.two_sided) == ("camera", False)
+    new = nodes.mark_node(bpy.data.node_groups["New Hatching"])
+    assert (new.light_space, new.two_sided) == ("camera", True)
+    assert sum(versioning.migrate_added_params(t) for t in bpy.data.node_groups) == 0

@@ -97,7 +97,7 @@ def test_omission_follows_the_xtoon_alpha_times_density(renderer, banded_xtoon):
     density = 0.6
     # Light from the right, in camera space: brightness = max(n.x, 0).
     style = hatching(xtoon="image", xtoon_image=banded_xtoon, density=density, light_space="camera",
-                     light_azimuth=0.0, light_elevation=90.0)
+                     light_azimuth=0.0, light_elevation=90.0, two_sided=False)
     r = render(renderer, style, [c])
     kept = np.zeros(len(pos), bool)
     kept[r.marks["point_id"]] = True
@@ -145,8 +145,10 @@ def _world_from_view(cam_matrix):
 
 def test_strokes_stay_attached_to_their_points_when_the_camera_moves(renderer, tmp_path):
     lion = pointnpr.read(os.path.join(os.path.dirname(__file__), "..", "..", "data", "lion_takanawa.ply")).to_cloud()
+    # A world light and the normals as they are: nothing depends on the camera.
+    still = {"light_space": "world", "two_sided": False}
     style = pointnpr.Style(mark=("hatching", {"units": "world", "world_length": 0.08, "world_width": 0.006,
-                                              "depth_world_size": 0.04, "placement": "irregular"}))
+                                              "depth_world_size": 0.04, "placement": "irregular", **still}))
     eye, target = np.array([2.6, -1.6, 1.5]), np.array([-2.9, 3.9, -1.2])
     a_matrix = pointnpr.look_at(eye, target)
     b_matrix = pointnpr.look_at(eye + np.array([0.06, 0.04, 0.02]), target)  # a small move
@@ -167,7 +169,8 @@ def test_strokes_stay_attached_to_their_points_when_the_camera_moves(renderer, t
     # Reprojection: B's covered pixels, carried to A through B's depth, show
     # what A shows there; a reseeded A (other strokes) is a far worse match.
     reseeded = pointnpr.Style(mark=("hatching", {"units": "world", "world_length": 0.08, "world_width": 0.006,
-                                                 "depth_world_size": 0.04, "placement": "irregular", "seed": 7}))
+                                                 "depth_world_size": 0.04, "placement": "irregular", "seed": 7,
+                                                 **still}))
     rc = render(renderer, reseeded, [lion], cam=cams[0])
 
     def reprojected_difference(src, dst):

@@ -450,12 +450,17 @@ const MarkRegistration registration{{
                float_param("direction_azimuth", 30.0, -180.0, 180.0, "deg",
                            "Line direction u, projected onto each point's tangent plane: angle around the world Z axis"),
                float_param("direction_elevation", 35.0, -90.0, 90.0, "deg", "Line direction u: angle above the XY plane"),
-               light_space_param(),
+               // A key light with the camera and normals toward it by default: a world light and
+               // the scan's own normal orientation left Y-down depth frames lit from below and
+               // whole objects flipping between lit and shaded (files saved before keep both).
+               default_changed(light_space_param(1), {0.0}),
                light_azimuth_param(135.0),
                light_elevation_param(50.0),
-               bool_param("two_sided", false,
-                          "Light normals turned toward the camera (for scans whose normals are not consistently "
-                          "oriented; strokes at silhouettes may change as the camera moves)"),
+               default_changed(bool_param("two_sided", true,
+                                          "Light normals turned toward the camera (for scans whose normals are "
+                                          "not consistently oriented; strokes at silhouettes may change as the "
+                                          "camera moves)"),
+                               {0.0}),
                float_param("ambient", 0.0, 0.0, 1.0, "", "Brightness every surface gets"),
                float_param("specular", 0.0, 0.0, 1.0, "", "Phong highlight added to the brightness"),
                float_param("shininess", 16.0, 1.0, 256.0, "", "Phong exponent of the highlight"),

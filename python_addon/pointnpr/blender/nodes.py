@@ -36,9 +36,19 @@ ROLE_INPAINT = "inpaint"
 # no Inpaint Depth node of its own.
 LEGACY_INPAINT_KEY = "pointnpr_inpaint_method"
 # The parameters a node's class had when the node was made (space-separated
-# names): a parameter added later is given its value for older files
-# (versioning.migrate_added_params) only on nodes made before it.
+# known_token()s): a parameter added later, or whose default changed, is
+# given its value for older files (versioning.migrate_added_params) only on
+# nodes made before that.
 KNOWN_PARAMS_KEY = "pointnpr_known_params"
+
+
+def known_token(param):
+    """How a node records that it knows a parameter: its name, and with it
+    its default where that changed since older files (so a node made
+    before the change does not count as knowing the new default)."""
+    if param.get("default_changed"):
+        return "%s=%s" % (param["name"], param["default"])
+    return param["name"]
 ROLE_OUTPUT = "output"
 
 POINTS_MARK = "points"        # the default mark: splats, what Rasterize was
@@ -217,7 +227,7 @@ class _StyleNodeMixin:
         return ntree.bl_idname == TREE_IDNAME
 
     def init(self, context):
-        self[KNOWN_PARAMS_KEY] = " ".join(param["name"] for param, _pid in self.pointnpr_params)
+        self[KNOWN_PARAMS_KEY] = " ".join(known_token(param) for param, _pid in self.pointnpr_params)
         # Mesh Surface goes after the point mark (it draws beside it).
         if self.pointnpr_role not in (ROLE_MARK, ROLE_RASTERIZE) or self.pointnpr_schema_id == SURFACE_MARK:
             self.inputs.new(SOCKET_IDNAME, "Image")

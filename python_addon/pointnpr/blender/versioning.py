@@ -14,11 +14,14 @@ Rasterize node of every local style tree by a Points mark node with
 * ``rasterizer`` = the ``Scene.pointnpr.rasterizer`` of a scene that uses
   the style (the first scene when none does).
 
-A parameter added since files were saved without it may declare the
-value that renders them as before (the schema's ``older_files_value``,
-e.g. the brush splats' ``shading``: ``none``, where new nodes take
-``auto``): ``migrate_added_params`` gives it to nodes made before the
-parameter existed (a node records the parameters it knew when made).
+A parameter added since files were saved without it, or whose default
+changed since, may declare the value that renders them as before (the
+schema's ``older_files_value``, e.g. the brush splats' ``shading``:
+``none``, where new nodes take ``auto``; the hatching mark's
+``light_space``: ``world``, its former default): ``migrate_added_params``
+gives it to nodes made before the parameter existed or before its default
+changed, where they store no value of their own (a node records the
+parameters it knew when made, with their defaults where those changed).
 
 A parameter renamed since (the schema's ``former_names``, e.g. the
 stipples mark's ``implementation``, now ``rasterizer`` as on every mark
@@ -176,10 +179,10 @@ def _is_set(node, pid):
 
 def migrate_added_params(tree):
     """Gives the nodes of a local style tree that were made before a
-    parameter existed (the schema's ``older_files_value``) the value that
-    renders them as before, where they store none, and records that they
-    know every parameter of their class now. Returns how many values it
-    set."""
+    parameter existed or before its default changed (the schema's
+    ``older_files_value``) the value that renders them as before, where
+    they store none, and records that they know every parameter of their
+    class now. Returns how many values it set."""
     if not nodes.is_style_tree(tree) or tree.library is not None:
         return 0
     changed = 0
@@ -187,14 +190,14 @@ def migrate_added_params(tree):
         params = getattr(node, "pointnpr_params", ())
         if not params:
             continue
-        stamp = " ".join(param["name"] for param, _pid in params)
+        stamp = " ".join(nodes.known_token(param) for param, _pid in params)
         known = node.get(nodes.KNOWN_PARAMS_KEY)
         if known == stamp:
             continue
         known = set(str(known).split()) if known is not None else set()
         for param, pid in params:
             older = param.get("older_files_value")
-            if older is not None and param["name"] not in known and not _is_set(node, pid):
+            if older is not None and nodes.known_token(param) not in known and not _is_set(node, pid):
                 setattr(node, pid, older)
                 changed += 1
         node[nodes.KNOWN_PARAMS_KEY] = stamp
