@@ -166,3 +166,29 @@ def test_points_are_drawn_with_the_splat_s_opacity_as_their_chance(renderer):
     a = _render(renderer, "points", {"point_size": 1, "opacity_draws": True}, plain)
     b = _render(renderer, "points", {"point_size": 1}, plain)
     assert np.array_equal(np.asarray(a.color), np.asarray(b.color))
+
+
+def test_hatching_strokes_are_drawn_with_the_splat_s_opacity_as_their_odds(renderer, playbot):
+    # The odds of a splat's strokes times its opacity: the strokes drawn
+    # are those of before whose id's draw lies under the scaled odds, the
+    # same on both backends.
+    cam = _playbot_camera()
+    opacity = np.asarray(pointnpr.read(PLAYBOT).attributes["opacity"], np.float64)
+    base = {"density": 1.0, "stroke_coverage": 0.0}
+    runs = {}
+    for rasterizer in ("gl", "native"):
+        for weighed in (False, True):
+            r = _render(renderer, "hatching", dict(base, rasterizer=rasterizer, opacity_draws=weighed), playbot, cam,
+                        200, 150, capture_marks=True)
+            runs[rasterizer, weighed] = r
+    for rasterizer in ("gl", "native"):
+        full = np.asarray(runs[rasterizer, False].marks["point_id"])
+        kept = np.asarray(runs[rasterizer, True].marks["point_id"])
+        assert set(kept) < set(full)
+        # The share kept is the mean opacity of the splats that drew (the
+        # capture's splats are indexed by their file order: point_id).
+        expected = opacity[full].mean()
+        assert abs(len(kept) / len(full) - expected) < 0.03, (rasterizer, len(kept) / len(full), expected)
+        assert opacity[kept].mean() > opacity[np.setdiff1d(full, kept)].mean() + 0.2
+    assert np.array_equal(np.asarray(runs["gl", True].marks["point_id"]), np.asarray(runs["native", True].marks["point_id"]))
+    assert runs["gl", True].stats["strokes_drawn"] == runs["native", True].stats["strokes_drawn"]
