@@ -23,12 +23,12 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/hash.h"
 #include "geometry/analysis.h"
 #include "gl/device.h"
 #include "marks/points/points.h"
 #include "render/native_raster.h"
 #include "render/point_color.h"
-#include "core/hash.h"
 #include "scene/camera.h"
 #include "scene/splat_attributes.h"
 
