@@ -9,6 +9,7 @@ packages=(
   libglm-dev libeigen3-dev libnanoflann-dev libtbb-dev libhwy-dev
   libxml2-dev  # the XML section of E57 files
   zlib1g-dev  # SPZ splat files are gzip streams (io/spz_reader.cpp)
+  libzstd-dev  # SPZ version 4's attribute streams are zstd frames (io/spz_reader.cpp)
   libopenimageio-dev openimageio-tools
   libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 libgles-dev
   dpkg-dev  # dpkg-deb, dpkg-architecture: scripts/fetch_python313.sh (the cp313 module's headers)
@@ -19,6 +20,7 @@ if [[ "${1:-}" == "--tests" ]]; then
   packages+=(g++-aarch64-linux-gnu)  # scripts/check_aarch64.sh: the core compiles for ARM
   packages+=(debootstrap)  # scripts/debian13_root.sh: the Debian 13 root of the Python 3.13 (Blender 5.1+) suites
   packages+=(python3-venv)  # .venv-test (test oracles), the bpy venvs, the wheel's build tools and clean-venv test
+  packages+=(zstd)  # tests/python/gaussian_reference.py writes SPZ version 4 files with the zstd tool
 fi
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(libbenchmark-dev python3-matplotlib)  # bench/: Google Benchmark, bench/speed_vs_error.py's plots

@@ -10,6 +10,8 @@ layout(std430, binding = 5) readonly buffer Clusters { uint clusters_u[]; };    
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 13) readonly buffer Axes { uint axes_u[]; };  // covariance frame: major axis, snorm8
 layout(std430, binding = 14) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices (u_queue)
+layout(std430, binding = 15) readonly buffer SplatRadii { float splat_radius[]; };    // size_mode splat
+layout(std430, binding = 16) readonly buffer SplatOpacities { float splat_opacity[]; };  // u_opacity_weight
 uniform int u_queue;  // 1: the chunk's i-th splat is the i-th point of its resolution queue
 
 // The point of the chunk's i-th splat.
@@ -20,7 +22,8 @@ uniform int u_ortho;
 uniform float u_near;
 uniform float u_far;
 uniform float u_px_per_unit;    // pixels per scene unit at view depth 1
-uniform int u_size_mode;        // 0 resolution (r + eps), 1 world
+uniform int u_size_mode;        // 0 resolution (r + eps), 1 world, 2 the Gaussian splat's own footprint
+uniform int u_opacity_weight;   // 1: a Gaussian splat's opacity weighs its brush's alpha
 uniform int u_eps_mode;         // 0 deviation of the kNN distance, 1 user
 uniform float u_epsilon;        // user eps (scene units)
 uniform float u_size_scale;
@@ -105,6 +108,8 @@ BrushSplat brush_splat(uint index) {
   if (u_size_mode == 0) {
     float eps = u_eps_mode == 0 ? deviation[index] : u_epsilon;
     r = resolution[index] + eps;
+  } else if (u_size_mode == 2) {
+    r = splat_radius[index];
   }
   r *= u_size_scale;
   float px_per_unit = u_px_per_unit / (u_ortho != 0 ? 1.0 : max(depth, 1e-20));
@@ -161,9 +166,11 @@ vec3 brush_column_angles(uint id) {
 }
 
 // The brush's colour: the point's, lit by the splat's plane where shading
-// is on (the same rule as the native setup's).
+// is on (the same rule as the native setup's); alpha: the weight its brush's
+// alpha is multiplied by (a Gaussian splat's opacity, else 1).
 vec4 brush_color(uint index, BrushSplat s) {
   vec4 c = source_color(index);
-  if (u_shading == 0) return c;
-  return vec4(diffuse_shaded(vec3(c), cross(s.t, s.b), u_light_dir, u_shading_strength), c.a);
+  float weight = u_opacity_weight != 0 ? splat_opacity[index] : 1.0;
+  if (u_shading == 0) return vec4(vec3(c), weight);
+  return vec4(diffuse_shaded(vec3(c), cross(s.t, s.b), u_light_dir, u_shading_strength), weight);
 }

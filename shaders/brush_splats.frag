@@ -34,7 +34,7 @@ layout(location = 2) out vec4 o_depth;
 #endif
 
 void main() {
-  float a = brush_alpha(v_uv, v_cos, v_sin);
+  float a = brush_alpha(v_uv, v_cos, v_sin) * v_color.a;  // weighed by the splat's opacity
   vec3 rgb = v_color.rgb;
 #ifdef TWO_LAYERS  // only where a style can ask for them: both sides of a branch cost
   if (u_layers > 1 || v_two_layers != 0) {
@@ -42,7 +42,7 @@ void main() {
     vec2 uv2 = (v_uv - 0.5) / u_layer_scale + 0.5;
     // Turned by the layer angle: cos(t + l), sin(t + l).
     float cl = cos(u_layer_angle), sl = sin(u_layer_angle);
-    float a2 = brush_alpha(uv2, v_cos * cl - v_sin * sl, v_sin * cl + v_cos * sl);
+    float a2 = brush_alpha(uv2, v_cos * cl - v_sin * sl, v_sin * cl + v_cos * sl) * v_color.a;
     vec3 rgb2 = u_layer_tint >= 0.0 ? mix(rgb, vec3(1.0), u_layer_tint) : rgb * (1.0 + u_layer_tint);
     float a_total = a2 + a * (1.0 - a2);
     rgb = a_total > 0.0 ? (rgb2 * a2 + rgb * a * (1.0 - a2)) / a_total : rgb;

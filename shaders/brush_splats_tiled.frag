@@ -71,7 +71,7 @@ void main() {
 #endif
   vec3 rel = p - v_center;
   vec2 uv = vec2(dot(rel, v_u_axis), dot(rel, v_v_axis)) + 0.5;
-  float a = brush_alpha(uv, v_cos, v_sin);
+  float a = brush_alpha(uv, v_cos, v_sin) * v_color.a;  // weighed by the splat's opacity
   vec3 rgb = v_color.rgb;
 #ifdef TWO_LAYERS  // only where a style can ask for them: both sides of a branch cost
   if (u_layers > 1 || v_two_layers != 0) {
@@ -79,7 +79,7 @@ void main() {
     vec2 uv2 = (uv - 0.5) / u_layer_scale + 0.5;
     // Turned by the layer angle: cos(t + l), sin(t + l).
     float cl = cos(u_layer_angle), sl = sin(u_layer_angle);
-    float a2 = brush_alpha(uv2, v_cos * cl - v_sin * sl, v_sin * cl + v_cos * sl);
+    float a2 = brush_alpha(uv2, v_cos * cl - v_sin * sl, v_sin * cl + v_cos * sl) * v_color.a;
     vec3 rgb2 = u_layer_tint >= 0.0 ? mix(rgb, vec3(1.0), u_layer_tint) : rgb * (1.0 + u_layer_tint);
     float a_total = a2 + a * (1.0 - a2);
     rgb = a_total > 0.0 ? (rgb2 * a2 + rgb * a * (1.0 - a2)) / a_total : rgb;

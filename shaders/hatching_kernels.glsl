@@ -104,6 +104,9 @@ Stroke place_stroke(uint index, uint id, vec4 v, vec3 n) {
     float area = 0.88f * r * r;
     keep *= min(1.0f, u.coverage * area / max(base_len * width * (1.0f + alpha_tex * u.cross_share), 1e-30f));
   }
+  // A Gaussian splat's opacity scales the odds (opacity_draws): a capture's
+  // faint haze gets few strokes.
+  if (has_opacity()) keep *= point_opacity(index);
   if (id_rand(id, 0u, u.seed) >= keep) return s;
   bool crossing = id_rand(id, 1u, u.seed) < alpha_tex * u.cross_share;
 

@@ -12,16 +12,20 @@ layout(std430, binding = 8) buffer Counters { uint kept; uint crossed; };
 layout(std430, binding = 5) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices (u_queue)
 uniform int u_queue;  // 1: invocation i draws the chunk's i-th point of the resolution queue
 layout(std430, binding = 9) readonly buffer Spacing { float spacing[]; };  // mean distance to 8 neighbours
+layout(std430, binding = 11) readonly buffer Opacity { float splat_opacity[]; };  // opacity_draws
 #include "compact_records.glsl"
 
 uniform int u_has_spacing;
 uniform int u_has_curvature;
+uniform int u_has_opacity;
 uniform sampler2D u_xtoon_image;
 
 bool has_spacing() { return u_has_spacing != 0; }
 float point_spacing(uint index) { return spacing[index]; }
 bool has_curvature() { return u_has_curvature != 0; }
 float point_curvature(uint index) { return curvature[index]; }
+bool has_opacity() { return u_has_opacity != 0; }
+float point_opacity(uint index) { return splat_opacity[index]; }
 vec3 point_color(uint index) { return source_color(index).rgb; }
 vec4 xtoon_image(vec2 uv) { return texture(u_xtoon_image, uv); }
 #include "hatching_kernels.glsl"

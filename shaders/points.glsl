@@ -1,13 +1,22 @@
 // The points mark (cpp/marks/points.cpp): per-point setup shared by the
 // compute rasterizer and the GL_POINTS path.
 #include "point_attributes.glsl"
+#include "id_hash.glsl"
+
+// Gaussian-splat captures (cpp/marks/points/points.cpp): each splat's own
+// footprint (size_mode splat) and its opacity as the chance it is drawn.
+layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
+layout(std430, binding = 7) readonly buffer SplatRadii { float splat_radius[]; };
+layout(std430, binding = 8) readonly buffer SplatOpacities { float splat_opacity[]; };
+uniform int u_opacity_draws;  // 1: drawn where id_rand(point id) < the splat's opacity
+const uint kOpacitySalt = 0x6f706163u;  // id_rand's salt for the draw (native.cpp: the same)
 
 uniform mat4 u_projection;
 uniform ivec2 u_size;         // the frame's (the projection maps to it)
 uniform float u_near;
 uniform float u_far;
 uniform int u_ortho;
-uniform int u_size_mode;      // 0 pixels, 1 world
+uniform int u_size_mode;      // 0 pixels, 1 world, 2 each Gaussian splat's footprint (world)
 uniform float u_point_size;
 uniform float u_world_size;
 uniform float u_px_per_unit;  // pixels per scene unit at view depth 1
@@ -34,7 +43,10 @@ Splat project_point(uint index) {
   precise vec2 center = (clip.xy / clip.w * 0.5 + 0.5) * vec2(u_size);
   s.center = center;
   float w = u_ortho != 0 ? 1.0 : s.depth;
-  s.diameter = u_size_mode == 0 ? u_point_size : clamp(u_world_size * u_px_per_unit / w, 1.0, u_max_size);
+  float units = u_size_mode == 2 ? 2.0 * splat_radius[index] : u_world_size;
+  s.diameter = u_size_mode == 0 ? u_point_size : clamp(units * u_px_per_unit / w, 1.0, u_max_size);
+  // Stochastic transparency, hashed from the point id: the same points in every frame and tile.
+  if (u_opacity_draws != 0 && !(id_rand(point_ids[index], kOpacitySalt, 0u) < splat_opacity[index])) s.visible = false;
   return s;
 }
 

@@ -40,7 +40,7 @@ void stream_las(const std::string& path, const ScanBlockSink& sink, uint64_t blo
 
 // Stanford PLY: ascii, binary_little_endian, binary_big_endian; vertices only.
 PointData read_ply(const std::string& path);
-// Niantic's SPZ (3D Gaussian splats), versions 2 and 3: the attributes of
+// Niantic's SPZ (3D Gaussian splats), versions 2 to 4: the attributes of
 // io/gaussians.h, turned from SPZ's right-up-back axes to 3DGS PLY's
 // right-down-front ones. (A 3DGS PLY is read by read_ply, the same way.)
 PointData read_spz(const std::string& path);

@@ -1,22 +1,31 @@
-// SPZ reader (Niantic's compressed 3D Gaussian splats, versions 2 and 3).
+// SPZ reader (Niantic's compressed 3D Gaussian splats, versions 2, 3 and 4).
 //
 // Written from the format's published description (the spz repository's
-// README): the file is one gzip stream holding a 16-byte little-endian
-// header (magic 0x5053474e "NGSP", version, number of points, SH degree,
-// fractional bits, flags, reserved) and then, attribute after attribute:
-// positions (3 x 24-bit signed fixed point per point, 2^-fractionalBits
-// units), alphas (8 bits: the sigmoid of the opacity), colours (8 bits a
-// channel: 0.5 + 0.15 * SH DC), scales (8 bits: (ln s + 10) * 16),
-// rotations (version 2: x, y, z as 8 bits each, (b / 127.5) - 1, w >= 0
-// derived; version 3: "smallest three": a 32-bit word holding the index of
-// the largest component in its top 2 bits and the other three, last first,
-// as a sign bit and 9 bits of magnitude scaled by 1/sqrt(2)), then the SH
-// bands (8 bits: (b - 128) / 128, coefficient-major, r g b inner).
+// README). Versions 2 and 3 are one gzip stream holding a 16-byte
+// little-endian header (magic 0x5053474e "NGSP", version, number of points,
+// SH degree, fractional bits, flags, reserved) and then, attribute after
+// attribute: positions (3 x 24-bit signed fixed point per point,
+// 2^-fractionalBits units), alphas (8 bits: the sigmoid of the opacity),
+// colours (8 bits a channel: 0.5 + 0.15 * SH DC), scales (8 bits:
+// (ln s + 10) * 16), rotations (version 2: x, y, z as 8 bits each,
+// (b / 127.5) - 1, w >= 0 derived; version 3 and 4: "smallest three": a
+// 32-bit word holding the index of the largest component in its top 2 bits
+// and the other three, last first, as a sign bit and 9 bits of magnitude
+// scaled by 1/sqrt(2)), then the SH bands (8 bits: (b - 128) / 128,
+// coefficient-major, r g b inner).
+// Version 4 is not compressed as a whole: a 32-byte plaintext header (magic,
+// version, points, SH degree, fractional bits, flags, number of streams, the
+// table of contents' offset, 12 reserved zero bytes), extension records up
+// to that offset (flag 0x2; skipped: they carry no splat data), the table
+// (per stream its compressed and decompressed size, u64 each), then each
+// attribute above as its own zstd data, in the same order, the empty ones
+// (SH of degree 0; every one of 0 points) left out.
 // SPZ stores right-up-back (OpenGL) axes; 3DGS PLY files are right-down-
 // front (COLMAP), so the reader turns SPZ into the PLY's axes (a half turn
 // about x: y and z negated, in positions, quaternions and the SH bands
 // odd in y and z), and the two formats of one capture coincide.
 #include <zlib.h>
+#include <zstd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -48,6 +57,21 @@ class SpzReader : private io::ReaderBase {
   PointData read();
 
  private:
+  // What both containers say of the points, and where each attribute's bytes are.
+  struct Header {
+    uint32_t version = 0, n = 0;
+    int degree = 0, fractional = 0, flags = 0;
+  };
+  struct Attributes {
+    const uint8_t *pos = nullptr, *alpha = nullptr, *color = nullptr, *scale = nullptr, *rot = nullptr,
+                  *sh = nullptr;
+  };
+  PointData read_gzip();
+  PointData read_v4();
+  void check(const Header& h) const;
+  static size_t stream_bytes(const Header& h, int stream);  // positions, alphas, colours, scales, rotations, SH
+  PointData decode(const Header& h, const Attributes& a) const;
+
   bool inflate_more(size_t want);
   size_t drain();  // inflates the rest of the stream (checking its CRC); how many bytes it held
 
@@ -108,11 +132,31 @@ size_t SpzReader::drain() {
 
 PointData SpzReader::read() {
   if (size_ == 0) fail("file is empty (0 bytes)");
-  if (size_ >= 4 && std::memcmp(d_, "NGSP", 4) == 0)
-    fail("SPZ version " + std::to_string(size_ >= 8 ? io::load_le<uint32_t>(d_ + 4) : 0) +
-         " (the uncompressed NGSP container) is not supported; SPZ versions 2 and 3 (a gzip stream) are", 0);
+  if (size_ >= 4 && std::memcmp(d_, "NGSP", 4) == 0) return read_v4();
   if (size_ < 2 || d_[0] != 0x1f || d_[1] != 0x8b)
-    fail("not an SPZ file: it does not start with a gzip header (1f 8b)", 0);
+    fail("not an SPZ file: it starts with neither a gzip header (1f 8b, versions 2 and 3) nor 'NGSP' (version 4)", 0);
+  return read_gzip();
+}
+
+void SpzReader::check(const Header& h) const {
+  if (h.n > kMaxPoints) fail("the header declares " + std::to_string(h.n) + " points, more than the supported 10^8");
+  if (h.degree > 4) fail("unsupported SH degree " + std::to_string(h.degree) + " (SPZ has 0 to 4)");
+  if (h.fractional > 24) fail("fractional bits " + std::to_string(h.fractional) + " exceed the 24-bit positions");
+}
+
+size_t SpzReader::stream_bytes(const Header& h, int stream) {
+  const size_t n = h.n;
+  switch (stream) {
+    case 0: return n * 9;
+    case 1: return n;
+    case 2:
+    case 3: return n * 3;
+    case 4: return n * (h.version >= 3 ? 4 : 3);
+    default: return n * size_t(dim_for_degree(h.degree)) * 3;
+  }
+}
+
+PointData SpzReader::read_gzip() {
   z_.next_in = const_cast<Bytef*>(d_);
   z_.avail_in = uInt(std::min<size_t>(size_, 0xffffffffu));
   if (size_ > 0xffffffffu) fail("file too large for an SPZ file (over 4 GiB compressed)");
@@ -120,34 +164,129 @@ PointData SpzReader::read() {
   z_open_ = true;
   ZGuard guard{&z_, &z_open_};
   if (!inflate_more(16)) fail("the decompressed data ends inside the 16-byte SPZ header");
-  const uint8_t* h = raw_.data();
-  const uint32_t magic = io::load_le<uint32_t>(h), version = io::load_le<uint32_t>(h + 4);
-  const uint32_t n = io::load_le<uint32_t>(h + 8);
-  const int degree = h[12], fractional = h[13], flags = h[14];
-  if (magic != kMagic) fail("not an SPZ file: the decompressed header's magic is not 'NGSP' (0x5053474e)", 0);
-  if (version == 1) fail("SPZ version 1 (float16 positions, never released) is not supported; versions 2 and 3 are");
-  if (version < 2 || version > 3)
-    fail("unsupported SPZ version " + std::to_string(version) + " (versions 2 and 3 are supported)");
-  if (n > kMaxPoints) fail("the header declares " + std::to_string(n) + " points, more than the supported 10^8");
-  if (degree > 4) fail("unsupported SH degree " + std::to_string(degree) + " (SPZ has 0 to 4)");
-  if (fractional > 24) fail("fractional bits " + std::to_string(fractional) + " exceed the 24-bit positions");
-  if (flags & 0x2) fail("the file has SPZ extensions (flag 0x2), which this reader does not support");
-  const size_t rot_bytes = version >= 3 ? 4 : 3;
-  const size_t sh_dim = size_t(dim_for_degree(degree));
-  const size_t per_point = 9 + 1 + 3 + 3 + rot_bytes + sh_dim * 3;
-  const size_t expected = 16 + size_t(n) * per_point;
+  const uint8_t* p = raw_.data();
+  Header h;
+  h.version = io::load_le<uint32_t>(p + 4);
+  h.n = io::load_le<uint32_t>(p + 8);
+  h.degree = p[12], h.fractional = p[13], h.flags = p[14];
+  if (io::load_le<uint32_t>(p) != kMagic)
+    fail("not an SPZ file: the decompressed header's magic is not 'NGSP' (0x5053474e)", 0);
+  if (h.version == 1) fail("SPZ version 1 (float16 positions, never released) is not supported; versions 2 to 4 are");
+  if (h.version < 2 || h.version > 3)
+    fail("unsupported SPZ version " + std::to_string(h.version) +
+         " in a gzip stream (versions 2 and 3 are gzip streams; version 4 starts with 'NGSP')");
+  check(h);
+  if (h.flags & 0x2) fail("the file has SPZ extensions (flag 0x2), which versions 2 and 3 do not define");
+  size_t expected = 16;
+  for (int stream = 0; stream < 6; ++stream) expected += stream_bytes(h, stream);
   if (!inflate_more(expected))
-    fail("the data is truncated: the header declares " + std::to_string(n) + " points (" +
+    fail("the data is truncated: the header declares " + std::to_string(h.n) + " points (" +
          std::to_string(expected) + " decompressed bytes) but the stream holds " + std::to_string(raw_.size()));
+  Attributes a;
+  const uint8_t** at[6] = {&a.pos, &a.alpha, &a.color, &a.scale, &a.rot, &a.sh};
+  const uint8_t* next = raw_.data() + 16;
+  for (int stream = 0; stream < 6; ++stream) {
+    *at[stream] = next;
+    next += stream_bytes(h, stream);
+  }
+  PointData out = decode(h, a);
+  const size_t trailing = raw_.size() - expected + drain();  // the whole stream is checked (CRC-32)
+  if (trailing > 0) out.metadata["trailing_bytes"] = int64_t(trailing);  // decompressed bytes after the last band
+  return out;
+}
 
+PointData SpzReader::read_v4() {
+  static const char* const kStreams[6] = {"positions", "alphas", "colours", "scales", "rotations", "SH"};
+  if (size_ < 32) fail("the file ends inside the 32-byte SPZ version 4 header (" + std::to_string(size_) + " bytes)");
+  Header h;
+  h.version = io::load_le<uint32_t>(d_ + 4);
+  h.n = io::load_le<uint32_t>(d_ + 8);
+  h.degree = d_[12], h.fractional = d_[13], h.flags = d_[14];
+  const int streams = d_[15];
+  const uint32_t toc = io::load_le<uint32_t>(d_ + 16);
+  if (h.version != 4)
+    fail("unsupported SPZ version " + std::to_string(h.version) + " after 'NGSP' (the plain container is version 4)",
+         4);
+  check(h);
+  for (int i = 20; i < 32; ++i)
+    if (d_[i] != 0) fail("the version 4 header's reserved bytes are not zero", i);
+  // The streams the file must hold: those of the six that are not empty.
+  int present[6], count = 0;
+  for (int stream = 0; stream < 6; ++stream)
+    if (stream_bytes(h, stream) > 0) present[count++] = stream;
+  if (streams != count)
+    fail("the header declares " + std::to_string(streams) + " attribute streams; " + std::to_string(h.n) +
+             " points of SH degree " + std::to_string(h.degree) + " have " + std::to_string(count),
+         15);
+  if (toc < 32) fail("the table of contents' offset " + std::to_string(toc) + " lies inside the header", 16);
+  if (toc > size_ || size_t(count) * 16 > size_ - toc)
+    fail("the table of contents (" + std::to_string(count) + " x 16 bytes at " + std::to_string(toc) +
+             ") runs past the end of the file",
+         16);
+  if (toc > 32 && !(h.flags & 0x2))
+    fail("bytes between the header and the table of contents without the extensions flag (0x2)", 32);
+  // Every stream's entry, checked before anything is allocated: its size
+  // the points', its bytes within the file, its zstd frame of that size.
+  size_t start[6] = {}, packed[6] = {};
+  size_t offset = size_t(toc) + size_t(count) * 16, total = 0;
+  for (int i = 0; i < count; ++i) {
+    const int stream = present[i];
+    const std::string name = std::string("the ") + kStreams[stream] + " stream";
+    const uint64_t in = io::load_le<uint64_t>(d_ + toc + 16 * size_t(i));
+    const uint64_t unpacked = io::load_le<uint64_t>(d_ + toc + 16 * size_t(i) + 8);
+    const size_t want = stream_bytes(h, stream);
+    if (unpacked != want)
+      fail(name + " declares " + std::to_string(unpacked) + " bytes; " + std::to_string(h.n) + " points need " +
+               std::to_string(want),
+           int64_t(toc) + 16 * i + 8);
+    if (in > size_ - offset)
+      fail(name + " (" + std::to_string(in) + " bytes at " + std::to_string(offset) + ") runs past the end of the file",
+           int64_t(toc) + 16 * i);
+    // A zstd block of 3 header bytes and 1 repeated byte is at most 128 KiB.
+    if (uint64_t(want) > in * 32768)
+      fail(name + "'s " + std::to_string(in) + " bytes cannot hold " + std::to_string(want) +
+               " (zstd expands at most 32768-fold)",
+           int64_t(toc) + 16 * i);
+    const unsigned long long framed = ZSTD_getFrameContentSize(d_ + offset, size_t(in));
+    if (framed == ZSTD_CONTENTSIZE_ERROR) fail(name + " is not zstd data", int64_t(offset));
+    if (framed != ZSTD_CONTENTSIZE_UNKNOWN && framed > want)
+      fail(name + "'s zstd frame holds " + std::to_string(framed) + " bytes; " + std::to_string(want) + " expected",
+           int64_t(offset));
+    start[stream] = offset;
+    packed[stream] = size_t(in);
+    offset += size_t(in);
+    total += want;
+  }
+  raw_.resize(total);
+  Attributes a;
+  const uint8_t** at[6] = {&a.pos, &a.alpha, &a.color, &a.scale, &a.rot, &a.sh};
+  size_t placed = 0;
+  for (int stream = 0; stream < 6; ++stream) {
+    const size_t want = stream_bytes(h, stream);
+    *at[stream] = raw_.data() + placed;
+    if (want > 0) {
+      const std::string name = std::string("the ") + kStreams[stream] + " stream";
+      const size_t got = ZSTD_decompress(raw_.data() + placed, want, d_ + start[stream], packed[stream]);
+      if (ZSTD_isError(got)) fail(name + " is corrupt: " + ZSTD_getErrorName(got), int64_t(start[stream]));
+      if (got != want)
+        fail(name + " decompresses to " + std::to_string(got) + " bytes; " + std::to_string(want) + " expected",
+             int64_t(start[stream]));
+    }
+    placed += want;
+  }
+  PointData out = decode(h, a);
+  if (h.flags & 0x2) out.metadata["extension_bytes"] = int64_t(toc - 32);  // vendor records, skipped
+  if (offset < size_) out.metadata["trailing_bytes"] = int64_t(size_ - offset);
+  return out;
+}
+
+PointData SpzReader::decode(const Header& h, const Attributes& a) const {
+  const uint32_t n = h.n, version = h.version;
+  const int degree = h.degree, fractional = h.fractional, flags = h.flags;
+  const size_t sh_dim = size_t(dim_for_degree(degree));
   PointData out;
   io::resize_fresh(out.positions, size_t(n) * 3);
-  const uint8_t* pos = raw_.data() + 16;
-  const uint8_t* alpha = pos + size_t(n) * 9;
-  const uint8_t* color = alpha + n;
-  const uint8_t* scale = color + size_t(n) * 3;
-  const uint8_t* rot = scale + size_t(n) * 3;
-  const uint8_t* shb = rot + size_t(n) * rot_bytes;
+  const uint8_t *pos = a.pos, *alpha = a.alpha, *color = a.color, *scale = a.scale, *rot = a.rot, *shb = a.sh;
   const double unit = 1.0 / double(uint32_t{1} << fractional);
   const double flip[3] = {1.0, -1.0, -1.0};  // RUB -> RDF
   for (size_t i = 0; i < size_t(n) * 3; ++i) {
@@ -219,8 +358,6 @@ PointData SpzReader::read() {
   md["antialiased"] = int64_t{flags & 1};
   md["coordinate_system"] = std::string("RDF (SPZ's RUB turned to the axes of 3DGS PLY files)");
   if (degree > kMaxDegree) md["warning"] = std::string("SH degree 4 bands were read past: degree 3 is kept");
-  const size_t trailing = raw_.size() - expected + drain();  // the whole stream is checked (CRC-32)
-  if (trailing > 0) md["trailing_bytes"] = int64_t(trailing);  // decompressed bytes after the last band
   return out;
 }
 

@@ -22,6 +22,8 @@ const char* attribute_name(AttributeKind attribute) {
     case AttributeKind::PrincipalAxis: return "principal_axis";
     case AttributeKind::RadiusNormal: return "normals_3r";
     case AttributeKind::ClusterShape: return "cluster_shape";
+    case AttributeKind::SplatRadius: return "splat_radius";
+    case AttributeKind::SplatOpacity: return "splat_opacity";
   }
   return "?";
 }

@@ -29,6 +29,9 @@ enum class AttributeKind : uint8_t {
   PrincipalAxis,    // unit eigenvector of the largest eigenvalue of the k-neighbour covariance (seed 004's CM frame); snorm8 x3
   RadiusNormal,     // the cloud's own normals, else least squares within 3r (seed 004; r: 8-neighbour resolution), oriented over k neighbours; snorm8 x3
   ClusterShape,     // seed 004 colour region-growing cluster over k neighbours: uint x4 (snorm8 main axis, elongation float bits, size, label)
+  SplatRadius,      // a Gaussian splat's footprint, float, scene units: 2 sqrt of the product of its two largest
+                    // scales (its 2-sigma ellipse's mean radius); plain points: the mean distance to their k nearest neighbours
+  SplatOpacity,     // a Gaussian splat's opacity in [0, 1], float; plain points: 1; k = 0
 };
 
 // An attribute and, for computed ones, the neighbourhood size it uses.

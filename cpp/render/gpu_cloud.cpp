@@ -10,6 +10,7 @@
 #include "geometry/features.h"
 #include "gl/device.h"
 #include "scene/gaussian_splats.h"
+#include "scene/splat_attributes.h"
 
 namespace pointnpr {
 
@@ -208,6 +209,8 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
         buffer = upload(packed);
         break;
       }
+      case AttributeKind::SplatRadius: buffer = upload(splat_radii(*cloud, key.k)); break;
+      case AttributeKind::SplatOpacity: buffer = upload(splat_opacities(*cloud)); break;
     }
   }
   gl::check_gl("point upload");

@@ -2,6 +2,8 @@
 // 3D Gaussian splats (Kerbl et al. 2023) carried by a PointCloud: each point
 // is the mean of a Gaussian with its opacity, scales, rotation and
 // spherical-harmonic colour, in the cloud's (Morton) order.
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -42,6 +44,18 @@ inline glm::vec3 splat_axis(const GaussianSplats& g, size_t i, bool longest) {
   else c = {2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)};
   const float len = glm::length(c);
   return len > 0.0f ? c / len : (longest ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 0.0f, 1.0f));
+}
+
+// A splat's footprint for the marks that draw it as one disc (brush size,
+// world-size points): 2 sqrt of the product of its two largest scales, the
+// mean radius of the ellipse at 2 sigma in its own plane (86 % of its mass;
+// the smallest scale is the surface's thickness, not its extent).
+inline float splat_radius(const GaussianSplats& g, size_t i) {
+  const glm::vec3 s = g.scales[i];
+  const float lo = std::min(s.x, std::min(s.y, s.z));
+  const float hi = std::max(s.x, std::max(s.y, s.z));
+  const float mid = s.x + s.y + s.z - lo - hi;
+  return 2.0f * std::sqrt(hi * mid);
 }
 
 // Every splat's shortest or longest axis, in the cloud's order.

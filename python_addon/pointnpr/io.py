@@ -40,7 +40,7 @@ normals                float32 (N, 3)  PLY nx/ny/nz, PCD normal_x/y/z, text
 =====================  ==============  =========================================
 
 Gaussian splats: a 3DGS PLY (recognised by its f_dc_*, opacity, scale_*
-and rot_* properties) and an SPZ file (versions 2 and 3) give the same
+and rot_* properties) and an SPZ file (versions 2 to 4) give the same
 attributes, with their meaning rather than their storage: "opacity" float32
 (N,) after the sigmoid, "scales" float32 (N, 3) standard deviations after
 exp, "rotations" float32 (N, 4) unit quaternions w, x, y, z, "sh" float32

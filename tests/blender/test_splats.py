@@ -81,6 +81,16 @@ def test_the_gaussians_mark_renders_an_imported_capture(tmp_path):
     points, _ = helpers.render_pixels(tmp_path, "points.png")
     assert (points[..., 3] > 0.5).mean() > 0.01
     assert np.abs(points - splat).mean() > 0.01
+    # A points style sized by the splats' footprints and drawn with their
+    # opacity as chance reads the splats too.
+    node = nodes.mark_node(coll.pointnpr_style)
+    setattr(node, helpers.pid("size_mode"), "splat")
+    setattr(node, helpers.pid("opacity_draws"), True)
+    sync.read_log.clear()
+    sized, _ = helpers.render_pixels(tmp_path, "sized.png")
+    assert (obj.name, splats.SOURCE) in sync.read_log
+    assert (sized[..., 3] > 0.5).mean() > 0.01
+    assert np.abs(sized - points).mean() > 0.01
 
 
 def test_blender_5_3_splat_attributes_are_read_as_splats(tmp_path):

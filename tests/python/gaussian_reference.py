@@ -8,6 +8,7 @@ Also the synthetic splats and the SPZ writer the tests use (written from
 the format's description, the inverse of what the reader does)."""
 import gzip
 import struct
+import subprocess
 
 import numpy as np
 
@@ -158,20 +159,19 @@ def random_splats(n, degree, seed=1, extent=1.0, scale=(0.01, 0.08)):
     return means, q, scales, opacity, sh
 
 
-def write_spz(path, means, quats, scales, opacity, sh, degree, version=3, fractional_bits=12, flags=0):
-    """An SPZ file of these splats (given in the PLY's right-down-front axes;
-    SPZ stores right-up-back, so y and z are negated), from the format's
-    description."""
-    n = len(means)
+def spz_streams(means, quats, scales, opacity, sh, degree, version=3, fractional_bits=12):
+    """The six attribute byte strings of an SPZ file of these splats (given
+    in the PLY's right-down-front axes; SPZ stores right-up-back, so y and z
+    are negated), from the format's description: positions, alphas,
+    colours, scales, rotations, SH."""
     flip = np.array([1.0, -1.0, -1.0])
     odd = [False, True, True, False, True, False, False, True, False, True, False, True, True, False, True, False]
-    out = bytearray(struct.pack("<IIIBBBB", 0x5053474E, version, n, degree, fractional_bits, flags, 0))
     fixed = np.round(means * flip * (1 << fractional_bits)).astype(np.int64)
-    for v in fixed.ravel():
-        out += int(v & 0xFFFFFF).to_bytes(3, "little")
-    out += bytes(np.clip(np.round(opacity * 255.0), 0, 255).astype(np.uint8))
-    out += bytes(np.clip(np.round(sh[:, 0] * (0.15 * 255.0) + 127.5), 0, 255).astype(np.uint8).ravel())
-    out += bytes(np.clip(np.round((np.log(scales) + 10.0) * 16.0), 0, 255).astype(np.uint8).ravel())
+    positions = b"".join(int(v & 0xFFFFFF).to_bytes(3, "little") for v in fixed.ravel())
+    alphas = bytes(np.clip(np.round(opacity * 255.0), 0, 255).astype(np.uint8))
+    colors = bytes(np.clip(np.round(sh[:, 0] * (0.15 * 255.0) + 127.5), 0, 255).astype(np.uint8).ravel())
+    scale_bytes = bytes(np.clip(np.round((np.log(scales) + 10.0) * 16.0), 0, 255).astype(np.uint8).ravel())
+    rotations = bytearray()
     for w, x, y, z in quats:
         q = np.array([x, -y, -z, w])  # SPZ's order x, y, z, w, in its axes
         q /= np.linalg.norm(q)
@@ -184,18 +184,51 @@ def write_spz(path, means, quats, scales, opacity, sh, degree, version=3, fracti
                 if k != largest:
                     mag = int(511 * abs(q[k]) / np.sqrt(0.5) + 0.5)
                     word = (word << 10) | (int(q[k] < 0) << 9) | mag
-            out += struct.pack("<I", word)
+            rotations += struct.pack("<I", word)
         else:
             if q[3] < 0:
                 q = -q
-            out += bytes(np.clip(np.round(q[:3] * 127.5 + 127.5), 0, 255).astype(np.uint8))
+            rotations += bytes(np.clip(np.round(q[:3] * 127.5 + 127.5), 0, 255).astype(np.uint8))
     K = (degree + 1) ** 2
-    for i in range(n):
+    bands = bytearray()
+    for i in range(len(means)):
         for k in range(1, K):
-            v = -sh[i, k] if odd[k] else sh[i, k]
-            out += bytes(np.clip(np.round(v * 128.0 + 128.0), 0, 255).astype(np.uint8))
+            v = -sh[i, k] if k < 16 and odd[k] else sh[i, k]  # (degree 4: read past, written unturned)
+            bands += bytes(np.clip(np.round(v * 128.0 + 128.0), 0, 255).astype(np.uint8))
+    return [positions, alphas, colors, scale_bytes, bytes(rotations), bytes(bands)]
+
+
+def zstd_compress(data, content_size=True):
+    """One zstd frame of ``data`` by the zstd tool (Debian's zstd package);
+    ``content_size`` False leaves the frame's size out, as streaming writers do."""
+    args = ["zstd", "-q", "-c", "-3"] + (["--stream-size=%d" % len(data)] if content_size and data else [])
+    return subprocess.run(args, input=data, capture_output=True, check=True).stdout
+
+
+def spz_v4_bytes(streams, n, degree, fractional_bits=12, flags=0, extensions=b"", content_size=True):
+    """A version 4 SPZ file of the attribute streams: the 32-byte NGSP
+    header, ``extensions`` (flag 0x2's records), the table of contents and
+    each non-empty stream as its own zstd frame."""
+    present = [s for s in streams if s]
+    packed = [zstd_compress(s, content_size) for s in present]
+    toc_offset = 32 + len(extensions)
+    header = struct.pack("<IIIBBBBI12x", 0x5053474E, 4, n, degree, fractional_bits, flags, len(present), toc_offset)
+    toc = b"".join(struct.pack("<QQ", len(p), len(s)) for p, s in zip(packed, present))
+    return header + extensions + toc + b"".join(packed)
+
+
+def write_spz(path, means, quats, scales, opacity, sh, degree, version=3, fractional_bits=12, flags=0):
+    """An SPZ file of these splats: versions 2 and 3 one gzip stream,
+    version 4 the NGSP container of zstd streams."""
+    n = len(means)
+    streams = spz_streams(means, quats, scales, opacity, sh, degree, version, fractional_bits)
+    if version >= 4:
+        data = spz_v4_bytes(streams, n, degree, fractional_bits, flags)
+    else:
+        header = struct.pack("<IIIBBBB", 0x5053474E, version, n, degree, fractional_bits, flags, 0)
+        data = gzip.compress(header + b"".join(streams), mtime=0)
     with open(path, "wb") as f:
-        f.write(gzip.compress(bytes(out), mtime=0))
+        f.write(data)
 
 
 def write_3dgs_ply(path, means, quats, scales, opacity, sh, degree):

@@ -94,7 +94,7 @@ def _header(version=3, n=1, degree=0, fractional=12, flags=0, magic=0x5053474E):
 BAD_SPZ = {
     "empty": (b"", "empty"),
     "not gzip": (b"hello world", "gzip header"),
-    "ngsp container": (b"NGSP" + struct.pack("<I", 4) + bytes(24), "not supported"),
+    "ngsp of version 5": (b"NGSP" + struct.pack("<I", 5) + bytes(24), "unsupported SPZ version 5"),
     "corrupt gzip (CRC)": (None, "gzip stream is corrupt"),
     "truncated gzip": (None, "truncated"),
     "truncated gzip after the data": (gzip.compress(_header() + bytes(20) + _NOISE, mtime=0)[:-100], "truncated"),

@@ -81,6 +81,9 @@ class BrushSplats final : public Mark {
       set.insert({AttributeKind::LocalResolution, k});
       if (p.get_enum_name("epsilon_mode") == "deviation") set.insert({AttributeKind::ResolutionDeviation, k});
     }
+    if (p.get_enum_name("size_mode") == "splat")
+      set.insert({AttributeKind::SplatRadius, p.get_int("resolution_neighbors")});
+    if (p.get_bool("opacity_weight")) set.insert({AttributeKind::SplatOpacity});
     if (p.get_enum_name("tangent_frame") == "covariance")
       set.insert({AttributeKind::PrincipalAxis, p.get_int("normal_neighbors")});
     if (p.get_bool("clusters")) set.insert({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")});
@@ -163,11 +166,13 @@ void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const Para
   const glm::mat4 view_from_pixel(glm::inverse(cam.projection) * ndc_from_pixel);
   glUniformMatrix4fv(g.location("u_view_from_pixel"), 1, GL_FALSE, glm::value_ptr(view_from_pixel));
   const bool resolution = p.get_enum_name("size_mode") == "resolution";
-  glUniform1i(g.location("u_size_mode"), resolution ? 0 : 1);
+  const bool world = p.get_enum_name("size_mode") == "world";
+  glUniform1i(g.location("u_size_mode"), resolution ? 0 : world ? 1 : 2);
+  glUniform1i(g.location("u_opacity_weight"), p.get_bool("opacity_weight") ? 1 : 0);
   glUniform1i(g.location("u_eps_mode"), resolution && p.get_enum_name("epsilon_mode") == "user" ? 1 : 0);
   glUniform1f(g.location("u_epsilon"), resolution ? float(p.get_float("epsilon")) : 0.0f);
   glUniform1f(g.location("u_size_scale"), float(p.get_float("size_scale")));
-  glUniform1f(g.location("u_world_radius"), resolution ? 0.0f : float(p.get_float("world_radius")));
+  glUniform1f(g.location("u_world_radius"), world ? float(p.get_float("world_radius")) : 0.0f);
   glUniform1f(g.location("u_max_radius_px"), float(p.get_float("max_radius")));
   glUniform1i(g.location("u_frame"), p.get_enum("tangent_frame"));
   glUniform1f(g.location("u_angle"), float(glm::radians(p.get_float("brush_angle"))));
@@ -208,7 +213,9 @@ void bind_splat_chunk(const gl::Program& g, const VisibleChunk& v, const ParamVa
               {5, c.find({AttributeKind::ClusterShape, p.get_int("cluster_neighbors")})},
               {6, c.find({AttributeKind::PointId})},
               {13, c.find({AttributeKind::PrincipalAxis, p.get_int("normal_neighbors")})},
-              {14, c.find({AttributeKind::QueueOrder})}});
+              {14, c.find({AttributeKind::QueueOrder})},
+              {15, c.find({AttributeKind::SplatRadius, k})},
+              {16, c.find({AttributeKind::SplatOpacity})}});
   const bool queued = draws_queue(v, p);
   if (queued && !c.find({AttributeKind::QueueOrder})) throw GLError("brush_splats: the queue order was not uploaded");
   glUniform1i(g.location("u_queue"), queued ? 1 : 0);
@@ -425,12 +432,13 @@ const MarkRegistration registration{{
            "Impressionist brush strokes on surface-aligned splats sized by the local point spacing (stroke-based "
            "splatting, seed 004): a brush of Gaussians per point, blended.",
            {
-               enum_param("size_mode", {"resolution", "world"}, 0,
+               enum_param("size_mode", {"resolution", "world", "splat"}, 0,
                           "resolution: splat radius r + eps from each point's neighbours (denser regions get "
-                          "smaller brushes); world: one radius in scene units"),
+                          "smaller brushes); world: one radius in scene units; splat: a Gaussian-splat capture's "
+                          "own footprint, 2 sqrt of the product of its two largest scales (plain points: r)"),
                only_when(int_param("resolution_neighbors", 8, 2, 64, "",
                                    "Neighbours the local resolution r (mean distance) and eps (its deviation) come from"),
-                         "size_mode", {"resolution"}),
+                         "size_mode", {"resolution", "splat"}),
                only_when(enum_param("epsilon_mode", {"deviation", "user"}, 0,
                                     "eps: the deviation of the neighbour distances, or your own"),
                          "size_mode", {"resolution"}),
@@ -500,6 +508,9 @@ const MarkRegistration registration{{
                                      "Neighbours mix only within this fraction of the depth"),
                          "blending", {"blur", "a_buffer"}),
                int_param("seed", 0, 0, 65535, "", "Varies the brushes' noise (still fixed per point)"),
+               bool_param("opacity_weight", false,
+                          "A Gaussian-splat capture's opacity weighs each brush's alpha (faint splats paint faintly, "
+                          "and those under the cut not at all; plain points: 1)"),
                enum_param("rasterizer", {"gl", "native", "auto"}, 2,
                           "gl: the GL passes (for GPUs); native: the exact passes' rules on the CPU's threads "
                           "(tile-invariant, the same bytes with any thread count; the A-buffer stays on GL); auto: "

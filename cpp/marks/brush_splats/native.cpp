@@ -53,6 +53,7 @@
 #include "render/screen_bins.h"
 #include "scene/gaussian_splats.h"
 #include "scene/point_cloud.h"
+#include "scene/splat_attributes.h"
 
 namespace pointnpr {
 namespace {
@@ -123,7 +124,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   std::string frames_key;
   {
     auto add = [&frames_key](auto v) { frames_key += std::to_string(v) + ' '; };
-    add(normal_k), add(radius_normals), add(s.resolution_size), add(k), add(s.user_eps);
+    add(normal_k), add(radius_normals), add(s.resolution_size), add(s.splat_size), add(k), add(s.user_eps);
     for (float f : {s.epsilon, s.world_radius, s.size_scale, s.angle, s.jitter, s.small_cluster, s.elongation_gain,
                     s.max_stretch})
       add(std::bit_cast<uint32_t>(f));
@@ -162,6 +163,11 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           in.r = resolution->r.data();
           in.eps = resolution->eps.data();
           hold.push_back(resolution);
+        }
+        if (s.splat_size) {
+          auto radii = std::make_shared<const std::vector<float>>(splat_radii(*cloud, k));
+          in.splat_r = radii->data();
+          hold.push_back(radii);
         }
         if (s.tangent_frame == 3) {
           // A splat capture's own frame: each splat's longest axis (as the GPU cache uploads it).
@@ -203,6 +209,11 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
       proto.colors = host_colors(*v.gpu, *cloud, source, constant);
       proto.shading = lit_by_shading(p, proto.colors.source);
       proto.noise_offset = brush_noise_offset(*cloud, p);
+      if (s.opacity_weight) {
+        auto opacities = std::make_shared<const std::vector<float>>(splat_opacities(*cloud));
+        proto.weight = opacities->data();
+        held.push_back(opacities);
+      }
       held.push_back(cloud);
     }
     Chunk& c = chunks[i];

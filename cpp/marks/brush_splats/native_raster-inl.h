@@ -199,6 +199,9 @@ void Shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
   for (int j = n; j < padded; ++j) f.u[j] = f.v[j] = f.depth[j] = f.length[j] = 0.0f;
   alignas(32) float a1[Fragments::kMax], a2[Fragments::kMax];
   BrushAlphas(s, first, f.u, f.v, n, a1);
+  // Weighed as the fragment shaders do: each layer's alpha times the weight.
+  if (sp.weight != 1.0f)
+    for (int j = 0; j < n; ++j) a1[j] *= sp.weight;
   if (sp.two) {
     alignas(32) float u2[Fragments::kMax], v2[Fragments::kMax];
     for (int j = 0; j < padded; ++j) {
@@ -206,6 +209,8 @@ void Shade(const Splat& sp, const Settings& s, const Layer& first, const Layer& 
       v2[j] = (f.v[j] - 0.5f) / s.layer_scale + 0.5f;
     }
     BrushAlphas(s, second, u2, v2, n, a2);
+    if (sp.weight != 1.0f)
+      for (int j = 0; j < n; ++j) a2[j] *= sp.weight;
   }
   if (P == Pass::kBlend) {
     for (int j = 0; j < n; ++j) blend(sp, s, im, f.q[j], f.depth[j], a1[j], sp.two ? a2[j] : 0.0f);

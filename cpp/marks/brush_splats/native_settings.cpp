@@ -49,6 +49,7 @@ PointFrame point_frame(const FrameInputs& in, const Settings& s, uint32_t index)
   PointFrame f;
   float r = s.world_radius;
   if (s.resolution_size) r = in.r[index] + (s.user_eps ? s.epsilon : in.eps[index]);
+  else if (s.splat_size) r = in.splat_r[index];
   f.radius = r * s.size_scale;
   f.two = s.two_layers;
   glm::vec3 n = as_uploaded(in.normals[index]);
@@ -154,7 +155,9 @@ Settings resolve_settings(const MarkContext& ctx, const ParamValues& p) {
   s.user_eps = s.resolution_size && p.get_enum_name("epsilon_mode") == "user";
   s.epsilon = s.resolution_size ? float(p.get_float("epsilon")) : 0.0f;
   s.size_scale = float(p.get_float("size_scale"));
-  s.world_radius = s.resolution_size ? 0.0f : float(p.get_float("world_radius"));
+  s.splat_size = p.get_enum_name("size_mode") == "splat";
+  s.opacity_weight = p.get_bool("opacity_weight");
+  s.world_radius = p.get_enum_name("size_mode") == "world" ? float(p.get_float("world_radius")) : 0.0f;
   s.max_radius_px = float(p.get_float("max_radius"));
   s.tangent_frame = p.get_enum("tangent_frame");
   s.angle = float(glm::radians(p.get_float("brush_angle")));

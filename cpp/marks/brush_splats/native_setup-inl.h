@@ -154,6 +154,7 @@ void SetUpLanes(const Chunk& c, const Settings& s, const uint32_t* index, int n,
     sp.offset = o[14][i];
     for (int k = 0; k < 4; ++k) sp.wx[k] = wx[k][i], sp.wy[k] = wy[k][i];
     sp.rgb = glm::vec3(c.colors.at(index[i]));
+    sp.weight = c.weight ? c.weight[index[i]] : 1.0f;
     if (c.shading) sp.rgb = ::pointnpr::glsl::diffuse_shaded(sp.rgb, sp.normal, s.light_dir, s.shading_strength);
     sp.two = f[i]->two;
     std::copy(f[i]->cs, f[i]->cs + 3, sp.cs);

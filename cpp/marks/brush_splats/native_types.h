@@ -50,6 +50,8 @@ struct Settings {
   float px_per_unit = 1.0f;
   glm::mat4 projection{1.0f}, view_from_pixel{1.0f};
   bool resolution_size = true, user_eps = false;
+  bool splat_size = false;      // size_mode splat: each Gaussian splat's footprint
+  bool opacity_weight = false;  // a Gaussian splat's opacity weighs its brush's alpha
   float epsilon = 0.0f, size_scale = 1.0f, world_radius = 0.0f, max_radius_px = 16.0f;
   int tangent_frame = 0;
   float angle = 0.0f, jitter = 0.0f;
@@ -106,6 +108,7 @@ struct FrameInputs {
   const float* r = nullptr;
   const float* eps = nullptr;
   const glm::vec3* axes = nullptr;  // covariance frame's major axes
+  const float* splat_r = nullptr;   // size_mode splat (scene/splat_attributes.h)
   const geometry::ClusterShapes* shapes = nullptr;
 };
 // brush_splat()'s camera-independent part of point `index`.
@@ -120,6 +123,7 @@ struct Chunk {
   HostColors colors;
   bool shading = false;  // brush_shading(): the colour lit by the splat's plane
   float noise_offset = 0.0f;  // brush_noise_offset(): the least offset toward the camera
+  const float* weight = nullptr;  // opacity_weight: the splats' opacities (cloud order), or null (1)
   uint32_t first = 0, count = 0;
   glm::mat4 view{1.0f};
 };
@@ -133,6 +137,7 @@ struct Splat {
   glm::vec2 depth_range{0.0f};
   float offset = 0.0f;  // depth_tolerance radii, at least the chunk's noise offset
   glm::vec3 rgb{0.0f};
+  float weight = 1.0f;  // the brush's alpha times this (brush_color()'s alpha)
   float cs[3] = {}, sn[3] = {};
   bool two = false;
   glm::ivec2 lo{0}, hi{0};       // local pixels the quad can cover, [lo, hi)

@@ -99,6 +99,7 @@ class Hatching final : public Mark {
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
     if (p.get_float("curvature_length") > 0.0) set.insert({AttributeKind::Curvature, k});
     if (p.get_float("stroke_coverage") > 0.0) set.insert({AttributeKind::LocalResolution, kSpacingNeighbors});
+    if (p.get_bool("opacity_draws")) set.insert({AttributeKind::SplatOpacity});
     if (p.get_enum_name("coloring") == "point") {
       const AttributeSet colors = color_attributes(ColorSource(p.get_enum("color_source")));
       set.insert(colors.begin(), colors.end());
@@ -302,6 +303,7 @@ hatching::StrokePass Hatching::resolve(const MarkContext& ctx, const ParamValues
   pass.paper = p.get_color("paper_color");
   pass.normal_k = p.get_int("normal_neighbors");
   pass.spacing_k = kSpacingNeighbors;
+  pass.opacity_draws = p.get_bool("opacity_draws");
   pass.color_source = ColorSource(p.get_enum("color_source"));
   return pass;
 }
@@ -372,7 +374,9 @@ void Hatching::draw_strokes_gl(const MarkContext& ctx, const ParamValues& p, con
       bind_chunk(select, v, pass.color_source,
                  {{2, g.find({AttributeKind::Normal, k})}, {3, g.find({AttributeKind::Curvature, k})},
                   {6, g.find({AttributeKind::PointId})},
-                  {9, g.find({AttributeKind::LocalResolution, kSpacingNeighbors})}});
+                  {9, g.find({AttributeKind::LocalResolution, kSpacingNeighbors})},
+                  {11, pass.opacity_draws ? g.find({AttributeKind::SplatOpacity}) : nullptr}});
+      glUniform1i(select.location("u_has_opacity"), pass.opacity_draws ? 1 : 0);
       glUniform1i(select.location("u_has_spacing"),
                   g.find({AttributeKind::LocalResolution, kSpacingNeighbors}) ? 1 : 0);
       glUniform1ui(select.location("u_out_base"), batch.offsets[c - batch.begin]);
@@ -516,6 +520,9 @@ const MarkRegistration registration{{
                           "kernels on the CPU's threads (the same images but for the last bits of pow, exp and "
                           "sin, and rare coverage ties); auto: native on a software GL device (llvmpipe), gl on "
                           "a GPU"),
+               bool_param("opacity_draws", false,
+                          "A Gaussian-splat capture's opacity scales each splat's odds of strokes (its faint haze "
+                          "gets few; plain points: unchanged)"),
            }},
     [] { return std::make_unique<Hatching>(); }}};
 

@@ -17,6 +17,7 @@ struct StrokePass {
   glm::vec4 paper{0.0f};
   int normal_k = 16;
   int spacing_k = 8;
+  bool opacity_draws = false;         // a Gaussian splat's opacity scales its odds of strokes
   ColorSource color_source = ColorSource::Auto;
 };
 

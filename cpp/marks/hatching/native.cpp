@@ -23,6 +23,7 @@
 #include "render/point_color.h"
 #include "render/screen_bins.h"
 #include "scene/point_cloud.h"
+#include "scene/splat_attributes.h"
 
 namespace pointnpr::hatching {
 namespace {
@@ -36,6 +37,7 @@ struct HostChunk {
   const glm::vec3* normals = nullptr;    // unpacked as the GPU's snorm8 are when read
   const float* curvature = nullptr;      // or null: none computed
   const float* spacing = nullptr;        // or null
+  const float* opacity = nullptr;        // opacity_draws: the splats' opacities, or null
   const uint32_t* order = nullptr;       // the queue order (chunk-local, from first), or null
   HostColors colors;
   uint32_t first = 0, count = 0;
@@ -50,6 +52,8 @@ struct SelectKernels {
   const HostTexture& xtoon_;
   bool has_spacing() const { return chunk_.spacing != nullptr; }
   float point_spacing(uint index) const { return chunk_.spacing[index]; }
+  bool has_opacity() const { return chunk_.opacity != nullptr; }
+  float point_opacity(uint index) const { return chunk_.opacity[index]; }
   bool has_curvature() const { return chunk_.curvature != nullptr; }
   float point_curvature(uint index) const { return chunk_.curvature[index]; }
   vec3 point_color(uint index) const { return vec3(chunk_.colors.at(index)); }
@@ -130,6 +134,8 @@ void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const Str
   // Host data of every chunk, held while drawing.
   std::vector<HostChunk> chunks(ctx.chunks.size());
   std::vector<std::shared_ptr<const void>> held;
+  const PointCloud* opacity_cloud = nullptr;
+  const float* opacity_data = nullptr;
   for (size_t i = 0; i < ctx.chunks.size(); ++i) {
     const VisibleChunk& v = ctx.chunks[i];
     std::shared_ptr<const PointCloud> cloud = chunk_cloud(v, "hatching");
@@ -153,6 +159,15 @@ void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const Str
       auto resolution = analysis.surface_resolution(pass.spacing_k);
       c.spacing = resolution->r.data();
       held.push_back(resolution);
+    }
+    if (pass.opacity_draws) {
+      if (cloud.get() != opacity_cloud) {  // one array per cloud, not per chunk
+        opacity_cloud = cloud.get();
+        auto opacity = std::make_shared<const std::vector<float>>(splat_opacities(*cloud));
+        opacity_data = opacity->data();
+        held.push_back(opacity);
+      }
+      c.opacity = opacity_data;
     }
     if (draws_queue(v, p)) c.order = v.gpu->host_queue_order().data() + v.chunk->first;
     if (pass.select.coloring == 2) c.colors = host_colors(*v.gpu, *cloud, pass.color_source, pass.select.constant_color);

@@ -23,12 +23,14 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/hash.h"
 #include "geometry/analysis.h"
 #include "gl/device.h"
 #include "marks/points/points.h"
 #include "render/native_raster.h"
 #include "render/point_color.h"
 #include "scene/camera.h"
+#include "scene/splat_attributes.h"
 
 namespace pointnpr {
 
@@ -65,6 +67,12 @@ struct ScatterChunk {
   uint32_t key_base = 0;
   glm::vec4 depth_row{0.0f};  // -view z
   glm::vec4 clip_x{0.0f}, clip_y{0.0f}, clip_w{0.0f};
+  // Gaussian-splat captures (points.glsl): per point (chunk-local) its
+  // footprint radius (size_mode splat) and, with ids, the opacity a hash of
+  // its id is drawn under; null: the frame's size, every point drawn.
+  const float* splat_radius = nullptr;
+  const float* opacity = nullptr;
+  const uint32_t* ids = nullptr;
 };
 
 // What the resolve needs of a chunk to colour its points (point_color()).
@@ -92,6 +100,9 @@ glm::vec4 row(const glm::dmat4& m, int r) { return {float(m[0][r]), float(m[1][r
 
 float dot_affine(const glm::vec4& row, const glm::vec3& p) { return row.x * p.x + row.y * p.y + row.z * p.z + row.w; }
 
+// points.glsl's kOpacitySalt.
+constexpr uint32_t kOpacitySalt = 0x6f706163u;
+
 // covers() of points.glsl, evaluated in the same float operations.
 bool covers(float dx, float dy, float diameter) {
   const float r = 0.5f * diameter;
@@ -111,11 +122,13 @@ void scatter_chunk(const ScatterChunk& c, const Frame& f, uint64_t* keys, int st
     const glm::vec3 p = c.positions[local];
     const float depth = dot_affine(c.depth_row, p);
     if (!(depth >= f.near && depth <= f.far)) continue;
+    if (c.opacity && !(glsl::id_rand(c.ids[local], kOpacitySalt, 0u) < c.opacity[local])) continue;
     const float w = dot_affine(c.clip_w, p);
     const float cx = (dot_affine(c.clip_x, p) / w * 0.5f + 0.5f) * f.size.x - f.origin.x;
     const float cy = (dot_affine(c.clip_y, p) / w * 0.5f + 0.5f) * f.size.y - f.origin.y;
+    const float units = kWorldSize && c.splat_radius ? 2.0f * c.splat_radius[local] : f.world_size_units;
     const float diameter =
-        kWorldSize ? std::clamp(f.world_size_units * f.px_per_unit / (kOrtho ? 1.0f : depth), 1.0f, kMaxSplatPixels)
+        kWorldSize ? std::clamp(units * f.px_per_unit / (kOrtho ? 1.0f : depth), 1.0f, kMaxSplatPixels)
                    : f.point_size;
     const float r = 0.5f * diameter;
     // Off the clip rectangle (or not finite): nothing to cover, and no
@@ -223,6 +236,9 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
   std::vector<ColorChunk> color(ctx.chunks.size());
   std::vector<std::shared_ptr<const PointCloud>> clouds;
   std::vector<std::shared_ptr<const std::vector<glm::vec3>>> estimated;
+  std::vector<std::shared_ptr<const std::vector<float>>> splat_data;  // radii, opacities (cloud order)
+  const float* last_radius = nullptr;
+  const float* last_opacity = nullptr;
   const PointCloud* last_cloud = nullptr;
   const glm::vec3* last_normals = nullptr;
   for (size_t i = 0; i < ctx.chunks.size(); ++i) {
@@ -239,6 +255,15 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
           last_normals = estimated.back()->data();
         }
       }
+      last_radius = last_opacity = nullptr;
+      if (s.splat_size) {
+        splat_data.push_back(std::make_shared<const std::vector<float>>(splat_radii(*cloud, s.splat_k)));
+        last_radius = splat_data.back()->data();
+      }
+      if (s.opacity_draws) {
+        splat_data.push_back(std::make_shared<const std::vector<float>>(splat_opacities(*cloud)));
+        last_opacity = splat_data.back()->data();
+      }
       clouds.push_back(cloud);
     }
     const glm::dmat4 view(v.view_from_chunk);
@@ -251,6 +276,11 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
       sc.count = s.queue_counts[i];
     }
     sc.key_base = v.key_base;
+    if (last_radius) sc.splat_radius = last_radius + v.chunk->first;
+    if (last_opacity) {
+      sc.opacity = last_opacity + v.chunk->first;
+      sc.ids = cloud->point_index().data() + v.chunk->first;
+    }
     // Depth from the float view transform, as the GPU paths (-v.z).
     const glm::vec4 z_row(v.view_from_chunk[0][2], v.view_from_chunk[1][2], v.view_from_chunk[2][2],
                           v.view_from_chunk[3][2]);

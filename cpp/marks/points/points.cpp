@@ -16,6 +16,9 @@
 namespace pointnpr {
 namespace {
 
+// Plain points' footprint in size_mode splat: the mean distance to this many neighbours.
+constexpr int kSplatNeighbors = 8;
+
 void set_splat_uniforms(const gl::Program& p, const MarkContext& ctx, const SplatSettings& s) {
   const Camera& cam = *ctx.camera;
   // The projection maps to the whole frame; the images hold [origin, origin + image size).
@@ -27,7 +30,8 @@ void set_splat_uniforms(const gl::Program& p, const MarkContext& ctx, const Spla
   glUniform1f(p.location("u_near"), float(cam.clip_start));
   glUniform1f(p.location("u_far"), float(cam.clip_end));
   glUniform1i(p.location("u_ortho"), cam.orthographic ? 1 : 0);
-  glUniform1i(p.location("u_size_mode"), s.world_size ? 1 : 0);
+  glUniform1i(p.location("u_size_mode"), s.world_size ? (s.splat_size ? 2 : 1) : 0);
+  glUniform1i(p.location("u_opacity_draws"), s.opacity_draws ? 1 : 0);
   glUniform1f(p.location("u_point_size"), s.point_size);
   glUniform1f(p.location("u_world_size"), s.world_diameter);
   glUniform1f(p.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, size.y)));
@@ -41,7 +45,12 @@ void set_splat_uniforms(const gl::Program& p, const MarkContext& ctx, const Spla
 
 void bind_splat_chunk(const gl::Program& p, const VisibleChunk& v, const SplatSettings& s) {
   const gl::Buffer* normals = s.shading ? v.gpu->find({AttributeKind::Normal, s.normal_k}) : nullptr;
-  bind_chunk(p, v, s.color_source, {{2, normals}});
+  const GpuCloud& c = *v.gpu;
+  bind_chunk(p, v, s.color_source,
+             {{2, normals},
+              {6, s.opacity_draws ? c.find({AttributeKind::PointId}) : nullptr},
+              {7, s.splat_size ? c.find({AttributeKind::SplatRadius, s.splat_k}) : nullptr},
+              {8, s.opacity_draws ? c.find({AttributeKind::SplatOpacity}) : nullptr}});
 }
 
 class Points final : public Mark {
@@ -50,6 +59,11 @@ class Points final : public Mark {
     AttributeSet set = color_attributes(ColorSource(p.get_enum("color_source")));
     if (p.get_enum("shading") != 0) set.insert({AttributeKind::Normal, p.get_int("normal_neighbors")});
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
+    if (p.get_enum_name("size_mode") == "splat") set.insert({AttributeKind::SplatRadius, kSplatNeighbors});
+    if (p.get_bool("opacity_draws")) {
+      set.insert({AttributeKind::SplatOpacity});
+      set.insert({AttributeKind::PointId});
+    }
     return set;
   }
 
@@ -65,7 +79,10 @@ class Points final : public Mark {
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override {
     SplatSettings s;
-    s.world_size = p.get_enum("size_mode") == 1;
+    s.world_size = p.get_enum_name("size_mode") != "pixels";
+    s.splat_size = p.get_enum_name("size_mode") == "splat";
+    s.splat_k = kSplatNeighbors;
+    s.opacity_draws = p.get_bool("opacity_draws");
     s.point_size = float(p.get_float("point_size"));
     s.world_diameter = float(p.get_float("world_size"));
     s.color_source = ColorSource(p.get_enum("color_source"));
@@ -104,8 +121,11 @@ const MarkRegistration registration{{
                           "compute: compute-shader splatting (deterministic ties); gl_points: conventional GL "
                           "points; native: the compute rules on the CPU's threads (the same images); auto: native "
                           "on a software GL device (llvmpipe), compute on a GPU"),
-               enum_param("size_mode", {"pixels", "world"}, 0,
-                          "Point size in screen pixels, or in scene units projected by the camera"),
+               enum_param("size_mode", {"pixels", "world", "splat"}, 0,
+                          "Point size in screen pixels, or in scene units projected by the camera; splat: a "
+                          "Gaussian-splat capture's own footprint: twice 2 sqrt of the product of its two largest "
+                          "scales, scene units (plain points: twice the mean distance to 8 neighbours), capped at "
+                          "32 px"),
                only_when(float_param("point_size", 2.0, 0.5, 32.0, "px", "Splat diameter in pixels (size_mode = pixels)"),
                          "size_mode", {"pixels"}),
                only_when(float_param("world_size", 0.05, 0.0001, 100.0, "m",
@@ -132,6 +152,10 @@ const MarkRegistration registration{{
                          "shading", {"diffuse"}),
                density_mode_param(),
                queue_level_param(0.5),
+               bool_param("opacity_draws", false,
+                          "A Gaussian-splat capture's opacity is the chance each splat is drawn (hashed from its "
+                          "point id: the same splats in every frame; a faint haze thins out instead of covering; "
+                          "plain points: all drawn)"),
            }},
     [] { return std::make_unique<Points>(); }}};
 

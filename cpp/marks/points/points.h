@@ -7,6 +7,11 @@ namespace pointnpr {
 
 struct SplatSettings {
   bool world_size = false;     // diameter in scene units (else pixels)
+  // world_size: each Gaussian splat's footprint (SplatRadius, k = splat_k) instead of world_diameter.
+  bool splat_size = false;
+  int splat_k = 8;
+  // A Gaussian splat's opacity is the chance it is drawn (SplatOpacity, PointId).
+  bool opacity_draws = false;
   float point_size = 2.0f;     // pixels
   float world_diameter = 0.05f;
   ColorSource color_source = ColorSource::Constant;

@@ -27,8 +27,10 @@ _FLOAT4_TYPES = {'FLOAT4': "vector", 'FLOAT_COLOR': "color"}
 
 
 def wanted(core_style):
-    """Whether ``core_style`` (a pointnpr.Style) draws splats: its mark is gaussians."""
-    return core_style.mark[0] == "gaussians"
+    """Whether ``core_style`` (a pointnpr.Style) reads splats: its mark is
+    gaussians, or another mark asks for a splat's footprint or opacity."""
+    return core_style.mark[0] == "gaussians" or any(
+        a.split(":")[0] in ("splat_radius", "splat_opacity") for a in core_style.attributes)
 
 
 def write(mesh, opacity, scales, rotations, sh, antialiased=False):
