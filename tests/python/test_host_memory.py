@@ -49,17 +49,23 @@ def test_host_memory_is_kept_counted_flat_and_given_back(scene):
         kept = renderer.render(scene, camera, W, H).stats["host_kept_mb"]
     # Every mark's images at this size: the brush alone keeps 14 floats a pixel.
     assert kept > 14 * 4 * W * H / 2**20, kept
-    warm = _rss_mb()
-    for _ in range(100):
+    rss = [_rss_mb()]
+    for frame in range(100):
         r = renderer.render(scene, camera, W, H)
         # (A worker's bin lists grow to the largest bin it has drawn: which
         # bins a worker draws changes from frame to frame.)
         assert kept <= r.stats["host_kept_mb"] < kept + 8, (kept, r.stats["host_kept_mb"])
+        if frame in (49, 99):
+            rss.append(_rss_mb())
     # Flat: no frame leaks a frame-sized buffer (the brush's images alone are
-    # 13 MB here). Not to the byte: a worker's candidate arrays grow to the
-    # most fragments a bin it drew kept, and which bins a worker draws
-    # changes from frame to frame.
-    assert _rss_mb() - warm < 0.25 * kept, (warm, _rss_mb(), kept)
+    # 13 MB here: 50 frames would add 650 MB). Not to the byte: a worker's
+    # candidate arrays grow to the most fragments a bin it drew kept, which
+    # bins a worker draws changes from frame to frame, and the allocator's
+    # per-thread arenas settle over the first frames (more slowly after a
+    # whole test session's threads: 35 MB over 100 frames once), so the
+    # second 50 frames are measured, and all 100 against a looser bound.
+    assert rss[2] - rss[1] < 0.25 * kept, (rss, kept)
+    assert rss[2] - rss[0] < 0.5 * kept, (rss, kept)
     # A frame past its memory budget gives it back at its end.
     small = renderer.render(scene, camera, W, H, memory_budget_gb=kept / 2 / 1024)
     assert small.stats["host_kept_mb"] == 0
