@@ -467,7 +467,8 @@ const MarkRegistration registration{{
                                {0.0}),
                float_param("ambient", 0.0, 0.0, 1.0, "", "Brightness every surface gets"),
                float_param("specular", 0.0, 0.0, 1.0, "", "Phong highlight added to the brightness"),
-               float_param("shininess", 16.0, 1.0, 256.0, "", "Phong exponent of the highlight"),
+               only_when(float_param("shininess", 16.0, 1.0, 256.0, "", "Phong exponent of the highlight"),
+                         "specular", {"nonzero"}),
                enum_param("coloring", {"constant", "xtoon", "point"}, 0,
                           "constant: the stroke colour; xtoon: the X-Toon texture's; point: the point's colour "
                           "blended with the X-Toon colour"),
