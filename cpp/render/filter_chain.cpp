@@ -1,6 +1,7 @@
 #include "render/filter_chain.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -26,13 +27,28 @@ int total_footprint(const std::vector<FilterStep>& steps) {
 
 namespace {
 
-// The gap fill's search: gaps up to 2 * kGapReach - 1 pixels across close
-// (a bound on its cost; whether a gap closes is decided by the depths of
-// the surface around it). Its ends are one surface when their depths differ
+// The gap fill's search. Its ends are one surface when their depths differ
 // by no more than a surface turned kGapGrazing (tan 70 degrees) away from
 // the view changes over the gap, in the pixel's own footprint at that depth.
-constexpr int kGapReach = 8;
 constexpr float kGapGrazing = 2.75f;
+
+}  // namespace
+
+int gap_fill_reach(const ScanSampling& sampling, const SurfaceFrame& surface) {
+  // Without the scan's spacing: gaps up to 15 px close (the reach before the
+  // spacing was known; whether a gap closes is decided by the depths and
+  // the run of the surface around it).
+  constexpr int kUnknownSpacingReach = 8;
+  if (!(sampling.spacing > 0.0f)) return kUnknownSpacingReach;
+  // Gaps up to twice the spacing close (the shader's u_span); on one side
+  // of a gap pixel its end lies at most that far less a pixel away, most
+  // pixels where the segment is nearest.
+  const float pixel = std::abs(surface.x0.x + sampling.depth_min * surface.x1.x);
+  const float span_px = pixel > 0.0f ? 2.0f * sampling.spacing / pixel : float(kGapReachMax);
+  return std::clamp(int(std::ceil(span_px)) - 1, 1, kGapReachMax);
+}
+
+namespace {
 
 void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Texture& input, const gl::Texture& output,
               const Rect& rect) {
@@ -48,6 +64,7 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
   ctx.time = in.time;
   ctx.segment_seed = in.segment_seed;
   ctx.surface = in.surface;
+  ctx.sampling = in.sampling;
   f.filter->apply(ctx, f.params);
   gl::check_gl(("filter " + f.info->schema.id).c_str());
 }
@@ -78,8 +95,9 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     const gl::Program& prog = images.shaders->compute(
         "gap_fill.comp", classify ? std::vector<std::string>{"PASS_CLASSIFY"} : std::vector<std::string>{});
     prog.use();
-    glUniform1i(prog.location("u_reach"), kGapReach);
+    glUniform1i(prog.location("u_reach"), gap_fill_reach(images.sampling, images.surface));
     glUniform1f(prog.location("u_grazing"), kGapGrazing);
+    glUniform1f(prog.location("u_span"), std::max(2.0f * images.sampling.spacing, 0.0f));
     glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
     glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);
     set_surface_uniforms(prog, images.surface);
