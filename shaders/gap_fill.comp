@@ -6,12 +6,13 @@
 // depths differ by no more than a surface seen at the steepest angle
 // (u_grazing = tan of it) can change over the gap, the gap's length times
 // the pixel's footprint at that depth, and the gap is one between the
-// scan's neighbouring samples: with the scan's spacing known (u_span > 0),
-// no longer than twice it (the diameter of a neighbourhood) at the ends'
-// depth, so splats narrower than the scan-line gaps of an aerial tile still
-// close them while a hole in the scan stays; without it, on either side
-// the surface runs on for at least half the gap (its splats are as wide as
-// its gaps: lone splats do not merge, nor join a surface). Covered pixels count as gaps
+// scan's neighbouring samples: no longer than twice the scan's spacing (the
+// diameter of a neighbourhood; u_span, 0 where unknown) at the ends' depth,
+// so splats narrower than the scan-line gaps of an aerial tile still close
+// them while a hole in the scan stays, or, within u_splat_reach, on either
+// side the surface runs on for at least half the gap (its splats are as
+// wide as its gaps, where the scan is sparser than its spacing: lone
+// splats do not merge, nor join a surface). Covered pixels count as gaps
 // too when a surface nearer than them by more than its slope over the whole
 // search, and more than twice the depth spread of its own enclosing pixels
 // (the scan's local noise), encloses them: back points seen through a front
@@ -28,6 +29,7 @@ layout(r32f, binding = 2) uniform readonly image2D u_depth;
 uniform int u_reach;
 uniform float u_grazing;
 uniform float u_span;  // the longest gap between the scan's neighbours, view units (0: unknown)
+uniform int u_splat_reach;  // the reach of the splat-width rule (below), px
 uniform ivec2 u_cover_min;  // covered pixels lie within [u_cover_min, u_cover_max)
 uniform ivec2 u_cover_max;
 
@@ -92,11 +94,11 @@ void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
   float gap = float(a.t + b.t - 1);
   float across = (gap + 1.0) * length(vec2(d)) * pixel_size(min(a.depth, b.depth));  // view units
   if (abs(a.depth - b.depth) > across * u_grazing) return;
-  if (u_span > 0.0) {
-    if (across > u_span) return;
-  } else {
+  // Between the scan's neighbours, or between splats as wide as the gap.
+  if (!(across <= u_span)) {
     int need = (int(gap) + 1) / 2;
-    if (1 + run_length(p, d, a.t, limit, need - 1) < need || 1 + run_length(p, -d, b.t, limit, need - 1) < need)
+    if (a.t > u_splat_reach || b.t > u_splat_reach || 1 + run_length(p, d, a.t, limit, need - 1) < need ||
+        1 + run_length(p, -d, b.t, limit, need - 1) < need)
       return;
   }
   float wa = 1.0 / float(a.t), wb = 1.0 / float(b.t);

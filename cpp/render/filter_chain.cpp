@@ -35,17 +35,13 @@ constexpr float kGapGrazing = 2.75f;
 }  // namespace
 
 int gap_fill_reach(const ScanSampling& sampling, const SurfaceFrame& surface) {
-  // Without the scan's spacing: gaps up to 15 px close (the reach before the
-  // spacing was known; whether a gap closes is decided by the depths and
-  // the run of the surface around it).
-  constexpr int kUnknownSpacingReach = 8;
-  if (!(sampling.spacing > 0.0f)) return kUnknownSpacingReach;
+  if (!(sampling.spacing > 0.0f)) return kGapSplatReach;
   // Gaps up to twice the spacing close (the shader's u_span); on one side
   // of a gap pixel its end lies at most that far less a pixel away, most
   // pixels where the segment is nearest.
   const float pixel = std::abs(surface.x0.x + sampling.depth_min * surface.x1.x);
   const float span_px = pixel > 0.0f ? 2.0f * sampling.spacing / pixel : float(kGapReachMax);
-  return std::clamp(int(std::ceil(span_px)) - 1, 1, kGapReachMax);
+  return std::clamp(int(std::ceil(span_px)) - 1, kGapSplatReach, kGapReachMax);
 }
 
 namespace {
@@ -98,6 +94,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     glUniform1i(prog.location("u_reach"), gap_fill_reach(images.sampling, images.surface));
     glUniform1f(prog.location("u_grazing"), kGapGrazing);
     glUniform1f(prog.location("u_span"), std::max(2.0f * images.sampling.spacing, 0.0f));
+    glUniform1i(prog.location("u_splat_reach"), kGapSplatReach);
     glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
     glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);
     set_surface_uniforms(prog, images.surface);

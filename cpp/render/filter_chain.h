@@ -46,9 +46,13 @@ const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const 
 
 // How far the gap fill searches from a gap pixel for the surface around it,
 // in pixels: twice the scan's spacing at the segment's nearest depth (gaps
-// wider than that are holes in the scan), at most kGapReachMax; a fixed 8
-// where the spacing is unknown.
+// wider than that are holes in the scan), at least kGapSplatReach and at
+// most kGapReachMax.
 int gap_fill_reach(const ScanSampling& sampling, const SurfaceFrame& surface);
+// The reach of the fill's other rule (gaps between splats as wide as the gap
+// close, where the scan is sparser than its spacing or the spacing is
+// unknown): gaps up to 15 px, the fill's reach before it knew the spacing.
+constexpr int kGapSplatReach = 8;
 // A bound on the gap fill's cost per gap pixel (8 directions of this many
 // loads) and on the tiles' halo it adds (render/renderer.cpp).
 constexpr int kGapReachMax = 16;
