@@ -43,12 +43,16 @@ struct Hit {
   vec4 color;
 };
 
+// How far this pixel's search goes: u_reach, or less where the surface
+// near its tile is farther than the segment's nearest (set by main).
+int g_reach = 0;
+
 // The first pixel along `dir` nearer than `behind` (covered, finite depth).
-// How many steps along `dir` stay within the covered box, up to u_reach.
+// How many steps along `dir` stay within the covered box, up to g_reach.
 int steps_inside(ivec2 p, ivec2 dir) {
-  ivec2 room = mix(mix(ivec2(u_reach), p - u_cover_min, lessThan(dir, ivec2(0))), u_cover_max - 1 - p,
+  ivec2 room = mix(mix(ivec2(g_reach), p - u_cover_min, lessThan(dir, ivec2(0))), u_cover_max - 1 - p,
                    greaterThan(dir, ivec2(0)));
-  return min(u_reach, min(room.x, room.y));
+  return min(g_reach, min(room.x, room.y));
 }
 
 Hit march(ivec2 p, ivec2 dir, float behind) {
@@ -132,42 +136,42 @@ bool needs_work(ivec2 p, vec4 c, out float own) {
   return true;
 }
 
-void fill_pixel(ivec2 p, vec4 c, float own) {
-  // The first pixels met along the 8 directions (one variable each: no
-  // arrays); at least two lines must meet a surface on one side.
-  const ivec2 D0 = ivec2(1, 0), D1 = ivec2(0, 1), D2 = ivec2(1, 1), D3 = ivec2(1, -1);
-  Hit a0 = march(p, D0, own), a1 = march(p, D1, own), a2 = march(p, D2, own), a3 = march(p, D3, own);
-  if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) return;
-  Hit b0 = march(p, -D0, own), b1 = march(p, -D1, own), b2 = march(p, -D2, own), b3 = march(p, -D3, own);
-  float near = min(min(min(a0.depth, a1.depth), min(a2.depth, a3.depth)),
-                   min(min(b0.depth, b1.depth), min(b2.depth, b3.depth)));
-  // Hits beyond what the nearest surface reaches over the search (a back
-  // surface seen through the same gap) are looked past.
+// Line d through p: its first pixels on both sides (the far side only where
+// the near one met a surface), a hit beyond what the nearest surface met so
+// far reaches over the search (a back surface seen through the same gap)
+// looked past; added to acc where it encloses p.
+void try_line(ivec2 p, ivec2 d, float own, inout Acc acc, inout float near) {
+  Hit a = march(p, d, own);
+  if (a.t == 0) return;
+  Hit b = march(p, -d, own);
+  if (b.t == 0) return;
+  near = min(near, min(a.depth, b.depth));
   float limit = near + 2.0 * float(u_reach) * pixel_size(near) * u_grazing;
-  if (a0.depth > limit && a0.t > 0) a0 = march(p, D0, limit);
-  if (a1.depth > limit && a1.t > 0) a1 = march(p, D1, limit);
-  if (a2.depth > limit && a2.t > 0) a2 = march(p, D2, limit);
-  if (a3.depth > limit && a3.t > 0) a3 = march(p, D3, limit);
-  if (b0.depth > limit && b0.t > 0) b0 = march(p, -D0, limit);
-  if (b1.depth > limit && b1.t > 0) b1 = march(p, -D1, limit);
-  if (b2.depth > limit && b2.t > 0) b2 = march(p, -D2, limit);
-  if (b3.depth > limit && b3.t > 0) b3 = march(p, -D3, limit);
+  if (a.depth > limit) a = march(p, d, limit);
+  if (b.depth > limit) b = march(p, -d, limit);
+  line(p, d, a, b, limit, acc);
+}
+
+void fill_pixel(ivec2 p, vec4 c, float own) {
+  // At least two of the four lines must enclose p; the search stops at the
+  // second (most gaps inside a surface need two or three lines' marches,
+  // not eight: a march along a scan-line gap runs its whole reach).
   Acc acc = Acc(vec4(0.0), 0.0, INF, 0.0, 0);
-  line(p, D0, a0, b0, limit, acc);
-  line(p, D1, a1, b1, limit, acc);
-  line(p, D2, a2, b2, limit, acc);
-  line(p, D3, a3, b3, limit, acc);
-  vec4 sum = acc.sum;
-  float weight = acc.weight, lo = acc.lo, hi = acc.hi;
+  float near = INF;
+  try_line(p, ivec2(0, 1), own, acc, near);
+  try_line(p, ivec2(1, 1), own, acc, near);
+  if (acc.lines < 2) try_line(p, ivec2(1, -1), own, acc, near);
+  if (acc.lines < 2) try_line(p, ivec2(1, 0), own, acc, near);
   int lines = acc.lines;
   if (lines >= 2 && !isinf(own)) {
     // A covered pixel gives way only to a surface it cannot belong to: one
     // nearer by more than that surface's steepest slope over the search and
     // more than twice the spread of its own enclosing pixels (the scan's
     // local noise).
-    if (own <= limit || own - hi <= 2.0 * (hi - lo) + pixel_size(hi) * u_grazing) lines = 0;
+    float limit = near + 2.0 * float(u_reach) * pixel_size(near) * u_grazing;
+    if (own <= limit || own - acc.hi <= 2.0 * (acc.hi - acc.lo) + pixel_size(acc.hi) * u_grazing) lines = 0;
   }
-  imageStore(u_out, p, lines >= 2 ? sum / weight : c);
+  imageStore(u_out, p, lines >= 2 ? acc.sum / acc.weight : c);
 }
 
 // Two passes, so that the search runs only where it may change something
@@ -179,10 +183,17 @@ layout(std430, binding = 3) buffer Tiles {
   uint groups_x, groups_y, groups_z, pad;
   uvec2 tiles[];
 };
+// Each tile's nearest depth (+inf: no point), tiles in rows of u_groups.x.
+layout(std430, binding = 4) buffer TileDepth { float tile_depth[]; };
+uniform ivec2 u_groups;
 #ifdef PASS_CLASSIFY
 shared bool s_work;
+shared uint s_near;  // float bits: positive floats order as their bits do
 void main() {
-  if (gl_LocalInvocationIndex == 0u) s_work = false;
+  if (gl_LocalInvocationIndex == 0u) {
+    s_work = false;
+    s_near = floatBitsToUint(INF);
+  }
   barrier();
   ivec2 p;
   if (rect_pixel(p)) {
@@ -190,16 +201,37 @@ void main() {
     imageStore(u_out, p, c);
     float own;
     if (needs_work(p, c, own)) s_work = true;
+    float d = imageLoad(u_depth, p).r;
+    if (d >= 0.0 && d < INF) atomicMin(s_near, floatBitsToUint(d));
   }
   barrier();
-  if (gl_LocalInvocationIndex == 0u && s_work) tiles[atomicAdd(groups_x, 1u)] = gl_WorkGroupID.xy;
+  if (gl_LocalInvocationIndex == 0u) {
+    tile_depth[gl_WorkGroupID.y * uint(u_groups.x) + gl_WorkGroupID.x] = uintBitsToFloat(s_near);
+    if (s_work) tiles[atomicAdd(groups_x, 1u)] = gl_WorkGroupID.xy;
+  }
 }
 #else
 void main() {
-  ivec2 p = u_rect_min + ivec2(tiles[gl_WorkGroupID.x] * 16u + gl_LocalInvocationID.xy);
-  if (any(greaterThanEqual(p, u_rect_max))) return;
+  // The ends of a gap lie within u_reach <= 16 px: in this tile or the 8
+  // around it. Their nearest depth bounds how far the scan's spacing spans
+  // here (the same gaps close as with u_reach; far parts search less), and
+  // with no point among them there is nothing to enclose.
+  ivec2 t = ivec2(tiles[gl_WorkGroupID.x]);
+  float near = INF;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      ivec2 q = t + ivec2(dx, dy);
+      if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, u_groups)))
+        near = min(near, tile_depth[q.y * u_groups.x + q.x]);
+    }
+  float size = pixel_size(near);
+  g_reach = u_span > 0.0 && size > 0.0 ? clamp(int(ceil(u_span / size)) - 1, min(u_splat_reach, u_reach), u_reach)
+                                       : u_reach;
+  ivec2 p = u_rect_min + t * 16 + ivec2(gl_LocalInvocationID.xy);
+  // One branch around the search, no early returns: llvmpipe runs code
+  // after a return masked, but skips a branch no lane takes.
   vec4 c = imageLoad(u_in, p);
   float own;
-  if (needs_work(p, c, own)) fill_pixel(p, c, own);
+  if (!isinf(near) && all(lessThan(p, u_rect_max)) && needs_work(p, c, own)) fill_pixel(p, c, own);
 }
 #endif

@@ -73,14 +73,19 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
   // The list of tiles that need the search: 3 uints of indirect dispatch
   // arguments, padding, then a uvec2 per 16x16 tile. Kept for the GL
   // context's life (like the shader library), grown as frames need.
+  // Then each tile's nearest depth (a float per 16x16 tile).
   static gl::Buffer* tiles = new gl::Buffer();
+  static gl::Buffer* tile_depth = new gl::Buffer();
   static size_t tiles_bytes = 0;
-  const glm::ivec2 groups = (write.size() + 15) / 16;
-  const size_t bytes = 16 + 8 * size_t(std::max(groups.x, 1)) * size_t(std::max(groups.y, 1));
+  const glm::ivec2 groups = glm::max((write.size() + 15) / 16, glm::ivec2(1));
+  const size_t n_tiles = size_t(groups.x) * size_t(groups.y);
+  const size_t bytes = 16 + 8 * n_tiles;
   if (bytes > tiles_bytes) {
     *tiles = gl::make_buffer(bytes, nullptr);
+    *tile_depth = gl::make_buffer(4 * n_tiles, nullptr);
     tiles_bytes = bytes;
   }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, tile_depth->id());
   const GLuint args[4] = {0, 1, 1, 0};
   glNamedBufferSubData(tiles->id(), 0, sizeof(args), args);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, tiles->id());
@@ -95,6 +100,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     glUniform1f(prog.location("u_grazing"), kGapGrazing);
     glUniform1f(prog.location("u_span"), std::max(2.0f * images.sampling.spacing, 0.0f));
     glUniform1i(prog.location("u_splat_reach"), kGapSplatReach);
+    glUniform2i(prog.location("u_groups"), groups.x, groups.y);
     glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
     glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);
     set_surface_uniforms(prog, images.surface);

@@ -55,6 +55,8 @@ int gap_fill_reach(const ScanSampling& sampling, const SurfaceFrame& surface);
 constexpr int kGapSplatReach = 8;
 // A bound on the gap fill's cost per gap pixel (8 directions of this many
 // loads) and on the tiles' halo it adds (render/renderer.cpp).
+// At most a 16x16 tile, so that a gap's ends lie in its tile or the 8
+// around it (shaders/gap_fill.comp bounds each tile's search by theirs).
 constexpr int kGapReachMax = 16;
 
 // Sum of the filters' footprints: how far the chain can reach beyond its input.
