@@ -136,42 +136,42 @@ bool needs_work(ivec2 p, vec4 c, out float own) {
   return true;
 }
 
-// Line d through p: its first pixels on both sides (the far side only where
-// the near one met a surface), a hit beyond what the nearest surface met so
-// far reaches over the search (a back surface seen through the same gap)
-// looked past; added to acc where it encloses p.
-void try_line(ivec2 p, ivec2 d, float own, inout Acc acc, inout float near) {
-  Hit a = march(p, d, own);
-  if (a.t == 0) return;
-  Hit b = march(p, -d, own);
-  if (b.t == 0) return;
-  near = min(near, min(a.depth, b.depth));
-  float limit = near + 2.0 * float(u_reach) * pixel_size(near) * u_grazing;
-  if (a.depth > limit) a = march(p, d, limit);
-  if (b.depth > limit) b = march(p, -d, limit);
-  line(p, d, a, b, limit, acc);
-}
-
 void fill_pixel(ivec2 p, vec4 c, float own) {
-  // At least two of the four lines must enclose p; the search stops at the
-  // second (most gaps inside a surface need two or three lines' marches,
-  // not eight: a march along a scan-line gap runs its whole reach).
+  // The first pixels met along the 8 directions (one variable each: no
+  // arrays); at least two lines must meet a surface on one side.
+  const ivec2 D0 = ivec2(1, 0), D1 = ivec2(0, 1), D2 = ivec2(1, 1), D3 = ivec2(1, -1);
+  Hit a0 = march(p, D0, own), a1 = march(p, D1, own), a2 = march(p, D2, own), a3 = march(p, D3, own);
+  if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) return;
+  Hit b0 = march(p, -D0, own), b1 = march(p, -D1, own), b2 = march(p, -D2, own), b3 = march(p, -D3, own);
+  float near = min(min(min(a0.depth, a1.depth), min(a2.depth, a3.depth)),
+                   min(min(b0.depth, b1.depth), min(b2.depth, b3.depth)));
+  // Hits beyond what the nearest surface reaches over the search (a back
+  // surface seen through the same gap) are looked past.
+  float limit = near + 2.0 * float(u_reach) * pixel_size(near) * u_grazing;
+  if (a0.depth > limit && a0.t > 0) a0 = march(p, D0, limit);
+  if (a1.depth > limit && a1.t > 0) a1 = march(p, D1, limit);
+  if (a2.depth > limit && a2.t > 0) a2 = march(p, D2, limit);
+  if (a3.depth > limit && a3.t > 0) a3 = march(p, D3, limit);
+  if (b0.depth > limit && b0.t > 0) b0 = march(p, -D0, limit);
+  if (b1.depth > limit && b1.t > 0) b1 = march(p, -D1, limit);
+  if (b2.depth > limit && b2.t > 0) b2 = march(p, -D2, limit);
+  if (b3.depth > limit && b3.t > 0) b3 = march(p, -D3, limit);
   Acc acc = Acc(vec4(0.0), 0.0, INF, 0.0, 0);
-  float near = INF;
-  try_line(p, ivec2(0, 1), own, acc, near);
-  try_line(p, ivec2(1, 1), own, acc, near);
-  if (acc.lines < 2) try_line(p, ivec2(1, -1), own, acc, near);
-  if (acc.lines < 2) try_line(p, ivec2(1, 0), own, acc, near);
+  line(p, D0, a0, b0, limit, acc);
+  line(p, D1, a1, b1, limit, acc);
+  line(p, D2, a2, b2, limit, acc);
+  line(p, D3, a3, b3, limit, acc);
+  vec4 sum = acc.sum;
+  float weight = acc.weight, lo = acc.lo, hi = acc.hi;
   int lines = acc.lines;
   if (lines >= 2 && !isinf(own)) {
     // A covered pixel gives way only to a surface it cannot belong to: one
     // nearer by more than that surface's steepest slope over the search and
     // more than twice the spread of its own enclosing pixels (the scan's
     // local noise).
-    float limit = near + 2.0 * float(u_reach) * pixel_size(near) * u_grazing;
-    if (own <= limit || own - acc.hi <= 2.0 * (acc.hi - acc.lo) + pixel_size(acc.hi) * u_grazing) lines = 0;
+    if (own <= limit || own - hi <= 2.0 * (hi - lo) + pixel_size(hi) * u_grazing) lines = 0;
   }
-  imageStore(u_out, p, lines >= 2 ? acc.sum / acc.weight : c);
+  imageStore(u_out, p, lines >= 2 ? sum / weight : c);
 }
 
 // Two passes, so that the search runs only where it may change something
