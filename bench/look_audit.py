@@ -57,7 +57,10 @@ W, H = 1280, 720
 PRESETS = ["Toon", "Ink outlines", "Flow ink", "Watercolor", "Oil paint", "Posterize", "Urban map", "edge_enhance"]
 # Not a preset: the depth cues alone (eye-dome lighting and depth lines, defaults), which the issue saw draw line
 # noise on flat Kinect walls.
-EXTRA = {"edge_enhance": {"mark": ("points", {"point_size": 3.0}), "filters": [("edge_enhance", {})]}}
+EXTRA = {"edge_enhance": {"mark": ("points", {"point_size": 3.0}), "filters": [("edge_enhance", {})]},
+         # Eye-dome lighting alone at Urban map's strength (asked for by name: --preset="EDL 1").
+         "EDL 1": {"mark": ("points", {"point_size": 3.0}),
+                   "filters": [("edge_enhance", {"edl_strength": 1.0, "outline_width": 0})]}}
 CLOSE_RADIUS = 5          # px at 1280x720: closes gaps between splats, not a statue's legs
 PLANAR_K, PLANAR_VARIATION = 64, 0.02  # surface variation of 64 neighbours below this: a plane (1/3: isotropic)
 PLANAR_MAJORITY = 4       # px: the planar flag is the majority of the covered pixels within this box radius
