@@ -224,10 +224,16 @@ struct Renderer::Impl {
 
   // The segment's point spacing for its filters (render/filter.h
   // ScanSampling), from the frame's chunks, so every tile gets the same.
-  static ScanSampling scan_sampling(const Culled& frame_culled) {
+  static ScanSampling scan_sampling(const Segment& seg, const Culled& frame_culled) {
     // Neighbours of the spacing the marks size their surface from.
     constexpr int kSpacingNeighbours = 8;
     ScanSampling out;
+    // An out-of-core scan streams a new cloud whenever the view changes its
+    // counts: its spacing would be a kNN of the streamed points per such
+    // frame. Left unknown there (the filters' pixel rules), until the cache
+    // keeps the spacing.
+    for (const Instance& inst : seg.instances)
+      if (inst.cached) return out;
     const GpuCloud* last = nullptr;
     float last_scale = 0.0f;
     for (const VisibleChunk& v : frame_culled.chunks) {
@@ -353,7 +359,7 @@ struct Renderer::Impl {
       chain.time = s.time;
       chain.segment_seed = mark.segment_seed;
       chain.surface = make_surface_frame(cam, frame, surface_anchor(seg));
-      chain.sampling = scan_sampling(in_frame);
+      chain.sampling = scan_sampling(seg, in_frame);
       chain.fill_gaps = seg.style.mark.info->schema.id == "points";
       chain.gap_image = [this]() -> const gl::Texture& { return targets.gap_fill_image(); };
       current = run_filter_chain(seg.style.filters, chain, rect);
