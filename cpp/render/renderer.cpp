@@ -451,10 +451,13 @@ TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vect
   std::string whole;  // a mark that cannot draw tiles
   for (const Segment& seg : scene.segments) {
     const MarkStep& m = seg.style.mark;
-    // The gap fill reads up to its reach around a gap pixel before the
-    // filters (render/filter_chain.h).
+    // The gap fill (points mark, before a filter that reads neighbourhoods)
+    // reads up to its reach around a gap pixel (render/filter_chain.h).
+    const bool gap_fill = m.info->schema.id == "points" &&
+                          std::any_of(seg.style.filters.begin(), seg.style.filters.end(),
+                                      [](const FilterStep& f) { return f.filter->reads_neighbourhood(); });
     const int reach = int(std::ceil(m.mark->extent(m.params).pixels)) + m.mark->screen_reach(m.params) +
-                      (seg.style.filters.empty() ? 0 : kGapReachMax) + total_footprint(seg.style.filters) +
+                      (gap_fill ? kGapReachMax : 0) + total_footprint(seg.style.filters) +
                       seg.style.inpaint.get_int("radius") + 1;
     halo = std::max(halo, reach);
     if (!m.mark->draws_tiles(m.params) && whole.empty()) whole = m.info->schema.id;
