@@ -2,7 +2,7 @@
 at 1280x720, measured for what an art director sees first.
 
 Scans: the lion (photogrammetry statue), the LiDAR HD tile (aerial, RGB),
-the PCL mug scene (Kinect RGB-D frame), the PCL LMS400 table scene
+Autzen (aerial, RGB, PDAL's sample, sparser), the PCL mug scene (Kinect RGB-D frame), the PCL LMS400 table scene
 (terrestrial laser, intensity only) and Stanford's bun000 (one sparse
 colourless Cyberware range image). Presets: Toon, Ink outlines,
 Watercolor, Oil paint, Posterize, Urban map (its own mark colours by
@@ -57,7 +57,10 @@ W, H = 1280, 720
 PRESETS = ["Toon", "Ink outlines", "Flow ink", "Watercolor", "Oil paint", "Posterize", "Urban map", "edge_enhance"]
 # Not a preset: the depth cues alone (eye-dome lighting and depth lines, defaults), which the issue saw draw line
 # noise on flat Kinect walls.
-EXTRA = {"edge_enhance": {"mark": ("points", {"point_size": 3.0}), "filters": [("edge_enhance", {})]}}
+EXTRA = {"edge_enhance": {"mark": ("points", {"point_size": 3.0}), "filters": [("edge_enhance", {})]},
+         # Eye-dome lighting alone at Urban map's strength (asked for by name: --preset="EDL 1").
+         "EDL 1": {"mark": ("points", {"point_size": 3.0}),
+                   "filters": [("edge_enhance", {"edl_strength": 1.0, "outline_width": 0})]}}
 CLOSE_RADIUS = 5          # px at 1280x720: closes gaps between splats, not a statue's legs
 PLANAR_K, PLANAR_VARIATION = 64, 0.02  # surface variation of 64 neighbours below this: a plane (1/3: isotropic)
 PLANAR_MAJORITY = 4       # px: the planar flag is the majority of the covered pixels within this box radius
@@ -100,6 +103,11 @@ def scans():
                      classification="classification")
     pos -= (pos.min(0) + pos.max(0)) / 2
     yield ("LiDAR HD tile (aerial)", pos, at, pointnpr.look_at((0.0, -70.0, 60.0), (0.0, 0.0, 0.0)), (0.5, 1000.0))
+    # A second aerial tile, sparser (about 2.4 ft between neighbours) and from another scanner.
+    pos, at = _local(f"{SCANS_DIR}/autzen_trim.las", colors="colors", classification="classification")
+    pos -= (pos.min(0) + pos.max(0)) / 2
+    cam, clip = _frame(pos, (0.0, -1.0, 0.8), margin=0.6)  # the long tile fills the width
+    yield ("Autzen (aerial)", pos, at, cam, clip)
     pos, at = _local(f"{SCANS_DIR}/table_scene_mug_stereo_textured.pcd", colors="colors")
     # The sensor's own view (PCL: +z forward, +y down).
     cam, clip = _frame(pos, None, up=(0.0, -1.0, 0.0), eye=(0.0, 0.0, 0.0))

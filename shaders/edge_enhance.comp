@@ -18,6 +18,9 @@ uniform int u_fill;
 uniform float u_density;
 uniform vec4 u_edge_color;
 uniform float u_crease_cos;  // lines where normals differ by more (cos of the angle); > 1 = off
+// Depth differences up to this (view units) are the scan's own noise, not
+// relief: the scan's spacing (ScanSampling), 0 where unknown.
+uniform float u_depth_floor;
 #include "surface_fit.glsl"
 
 #ifdef PASS_NORMALS
@@ -40,7 +43,9 @@ float depth_at(ivec2 q) {
 }
 
 // One EDL neighbour, `radius` away along lattice direction `dir` (an axis
-// or a diagonal): max(0, lz - log2 z) interpolated linearly
+// or a diagonal): max(0, lz - log2(z + u_depth_floor)) (a neighbour counts
+// as nearer only by what it is nearer beyond the scan's noise, so a
+// Kinect wall's depth steps shade nothing) interpolated linearly
 // between the two pixels along `dir` that bracket that distance, so the
 // radius acts continuously rather than in whole pixels (1 and 1.4 px used
 // to round to the same neighbours), and flat depth gives exactly 0; -1
@@ -52,7 +57,7 @@ float edl_neighbour(ivec2 p, ivec2 dir, float radius, float lz) {
   vec2 z = vec2(imageLoad(u_depth, p + int(k) * dir).x, imageLoad(u_depth, p + int(k + 1.0) * dir).x);
   bvec2 valid = bvec2(uvec2(greaterThan(z, vec2(0.0))) * uvec2(not(isinf(z))));
   vec2 w = mix(vec2(0.0), vec2(1.0 - f, f), valid);
-  vec2 terms = mix(vec2(0.0), max(vec2(0.0), lz - log2(max(z, vec2(1e-30)))), valid);
+  vec2 terms = mix(vec2(0.0), max(vec2(0.0), lz - log2(max(z + u_depth_floor, vec2(1e-30)))), valid);
   float weight = w.x + w.y;
   return weight > 1e-6 ? dot(w, terms) / weight : -1.0;
 }
@@ -129,7 +134,7 @@ void main() {
         float d = length(vec2(dx, dy));
         if (d > float(w) + 0.5 || d >= nearest) continue;
         float zq = depth_at(p + ivec2(dx, dy));
-        if (zq < z * (1.0 - u_depth_threshold)) nearest = d;
+        if (zq < min(z * (1.0 - u_depth_threshold), z - u_depth_floor)) nearest = d;
       }
     // A crease within w - 1 pixels (lines w wide, like the contours).
     if (nearest >= 1e9 && u_crease_cos <= 1.0) {

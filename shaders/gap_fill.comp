@@ -5,8 +5,13 @@
 // lies within u_reach on both sides, and the two ends are one surface: their
 // depths differ by no more than a surface seen at the steepest angle
 // (u_grazing = tan of it) can change over the gap, the gap's length times
-// the pixel's footprint at that depth, and on either side the surface runs
-// on for at least half the gap (its splats are as wide as its gaps: lone
+// the pixel's footprint at that depth, and the gap is one between the
+// scan's neighbouring samples: no longer than twice the scan's spacing (the
+// diameter of a neighbourhood; u_span, 0 where unknown) at the ends' depth,
+// so splats narrower than the scan-line gaps of an aerial tile still close
+// them while a hole in the scan stays, or, within u_splat_reach, on either
+// side the surface runs on for at least half the gap (its splats are as
+// wide as its gaps, where the scan is sparser than its spacing: lone
 // splats do not merge, nor join a surface). Covered pixels count as gaps
 // too when a surface nearer than them by more than its slope over the whole
 // search, and more than twice the depth spread of its own enclosing pixels
@@ -23,6 +28,8 @@ layout(rgba32f, binding = 1) uniform writeonly image2D u_out;
 layout(r32f, binding = 2) uniform readonly image2D u_depth;
 uniform int u_reach;
 uniform float u_grazing;
+uniform float u_span;  // the longest gap between the scan's neighbours, view units (0: unknown)
+uniform int u_splat_reach;  // the reach of the splat-width rule (below), px
 uniform ivec2 u_cover_min;  // covered pixels lie within [u_cover_min, u_cover_max)
 uniform ivec2 u_cover_max;
 
@@ -36,12 +43,16 @@ struct Hit {
   vec4 color;
 };
 
+// How far this pixel's search goes: u_reach, or less where the surface
+// near its tile is farther than the segment's nearest (set by main).
+int g_reach = 0;
+
 // The first pixel along `dir` nearer than `behind` (covered, finite depth).
-// How many steps along `dir` stay within the covered box, up to u_reach.
+// How many steps along `dir` stay within the covered box, up to g_reach.
 int steps_inside(ivec2 p, ivec2 dir) {
-  ivec2 room = mix(mix(ivec2(u_reach), p - u_cover_min, lessThan(dir, ivec2(0))), u_cover_max - 1 - p,
+  ivec2 room = mix(mix(ivec2(g_reach), p - u_cover_min, lessThan(dir, ivec2(0))), u_cover_max - 1 - p,
                    greaterThan(dir, ivec2(0)));
-  return min(u_reach, min(room.x, room.y));
+  return min(g_reach, min(room.x, room.y));
 }
 
 Hit march(ivec2 p, ivec2 dir, float behind) {
@@ -85,9 +96,15 @@ struct Acc {
 void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
   if (a.t == 0 || b.t == 0) return;
   float gap = float(a.t + b.t - 1);
-  if (abs(a.depth - b.depth) > (gap + 1.0) * length(vec2(d)) * pixel_size(min(a.depth, b.depth)) * u_grazing) return;
-  int need = (int(gap) + 1) / 2;
-  if (1 + run_length(p, d, a.t, limit, need - 1) < need || 1 + run_length(p, -d, b.t, limit, need - 1) < need) return;
+  float across = (gap + 1.0) * length(vec2(d)) * pixel_size(min(a.depth, b.depth));  // view units
+  if (abs(a.depth - b.depth) > across * u_grazing) return;
+  // Between the scan's neighbours, or between splats as wide as the gap.
+  if (!(across <= u_span)) {
+    int need = (int(gap) + 1) / 2;
+    if (a.t > u_splat_reach || b.t > u_splat_reach || 1 + run_length(p, d, a.t, limit, need - 1) < need ||
+        1 + run_length(p, -d, b.t, limit, need - 1) < need)
+      return;
+  }
   float wa = 1.0 / float(a.t), wb = 1.0 / float(b.t);
   acc.sum += wa * a.color + wb * b.color;
   acc.weight += wa + wb;
@@ -166,10 +183,17 @@ layout(std430, binding = 3) buffer Tiles {
   uint groups_x, groups_y, groups_z, pad;
   uvec2 tiles[];
 };
+// Each tile's nearest depth (+inf: no point), tiles in rows of u_groups.x.
+layout(std430, binding = 4) buffer TileDepth { float tile_depth[]; };
+uniform ivec2 u_groups;
 #ifdef PASS_CLASSIFY
 shared bool s_work;
+shared uint s_near;  // float bits: positive floats order as their bits do
 void main() {
-  if (gl_LocalInvocationIndex == 0u) s_work = false;
+  if (gl_LocalInvocationIndex == 0u) {
+    s_work = false;
+    s_near = floatBitsToUint(INF);
+  }
   barrier();
   ivec2 p;
   if (rect_pixel(p)) {
@@ -177,16 +201,37 @@ void main() {
     imageStore(u_out, p, c);
     float own;
     if (needs_work(p, c, own)) s_work = true;
+    float d = imageLoad(u_depth, p).r;
+    if (d >= 0.0 && d < INF) atomicMin(s_near, floatBitsToUint(d));
   }
   barrier();
-  if (gl_LocalInvocationIndex == 0u && s_work) tiles[atomicAdd(groups_x, 1u)] = gl_WorkGroupID.xy;
+  if (gl_LocalInvocationIndex == 0u) {
+    tile_depth[gl_WorkGroupID.y * uint(u_groups.x) + gl_WorkGroupID.x] = uintBitsToFloat(s_near);
+    if (s_work) tiles[atomicAdd(groups_x, 1u)] = gl_WorkGroupID.xy;
+  }
 }
 #else
 void main() {
-  ivec2 p = u_rect_min + ivec2(tiles[gl_WorkGroupID.x] * 16u + gl_LocalInvocationID.xy);
-  if (any(greaterThanEqual(p, u_rect_max))) return;
+  // The ends of a gap lie within u_reach <= 16 px: in this tile or the 8
+  // around it. Their nearest depth bounds how far the scan's spacing spans
+  // here (the same gaps close as with u_reach; far parts search less), and
+  // with no point among them there is nothing to enclose.
+  ivec2 t = ivec2(tiles[gl_WorkGroupID.x]);
+  float near = INF;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      ivec2 q = t + ivec2(dx, dy);
+      if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, u_groups)))
+        near = min(near, tile_depth[q.y * u_groups.x + q.x]);
+    }
+  float size = pixel_size(near);
+  g_reach = u_span > 0.0 && size > 0.0 ? clamp(int(ceil(u_span / size)) - 1, min(u_splat_reach, u_reach), u_reach)
+                                       : u_reach;
+  ivec2 p = u_rect_min + t * 16 + ivec2(gl_LocalInvocationID.xy);
+  // One branch around the search, no early returns: llvmpipe runs code
+  // after a return masked, but skips a branch no lane takes.
   vec4 c = imageLoad(u_in, p);
   float own;
-  if (needs_work(p, c, own)) fill_pixel(p, c, own);
+  if (!isinf(near) && all(lessThan(p, u_rect_max)) && needs_work(p, c, own)) fill_pixel(p, c, own);
 }
 #endif

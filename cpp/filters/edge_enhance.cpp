@@ -14,6 +14,9 @@
 //  - silhouettes against the background around dense regions only (a
 //    covered pixel counts when `density` of its (2 fill_gaps + 1)^2 box is
 //    covered), so lone points get no rings; holes inside dense regions stay.
+// Depth steps no larger than the scan's spacing (FilterContext::sampling)
+// are its noise (a Kinect wall's quantised depth): EDL and outlines count a
+// neighbour as nearer only beyond them.
 // Depth is the rasterizer's: put this filter before filters that move
 // pixels (warp, watercolor wobble); pixels without depth are left as they are.
 #include <algorithm>
@@ -61,6 +64,7 @@ class EdgeEnhance final : public Filter {
     glUniform1f(prog.location("u_edl_radius"), float(p.get_float("edl_radius")));
     glUniform1i(prog.location("u_outline_width"), p.get_int("outline_width"));
     glUniform1f(prog.location("u_depth_threshold"), float(p.get_float("depth_threshold")));
+    glUniform1f(prog.location("u_depth_floor"), ctx.sampling.spacing);
     glUniform1i(prog.location("u_silhouette"), p.get_bool("silhouette") ? 1 : 0);
     glUniform1i(prog.location("u_fill"), p.get_int("fill_gaps"));
     glUniform1f(prog.location("u_density"), float(p.get_float("density")));

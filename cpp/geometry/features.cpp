@@ -12,6 +12,16 @@
 
 namespace pointnpr::geometry {
 
+namespace {
+// LocalResolution::sparse_r of r (0 where it is not positive and finite).
+float sparse_spacing(std::vector<float> r) {
+  if (r.empty()) return 0.0f;
+  const size_t at = size_t(double(r.size() - 1) * 0.9);
+  std::nth_element(r.begin(), r.begin() + long(at), r.end());
+  return r[at] > 0.0f && std::isfinite(r[at]) ? r[at] : 0.0f;
+}
+}  // namespace
+
 LocalResolution local_resolution(const Neighborhoods& nb) {
   const size_t n = nb.k ? nb.index.size() / size_t(nb.k) : 0;
   LocalResolution out;
@@ -39,6 +49,7 @@ LocalResolution local_resolution(const Neighborhoods& nb) {
     const float median = sorted[n / 2];
     out.median_r = median > 0.0f && std::isfinite(median) ? median : 0.0f;
   }
+  out.sparse_r = sparse_spacing(out.r);
   return out;
 }
 
@@ -61,6 +72,7 @@ LocalResolution surface_resolution(const LocalResolution& raw, const Neighborhoo
     }
   });
   advance(current_progress(), n);
+  out.sparse_r = sparse_spacing(out.r);  // of the capped r: outliers do not widen it
   return out;
 }
 

@@ -20,6 +20,11 @@ struct LocalResolution {
   // The median of r: the scan's own spacing, what marks size their
   // surface from (0 where it is not positive and finite).
   float median_r = 0.0f;
+  // The 90th percentile of r: the spacing nine in ten points have at most,
+  // what a gap between neighbouring samples of the scan (not a hole in it)
+  // stays within also where the scan is sparser than its median (an
+  // aerial tile's single flight lines, a range scan's far side).
+  float sparse_r = 0.0f;
 };
 LocalResolution local_resolution(const Neighborhoods& nb_with_self);
 // What marks size their surface from: `raw` (local_resolution of the same

@@ -49,6 +49,21 @@ struct SurfaceFrame {
 };
 SurfaceFrame make_surface_frame(const Camera& camera, glm::ivec2 image_size, const glm::dmat4& world_from_anchor);
 
+// The scan's own sampling, handed to the filters that must tell its gaps
+// and noise from the picture (the gap fill, eye-dome lighting, depth
+// lines): one per segment and frame, the same in every tile.
+struct ScanSampling {
+  // The spacing of the segment's points in view units: the 90th percentile
+  // of their mean distance to their 8 nearest neighbours
+  // (LocalResolution::sparse_r, cached per cloud), the largest over the
+  // segment's visible clouds; 0 = unknown (then filters keep their pixel
+  // constants).
+  float spacing = 0.0f;
+  // The segment's nearest linear depth in the frame: where that spacing
+  // spans the most pixels.
+  float depth_min = 0.0f;
+};
+
 struct FilterContext {
   gl::ShaderLibrary* shaders = nullptr;
   ImageTextures* images = nullptr;         // image files the filters sample
@@ -63,6 +78,7 @@ struct FilterContext {
   double time = 0.0;         // scene time in seconds (animation)
   uint32_t segment_seed = 0; // stable per segment, for noise
   SurfaceFrame surface;      // with raster_depth: surface points (see above)
+  ScanSampling sampling;     // the segment's point spacing (see above)
 };
 
 class Filter {

@@ -1,6 +1,7 @@
 #include "render/filter_chain.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -26,13 +27,24 @@ int total_footprint(const std::vector<FilterStep>& steps) {
 
 namespace {
 
-// The gap fill's search: gaps up to 2 * kGapReach - 1 pixels across close
-// (a bound on its cost; whether a gap closes is decided by the depths of
-// the surface around it). Its ends are one surface when their depths differ
+// The gap fill's search. Its ends are one surface when their depths differ
 // by no more than a surface turned kGapGrazing (tan 70 degrees) away from
 // the view changes over the gap, in the pixel's own footprint at that depth.
-constexpr int kGapReach = 8;
 constexpr float kGapGrazing = 2.75f;
+
+}  // namespace
+
+int gap_fill_reach(const ScanSampling& sampling, const SurfaceFrame& surface) {
+  if (!(sampling.spacing > 0.0f)) return kGapSplatReach;
+  // Gaps up to twice the spacing close (the shader's u_span); on one side
+  // of a gap pixel its end lies at most that far less a pixel away, most
+  // pixels where the segment is nearest.
+  const float pixel = std::abs(surface.x0.x + sampling.depth_min * surface.x1.x);
+  const float span_px = pixel > 0.0f ? 2.0f * sampling.spacing / pixel : float(kGapReachMax);
+  return std::clamp(int(std::ceil(span_px)) - 1, kGapSplatReach, kGapReachMax);
+}
+
+namespace {
 
 void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Texture& input, const gl::Texture& output,
               const Rect& rect) {
@@ -48,6 +60,7 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
   ctx.time = in.time;
   ctx.segment_seed = in.segment_seed;
   ctx.surface = in.surface;
+  ctx.sampling = in.sampling;
   f.filter->apply(ctx, f.params);
   gl::check_gl(("filter " + f.info->schema.id).c_str());
 }
@@ -60,14 +73,19 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
   // The list of tiles that need the search: 3 uints of indirect dispatch
   // arguments, padding, then a uvec2 per 16x16 tile. Kept for the GL
   // context's life (like the shader library), grown as frames need.
+  // Then each tile's nearest depth (a float per 16x16 tile).
   static gl::Buffer* tiles = new gl::Buffer();
+  static gl::Buffer* tile_depth = new gl::Buffer();
   static size_t tiles_bytes = 0;
-  const glm::ivec2 groups = (write.size() + 15) / 16;
-  const size_t bytes = 16 + 8 * size_t(std::max(groups.x, 1)) * size_t(std::max(groups.y, 1));
+  const glm::ivec2 groups = glm::max((write.size() + 15) / 16, glm::ivec2(1));
+  const size_t n_tiles = size_t(groups.x) * size_t(groups.y);
+  const size_t bytes = 16 + 8 * n_tiles;
   if (bytes > tiles_bytes) {
     *tiles = gl::make_buffer(bytes, nullptr);
+    *tile_depth = gl::make_buffer(4 * n_tiles, nullptr);
     tiles_bytes = bytes;
   }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, tile_depth->id());
   const GLuint args[4] = {0, 1, 1, 0};
   glNamedBufferSubData(tiles->id(), 0, sizeof(args), args);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, tiles->id());
@@ -78,8 +96,11 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     const gl::Program& prog = images.shaders->compute(
         "gap_fill.comp", classify ? std::vector<std::string>{"PASS_CLASSIFY"} : std::vector<std::string>{});
     prog.use();
-    glUniform1i(prog.location("u_reach"), kGapReach);
+    glUniform1i(prog.location("u_reach"), gap_fill_reach(images.sampling, images.surface));
     glUniform1f(prog.location("u_grazing"), kGapGrazing);
+    glUniform1f(prog.location("u_span"), std::max(2.0f * images.sampling.spacing, 0.0f));
+    glUniform1i(prog.location("u_splat_reach"), kGapSplatReach);
+    glUniform2i(prog.location("u_groups"), groups.x, groups.y);
     glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
     glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);
     set_surface_uniforms(prog, images.surface);

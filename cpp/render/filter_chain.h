@@ -31,6 +31,7 @@ struct FilterChainImages {
   double time = 0.0;
   uint32_t segment_seed = 0;
   SurfaceFrame surface;
+  ScanSampling sampling;
   // Close the gaps between splats before the first filter that reads
   // neighbourhoods (shaders/gap_fill.comp), into `gap_image`: for point
   // splats, not for marks whose gaps are the drawing (strokes, stipples).
@@ -42,6 +43,21 @@ struct FilterChainImages {
 // holding the result (`first` when there are no steps) and leaves `rect` at
 // the last filter's rect.
 const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const FilterChainImages& images, Rect& rect);
+
+// How far the gap fill searches from a gap pixel for the surface around it,
+// in pixels: twice the scan's spacing at the segment's nearest depth (gaps
+// wider than that are holes in the scan), at least kGapSplatReach and at
+// most kGapReachMax.
+int gap_fill_reach(const ScanSampling& sampling, const SurfaceFrame& surface);
+// The reach of the fill's other rule (gaps between splats as wide as the gap
+// close, where the scan is sparser than its spacing or the spacing is
+// unknown): gaps up to 15 px, the fill's reach before it knew the spacing.
+constexpr int kGapSplatReach = 8;
+// A bound on the gap fill's cost per gap pixel (8 directions of this many
+// loads) and on the tiles' halo it adds (render/renderer.cpp).
+// At most a 16x16 tile, so that a gap's ends lie in its tile or the 8
+// around it (shaders/gap_fill.comp bounds each tile's search by theirs).
+constexpr int kGapReachMax = 16;
 
 // Sum of the filters' footprints: how far the chain can reach beyond its input.
 int total_footprint(const std::vector<FilterStep>& steps);

@@ -191,6 +191,15 @@ float median_spacing(const VisibleChunk& v, int k, float otherwise) {
   return median > 0.0f ? median : otherwise;
 }
 
+float view_spacing(const VisibleChunk& v, int k) {
+  const std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
+  if (!cloud || cloud->size() == 0) return 0.0f;
+  // The view's scale of object lengths (a camera has none: the instance's).
+  const float scale = std::cbrt(std::abs(glm::determinant(glm::mat3(v.view_from_chunk))));
+  const float spacing = cloud->analysis().surface_resolution(k)->sparse_r * scale;
+  return std::isfinite(spacing) ? spacing : 0.0f;
+}
+
 void bind_chunk(const gl::Program& p, const VisibleChunk& v, ColorSource source,
                 const std::vector<std::pair<int, const gl::Buffer*>>& extra) {
   const GpuCloud& g = *v.gpu;

@@ -222,6 +222,32 @@ struct Renderer::Impl {
     return glm::dmat4(1.0);
   }
 
+  // The segment's point spacing for its filters (render/filter.h
+  // ScanSampling), from the frame's chunks, so every tile gets the same.
+  static ScanSampling scan_sampling(const Segment& seg, const Culled& frame_culled) {
+    // Neighbours of the spacing the marks size their surface from.
+    constexpr int kSpacingNeighbours = 8;
+    ScanSampling out;
+    // An out-of-core scan streams a new cloud whenever the view changes its
+    // counts: its spacing would be a kNN of the streamed points per such
+    // frame. Left unknown there (the filters' pixel rules), until the cache
+    // keeps the spacing.
+    for (const Instance& inst : seg.instances)
+      if (inst.cached) return out;
+    const GpuCloud* last = nullptr;
+    float last_scale = 0.0f;
+    for (const VisibleChunk& v : frame_culled.chunks) {
+      // A cloud's chunks share its spacing; one look-up per cloud and scale.
+      const float scale = std::abs(glm::determinant(glm::mat3(v.view_from_chunk)));
+      if (v.gpu == last && scale == last_scale) continue;
+      last = v.gpu, last_scale = scale;
+      // The largest: each cloud's own gaps close (depths still decide).
+      out.spacing = std::max(out.spacing, view_spacing(v, kSpacingNeighbours));
+    }
+    out.depth_min = float(frame_culled.depth_min);
+    return out;
+  }
+
   // The frame's chunks that reach the tile's region, and their rectangle in
   // the tile's pixels (the depth range stays the frame's: marks see the
   // same numbers in every tile).
@@ -333,6 +359,7 @@ struct Renderer::Impl {
       chain.time = s.time;
       chain.segment_seed = mark.segment_seed;
       chain.surface = make_surface_frame(cam, frame, surface_anchor(seg));
+      chain.sampling = scan_sampling(seg, in_frame);
       chain.fill_gaps = seg.style.mark.info->schema.id == "points";
       chain.gap_image = [this]() -> const gl::Texture& { return targets.gap_fill_image(); };
       current = run_filter_chain(seg.style.filters, chain, rect);
@@ -424,8 +451,14 @@ TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vect
   std::string whole;  // a mark that cannot draw tiles
   for (const Segment& seg : scene.segments) {
     const MarkStep& m = seg.style.mark;
+    // The gap fill (points mark, before a filter that reads neighbourhoods)
+    // reads up to its reach around a gap pixel (render/filter_chain.h).
+    const bool gap_fill = m.info->schema.id == "points" &&
+                          std::any_of(seg.style.filters.begin(), seg.style.filters.end(),
+                                      [](const FilterStep& f) { return f.filter->reads_neighbourhood(); });
     const int reach = int(std::ceil(m.mark->extent(m.params).pixels)) + m.mark->screen_reach(m.params) +
-                      total_footprint(seg.style.filters) + seg.style.inpaint.get_int("radius") + 1;
+                      (gap_fill ? kGapReachMax : 0) + total_footprint(seg.style.filters) +
+                      seg.style.inpaint.get_int("radius") + 1;
     halo = std::max(halo, reach);
     if (!m.mark->draws_tiles(m.params) && whole.empty()) whole = m.info->schema.id;
     const MarkStep& surface = seg.style.surface;

@@ -8,7 +8,9 @@ Used two ways:
   rendered again on purpose in issue 40, when eye-dome lighting began to
   read its neighbours between pixels; urban_lidarhd, warsaw_styles and
   lion_benchmark again when the gap fill began to close the gaps between
-  splats before neighbourhood filters):
+  splats before neighbourhood filters; urban_lidarhd and warsaw_styles again
+  when the scan's spacing reached the filters: eye-dome lighting's noise
+  floor and the gap fill's reach):
 
       blender -b --factory-startup --python-exit-code 1 \
           --python tests/blender/example_renders.py -- <builddir> [names...]

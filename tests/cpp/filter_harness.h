@@ -35,6 +35,9 @@ struct Image {
   glm::ivec2 size{0, 0};
   std::vector<float> rgba;   // 4 per pixel
   std::vector<float> depth;  // 1 per pixel; +inf = empty (filled from alpha when left empty)
+  // The scan's spacing handed to the chain (ScanSampling::spacing; the
+  // harness's view is one unit per pixel); 0 = unknown.
+  float spacing = 0.0f;
 
   Image() = default;
   explicit Image(glm::ivec2 s) : size(s), rgba(size_t(s.x) * size_t(s.y) * 4, 0.0f) {}
@@ -130,6 +133,8 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
       // of pixel q at depth d is (q, -d).
       images.surface.x0 = {1.0f, 0.0f, 0.0f};
       images.surface.y0 = {0.0f, 1.0f, 0.0f};
+      images.sampling.spacing = in.spacing;
+      images.sampling.depth_min = *std::min_element(depth.begin(), depth.end());
       const gl::Texture* current = run_filter_chain(chain, images, rect);
       glFinish();
       total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -5,6 +5,7 @@
 // scene unit per pixel.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 
 #include "filter_images.h"
@@ -112,6 +113,43 @@ TEST(GapFill, BackPointsSeenThroughAGapGiveWayToTheFrontSurface) {
   const FilterRun flat = run_filters(scene(false), {kOil});
   for (int y = 12; y < 19; ++y)
     for (int x = 12; x < 52; ++x) ASSERT_EQ(noisy.out.at(x, y), flat.out.at(x, y)) << x << "," << y;
+}
+
+TEST(GapFill, TheScansSpacingClosesScanLineGapsWiderThanItsSplatsAndKeepsItsHoles) {
+  // An aerial tile's sampling: scan lines 7 px apart, a 3x2 px splat every
+  // 3 px along each (gaps of 5 px between the lines: wider than the
+  // splats, so without the spacing the surface does not run on for half a
+  // gap and nothing closes), and a 24 px square without points (a hole in
+  // the scan, wider than twice its spacing) that stays open.
+  Image in = empty_with_depth({96, 96});
+  const auto in_hole = [](int x, int y) { return x >= 36 && x < 60 && y >= 36 && y < 60; };
+  for (int y = 8; y < 88; y += 7)
+    for (int x = 8; x < 88; x += 3)
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 3; ++dx)
+          if (!in_hole(x + dx, y + dy)) put(in, x + dx, y + dy, glm::vec4(0.7f, 0.4f, 0.3f, 1.0f), 10.0f);
+  // Open pixels of the lattice away from the hole, or deep inside it (its
+  // border, 3 px either side and to the scan lines above and below it, is
+  // enclosed along fewer lines: either way).
+  const auto open_pixels = [&](const Image& out, bool hole) {
+    int n = 0;
+    for (int y = 12; y < 84; ++y)
+      for (int x = 12; x < 84; ++x) {
+        const bool near_hole = x >= 33 && x < 63 && y >= 26 && y < 70;
+        const bool deep_in_hole = x >= 39 && x < 57 && y >= 39 && y < 57;
+        if (hole ? deep_in_hole : !near_hole) n += out.at(x, y).a < 0.5f;
+      }
+    return n;
+  };
+  const FilterRun unknown = run_filters(in, {kOil});
+  EXPECT_GT(open_pixels(unknown.out, false), 1000) << "without the spacing the gaps stay";
+  // The lattice's mean distance to a point's 7 nearest neighbours (what the
+  // renderer hands over): 3, 3, 6, 6, 7, 7 and sqrt(3^2 + 7^2) px, in the
+  // harness's view of one unit per pixel.
+  in.spacing = (3.0f + 3.0f + 6.0f + 6.0f + 7.0f + 7.0f + std::sqrt(58.0f)) / 7.0f;
+  const FilterRun known = run_filters(in, {kOil});
+  EXPECT_EQ(open_pixels(known.out, false), 0) << "the gaps between the scan's samples close";
+  EXPECT_EQ(open_pixels(known.out, true), 18 * 18) << "a hole wider than twice the spacing stays open";
 }
 
 }  // namespace

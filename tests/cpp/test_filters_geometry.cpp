@@ -35,6 +35,34 @@ TEST(FilterEdgeEnhance, EyeDomeLightingDarkensOnlyWhatLiesBehindAContour) {
   EXPECT_EQ(run.out.at(20, 20), in.at(20, 20)) << "flat depth: unchanged";
 }
 
+TEST(FilterEdgeEnhance, DepthStepsWithinTheScansSpacingAreItsNoise) {
+  // A Kinect wall: a plane facing the camera whose depth is quantised in
+  // steps of 0.02 every 4 px (the sensor's disparity steps). Without the
+  // scan's spacing EDL shades every step; with a spacing above the step the
+  // wall stays clean, while the occlusion of a nearer square (5 units, far
+  // beyond the spacing) is still shaded.
+  Image wall({96, 64});
+  wall.depth.assign(size_t(96 * 64), std::numeric_limits<float>::infinity());
+  for (int y = 4; y < 60; ++y)
+    for (int x = 4; x < 92; ++x) {
+      wall.set(x, y, glm::vec4(0.6f, 0.6f, 0.6f, 1.0f));
+      wall.depth[wall.index(x, y)] = 1.0f + 0.02f * float(x / 4);
+    }
+  const auto shaded = [](const Image& in, const Image& out) {
+    int n = 0;
+    for (int y = 8; y < 56; ++y)
+      for (int x = 8; x < 88; ++x) n += out.at(x, y) != in.at(x, y);
+    return n;
+  };
+  const std::map<std::string, std::vector<double>> edl{{"outline_width", {0}}, {"edl_strength", {1.0}}};
+  EXPECT_GT(shaded(wall, run_filter(wall, "edge_enhance", edl).out), 48 * 15) << "each step shades a column";
+  wall.spacing = 0.03f;
+  EXPECT_EQ(shaded(wall, run_filter(wall, "edge_enhance", edl).out), 0);
+  Image occluded = occlusion_image();
+  occluded.spacing = 0.03f;
+  EXPECT_LT(run_filter(occluded, "edge_enhance", edl).out.at(43, 48).b, 0.5f * occluded.at(43, 48).b);
+}
+
 TEST(FilterEdgeEnhance, DepthContoursBecomeLinesOfTheGivenWidth) {
   const Image in = occlusion_image();
   for (int width : {1, 3}) {

@@ -194,7 +194,9 @@ def test_a_cloud_computes_nothing_until_asked_then_caches(renderer, camera):
     scene = pointnpr.Scene()
     scene.add_segment("s", pointnpr.Style(filters=[("cartoon", {})]), [cloud])
     renderer.render(scene, camera, 320, 240)
-    assert pointnpr.computed_attributes(cloud) == []  # no style needs normals: none computed
+    # No style needs normals: none computed; the filters' point spacing only
+    # (ScanSampling: the distances to the 8 nearest neighbours, itself included in the kNN).
+    assert sorted(pointnpr.computed_attributes(cloud)) == ["knn:9", "points", "surface_resolution:8"]
     n1 = pointnpr.estimate_normals(cloud, k=10)
     assert "normals:10:consistent" in pointnpr.computed_attributes(cloud)
     before = pointnpr.computed_attributes(cloud)
