@@ -251,3 +251,15 @@ def write_3dgs_ply(path, means, quats, scales, opacity, sh, degree):
     with open(path, "wb") as f:
         f.write(header.encode())
         f.write(data.tobytes())
+
+
+def assert_read_error(path, data, words):
+    """Reading `data` written at `path` raises a ReadError that names the
+    file and says `words`."""
+    import pytest
+    import pointnpr
+    path.write_bytes(data)
+    with pytest.raises(pointnpr.ReadError) as e:
+        pointnpr.read(str(path))
+    assert words in str(e.value), str(e.value)
+    assert e.value.file == str(path)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import pointnpr
-from gaussian_reference import SH_C0, quat_matrix, random_splats, write_3dgs_ply, write_spz
+from gaussian_reference import assert_read_error, SH_C0, quat_matrix, random_splats, write_3dgs_ply, write_spz
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DATA = os.path.join(ROOT, "tests", "data", "io", "gaussians")
@@ -117,12 +117,7 @@ def test_a_bad_spz_file_is_a_clear_read_error(tmp_path, case):
         data = _bad_crc()
     elif case == "truncated gzip":
         data = gzip.compress(_header(n=150) + _NOISE, mtime=0)[:-1500]
-    path = tmp_path / "bad.spz"
-    path.write_bytes(data)
-    with pytest.raises(pointnpr.ReadError) as e:
-        pointnpr.read(str(path))
-    assert words in str(e.value), str(e.value)
-    assert e.value.file == str(path)
+    assert_read_error(tmp_path / "bad.spz", data, words)
 
 
 def _ply_with(tmp_path, names, rows):

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import pointnpr
-from gaussian_reference import random_splats, spz_streams, spz_v4_bytes, write_spz, zstd_compress
+from gaussian_reference import assert_read_error, random_splats, spz_streams, spz_v4_bytes, write_spz, zstd_compress
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DATA = os.path.join(ROOT, "tests", "data", "io", "gaussians")
@@ -128,9 +128,4 @@ def _bad_cases():
 @pytest.mark.parametrize("case", list(_bad_cases()))
 def test_a_bad_version_4_file_is_a_clear_read_error(tmp_path, case):
     data, words = _bad_cases()[case]
-    path = tmp_path / "bad.spz"
-    path.write_bytes(data)
-    with pytest.raises(pointnpr.ReadError) as e:
-        pointnpr.read(str(path))
-    assert words in str(e.value), str(e.value)
-    assert e.value.file == str(path)
+    assert_read_error(tmp_path / "bad.spz", data, words)
