@@ -186,16 +186,17 @@ PRESETS = {
     },
     # Stippling (seed 003): black dots on white paper, no normals needed;
     # hidden points removed in image space, lit surfaces thinned by the
-    # light-view quadtree (diffuse only).
+    # light-view quadtree (diffuse only), its cells from each point's own
+    # spacing, the dots' density set by the tone whatever the scan's.
     "Stipple diffuse": {
-        "mark": ("stipples", {"level": 8.0, "level_scale": "point_count", "light_azimuth": 135.0,
+        "mark": ("stipples", {"level": 9.0, "level_scale": "spacing", "tone": 0.7, "light_azimuth": 135.0,
                               "light_elevation": 50.0}),
         "filters": [],
     },
     # The same with highlights opened where the surface faces between eye
     # and light (diffuse + specular).
     "Stipple specular": {
-        "mark": ("stipples", {"level": 8.0, "level_scale": "point_count", "light_azimuth": 135.0,
+        "mark": ("stipples", {"level": 9.0, "level_scale": "spacing", "tone": 0.7, "light_azimuth": 135.0,
                               "light_elevation": 50.0, "specular": True, "tau": 0.25}),
         "filters": [],
     },
@@ -204,7 +205,7 @@ PRESETS = {
     # (Colours are binary fractions: float32 Blender properties hold them exactly.)
     "Ink stippling": {
         "mark": ("stipples", {"dot_size": 1.6, "size_jitter": 0.5, "dot_color": (0.1875, 0.09375, 0.046875, 1.0),
-                              "paper_color": (0.96875, 0.9296875, 0.84375, 1.0), "level": 8.0, "level_scale": "point_count",
+                              "paper_color": (0.96875, 0.9296875, 0.84375, 1.0), "level": 9.0, "level_scale": "spacing", "tone": 0.7,
                               "light_azimuth": 120.0,
                               "light_elevation": 45.0, "specular": True, "tau": 0.15}),
         "filters": [],
