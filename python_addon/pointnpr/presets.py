@@ -151,11 +151,12 @@ PRESETS = {
         "filters": [("color_grade", {"saturation": 1.8})],
     },
     # Seed 001 Fig. 7(a): stippling, every class of point a Gaussian point
-    # sprite: feature points dense along edges, dithering points for tone.
+    # sprite: feature points dense along edges, dithering points for tone
+    # (the tone of the key light on the shape, at any density and size).
     "Feature stippling": {
         "mark": ("feature_strokes", {"directional": "point_sprite", "non_directional": "point_sprite",
                                      "dithering": "point_sprite", "sprite_size": 2.0, "feature_threshold": 0.3,
-                                     "dither": 0.25, "dither_tone": 0.6,
+                                     "tone": 1.2, "shading": "diffuse", "color_source": "constant",
                                      "density_mode": "constant_on_screen", "queue_level": 0.25}),
         "filters": [],
     },
@@ -168,7 +169,7 @@ PRESETS = {
                                      "directional_length": 16.0, "stroke_width": 3.0,
                                      "non_directional": "point_sprite", "dithering": "point_sprite",
                                      "sprite_size": 2.5, "feature_threshold": 0.3, "line_error": 0.25,
-                                     "dither": 0.2, "dither_tone": 0.6,
+                                     "tone": 1.2, "shading": "diffuse", "color_source": "constant",
                                      "density_mode": "constant_on_screen", "queue_level": 0.25}),
         "filters": [],
     },
@@ -180,7 +181,8 @@ PRESETS = {
                                      "directional_length": 18.0, "stroke_width": 3.5,
                                      "non_directional": "line_segment", "dithering": "line_segment",
                                      "other_length": 5.0, "line_width": 1.0, "screen_angle": 45.0,
-                                     "feature_threshold": 0.45, "line_error": 0.25, "dither": 0.1, "dither_tone": 0.4,
+                                     "feature_threshold": 0.45, "line_error": 0.25,
+                                     "tone": 0.8, "shading": "diffuse", "color_source": "constant",
                                      "density_mode": "constant_on_screen", "queue_level": 0.25}),
         "filters": [],
     },
