@@ -17,6 +17,7 @@ uniform float u_px_per_unit;
 uniform float u_disc_scale;
 uniform float u_offset;
 uniform float u_max_size;
+uniform float u_max_r;  // the chunk's largest local resolution (FeatureStrokeSettings::max_r)
 uniform int u_disc_normals;  // 1: normals bound (binding 2): discs in the tangent plane
 
 flat out float v_depth;
@@ -30,6 +31,7 @@ void main() {
   float depth = -v.z;
   float r = resolution[index];
   if (!(r == r) || r < 0.0) r = 0.0;
+  r = min(r, u_max_r);
   float w = u_ortho != 0 ? 1.0 : depth;
   float diameter = clamp(u_disc_scale * r * u_px_per_unit / max(w, 1e-30), 1.0, u_max_size);
   v_depth = depth;

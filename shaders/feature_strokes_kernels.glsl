@@ -3,6 +3,7 @@
 // (cpp/marks/feature_strokes/native.cpp), in the subset of cpp/core/glsl.h.
 // The includer defines what reads the point data: point_degree(i),
 // has_lines(), point_line(i), point_resolution(i), inv_median_r(),
+// max_r() (the chunk's largest r: FeatureStrokeSettings::max_r),
 // has_color(), point_color(i), view_rotation(), lit() (the chunk is
 // shaded) and point_normal(i) (view space, zero: none).
 #ifndef FEATURE_STROKES_KERNELS_GLSL
@@ -45,6 +46,7 @@ Record place_record(uint index, uint id, vec4 v) {
     // share of surface (its spacing squared, relative to the cloud's median)
     // so the kept points are uniform in 3D, raised where the colour is dark.
     float r = point_resolution(index);
+    r = r == r ? min(r, max_r()) : r;
     float rel = r == r ? r * inv_median_r() : 1.0f;
     float lum = has_color() ? dot(vec3(color), vec3(0.2126f, 0.7152f, 0.0722f)) : 0.5f;
     // Lit (shading): the tone of the colour, or of white, under the light.

@@ -16,6 +16,7 @@ uniform uint u_drawn;          // queue points of this chunk to consider
 uniform int u_queue;           // 1: read queue_order
 uniform int u_has_lines;
 uniform float u_inv_median_r;
+uniform float u_max_r;  // the chunk's largest local resolution (FeatureStrokeSettings::max_r)
 uniform int u_has_color;
 uniform int u_lit;             // shading applies to this chunk (normals bound)
 
@@ -24,6 +25,7 @@ bool has_lines() { return u_has_lines != 0; }
 uint point_line(uint index) { return lines[index]; }
 float point_resolution(uint index) { return resolution[index]; }
 float inv_median_r() { return u_inv_median_r; }
+float max_r() { return u_max_r; }
 bool has_color() { return u_has_color != 0; }
 vec4 point_color(uint index) { return source_color(index); }
 mat3 view_rotation() { return mat3(u_view_from_chunk); }

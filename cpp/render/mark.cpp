@@ -191,6 +191,13 @@ float median_spacing(const VisibleChunk& v, int k, float otherwise) {
   return median > 0.0f ? median : otherwise;
 }
 
+float sparse_spacing(const VisibleChunk& v, int k, float otherwise) {
+  const std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
+  if (!cloud || cloud->size() == 0) return otherwise;
+  const float sparse = cloud->analysis().surface_resolution(k)->sparse_r;
+  return sparse > 0.0f && std::isfinite(sparse) ? sparse : otherwise;
+}
+
 float view_spacing(const VisibleChunk& v, int k) {
   const std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
   if (!cloud || cloud->size() == 0) return 0.0f;

@@ -58,6 +58,10 @@ std::shared_ptr<const PointCloud> chunk_cloud(const VisibleChunk& v, const char*
 // k nearest neighbours, LocalResolution::median_r; computed once per cloud
 // by its analysis), or `otherwise` where the cloud has none.
 float median_spacing(const VisibleChunk& v, int k, float otherwise);
+// The sparse spacing of a visible chunk's cloud (LocalResolution::sparse_r:
+// nine in ten of its points lie at most this far from their k nearest
+// neighbours) in the cloud's units, or `otherwise` where it has none.
+float sparse_spacing(const VisibleChunk& v, int k, float otherwise);
 // The sparse spacing of a visible chunk's cloud (LocalResolution::sparse_r
 // of its k nearest neighbours, computed once per cloud) in view units (its
 // instance's scale applied); 0 where the cloud has none.

@@ -45,7 +45,7 @@ PAPER = {"tone": 0.0}
 
 def render(renderer, params, clouds, cam=None, capture=True, background=(1, 1, 1, 1)):
     scene = pointnpr.Scene()
-    params = dict(PAPER, **_path, **params)
+    params = {**PAPER, **_path, **params}
     scene.add_segment("s", pointnpr.Style(mark=("feature_strokes", params)), [(c, np.eye(4)) for c in clouds])
     return renderer.render(scene, cam or camera(), W, H, background=background, capture_marks=capture)
 
@@ -453,3 +453,25 @@ def test_a_surface_seen_edge_on_hides_no_more_than_its_own_strip(renderer, path)
     assert drawn.sum() > 0 and len(rows) < 0.2 * H
     # Within 2 px of the rows the points cover (round discs: about 7).
     assert not drawn[:max(rows.min() - 2, 0)].any() and not drawn[rows.max() + 3:].any()
+
+
+def test_a_point_alone_beside_the_scan_gets_no_disc_larger_than_the_scan_s_sparse_spacing(renderer, path):
+    # A wall and, beside it, nine points 0.2 apart (10x the wall's spacing,
+    # each other's nearest neighbours: a stray cluster, as the lion's sky
+    # has). Their discs, sized by their own spacing, were 40 px wide patches
+    # of paper in the sky; capped at twice the scan's sparse spacing they
+    # stay within a few pixels of their points.
+    pos, _ = wall(1.0, 1.0, 0.02, -4.0)
+    g = np.arange(3) * 0.2
+    stray = np.column_stack([0.45 + np.repeat(g, 3), 0.2 + np.tile(g, 3), np.full(9, -4.0)])
+    c = pointnpr.PointCloud(np.vstack([pos - [0.5, 0.0, 0.0], stray]))
+    params = {"directional": "none", "non_directional": "none", "dithering": "point_sprite", "dither": 0.5}
+    drawn = np.asarray(render(renderer, params, [c], background=(0, 0, 0, 0)).color)[..., 3] > 0
+    scene = pointnpr.Scene()
+    scene.add_segment("s", pointnpr.Style(mark=("points", {"point_size": 1.0})), [(c, np.eye(4))])
+    dots = np.asarray(renderer.render(scene, camera(), W, H, background=(0, 0, 0, 0)).color)[..., 3] > 0
+    ys, xs = np.nonzero(dots)
+    near = np.zeros_like(dots)
+    for y, x in zip(ys, xs):
+        near[max(y - 8, 0):y + 9, max(x - 8, 0):x + 9] = True
+    assert drawn.sum() > 1000 and (drawn & ~near).sum() == 0, (drawn & ~near).sum()

@@ -163,6 +163,7 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   for (const VisibleChunk& v : ctx.chunks) {
     s.drawn.push_back(queue_count(v, p));
     s.inv_median_r.push_back(1.0f / median_spacing(v, kResolutionNeighbors, 1.0f));
+    s.max_r.push_back(2.0f * sparse_spacing(v, kResolutionNeighbors, std::numeric_limits<float>::infinity()));
   }
   return s;
 }
@@ -205,8 +206,10 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
     glUniform1f(d.location("u_offset"), s.depth_offset);
     glUniform1f(d.location("u_max_size"), kMaxDiscPixels);
     raster.set_uniforms(d);
-    for (const VisibleChunk& v : ctx.chunks) {
+    for (size_t c = 0; c < ctx.chunks.size(); ++c) {
+      const VisibleChunk& v = ctx.chunks[c];
       const gl::Buffer* normals = v.gpu->find({AttributeKind::Normal, k});
+      glUniform1f(d.location("u_max_r"), s.max_r[c]);
       bind_chunk(d, v, ColorSource::Constant,
                  {{2, normals}, {9, v.gpu->find({AttributeKind::LocalResolution, kResolutionNeighbors})}});
       glUniform1i(d.location("u_disc_normals"), normals ? 1 : 0);
@@ -267,6 +270,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
       glUniform1i(select.location("u_has_color"), resolved != ColorSource::Constant ? 1 : 0);
       glUniform1i(select.location("u_lit"), lit ? 1 : 0);
       glUniform1f(select.location("u_inv_median_r"), s.inv_median_r[c]);
+      glUniform1f(select.location("u_max_r"), s.max_r[c]);
       glUniform1ui(select.location("u_drawn"), s.drawn[c]);
       glUniform1ui(select.location("u_out_base"), batch.offsets[c - batch.begin]);
       glUniform1ui(select.location("u_command_base"), batch.offsets[c - batch.begin] / 128u);

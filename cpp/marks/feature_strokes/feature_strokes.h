@@ -52,6 +52,12 @@ struct FeatureStrokeSettings {
   const ParamValues* params = nullptr;  // the frame's (lit_by_shading)
   std::vector<uint32_t> drawn;      // per chunk: points of its queue considered
   std::vector<float> inv_median_r;  // per chunk: 1 / its cloud's median local resolution
+  // Per chunk: the largest local resolution a point's marks use, twice its
+  // cloud's sparse spacing. A point farther from its neighbours than
+  // nearly all the scan's (alone in the sky, a stray return) would get a
+  // visibility disc and dithering marks the size of its gap; it gets those
+  // of the scan's sparsest regular part instead.
+  std::vector<float> max_r;
 };
 
 // The packed line fits (AttributeKind::FeatureLine) on the host, read back

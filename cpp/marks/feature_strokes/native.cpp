@@ -83,6 +83,7 @@ struct Chunk {
   glm::mat3 normal_matrix{1.0f};
   uint32_t first = 0, count = 0, drawn = 0, key_base = 0;
   float inv_median_r = 1.0f;
+  float max_r = std::numeric_limits<float>::infinity();
   glm::mat4 view{1.0f};
 };
 
@@ -114,6 +115,7 @@ void scatter_discs(const Chunk& c, const Frame& f, const FeatureStrokeSettings& 
     if (!(depth >= f.near && depth <= f.far)) continue;
     float r = c.resolution[index];
     if (!(r == r) || r < 0.0f) r = 0.0f;
+    r = std::min(r, c.max_r);
     const float w = f.ortho ? 1.0f : depth;
     const float diameter = std::clamp(s.disc_scale * r * f.px_per_unit / std::max(w, 1e-30f), 1.0f, kMaxDiscPixels);
     const glm::vec4 clip = transform(f.projection, v);
@@ -162,6 +164,7 @@ struct Kernels {
   uint point_line(uint index) const { return chunk_->lines[index]; }
   float point_resolution(uint index) const { return chunk_->resolution[index]; }
   float inv_median_r() const { return chunk_->inv_median_r; }
+  float max_r() const { return chunk_->max_r; }
   bool has_color() const { return chunk_->colors.source != ColorSource::Constant; }
   vec4 point_color(uint index) const { return chunk_->colors.at(index); }
   mat3 view_rotation() const { return mat3(chunk_->view); }
@@ -316,6 +319,7 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
     c.drawn = s.drawn[i];
     c.key_base = v.key_base;
     c.inv_median_r = s.inv_median_r[i];
+    c.max_r = s.max_r[i];
     c.view = v.view_from_chunk;
     c.normal_matrix = glm::transpose(glm::inverse(glm::mat3(v.view_from_chunk)));
   }
