@@ -4,7 +4,8 @@
 // The includer defines what reads the point data: point_degree(i),
 // has_lines(), point_line(i), point_resolution(i), inv_median_r(),
 // has_color(), point_color(i), view_rotation(), lit() (the chunk is
-// shaded) and point_normal(i) (view space, zero: none).
+// shaded), point_normal(i) (view space, zero: none), has_opacity() and
+// point_opacity(i) (opacity_draws: a Gaussian splat's opacity).
 #ifndef FEATURE_STROKES_KERNELS_GLSL
 #define FEATURE_STROKES_KERNELS_GLSL
 #include "id_hash.glsl"
@@ -23,6 +24,10 @@ Record place_record(uint index, uint id, vec4 v) {
   rec.pad = 0.0f;
   float depth = -v.z;
   if (!(depth >= u.near_plane && depth <= u.far_plane)) return rec;
+  // A Gaussian splat's opacity is its chance of a stroke (opacity_draws),
+  // drawn by the hash and salt of points.glsl's kOpacitySalt: the splats
+  // the points mark draws; a capture's faint haze gets few.
+  if (has_opacity() && !(id_rand(id, 0x6f706163u, 0u) < point_opacity(index))) return rec;
   float fd = point_degree(index);
   bool feature = fd == fd && fd > u.threshold;
   vec4 color = point_color(index);

@@ -24,7 +24,14 @@ layout(std430, binding = 9) buffer LightCount { uint light_count[]; };  // visib
 layout(std430, binding = 10) buffer DotCoverage { uint dot_cov[]; }; // per clip pixel, float bits (max)
 layout(std430, binding = 11) buffer DotDepth { uint dot_depth[]; };  // per clip pixel, float bits (min)
 layout(std430, binding = 12) buffer Globals { uint spec_total; uint visible_count; uint kept_count; uint captured; };
+#ifdef PASS_DRAW
+// The dots pass reads no histogram: its binding carries the splats'
+// opacities instead (opacity_draws), within the 16 storage blocks a
+// compute stage gets on common drivers.
+layout(std430, binding = 14) readonly buffer SplatOpacity { float splat_opacity[]; };
+#else
 layout(std430, binding = 14) buffer SpecularHistogram { uint spec_hist[]; };  // log2 bins, 8 per octave
+#endif
 layout(std430, binding = 15) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices (u_queue)
 uniform int u_queue;  // 1: invocation i takes the chunk's i-th point of the resolution queue
 struct Captured { vec4 center_id; };  // view-space centre, point id (bits)
@@ -41,6 +48,9 @@ uniform int u_accumulate;      // PASS_VISIBLE: the frame's counts of the owned 
 uniform int u_reduce_level;    // PASS_REDUCE: the level written
 uniform float u_step;          // PASS_DILATE: depth added per step
 uniform float u_spec_ref;      // PASS_DRAW: the segment's high percentile of specular_raw
+uniform int u_opacity_draws;   // PASS_DRAW: a dot only where id_rand(point id) < the splat's opacity
+// points.glsl's kOpacitySalt (native.cpp: the same): the splats the points mark draws.
+const uint kOpacitySalt = 0x6f706163u;
 
 // What the shared kernels read of this pass's buffers.
 uint hp_at(uint i) { return hp[i]; }
@@ -126,6 +136,7 @@ void main() {
 #elif defined(PASS_DRAW)
   if (!hp_visible(p)) return;
   uint id = point_ids[index];
+  if (u_opacity_draws != 0 && !(id_rand(id, kOpacitySalt, 0u) < splat_opacity[index])) return;
   if (u.diffuse != 0 && lit_out(p, id)) return;
   if (u.specular != 0 && u.tau > 0.0 && specular_out(id, specular_raw(p), u_spec_ref)) return;
   atomicAdd(kept_count, 1u);

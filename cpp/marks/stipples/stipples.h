@@ -29,6 +29,7 @@ struct StippleSetup {
   const ParamValues* params = nullptr;  // the resolution queue's (draws_queue, queue_count)
   Rect clip;                            // the tile's pixels the mark draws (local; u.clip_min/max)
   int iterations = 0;
+  bool opacity_draws = false;  // a dot only where id_rand(point id) < the splat's opacity (the dots pass)
   stipples::StippleSettings u{};
 
   size_t quad_n() const { return u.diffuse ? (size_t(2) << u.levels) * (size_t(1) << u.levels) : 1; }
