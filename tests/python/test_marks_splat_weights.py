@@ -1,8 +1,9 @@
 """Other marks read a Gaussian splat's scales and opacity (issue 42): brush
 splats and points sized by each splat's footprint (size_mode splat: 2 sqrt
 of the product of its two largest scales), brush splats' alpha weighed by
-the splat's opacity (opacity_weight), points drawn with the splat's
-opacity as their chance (opacity_draws); GL and native agree on each."""
+the splat's opacity (opacity_weight), points, stipples and feature strokes
+drawn with the splat's opacity as their chance and hatching's strokes with
+it as their odds (opacity_draws); GL and native agree on each."""
 import os
 
 import numpy as np
