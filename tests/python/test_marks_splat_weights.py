@@ -209,6 +209,9 @@ def _plane_of_two_opacities(n=8000):
 
 @pytest.mark.parametrize("mark, params", [("stipples", {"diffuse": False}), ("feature_strokes", {"dither": 1.0})])
 def test_stipples_and_feature_strokes_are_drawn_with_the_splat_s_opacity_as_their_chance(renderer, mark, params):
+    # The opacities are computed only for a style that draws by them.
+    assert "splat_opacity" in pointnpr.Style(mark=(mark, dict(params, opacity_draws=True))).attributes
+    assert "splat_opacity" not in pointnpr.Style(mark=(mark, params)).attributes
     means, opacity, cloud = _plane_of_two_opacities()
     ids = {}
     for rasterizer in ("gl", "native"):
