@@ -138,8 +138,13 @@ def test_the_point_cloud_renders_what_the_mesh_of_the_same_capture_renders(tmp_p
     node = nodes.mark_node(weighted)
     setattr(node, helpers.pid("size_mode"), "splat")
     setattr(node, helpers.pid("opacity_draws"), True)
+    brushes = nodes.new_style("Brushes", mark="brush_splats")  # sized by the footprints, weighed by opacity
+    node = nodes.mark_node(brushes)
+    setattr(node, helpers.pid("size_mode"), "splat")
+    setattr(node, helpers.pid("opacity_weight"), True)
+    styles = (gaussians, weighted, brushes)
     renders = []
-    for style in (gaussians, weighted):
+    for style in styles:
         coll.pointnpr_style = style
         renders.append(helpers.render_pixels(tmp_path, "%s.png" % style.name)[0])
     assert all((r[..., 3] > 0.5).mean() > 0.01 for r in renders)
@@ -154,7 +159,7 @@ def test_the_point_cloud_renders_what_the_mesh_of_the_same_capture_renders(tmp_p
     twin = bpy.data.objects.new("Mesh twin", mesh)
     coll.objects.link(twin)
     coll.objects.unlink(obj)
-    for style, before in zip((gaussians, weighted), renders):
+    for style, before in zip(styles, renders):
         coll.pointnpr_style = style
         after = helpers.render_pixels(tmp_path, "twin %s.png" % style.name)[0]
         assert np.array_equal(after, before), np.abs(after - before).max()
