@@ -165,6 +165,43 @@ def test_the_point_cloud_renders_what_the_mesh_of_the_same_capture_renders(tmp_p
         assert np.array_equal(after, before), np.abs(after - before).max()
 
 
+def test_blender_s_own_spz_import_renders_as_ours_turned_z_up(tmp_path):
+    # Blender 5.3 brought its own SPZ importer with its splat point clouds.
+    assert ("spz_import" in dir(bpy.ops.wm)) == NATIVE
+    if not NATIVE:
+        return
+    scene = helpers.reset_scene()
+    scene.render.resolution_x, scene.render.resolution_y = 160, 120
+    scene.render.film_transparent = True
+    before = set(bpy.data.objects)
+    assert bpy.ops.wm.spz_import(filepath=PLAYBOT) == {'FINISHED'}
+    theirs = _capture([o for o in bpy.data.objects if o not in before])
+    assert theirs.type == 'POINTCLOUD' and theirs.data.type == 'GAUSSIAN_SPLAT'
+    coll = helpers.new_collection("Captures")
+    for c in list(theirs.users_collection):
+        c.objects.unlink(theirs)
+    coll.objects.link(theirs)
+    coll.pointnpr_style = nodes.new_style("Splats", mark="gaussians")
+    _look_at_capture(theirs)
+    blender_s, _ = helpers.render_pixels(tmp_path, "theirs.png")
+    coll.objects.unlink(theirs)
+    before = set(bpy.data.objects)
+    assert bpy.ops.import_scene.pointnpr_cloud(filepath=PLAYBOT) == {'FINISHED'}
+    ours = _capture([o for o in bpy.data.objects if o not in before])
+    for c in list(ours.users_collection):
+        c.objects.unlink(ours)
+    coll.objects.link(ours)
+    # Ours keeps the file's (3DGS PLY, y down) axes and is recentred; Blender's is z up, not recentred.
+    z_up = mathutils.Matrix.Rotation(-np.pi / 2, 4, 'X')
+    ours.matrix_world = z_up @ mathutils.Matrix.Translation(ours["pointnpr_origin"])
+    positions = (sync.read_positions(ours) + np.asarray(ours["pointnpr_origin"])) @ np.asarray(z_up.to_3x3()).T
+    assert np.abs(positions - sync.read_positions(theirs)).max() < 1e-6
+    ours_turned, _ = helpers.render_pixels(tmp_path, "ours.png")
+    assert (blender_s[..., 3] > 0.5).mean() > 0.05
+    difference = np.abs(ours_turned - blender_s).max(axis=-1)
+    assert difference.max() <= 10 / 255 and (difference > 1.5 / 255).mean() < 0.001, difference.max()
+
+
 def test_an_out_of_core_capture_is_a_proxy_mesh_like_other_scans(scene, tmp_path):
     warnings = []
     objs = importer.import_point_cloud(bpy.context, PLAYBOT, warnings=warnings,
