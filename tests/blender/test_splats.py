@@ -202,6 +202,20 @@ def test_blender_s_own_spz_import_renders_as_ours_turned_z_up(tmp_path):
     assert difference.max() <= 10 / 255 and (difference > 1.5 / 255).mean() < 0.001, difference.max()
 
 
+def test_stipples_and_feature_strokes_draw_an_imported_capture_by_its_opacity(tmp_path):
+    obj = _import_playbot()
+    coll = obj.users_collection[0]
+    for mark in ("stipples", "feature_strokes"):
+        coll.pointnpr_style = nodes.new_style(mark, mark=mark)
+        plain, _ = helpers.render_pixels(tmp_path, "%s.png" % mark)
+        setattr(nodes.mark_node(coll.pointnpr_style), helpers.pid("opacity_draws"), True)
+        sync.read_log.clear()
+        drawn, _ = helpers.render_pixels(tmp_path, "%s by opacity.png" % mark)
+        assert (obj.name, splats.SOURCE) in sync.read_log
+        ink = lambda image: ((image[..., 3] > 0.5) & (image[..., :3].mean(axis=-1) < 0.5)).sum()  # noqa: E731
+        assert 0 < ink(drawn) < ink(plain), (mark, ink(drawn), ink(plain))
+
+
 def test_an_out_of_core_capture_is_a_proxy_mesh_like_other_scans(scene, tmp_path):
     warnings = []
     objs = importer.import_point_cloud(bpy.context, PLAYBOT, warnings=warnings,
