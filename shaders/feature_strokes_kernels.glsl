@@ -33,6 +33,7 @@ Record place_record(uint index, uint id, vec4 v) {
   vec4 color = point_color(index);
   uint kind;
   vec3 dir = vec3(0.0f);
+  float grow = 1.0f;  // the dithering mark's size: with a tone, larger where the points are too sparse
   if (feature) {
     kind = 1u;
     if (u.use_lines != 0 && has_lines()) {
@@ -55,6 +56,24 @@ Record place_record(uint index, uint id, vec4 v) {
     if (lit())
       lum = diffuse_shaded(vec3(has_color() ? lum : 1.0f), point_normal(index), vec3(u.light_dir), u.shading_strength).x;
     float odds = u.dither * rel * rel * mix(1.0f, 2.0f * (1.0f - lum), u.dither_tone);
+    if (u.tone > 0.0f) {
+      // Kept uniform in 3D, the dithering's ink follows how densely the
+      // points lie on screen (a dense statue goes grey all over, a far tile
+      // white). With a tone its marks cover tone x (1 - the point's tone)
+      // of the surface's area on screen wherever it lies: the odds are that
+      // area over a mark's, the point's share of the surface its spacing
+      // squared on screen, foreshortened by the normal (r as the seed's
+      // range-aware dithering uses it).
+      float wd = u.ortho != 0 ? 1.0f : depth;
+      float r_px = (r == r ? r : 0.0f) * u.px_per_unit / wd;
+      vec3 n = point_normal(index);
+      float to_eye = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+      float facing = n.x * n.x + n.y * n.y + n.z * n.z > 0.25f && to_eye > 0.0f
+                         ? abs(n.x * v.x + n.y * v.y + n.z * v.z) / to_eye : 1.0f;
+      odds = u.tone * (1.0f - lum) * r_px * r_px * max(facing, 0.2f) / u.dither_area;
+      // Where one mark per point is too little ink, each grows (to 3x).
+      grow = odds > 1.0f ? min(sqrt(odds), 3.0f) : 1.0f;
+    }
     if (id_rand(id, 1u, u.seed) >= odds) return rec;
     kind = 2u;
   }
@@ -66,6 +85,8 @@ Record place_record(uint index, uint id, vec4 v) {
     len = u.sprite_size;
     width = u.sprite_size;
   }
+  len = len * grow;
+  width = width * grow;
   rec.center_kind = vec4(vec3(v), float(kind));
   rec.dir_length = vec4(dir, len);
   rec.color = vec4(clamp(u.point_coloring != 0 ? vec3(color) : vec3(u.constant_color), 0.0f, 1.0f), u.opacity);

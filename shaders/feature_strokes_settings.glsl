@@ -34,6 +34,9 @@ SETTINGS_BLOCK(FeatureStrokesSettings, 0)
   float screen_dir_y;
   int stroke_texture;        // taper, brush, dry, image
   float shading_strength;
+  float tone;                // 0: the paper's dithering odds; else the dithering's ink (marks' area per surface)
+  float px_per_unit;         // pixels per scene unit at view depth 1 (orthographic: at any depth)
+  float dither_area;         // px^2 of one dithering primitive
 END_SETTINGS_BLOCK(u)
 
 struct Record {

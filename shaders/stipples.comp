@@ -15,7 +15,14 @@ layout(local_size_x = 128) in;
 #endif
 
 layout(std430, binding = 3) buffer HiddenPoints { uint hp[]; };      // fine eye texture: depth bits, +inf empty
+#ifdef PASS_DRAW
+// A compute stage gets 16 storage blocks (common drivers; llvmpipe counts
+// every declared one): the dots pass, which never reads the visible
+// surface, declares the splats' opacities (opacity_draws) in its place.
+layout(std430, binding = 14) readonly buffer SplatOpacity { float splat_opacity[]; };
+#else
 layout(std430, binding = 4) buffer HiddenPointsOut { uint hp_out[]; };  // PASS_VISIBLE, PASS_RESOLVE: the visible surface
+#endif
 layout(std430, binding = 5) buffer Quadtree { uint quad[]; };        // levels 0..n in one 2^(n+1) x 2^n texture
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 7) buffer EyeCount { uint eye_count[]; };   // visible points per eye cell
@@ -23,17 +30,20 @@ layout(std430, binding = 8) buffer EyeCover { uint eye_cover[]; };   // covered 
 layout(std430, binding = 9) buffer LightCount { uint light_count[]; };  // visible points per light cell
 layout(std430, binding = 10) buffer DotCoverage { uint dot_cov[]; }; // per clip pixel, float bits (max)
 layout(std430, binding = 11) buffer DotDepth { uint dot_depth[]; };  // per clip pixel, float bits (min)
-layout(std430, binding = 12) buffer Globals { uint spec_total; uint visible_count; uint kept_count; uint captured; };
-#ifdef PASS_DRAW
-// The dots pass reads no histogram: its binding carries the splats'
-// opacities instead (opacity_draws), within the 16 storage blocks a
-// compute stage gets on common drivers.
-layout(std430, binding = 14) readonly buffer SplatOpacity { float splat_opacity[]; };
-#else
-layout(std430, binding = 14) buffer SpecularHistogram { uint spec_hist[]; };  // log2 bins, 8 per octave
-#endif
+// The counts and the specular histogram (log2 bins, 8 per octave) in one block: GL guarantees few.
+layout(std430, binding = 12) buffer Globals {
+  uint spec_total;
+  uint visible_count;
+  uint kept_count;
+  uint captured;
+  uint spec_hist[];
+};
 layout(std430, binding = 15) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices (u_queue)
 uniform int u_queue;  // 1: invocation i takes the chunk's i-th point of the resolution queue
+// level_scale spacing: the points' spacing (the normals' binding: stipples read none) and the
+// chunk's cell width over it (spacing_cell_scale).
+layout(std430, binding = 2) readonly buffer PointSpacing { float point_spacing[]; };
+uniform float u_spacing_cell_scale;
 struct Captured { vec4 center_id; };  // view-space centre, point id (bits)
 layout(std430, binding = 13) writeonly buffer Capture { Captured capture[]; };
 #ifdef PASS_RESOLVE
@@ -124,10 +134,8 @@ void main() {
   atomicMin(hp_out[fine_index(p.fine)], floatBitsToUint(p.depth));  // the visible surface, spread for the paper
   if (frame && u.diffuse != 0 && u.casters_all == 0)
     atomicMin(quad[quad_index(light_texel(p.view, u.levels), u.levels)], light_key(p.view));
-  if (u.specular != 0) {
-    atomicAdd(eye_count[eye_index(p.center)], 1u);
-    if (frame) atomicAdd(light_count[light_cell_index(p.view)], 1u);
-  }
+  if (u.specular != 0 || u.tone_scale > 0.0) atomicAdd(eye_count[eye_index(p.center)], 1u);
+  if (u.specular != 0 && frame) atomicAdd(light_count[light_cell_index(p.view)], 1u);
 #elif defined(PASS_SPECULAR)
   if (!hp_visible(p) || !owned(p)) return;
   // A histogram, not the maximum: a few outliers (cells cut by the
@@ -137,19 +145,22 @@ void main() {
   if (!hp_visible(p)) return;
   uint id = point_ids[index];
   if (u_opacity_draws != 0 && !(id_rand(id, kOpacitySalt, 0u) < splat_opacity[index])) return;
-  if (u.diffuse != 0 && lit_out(p, id)) return;
+  float cell_target = u.level_from_spacing != 0 ? point_spacing[index] * u_spacing_cell_scale : 0.0;
+  if (u.diffuse != 0 && lit_out(p, id, cell_target)) return;
   if (u.specular != 0 && u.tau > 0.0 && specular_out(id, specular_raw(p), u_spec_ref)) return;
+  Dot dot = tone_dot(p, id);
+  if (dot.diameter <= 0.0) return;
+  float diameter = dot.diameter;
   atomicAdd(kept_count, 1u);
   if (u.capture != 0) capture[atomicAdd(captured, 1u)].center_id = vec4(p.view, uintBitsToFloat(id));
-  float diameter = dot_diameter(id);
   float r = 0.5 * diameter;
-  ivec2 lo = max(ivec2(floor(p.center - r - 0.5)) - u.origin_px, u.clip_min);
-  ivec2 hi = min(ivec2(ceil(p.center + r + 0.5)) - u.origin_px, u.clip_max - 1);
+  ivec2 lo = max(ivec2(floor(dot.center - r - 0.5)) - u.origin_px, u.clip_min);
+  ivec2 hi = min(ivec2(ceil(dot.center + r + 0.5)) - u.origin_px, u.clip_max - 1);
   uint depth_bits = floatBitsToUint(p.depth);
   int width = u.clip_max.x - u.clip_min.x;
   for (int y = lo.y; y <= hi.y; ++y)
     for (int x = lo.x; x <= hi.x; ++x) {
-      vec2 d = vec2(ivec2(x, y) + u.origin_px) + 0.5 - p.center;
+      vec2 d = vec2(ivec2(x, y) + u.origin_px) + 0.5 - dot.center;
       float cov = dot_coverage(d.x, d.y, diameter);
       if (cov <= 0.0) continue;
       uint pix = uint(y - u.clip_min.y) * uint(width) + uint(x - u.clip_min.x);

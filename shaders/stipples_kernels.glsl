@@ -76,9 +76,25 @@ uint quad_index(ivec2 t, int level) {
   return uint(t.y) * uint(2 << u.levels) + uint(x0 + t.x);
 }
 // The caster closest to the light in its cell of the diffuse LEVEL (the
-// finer level with probability frac) stays paper.
-bool lit_out(Pt p, uint id) {
-  int level = u.level_lo + (hash01(id, 1u) < u.level_frac ? 1 : 0);
+// finer level with probability frac) stays paper. With the level from the
+// spacing, the point's level is the one whose cells are `cell_target` wide
+// (its own spacing, scaled by LEVEL): between two levels' widths, the finer
+// with the share of the way to it. A surface facing the light then holds
+// about one point per cell, and the share of points hidden follows N.L
+// wherever the scan is denser or sparser.
+bool lit_out(Pt p, uint id, float cell_target) {
+  int level = u.level_lo;
+  float frac = u.level_frac;
+  if (u.level_from_spacing != 0) {
+    float cell = u.light_extent;
+    level = 0;
+    while (level < u.levels && 0.5f * cell >= cell_target) {
+      cell = 0.5f * cell;
+      level += 1;
+    }
+    frac = level < u.levels ? clamp(2.0f - 2.0f * cell_target / cell, 0.0f, 1.0f) : 0.0f;
+  }
+  level += hash01(id, 1u) < frac ? 1 : 0;
   ivec2 t = light_texel(p.view, u.levels) >> (u.levels - level);
   return quad_at(quad_index(t, level)) == light_key(p.view);
 }
@@ -99,16 +115,13 @@ uint light_cell_index(vec3 v) {
 // Overlap of cell [c, c + 1) with the window [lo, hi) (cell units).
 float overlap(float c, float lo, float hi) { return clamp(min(c + 1.0f, hi) - max(c, lo), 0.0f, 1.0f); }
 
-// Area per point on the eye and light planes around a point: a surface of
-// a points per unit area shows a (n.v) and a (n.l) there, so their sum
-// grows with n.(v + l): largest where the surface faces the half-way
-// direction of eye and light (the highlight). Scene units^2. The sums run
-// over a window 3 cells wide centred on the point, each cell weighted by
-// its overlap, so they vary continuously as the point moves over the cells
-// (whole cells would jump at every cell edge, and the highlight's rim with
-// them, as the camera moves).
-float specular_raw(Pt p) {
-  vec2 e = vec2(p.center.x / u.eye_cell - float(win.eye_min.x), p.center.y / u.eye_cell - float(win.eye_min.y));
+// The visible points (x) and covered fine texels (y) of the eye cells within
+// 1.5 cells of a frame pixel position, each cell weighted by its overlap
+// with that window, so they vary continuously as the position moves over
+// the cells (whole cells would jump at every cell edge as the camera moves).
+// In the frame's cells, so every window (tile) weighs them with the same floats.
+vec2 eye_sums(vec2 center) {
+  vec2 e = vec2(center.x / u.eye_cell, center.y / u.eye_cell);
   ivec2 e0 = ivec2(int(floor(e.x - 1.5f)), int(floor(e.y - 1.5f)));
   float ox[4];
   float oy[4];
@@ -119,13 +132,26 @@ float specular_raw(Pt p) {
   float points = 0.0f, covered = 0.0f;
   for (int dy = 0; dy <= 3; ++dy)
     for (int dx = 0; dx <= 3; ++dx) {
-      ivec2 c = ivec2(e0.x + dx, e0.y + dy);
+      ivec2 c = ivec2(e0.x + dx - win.eye_min.x, e0.y + dy - win.eye_min.y);
       if (c.x < 0 || c.y < 0 || c.x >= win.eye_cells.x || c.y >= win.eye_cells.y) continue;
       float w = ox[dx] * oy[dy];
       uint i = uint(c.y) * uint(win.eye_cells.x) + uint(c.x);
       points += w * float(eye_count_at(i));
       covered += w * float(eye_cover_at(i));
     }
+  return vec2(points, covered);
+}
+
+// Area per point on the eye and light planes around a point: a surface of
+// a points per unit area shows a (n.v) and a (n.l) there, so their sum
+// grows with n.(v + l): largest where the surface faces the half-way
+// direction of eye and light (the highlight). Scene units^2. Both sums run
+// over a window 3 cells wide centred on the point (eye_sums).
+float specular_raw(Pt p) {
+  vec2 sums = eye_sums(p.center);
+  float points = sums.x, covered = sums.y;
+  float ox[4];
+  float oy[4];
   float wd = u.ortho != 0 ? 1.0f : p.depth;
   float px_area = wd / u.px_per_unit;
   float eye_area = covered / (u.factor * u.factor) * px_area * px_area / max(points, 1.0f);
@@ -173,6 +199,41 @@ bool specular_out(uint id, float raw, float spec_ref) { return 1.0f - raw / spec
 // so both backends round alike.
 float dot_diameter(uint id) {
   return max(u.dot_size * ((1.0f - u.size_jitter) + 2.0f * u.size_jitter * hash01(id, 3u)), 0.5f);
+}
+
+// Seed 003 draws a dot per visible point, so its ink follows how densely
+// the scan's points lie on screen: a dense statue goes black, an aerial
+// tile stays white, and the tone changes with the output size. With a
+// tone, dots cover about that share of an unlit surface (dots placed at
+// random cover 1 - exp(-dots per pixel x dot area)) at any density: where
+// the visible points crowd, a share of them draws (chosen by the point id,
+// so the same dots stay as the camera moves); where they are sparse, each
+// dot grows, up to 3 times its diameter (larger reads as blots, not dots).
+// The lit thinning then takes its share of those. And as scans sample in
+// rows (scan lines, sensor grids), each dot moves within its point's own
+// share of the surface (a square as wide as their spacing on screen, at
+// most 3 dot sizes), so the dots scatter as a stipple artist's do, not in
+// the scanner's rows.
+struct Dot {
+  vec2 center;     // frame pixels
+  float diameter;  // 0: none
+};
+Dot tone_dot(Pt p, uint id) {
+  Dot dot;
+  dot.center = p.center;
+  dot.diameter = dot_diameter(id);
+  if (u.tone_scale <= 0.0f) return dot;
+  vec2 sums = eye_sums(p.center);
+  if (!(sums.x > 0.0f)) return dot;
+  float pixels_per_point = sums.y / (u.factor * u.factor * sums.x);
+  float spacing = min(sqrt(pixels_per_point), 3.0f * u.dot_size);
+  dot.center = vec2(p.center.x + spacing * (hash01(id, 5u) - 0.5f), p.center.y + spacing * (hash01(id, 6u) - 0.5f));
+  float share = u.tone_scale * pixels_per_point;
+  if (share < 1.0f)
+    dot.diameter = hash01(id, 4u) < share ? dot.diameter : 0.0f;
+  else
+    dot.diameter = dot.diameter * min(sqrt(share), 3.0f);
+  return dot;
 }
 // Area coverage of a disc at (dx, dy) from a pixel's centre: a 1 px wide
 // antialiased edge, at least a pixel's worth spread over the pixels a small

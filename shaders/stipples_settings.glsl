@@ -36,6 +36,8 @@ SETTINGS_BLOCK(StippleSettings, 0)
   float size_jitter;
   uint seed;
   int capture;
+  int level_from_spacing;  // 1: each point's level from its spacing (lit_out's cell_target)
+  float tone_scale;   // dot_size dots wanted per pixel of surface (-ln(1 - tone) / dot area); 0: off
 END_SETTINGS_BLOCK(u)
 
 // A piece of the frame: its fine texture (frame texels [fine_min,

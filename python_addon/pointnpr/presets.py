@@ -151,11 +151,12 @@ PRESETS = {
         "filters": [("color_grade", {"saturation": 1.8})],
     },
     # Seed 001 Fig. 7(a): stippling, every class of point a Gaussian point
-    # sprite: feature points dense along edges, dithering points for tone.
+    # sprite: feature points dense along edges, dithering points for tone
+    # (the tone of the key light on the shape, at any density and size).
     "Feature stippling": {
         "mark": ("feature_strokes", {"directional": "point_sprite", "non_directional": "point_sprite",
                                      "dithering": "point_sprite", "sprite_size": 2.0, "feature_threshold": 0.3,
-                                     "dither": 0.25, "dither_tone": 0.6,
+                                     "tone": 1.2, "shading": "diffuse", "color_source": "constant",
                                      "density_mode": "constant_on_screen", "queue_level": 0.25}),
         "filters": [],
     },
@@ -168,7 +169,7 @@ PRESETS = {
                                      "directional_length": 16.0, "stroke_width": 3.0,
                                      "non_directional": "point_sprite", "dithering": "point_sprite",
                                      "sprite_size": 2.5, "feature_threshold": 0.3, "line_error": 0.25,
-                                     "dither": 0.2, "dither_tone": 0.6,
+                                     "tone": 1.2, "shading": "diffuse", "color_source": "constant",
                                      "density_mode": "constant_on_screen", "queue_level": 0.25}),
         "filters": [],
     },
@@ -180,22 +181,24 @@ PRESETS = {
                                      "directional_length": 18.0, "stroke_width": 3.5,
                                      "non_directional": "line_segment", "dithering": "line_segment",
                                      "other_length": 5.0, "line_width": 1.0, "screen_angle": 45.0,
-                                     "feature_threshold": 0.45, "line_error": 0.25, "dither": 0.1, "dither_tone": 0.4,
+                                     "feature_threshold": 0.45, "line_error": 0.25,
+                                     "tone": 0.8, "shading": "diffuse", "color_source": "constant",
                                      "density_mode": "constant_on_screen", "queue_level": 0.25}),
         "filters": [],
     },
     # Stippling (seed 003): black dots on white paper, no normals needed;
     # hidden points removed in image space, lit surfaces thinned by the
-    # light-view quadtree (diffuse only).
+    # light-view quadtree (diffuse only), its cells from each point's own
+    # spacing, the dots' density set by the tone whatever the scan's.
     "Stipple diffuse": {
-        "mark": ("stipples", {"level": 8.0, "level_scale": "point_count", "light_azimuth": 135.0,
+        "mark": ("stipples", {"level": 9.0, "level_scale": "spacing", "tone": 0.7, "light_azimuth": 135.0,
                               "light_elevation": 50.0}),
         "filters": [],
     },
     # The same with highlights opened where the surface faces between eye
     # and light (diffuse + specular).
     "Stipple specular": {
-        "mark": ("stipples", {"level": 8.0, "level_scale": "point_count", "light_azimuth": 135.0,
+        "mark": ("stipples", {"level": 9.0, "level_scale": "spacing", "tone": 0.7, "light_azimuth": 135.0,
                               "light_elevation": 50.0, "specular": True, "tau": 0.25}),
         "filters": [],
     },
@@ -204,7 +207,7 @@ PRESETS = {
     # (Colours are binary fractions: float32 Blender properties hold them exactly.)
     "Ink stippling": {
         "mark": ("stipples", {"dot_size": 1.6, "size_jitter": 0.5, "dot_color": (0.1875, 0.09375, 0.046875, 1.0),
-                              "paper_color": (0.96875, 0.9296875, 0.84375, 1.0), "level": 8.0, "level_scale": "point_count",
+                              "paper_color": (0.96875, 0.9296875, 0.84375, 1.0), "level": 9.0, "level_scale": "spacing", "tone": 0.7,
                               "light_azimuth": 120.0,
                               "light_elevation": 45.0, "specular": True, "tau": 0.15}),
         "filters": [],

@@ -38,9 +38,14 @@ def path(request):
     _path["rasterizer"] = "auto"
 
 
+# The paper's range-aware dithering (the tone is tested in
+# test_marks_feature_strokes_tone.py).
+PAPER = {"tone": 0.0}
+
+
 def render(renderer, params, clouds, cam=None, capture=True, background=(1, 1, 1, 1)):
     scene = pointnpr.Scene()
-    params = dict(_path, **params)
+    params = dict(PAPER, **_path, **params)
     scene.add_segment("s", pointnpr.Style(mark=("feature_strokes", params)), [(c, np.eye(4)) for c in clouds])
     return renderer.render(scene, cam or camera(), W, H, background=background, capture_marks=capture)
 
@@ -289,7 +294,7 @@ def _on_both_paths(renderer, params, clouds, cam):
     out = []
     for rasterizer in PATHS:
         scene = pointnpr.Scene()
-        scene.add_segment("s", pointnpr.Style(mark=("feature_strokes", dict(params, rasterizer=rasterizer))),
+        scene.add_segment("s", pointnpr.Style(mark=("feature_strokes", dict(PAPER, **params, rasterizer=rasterizer))),
                           [(c, np.eye(4)) for c in clouds])
         out.append(renderer.render(scene, cam, W, H, background=(1, 1, 1, 0), capture_marks=True))
     return out
@@ -356,7 +361,7 @@ def _native_digest(renderer):
     pos = box() @ rotation(0.5, 0.6).T + np.array([0.0, 0.0, -4.0])
     clouds = [pointnpr.PointCloud(pos), _two_walls()]
     scene = pointnpr.Scene()
-    style = pointnpr.Style(mark=("feature_strokes", {"rasterizer": "native", "dither": 0.5, "coloring": "point",
+    style = pointnpr.Style(mark=("feature_strokes", {**PAPER, "rasterizer": "native", "dither": 0.5, "coloring": "point",
                                                      "stroke_texture": "brush", "dithering": "point_sprite"}))
     scene.add_segment("s", style, [(c, np.eye(4)) for c in clouds])
     r = renderer.render(scene, camera(), W, H)

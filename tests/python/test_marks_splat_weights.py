@@ -207,7 +207,7 @@ def _plane_of_two_opacities(n=8000):
     return means, opacity, cloud
 
 
-@pytest.mark.parametrize("mark, params", [("stipples", {"diffuse": False}), ("feature_strokes", {"dither": 1.0})])
+@pytest.mark.parametrize("mark, params", [("stipples", {"diffuse": False}), ("feature_strokes", {"tone": 0.0, "dither": 1.0})])
 def test_stipples_and_feature_strokes_are_drawn_with_the_splat_s_opacity_as_their_chance(renderer, mark, params):
     # The opacities are computed only for a style that draws by them.
     assert "splat_opacity" in pointnpr.Style(mark=(mark, dict(params, opacity_draws=True))).attributes

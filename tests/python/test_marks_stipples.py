@@ -37,8 +37,14 @@ def implementation(request):
     IMPLEMENTATION[0] = "auto"
 
 
+# The paper's mechanism as it describes it: every visible point a dot, one
+# LEVEL for the whole segment (the tone and the level from the spacing are
+# tested on their own below).
+PAPER = dict(tone=0.0, level_scale="absolute", level=7.0)
+
+
 def stipples(**params):
-    return pointnpr.Style(mark=("stipples", dict(params, rasterizer=IMPLEMENTATION[0])))
+    return pointnpr.Style(mark=("stipples", dict(PAPER, **params, rasterizer=IMPLEMENTATION[0])))
 
 
 def kept_points(renderer, style, c):

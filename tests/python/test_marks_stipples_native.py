@@ -19,7 +19,9 @@ def ball():
 @pytest.mark.parametrize("params", [{}, {"specular": True, "size_jitter": 0.5, "level": 5.5},
                                     {"shadow_casters": "visible", "specular": True, "tau": 0.3},
                                     {"resolution_factor": 2.0, "iterations": 5},
-                                    {"density_mode": "constant_on_screen", "queue_level": 0.05},
+                                    {"density_mode": "constant_on_screen", "queue_level": 0.05, "tone": 0.0,
+                                     "level_scale": "absolute", "level": 7.0},
+                                    {"level_scale": "absolute", "tone": 0.9, "dot_size": 1.5},
                                     # a jitter that is no power of two: its product rounds
                                     {"specular": True, "size_jitter": 0.8, "level": 7.7, "dot_size": 3.3}])
 def test_native_passes_draw_the_gl_passes_bytes(renderer, ball, params):

@@ -68,7 +68,7 @@ class FeatureStrokes final : public Mark {
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
     set.insert({AttributeKind::Normal, k});  // the visibility discs' planes (and the light)
     if (p.get_bool("opacity_draws")) set.insert({AttributeKind::SplatOpacity});
-    if (p.get_enum_name("coloring") == "point" || p.get_float("dither_tone") > 0.0) {
+    if (p.get_enum_name("coloring") == "point" || p.get_float("dither_tone") > 0.0 || p.get_float("tone") > 0.0) {
       const AttributeSet colors = color_attributes(ColorSource(p.get_enum("color_source")));
       set.insert(colors.begin(), colors.end());
     }
@@ -76,8 +76,10 @@ class FeatureStrokes final : public Mark {
   }
 
   MarkExtent extent(const ParamValues& p) const override {
-    const double longest = std::max({p.get_float("directional_length"), p.get_float("other_length"),
-                                     p.get_float("sprite_size"), p.get_float("stroke_width")});
+    // With a tone, dithering marks grow up to 3x (feature_strokes_kernels.glsl).
+    const double grow = p.get_float("tone") > 0.0 ? 3.0 : 1.0;
+    const double longest = std::max({p.get_float("directional_length"), grow * p.get_float("other_length"),
+                                     grow * p.get_float("sprite_size"), grow * p.get_float("stroke_width")});
     MarkExtent e;
     e.pixels = float(0.5 * longest * 1.5 + 2.0 + 0.5 * kMaxDiscPixels);
     return e;
@@ -134,6 +136,13 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   u.shading_strength = float(p.get_float("shading_strength"));
   u.opacity = float(p.get_float("opacity"));
   u.seed = uint32_t(p.get_int("seed"));
+  u.tone = float(p.get_float("tone"));
+  u.px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
+  // One dithering mark's area on screen: a sprite's disc, a line's or a stroke's rectangle.
+  const double other_length = p.get_float("other_length");
+  u.dither_area = float(u.prim_dither == 1   ? 0.25 * M_PI * u.sprite_size * u.sprite_size
+                        : u.prim_dither == 3 ? other_length * u.stroke_width
+                                             : other_length * u.line_width);
   const double angle = glm::radians(p.get_float("screen_angle"));
   u.screen_dir_x = float(std::cos(angle));
   u.screen_dir_y = float(std::sin(angle));
@@ -326,11 +335,19 @@ const MarkRegistration registration{{
                enum_param("dithering", kPrimitives, 1,
                           "Primitive of the dithering points (non-feature points kept for tone), along the constant "
                           "screen direction"),
-               float_param("dither", 0.15, 0.0, 1.0, "",
-                           "Share of non-feature points kept as dithering points at the cloud's median spacing; "
-                           "more where the scan is sparser (uniform in 3D)"),
-               float_param("dither_tone", 0.5, 0.0, 1.0, "",
-                           "How much darker point colours raise the dithering odds (0: colour unused)"),
+               added_later(float_param("tone", 1.0, 0.0, 4.0, "",
+                                       "Ink of the dithering: its marks cover this share of the surface on screen "
+                                       "where it is darkest (x 1 - its shade or colour's luminance) at any scan "
+                                       "density, distance and output size (overlaps cover 1 - exp(-that)); 0: the "
+                                       "paper's range-aware odds (dither, dither_tone)"),
+                           {0.0}),
+               only_when(float_param("dither", 0.15, 0.0, 1.0, "",
+                                     "Share of non-feature points kept as dithering points at the cloud's median "
+                                     "spacing; more where the scan is sparser (uniform in 3D)"),
+                         "tone", {"zero"}),
+               only_when(float_param("dither_tone", 0.5, 0.0, 1.0, "",
+                                     "How much darker point colours raise the dithering odds (0: colour unused)"),
+                         "tone", {"zero"}),
                float_param("directional_length", 14.0, 1.0, 128.0, "px", "Length of directional strokes and lines"),
                float_param("other_length", 6.0, 1.0, 128.0, "px",
                            "Length of non-directional and dithering strokes and lines"),

@@ -24,8 +24,16 @@ void barrier() { glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE
 // Binds a chunk for a point pass; with the resolution queue on, the pass
 // takes the first queue_count() points of the chunk's queue order. Returns
 // how many points to dispatch.
-uint32_t bind_queued_chunk(const gl::Program& prog, const VisibleChunk& v, const ParamValues& p) {
-  bind_chunk(prog, v, ColorSource::Constant, {{6, v.gpu->find({AttributeKind::PointId})}});
+uint32_t bind_queued_chunk(const gl::Program& prog, const VisibleChunk& v, const StippleSetup& s) {
+  const ParamValues& p = *s.params;
+  bind_chunk(prog, v, ColorSource::Constant,
+             {{6, v.gpu->find({AttributeKind::PointId})},
+              {2, v.gpu->find({AttributeKind::LocalResolution, kStippleSpacingNeighbors})}});
+  if (s.u.level_from_spacing) {
+    if (!v.gpu->find({AttributeKind::LocalResolution, kStippleSpacingNeighbors}))
+      throw GLError("stipples: the points' spacing was not uploaded");
+    glUniform1f(prog.location("u_spacing_cell_scale"), spacing_cell_scale(s, v));
+  }
   const bool queued = draws_queue(v, p);
   glUniform1i(prog.location("u_queue"), queued ? 1 : 0);
   if (!queued) return v.chunk->count;
@@ -37,6 +45,8 @@ uint32_t bind_queued_chunk(const gl::Program& prog, const VisibleChunk& v, const
   return count;
 }
 
+size_t histogram_bins(const StippleSetup& s) { return s.u.specular ? kStippleHistogramBins : 1; }
+
 class GlStipplePasses final : public StipplePasses {
  public:
   GlStipplePasses(const MarkContext& ctx, const StippleSetup& s)
@@ -44,8 +54,8 @@ class GlStipplePasses final : public StipplePasses {
         s_(s),
         quad_(gl::make_buffer(s.quad_n() * 4, nullptr, GL_DYNAMIC_STORAGE_BIT)),
         light_count_(gl::make_buffer(s.light_n() * 4, nullptr, GL_DYNAMIC_STORAGE_BIT)),
-        histogram_(gl::make_buffer(s.u.specular ? kStippleHistogramBins * 4 : 4, nullptr, 0)),
-        globals_(gl::make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT)),
+        // The four counts, then the specular histogram (shaders/stipples.comp's Globals).
+        globals_(gl::make_buffer(16 + histogram_bins(s) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT)),
         none_(gl::make_buffer(4, nullptr, 0)),
         settings_(gl::make_buffer(sizeof(s.u), &s.u)),
         window_settings_(gl::make_buffer(sizeof(StippleWindow{}.k), nullptr, GL_DYNAMIC_STORAGE_BIT)) {
@@ -60,8 +70,7 @@ class GlStipplePasses final : public StipplePasses {
     clear_uint(light_count_, s.light_n(), 0);
     clear_uint(*dot_cov_, clip_pixels, 0);
     clear_uint(*dot_depth_, clip_pixels, kInfBits);
-    clear_uint(globals_, 4, 0);
-    clear_uint(histogram_, (s.u.specular ? kStippleHistogramBins : 1), 0);
+    clear_uint(globals_, 4 + histogram_bins(s), 0);
     hp_ = hp_other_ = eye_count_ = eye_cover_ = surface_ = &none_;
   }
 
@@ -83,7 +92,7 @@ class GlStipplePasses final : public StipplePasses {
     const size_t n = w.fine_n();
     const gl::Buffer& hp_a = ctx_.targets.scratch_buffer(n * 4, 0);
     const gl::Buffer& hp_b = ctx_.targets.scratch_buffer(n * 4, 1);
-    eye_n_ = s_.u.specular ? w.eye_n() : 1;
+    eye_n_ = s_.counts_eye() ? w.eye_n() : 1;
     eye_count_ = &ctx_.targets.scratch_buffer(eye_n_ * 4, 7);
     eye_cover_ = &ctx_.targets.scratch_buffer(eye_n_ * 4, 8);
     clear_uint(hp_a, n, kInfBits);
@@ -164,7 +173,7 @@ class GlStipplePasses final : public StipplePasses {
 
   std::vector<uint32_t> histogram() override {
     std::vector<uint32_t> hist(kStippleHistogramBins);
-    glGetNamedBufferSubData(histogram_.id(), 0, GLsizeiptr(kStippleHistogramBins * 4), hist.data());
+    glGetNamedBufferSubData(globals_.id(), 16, GLsizeiptr(kStippleHistogramBins * 4), hist.data());
     return hist;
   }
 
@@ -196,8 +205,8 @@ class GlStipplePasses final : public StipplePasses {
     bind_all();
     glUniform1i(prog.location("u_opacity_draws"), s_.opacity_draws ? 1 : 0);
     for (const VisibleChunk& v : chunks) {
-      const uint32_t count = bind_queued_chunk(prog, v, *s_.params);
-      if (s_.opacity_draws) {  // in the histogram's binding (stipples.comp)
+      const uint32_t count = bind_queued_chunk(prog, v, s_);
+      if (s_.opacity_draws) {
         const gl::Buffer* opacity = v.gpu->find({AttributeKind::SplatOpacity});
         if (!opacity) throw GLError("stipples: the splat opacities were not uploaded");
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, opacity->id());
@@ -260,7 +269,6 @@ class GlStipplePasses final : public StipplePasses {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, dot_depth_->id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, globals_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, capture_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, histogram_.id());
   }
 
   void point_pass(const char* pass, std::span<const VisibleChunk> chunks) {
@@ -270,7 +278,7 @@ class GlStipplePasses final : public StipplePasses {
     // Chunks of one pass touch the buffers only through atomics or reads of
     // earlier passes: one barrier after the pass.
     for (const VisibleChunk& v : chunks) {
-      const uint32_t count = bind_queued_chunk(prog, v, *s_.params);
+      const uint32_t count = bind_queued_chunk(prog, v, s_);
       if (count > 0) glDispatchCompute((count + 127) / 128, 1, 1);
     }
     barrier();
@@ -286,7 +294,7 @@ class GlStipplePasses final : public StipplePasses {
 
   const MarkContext& ctx_;
   const StippleSetup& s_;
-  gl::Buffer quad_, light_count_, histogram_, globals_, none_, settings_, window_settings_, capture_;
+  gl::Buffer quad_, light_count_, globals_, none_, settings_, window_settings_, capture_;
   const gl::Buffer* dot_cov_ = nullptr;
   const gl::Buffer* dot_depth_ = nullptr;
   // The window the passes run over (null: the last hidden_points' window),

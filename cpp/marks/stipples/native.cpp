@@ -34,6 +34,7 @@
 
 #include "core/error.h"
 #include "core/hash.h"
+#include "geometry/analysis.h"
 #include "gl/device.h"
 #include "marks/stipples/native_parts.h"
 #include "marks/stipples/stipples.h"
@@ -105,7 +106,7 @@ class NativeStipplePasses final : public StipplePasses {
     k_.win = w.k;
     visible_ = 0;
     const size_t n = w.fine_n();
-    eye_n_ = s_.u.specular ? w.eye_n() : 1;
+    eye_n_ = s_.counts_eye() ? w.eye_n() : 1;
     eye_count_.assign(eye_n_, 0u);
     eye_cover_.assign(eye_n_, 0u);
     k_.eye_count = eye_count_.data();
@@ -142,7 +143,7 @@ class NativeStipplePasses final : public StipplePasses {
     timer.emplace(ctx_.stats, "stipples_native_visible_ms");
     std::atomic<uint32_t> visible{0};
     const bool visible_casters = for_frame && s_.u.diffuse && !s_.u.casters_all;
-    const bool projects = visible_casters || s_.u.specular;  // else the texel and depth are all it needs
+    const bool projects = visible_casters || s_.counts_eye();  // else the texel and depth are all it needs
     for_points([&](const HostChunk& c, uint32_t begin, uint32_t end) {
       uint32_t owned_visible = 0;
       for (uint32_t i = begin; i < end; ++i) {
@@ -154,10 +155,8 @@ class NativeStipplePasses final : public StipplePasses {
         if (!projects) continue;
         const Pt p = project(c, local_index(c, i));
         if (visible_casters && own) cast(p);
-        if (s_.u.specular) {
-          fetch_add(eye_count_[k_.eye_index(p.center)], 1u);
-          if (for_frame && own) fetch_add(light_count_[k_.light_cell_index(p.view)], 1u);
-        }
+        if (s_.counts_eye()) fetch_add(eye_count_[k_.eye_index(p.center)], 1u);
+        if (s_.u.specular && for_frame && own) fetch_add(light_count_[k_.light_cell_index(p.view)], 1u);
       }
       visible.fetch_add(owned_visible, std::memory_order_relaxed);
     });
@@ -296,24 +295,26 @@ class NativeStipplePasses final : public StipplePasses {
           if (!k_.hp_visible(p)) continue;
           const uint32_t id = c.ids[local];
           if (c.opacity && !(glsl::id_rand(id, kOpacitySalt, 0u) < c.opacity[local])) continue;
-          if (s_.u.diffuse && k_.lit_out(p, id)) continue;
+          if (s_.u.diffuse && k_.lit_out(p, id, c.spacing ? c.spacing[local] * c.spacing_cell_scale : 0.0f)) continue;
           // The specular measure where the histogram took it in this window.
           if (s_.u.specular && s_.u.tau > 0.0f &&
               k_.specular_out(id, spec_cached && k_.owned(p) ? point_spec[c.slot + i] : k_.specular_raw(p), spec_ref))
             continue;
+          const Kernels::Dot dot = k_.tone_dot(p, id);
+          if (dot.diameter <= 0.0f) continue;
+          const float diameter = dot.diameter;
           ++item_kept;
           if (capture) captured[it].push_back(captured_dot(s_, p.view, id));
-          const float diameter = k_.dot_diameter(id);
           const float rad = 0.5f * diameter;
-          const int lo_x = std::max(int(floor_f(p.center.x - rad - 0.5f)) - origin.x, clip_min.x);
-          const int lo_y = std::max(int(floor_f(p.center.y - rad - 0.5f)) - origin.y, clip_min.y);
-          const int hi_x = std::min(int(ceil_f(p.center.x + rad + 0.5f)) - origin.x, clip_max.x - 1);
-          const int hi_y = std::min(int(ceil_f(p.center.y + rad + 0.5f)) - origin.y, clip_max.y - 1);
+          const int lo_x = std::max(int(floor_f(dot.center.x - rad - 0.5f)) - origin.x, clip_min.x);
+          const int lo_y = std::max(int(floor_f(dot.center.y - rad - 0.5f)) - origin.y, clip_min.y);
+          const int hi_x = std::min(int(ceil_f(dot.center.x + rad + 0.5f)) - origin.x, clip_max.x - 1);
+          const int hi_y = std::min(int(ceil_f(dot.center.y + rad + 0.5f)) - origin.y, clip_max.y - 1);
           const uint32_t depth_bits = bits(p.depth);
           for (int y = lo_y; y <= hi_y; ++y)
             for (int x = lo_x; x <= hi_x; ++x) {
-              const float cv = k_.dot_coverage(float(x + origin.x) + 0.5f - p.center.x,
-                                               float(y + origin.y) + 0.5f - p.center.y, diameter);
+              const float cv = k_.dot_coverage(float(x + origin.x) + 0.5f - dot.center.x,
+                                               float(y + origin.y) + 0.5f - dot.center.y, diameter);
               if (cv <= 0.0f) continue;
               const size_t pix = size_t(y - clip_min.y) * size_t(size.x) + size_t(x - clip_min.x);
               fetch_max(cov[pix], bits(cv));
@@ -387,6 +388,7 @@ class NativeStipplePasses final : public StipplePasses {
     host_chunks_.clear();
     items_.clear();
     clouds_.clear();
+    resolutions_.clear();
     for (const VisibleChunk& v : chunks) {
       std::shared_ptr<const PointCloud> cloud = chunk_cloud(v, "stipples");
       HostChunk c;
@@ -398,6 +400,11 @@ class NativeStipplePasses final : public StipplePasses {
         c.count = queue_count(v, *s_.params);
       }
       c.view_from_chunk = v.view_from_chunk;
+      if (s_.u.level_from_spacing) {
+        resolutions_.push_back(cloud->analysis().surface_resolution(kStippleSpacingNeighbors));
+        c.spacing = resolutions_.back()->r.data() + v.chunk->first;
+        c.spacing_cell_scale = spacing_cell_scale(s_, v);
+      }
       c.slot = uint32_t(points_);
       points_ += c.count;
       add_point_items(items_, uint32_t(host_chunks_.size()), c.count);
@@ -443,6 +450,7 @@ class NativeStipplePasses final : public StipplePasses {
   std::vector<HostChunk> host_chunks_;
   std::vector<Item> items_;
   std::vector<std::shared_ptr<const PointCloud>> clouds_;  // held while their points are read
+  std::vector<std::shared_ptr<const geometry::LocalResolution>> resolutions_;  // and their spacing
   std::vector<std::vector<float>> opacities_;              // attach_opacities()
   std::vector<uint32_t> hist_, eye_count_, eye_cover_;
   uint32_t* quad_ = nullptr;         // host_.quad

@@ -51,6 +51,8 @@ struct HostChunk {
   const float* opacity = nullptr;        // the dots pass with opacity_draws: its splats' opacities, else null
   uint32_t count = 0;
   uint32_t slot = 0;  // the pass's index of its first point (the per-point arrays')
+  const float* spacing = nullptr;  // level_scale spacing: its points' spacing
+  float spacing_cell_scale = 0.0f;   // and their cell width over it (spacing_cell_scale)
   glm::mat4 view_from_chunk{1.0f};
 };
 

@@ -45,6 +45,20 @@ constexpr double kMaxFineTexels = double(1 << 23);  // hidden-point texture cap 
 constexpr int kMaxLevel = 11;                        // quadtree texture 4096 x 2048 (32 MiB)
 constexpr int kMaxLightCells = 1024;                 // per side (4 MiB)
 constexpr double kSpecularPercentile = 0.95;  // the reference of the specular measure
+// The eye cells the tone counts points in without the specular (whose
+// `specular_cell` they are with it): a few dots' spacing, so the density
+// follows the surface's and not single dots'.
+constexpr double kToneCell = 8.0;
+constexpr double kMaxToneGrowth = 3.0;  // tone_diameter's largest growth of a dot
+
+// The eye cells' size in pixels.
+double eye_cell_px(const ParamValues& p) {
+  return p.get_bool("specular") ? p.get_float("specular_cell") : kToneCell;
+}
+bool counts_eye(const ParamValues& p) { return p.get_bool("specular") || p.get_float("tone") > 0.0; }
+bool level_from_spacing(const ParamValues& p) {
+  return p.get_bool("diffuse") && p.get_enum_name("level_scale") == "spacing";
+}
 
 class Stipples final : public Mark {
  public:
@@ -52,11 +66,15 @@ class Stipples final : public Mark {
     AttributeSet set{{AttributeKind::PointId}};
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
     if (p.get_bool("opacity_draws")) set.insert({AttributeKind::SplatOpacity});
+    if (level_from_spacing(p)) set.insert({AttributeKind::LocalResolution, kStippleSpacingNeighbors});
     return set;
   }
 
   MarkExtent extent(const ParamValues& p) const override {
-    const double dot = 0.5 * p.get_float("dot_size") * (1.0 + p.get_float("size_jitter")) + 1.0;
+    // With a tone, a dot grows and moves by up to 1.5 dot sizes (tone_dot).
+    const bool tone = p.get_float("tone") > 0.0;
+    const double dot = 0.5 * p.get_float("dot_size") * (1.0 + p.get_float("size_jitter")) * (tone ? kMaxToneGrowth : 1.0) +
+                       (tone ? 1.5 * p.get_float("dot_size") : 0.0) + 1.0;
     const double spread = double(p.get_int("iterations") + 1) / p.get_float("resolution_factor") + 1.0;
     return {0.0, float(std::max(dot, spread))};
   }
@@ -68,14 +86,14 @@ class Stipples final : public Mark {
   bool draws_tiles(const ParamValues& /*p*/) const override { return true; }
   // Beyond the dot (the extent): a dot's visibility reads `iterations`
   // texels around it, the paper the visible points spread iterations + 1
-  // texels further, and the specular sums 2.5 cells (and their closed
-  // coverage 2 x iterations texels) around the dot.
+  // texels further, and the specular's and the tone's sums 2.5 cells (and
+  // their closed coverage 2 x iterations texels) around the dot.
   // (At the lowest factor draw() may lower it to: one texel per pixel.)
   int screen_reach(const ParamValues& p) const override {
     const double f = std::min(p.get_float("resolution_factor"), 1.0);
     const double k = double(p.get_int("iterations"));
     double reach = (2.0 * k + 1.0) / f;
-    if (p.get_bool("specular")) reach = std::max(reach, 2.5 * p.get_float("specular_cell") + 3.0 * k / f);
+    if (counts_eye(p)) reach = std::max(reach, 2.5 * eye_cell_px(p) + 3.0 * k / f);
     return int(std::ceil(reach)) + 3;
   }
 
@@ -223,12 +241,29 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     level = std::clamp(level + 0.5 * std::log2(std::max(points, 1.0) / 16384.0), 0.0, double(kMaxLevel));
   }
   u.levels = std::clamp(int(std::ceil(level)), 1, kMaxLevel);
+  if (level_from_spacing(p)) {
+    // Each point's cells as wide as its spacing at LEVEL 8 (halved per
+    // level above): the quadtree reaches two levels below the cells of
+    // the segment's finest median spacing, for its denser points.
+    u.level_from_spacing = 1;
+    s.spacing_cell_scale = std::exp2(8.0 - level);
+    double finest = std::numeric_limits<double>::max();
+    for (const VisibleChunk& v : frame_chunks)
+      finest = std::min(finest, spacing_cell_scale(s, v) * double(median_spacing(v, kStippleSpacingNeighbors, 0.0f)));
+    const double levels = finest > 0.0 && finest < extent_d ? std::ceil(std::log2(extent_d / finest)) + 2.0 : 1.0;
+    u.levels = int(std::clamp(levels, 1.0, double(kMaxLevel)));
+  }
   u.level_lo = std::min(int(std::floor(level)), u.levels);
   u.level_frac = float(level - std::floor(level));
   const bool specular = p.get_bool("specular");
   u.specular = specular ? 1 : 0;
   u.tau = float(p.get_float("tau"));
-  const float eye_cell = u.eye_cell = float(p.get_float("specular_cell"));
+  const float eye_cell = u.eye_cell = float(eye_cell_px(p));
+  // Dots of dot_size per pixel of surface for the tone's ink: dots at
+  // random cover 1 - exp(-density x area) of it.
+  const double tone = p.get_float("tone");
+  const double dot_size = p.get_float("dot_size");
+  u.tone_scale = tone > 0.0 ? float(-std::log1p(-tone) / (0.25 * M_PI * dot_size * dot_size)) : 0.0f;
   const double mid_depth = cam.orthographic ? 1.0 : 0.5 * (ctx.depth_min + ctx.depth_max);
   const double cell_world = eye_cell * mid_depth / u.px_per_unit;
   u.light_cells = std::clamp(int(std::ceil(u.light_extent / cell_world)), 1, kMaxLightCells);
@@ -254,8 +289,8 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     // The frame whole: one window does the frame's counts and the drawing.
     passes->hidden_points(draw_window, ctx.chunks, true, diffuse && casters_all, true);
     if (diffuse) passes->reduce_quadtree();
+    if (s.counts_eye()) passes->cover();
     if (specular) {
-      passes->cover();
       passes->specular_histogram(ctx.chunks);
       spec_ref = specular_reference(passes->histogram());
     }
@@ -316,7 +351,7 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     }
     spec_ref = cached->spec_ref;
     passes->hidden_points(draw_window, ctx.chunks, false, false, true);
-    if (specular) passes->cover();
+    if (s.counts_eye()) passes->cover();
   }
   const uint32_t visible = passes->visible();
   // 4. Dots.
@@ -331,6 +366,11 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
 }
 
 }  // namespace
+
+float spacing_cell_scale(const StippleSetup& s, const VisibleChunk& v) {
+  // The view's scale of object lengths (the instance's; the view keeps them).
+  return float(s.spacing_cell_scale * std::cbrt(std::abs(glm::determinant(glm::dmat3(v.view_from_chunk)))));
+}
 
 CapturedMark captured_dot(const StippleSetup& s, glm::vec3 center, uint32_t id) {
   CapturedMark m;
@@ -362,6 +402,13 @@ const MarkRegistration registration{{
                float_param("size_jitter", 0.0, 0.0, 1.0, "", "Random size variation per dot (seeded by the point id)"),
                color_param("dot_color", {0.0, 0.0, 0.0, 1.0}, "Dot colour (display sRGB; alpha: its opacity)"),
                paper_color_param({1.0, 1.0, 1.0, 1.0}, "dots"),
+               added_later(float_param("tone", 0.7, 0.0, 0.95, "",
+                                       "Ink of a surface turned from the light: where the visible points crowd on "
+                                       "screen a share of them draws, where they are sparse their dots grow (to 3x), "
+                                       "so the dots cover about this share of it at any scan density and output "
+                                       "size; the light then thins it. 0: every visible point draws one dot (the "
+                                       "paper's: ink follows the density)"),
+                           {0.0}),
                int_param("iterations", 3, 0, 32, "",
                          "Hidden points: how many times each texel takes its neighbours' depths (closes holes "
                          "between front points of this many texels)"),
@@ -375,15 +422,21 @@ const MarkRegistration registration{{
                light_azimuth_param(135.0),
                light_elevation_param(50.0),
                bool_param("diffuse", true, "Thin lit surfaces by the light-view quadtree"),
-               only_when(float_param("level", 7.0, 0.0, 11.0, "",
-                                     "Quadtree LEVEL: 2^LEVEL cells across the segment seen from the light; the point "
-                                     "closest to the light in each is hidden (higher: more cells, lit areas thinner; "
-                                     "fractions blend adjacent levels point by point)"),
+               only_when(default_changed(float_param("level", 9.0, 0.0, 11.0, "",
+                                                     "Quadtree LEVEL: 2^LEVEL cells across the segment seen from the "
+                                                     "light (per point from its spacing with level_scale spacing); the "
+                                                     "point closest to the light in each is hidden (higher: more "
+                                                     "cells, lit areas thinner; fractions blend adjacent levels point "
+                                                     "by point)"),
+                                         {7.0}),
                          "diffuse", {"true"}),
-               only_when(enum_param("level_scale", {"absolute", "point_count"}, 0,
+               only_when(default_changed(enum_param("level_scale", {"absolute", "point_count", "spacing"}, 2,
                                     "absolute: LEVEL as given (the paper's); point_count: LEVEL for 16384 points, "
                                     "plus log4 of the segment's point count over that, so sparse and dense scans "
-                                    "thin alike"),
+                                    "thin alike; spacing: each point's own, its cells as wide as its spacing at "
+                                    "LEVEL 8 (half as wide per level above), so the lit share follows the light "
+                                    "where the scan is denser or sparser"),
+                                         {0.0}),
                          "diffuse", {"true"}),
                only_when(enum_param("shadow_casters", {"all", "visible"}, 0,
                                     "Points the light sees: all (hidden ones too, so surfaces behind others from the "

@@ -19,7 +19,8 @@
 
 namespace pointnpr {
 
-constexpr int kStippleHistogramBins = 1024;  // log2 of the specular measure, 8 bins per octave (specular_bin)
+constexpr int kStippleHistogramBins = 1024;
+constexpr int kStippleSpacingNeighbors = 8;  // a point's spacing: the mean distance to these nearest neighbours  // log2 of the specular measure, 8 bins per octave (specular_bin)
 
 // What the passes read that is fixed for a frame: the kernels' settings
 // (shaders/stipples_settings.glsl: the camera's float projection, the fine
@@ -29,9 +30,13 @@ struct StippleSetup {
   const ParamValues* params = nullptr;  // the resolution queue's (draws_queue, queue_count)
   Rect clip;                            // the tile's pixels the mark draws (local; u.clip_min/max)
   int iterations = 0;
+  double spacing_cell_scale = 0.0;  // level_scale spacing: a point's cell width over its spacing (2^(8 - LEVEL))
   bool opacity_draws = false;  // a dot only where id_rand(point id) < the splat's opacity (the dots pass)
   stipples::StippleSettings u{};
 
+  // The visible points and covered texels per eye cell are counted for the
+  // specular measure and for the tone (shaders/stipples_kernels.glsl).
+  bool counts_eye() const { return u.specular != 0 || u.tone_scale > 0.0f; }
   size_t quad_n() const { return u.diffuse ? (size_t(2) << u.levels) * (size_t(1) << u.levels) : 1; }
   size_t light_n() const { return u.specular ? size_t(u.light_cells) * size_t(u.light_cells) : 1; }
 };
@@ -90,6 +95,10 @@ class StipplePasses {
                              std::vector<CapturedMark>* capture) = 0;
   virtual void resolve() = 0;
 };
+
+// A chunk's points' cell width over their spacing (its instance's scale
+// applied), for lit_out's cell_target.
+float spacing_cell_scale(const StippleSetup& s, const VisibleChunk& v);
 
 // The captured mark of a dot drawn at `center` (view space) for point `id`.
 CapturedMark captured_dot(const StippleSetup& s, glm::vec3 center, uint32_t id);
