@@ -66,7 +66,8 @@ Record place_record(uint index, uint id, vec4 v) {
       // range-aware dithering uses it).
       float wd = u.ortho != 0 ? 1.0f : depth;
       float r_px = (r == r ? r : 0.0f) * u.px_per_unit / wd;
-      vec3 n = point_normal(index);
+      // Normals only where the chunk is lit (bound): else native has none and GL's binding holds positions.
+      vec3 n = lit() ? point_normal(index) : vec3(0.0f);
       float to_eye = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
       float facing = n.x * n.x + n.y * n.y + n.z * n.z > 0.25f && to_eye > 0.0f
                          ? abs(n.x * v.x + n.y * v.y + n.z * v.z) / to_eye : 1.0f;
