@@ -182,7 +182,7 @@ PRESETS = {
                                      "non_directional": "line_segment", "dithering": "line_segment",
                                      "other_length": 5.0, "line_width": 1.0, "screen_angle": 45.0,
                                      "feature_threshold": 0.45, "line_error": 0.25,
-                                     "tone": 0.8, "shading": "diffuse", "color_source": "constant",
+                                     "tone": 1.2, "shading": "diffuse", "color_source": "constant",
                                      "density_mode": "constant_on_screen", "queue_level": 0.25}),
         "filters": [],
     },
