@@ -5,7 +5,8 @@
 // has_lines(), point_line(i), point_resolution(i), inv_median_r(),
 // max_r() (the chunk's largest r: FeatureStrokeSettings::max_r),
 // has_color(), point_color(i), view_rotation(), lit() (the chunk is
-// shaded) and point_normal(i) (view space, zero: none).
+// shaded), point_normal(i) (view space, zero: none), has_opacity() and
+// point_opacity(i) (opacity_draws: a Gaussian splat's opacity).
 #ifndef FEATURE_STROKES_KERNELS_GLSL
 #define FEATURE_STROKES_KERNELS_GLSL
 #include "id_hash.glsl"
@@ -24,6 +25,10 @@ Record place_record(uint index, uint id, vec4 v) {
   rec.pad = 0.0f;
   float depth = -v.z;
   if (!(depth >= u.near_plane && depth <= u.far_plane)) return rec;
+  // A Gaussian splat's opacity is its chance of a stroke (opacity_draws),
+  // drawn by the hash and salt of points.glsl's kOpacitySalt: the splats
+  // the points mark draws; a capture's faint haze gets few.
+  if (has_opacity() && !(id_rand(id, 0x6f706163u, 0u) < point_opacity(index))) return rec;
   float fd = point_degree(index);
   bool feature = fd == fd && fd > u.threshold;
   vec4 color = point_color(index);
@@ -63,7 +68,8 @@ Record place_record(uint index, uint id, vec4 v) {
       // range-aware dithering uses it).
       float wd = u.ortho != 0 ? 1.0f : depth;
       float r_px = (r == r ? r : 0.0f) * u.px_per_unit / wd;
-      vec3 n = point_normal(index);
+      // Normals only where the chunk is lit (bound): else native has none and GL's binding holds positions.
+      vec3 n = lit() ? point_normal(index) : vec3(0.0f);
       float to_eye = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
       float facing = n.x * n.x + n.y * n.y + n.z * n.z > 0.25f && to_eye > 0.0f
                          ? abs(n.x * v.x + n.y * v.y + n.z * v.z) / to_eye : 1.0f;

@@ -10,6 +10,7 @@ layout(std430, binding = 5) readonly buffer Queue { uint queue_order[]; };  // c
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 8) buffer Counters { uint counts[3]; };
 layout(std430, binding = 9) readonly buffer Resolution { float resolution[]; };
+layout(std430, binding = 11) readonly buffer Opacity { float splat_opacity[]; };  // opacity_draws
 #include "compact_records.glsl"
 
 uniform uint u_drawn;          // queue points of this chunk to consider
@@ -19,6 +20,7 @@ uniform float u_inv_median_r;
 uniform float u_max_r;  // the chunk's largest local resolution (FeatureStrokeSettings::max_r)
 uniform int u_has_color;
 uniform int u_lit;             // shading applies to this chunk (normals bound)
+uniform int u_has_opacity;     // opacity_draws: the splats' opacities bound
 
 float point_degree(uint index) { return degree[index]; }
 bool has_lines() { return u_has_lines != 0; }
@@ -31,6 +33,8 @@ vec4 point_color(uint index) { return source_color(index); }
 mat3 view_rotation() { return mat3(u_view_from_chunk); }
 bool lit() { return u_lit != 0; }
 vec3 point_normal(uint index) { return view_normal(index); }
+bool has_opacity() { return u_has_opacity != 0; }
+float point_opacity(uint index) { return splat_opacity[index]; }
 #include "feature_strokes_kernels.glsl"
 
 void main() {

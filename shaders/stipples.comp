@@ -15,7 +15,14 @@ layout(local_size_x = 128) in;
 #endif
 
 layout(std430, binding = 3) buffer HiddenPoints { uint hp[]; };      // fine eye texture: depth bits, +inf empty
+#ifdef PASS_DRAW
+// A compute stage gets 16 storage blocks (common drivers; llvmpipe counts
+// every declared one): the dots pass, which never reads the visible
+// surface, declares the splats' opacities (opacity_draws) in its place.
+layout(std430, binding = 14) readonly buffer SplatOpacity { float splat_opacity[]; };
+#else
 layout(std430, binding = 4) buffer HiddenPointsOut { uint hp_out[]; };  // PASS_VISIBLE, PASS_RESOLVE: the visible surface
+#endif
 layout(std430, binding = 5) buffer Quadtree { uint quad[]; };        // levels 0..n in one 2^(n+1) x 2^n texture
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 7) buffer EyeCount { uint eye_count[]; };   // visible points per eye cell
@@ -51,6 +58,9 @@ uniform int u_accumulate;      // PASS_VISIBLE: the frame's counts of the owned 
 uniform int u_reduce_level;    // PASS_REDUCE: the level written
 uniform float u_step;          // PASS_DILATE: depth added per step
 uniform float u_spec_ref;      // PASS_DRAW: the segment's high percentile of specular_raw
+uniform int u_opacity_draws;   // PASS_DRAW: a dot only where id_rand(point id) < the splat's opacity
+// points.glsl's kOpacitySalt (native.cpp: the same): the splats the points mark draws.
+const uint kOpacitySalt = 0x6f706163u;
 
 // What the shared kernels read of this pass's buffers.
 uint hp_at(uint i) { return hp[i]; }
@@ -134,6 +144,7 @@ void main() {
 #elif defined(PASS_DRAW)
   if (!hp_visible(p)) return;
   uint id = point_ids[index];
+  if (u_opacity_draws != 0 && !(id_rand(id, kOpacitySalt, 0u) < splat_opacity[index])) return;
   float cell_target = u.level_from_spacing != 0 ? point_spacing[index] * u_spacing_cell_scale : 0.0;
   if (u.diffuse != 0 && lit_out(p, id, cell_target)) return;
   if (u.specular != 0 && u.tau > 0.0 && specular_out(id, specular_raw(p), u_spec_ref)) return;

@@ -89,8 +89,10 @@ def reset_scene():
         scene.use_nodes = False
     scene.view_layers[0].use_pass_z = False
     scene.pointnpr_default_style = None
-    for _param, prop in scene.pointnpr.pointnpr_params:
-        scene.pointnpr.property_unset(prop)
+    # Every scene setting, the budgets too (a test that sets a point budget would thin the next ones).
+    for prop in scene.pointnpr.bl_rna.properties.keys():
+        if prop not in ("rna_type", "name"):
+            scene.pointnpr.property_unset(prop)
     scene.pointnpr.rasterizer = "compute"
     return scene
 

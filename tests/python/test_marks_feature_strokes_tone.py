@@ -43,3 +43,18 @@ def test_the_tone_keeps_the_dithering_s_ink_at_any_density_and_output_size(rende
     assert max(paper) > 1.6 * min(paper), paper
     assert max(dark) - min(dark) < 0.03 and max(light) - min(light) < 0.03, (dark, light)
     assert min(dark) > 1.5 * max(light) and min(light) > 0.01, (dark, light)
+
+
+def test_an_unlit_tone_draws_the_same_strokes_on_both_paths(renderer):
+    # Shading none binds no normals: the tone's foreshortening takes none
+    # (native read a null array, GL the positions in the normals' binding).
+    pos, _ = wall(3.0, 2.4, 0.03, -5.0)
+    ids = {}
+    for path in ("gl", "native"):
+        scene = pointnpr.Scene()
+        params = {"tone": 1.0, "shading": "none", "rasterizer": path}
+        scene.add_segment("s", pointnpr.Style(mark=("feature_strokes", params)), [(pointnpr.PointCloud(pos), np.eye(4))])
+        r = renderer.render(scene, camera(width=320, height=240), 320, 240, capture_marks=True)
+        ids[path] = np.sort(np.asarray(r.marks["point_id"]))
+    assert len(ids["gl"]) > 100
+    assert np.array_equal(ids["gl"], ids["native"])

@@ -1,8 +1,9 @@
 """Other marks read a Gaussian splat's scales and opacity (issue 42): brush
 splats and points sized by each splat's footprint (size_mode splat: 2 sqrt
 of the product of its two largest scales), brush splats' alpha weighed by
-the splat's opacity (opacity_weight), points drawn with the splat's
-opacity as their chance (opacity_draws); GL and native agree on each."""
+the splat's opacity (opacity_weight), points, stipples and feature strokes
+drawn with the splat's opacity as their chance and hatching's strokes with
+it as their odds (opacity_draws); GL and native agree on each."""
 import os
 
 import numpy as np
@@ -192,3 +193,43 @@ def test_hatching_strokes_are_drawn_with_the_splat_s_opacity_as_their_odds(rende
         assert opacity[kept].mean() > opacity[np.setdiff1d(full, kept)].mean() + 0.2
     assert np.array_equal(np.asarray(runs["gl", True].marks["point_id"]), np.asarray(runs["native", True].marks["point_id"]))
     assert runs["gl", True].stats["strokes_drawn"] == runs["native", True].stats["strokes_drawn"]
+
+
+def _plane_of_two_opacities(n=8000):
+    """Splats scattered over the plane z = -5 facing the camera: opacity 0.2
+    left of x = 0, 0.9 right of it."""
+    rng = np.random.default_rng(5)
+    means = np.column_stack([rng.uniform(-1.4, 1.4, n), rng.uniform(-1.4, 1.4, n), np.full(n, -5.0)])
+    opacity = np.where(means[:, 0] < 0, 0.2, 0.9).astype(np.float32)
+    cloud = pointnpr.PointCloud(means, opacity=opacity, scales=np.full((n, 3), 0.01, np.float32),
+                                rotations=np.tile(np.float32([1, 0, 0, 0]), (n, 1)),
+                                sh=np.full((n, 3), 1.0, np.float32), sh_degree=0)
+    return means, opacity, cloud
+
+
+@pytest.mark.parametrize("mark, params", [("stipples", {"diffuse": False}), ("feature_strokes", {"tone": 0.0, "dither": 1.0})])
+def test_stipples_and_feature_strokes_are_drawn_with_the_splat_s_opacity_as_their_chance(renderer, mark, params):
+    # The opacities are computed only for a style that draws by them.
+    assert "splat_opacity" in pointnpr.Style(mark=(mark, dict(params, opacity_draws=True))).attributes
+    assert "splat_opacity" not in pointnpr.Style(mark=(mark, params)).attributes
+    means, opacity, cloud = _plane_of_two_opacities()
+    ids = {}
+    for rasterizer in ("gl", "native"):
+        for draws in (False, True):
+            r = _render(renderer, mark, dict(params, rasterizer=rasterizer, opacity_draws=draws), cloud,
+                        capture_marks=True)
+            ids[rasterizer, draws] = np.sort(np.asarray(r.marks["point_id"]))
+    for rasterizer in ("gl", "native"):
+        full, kept = ids[rasterizer, False], ids[rasterizer, True]
+        assert set(kept) < set(full)
+        for level in (0.2, 0.9):
+            of_level = full[opacity[full] == np.float32(level)]
+            assert len(of_level) > 1000, (rasterizer, len(of_level))
+            share = np.isin(of_level, kept).mean()
+            assert abs(share - level) < 0.05, (rasterizer, level, share)
+    # GL and native draw the same splats.
+    assert np.array_equal(ids["gl", True], ids["native", True])
+    # Plain points are all drawn.
+    plain = pointnpr.PointCloud(means)
+    a, b = (_render(renderer, mark, dict(params, opacity_draws=draws), plain, capture_marks=True) for draws in (True, False))
+    assert np.array_equal(np.sort(np.asarray(a.marks["point_id"])), np.sort(np.asarray(b.marks["point_id"])))

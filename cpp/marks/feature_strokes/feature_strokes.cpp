@@ -67,6 +67,7 @@ class FeatureStrokes final : public Mark {
       set.insert(feature_line_key(p.get_int("line_neighbors"), k, p.get_float("feature_threshold")));
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
     set.insert({AttributeKind::Normal, k});  // the visibility discs' planes (and the light)
+    if (p.get_bool("opacity_draws")) set.insert({AttributeKind::SplatOpacity});
     if (p.get_enum_name("coloring") == "point" || p.get_float("dither_tone") > 0.0 || p.get_float("tone") > 0.0) {
       const AttributeSet colors = color_attributes(ColorSource(p.get_enum("color_source")));
       set.insert(colors.begin(), colors.end());
@@ -149,6 +150,7 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   s.feature_k = p.get_int("feature_neighbors");
   s.params = &p;
   s.lit = p.get_enum_name("shading") != "none";
+  s.opacity_draws = p.get_bool("opacity_draws");
   s.line_key = feature_line_key(p.get_int("line_neighbors"), s.feature_k, p.get_float("feature_threshold"));
   s.color_source = ColorSource(p.get_enum("color_source"));
   s.paper = p.get_color("paper_color");
@@ -265,8 +267,10 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
                  {{2, lit ? g.find({AttributeKind::Normal, k}) : nullptr},
                   {3, g.find({AttributeKind::FeatureDegree, k})}, {4, lines},
                   {5, s.queue ? g.find({AttributeKind::QueueOrder}) : nullptr}, {6, g.find({AttributeKind::PointId})},
-                  {9, g.find({AttributeKind::LocalResolution, kResolutionNeighbors})}});
+                  {9, g.find({AttributeKind::LocalResolution, kResolutionNeighbors})},
+                  {11, s.opacity_draws ? g.find({AttributeKind::SplatOpacity}) : nullptr}});
       glUniform1i(select.location("u_has_lines"), lines ? 1 : 0);
+      glUniform1i(select.location("u_has_opacity"), s.opacity_draws ? 1 : 0);
       glUniform1i(select.location("u_has_color"), resolved != ColorSource::Constant ? 1 : 0);
       glUniform1i(select.location("u_lit"), lit ? 1 : 0);
       glUniform1f(select.location("u_inv_median_r"), s.inv_median_r[c]);
@@ -376,6 +380,9 @@ const MarkRegistration registration{{
                density_mode_param(),
                queue_level_param(0.05),
                int_param("seed", 0, 0, 65535, "", "Varies the dithering choice (still fixed per point)"),
+               bool_param("opacity_draws", false,
+                          "A Gaussian-splat capture's opacity is each splat's chance of a stroke (the same splats "
+                          "as the points mark draws; its faint haze gets few; plain points: unchanged)"),
                enum_param("rasterizer", {"gl", "native", "auto"}, 2,
                           "gl: the GL passes (discs into depth, instanced quads, blending); native: the same passes "
                           "on the CPU's threads (the same images but for the kernels' last bits and rare coverage "

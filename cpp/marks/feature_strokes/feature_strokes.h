@@ -49,6 +49,7 @@ struct FeatureStrokeSettings {
   const gl::Texture* texture_image = nullptr;
   bool queue = false;
   bool lit = false;                     // shading is not none (lit_by_shading decides per chunk)
+  bool opacity_draws = false;           // a stroke only where id_rand(point id) < the splat's opacity
   const ParamValues* params = nullptr;  // the frame's (lit_by_shading)
   std::vector<uint32_t> drawn;      // per chunk: points of its queue considered
   std::vector<float> inv_median_r;  // per chunk: 1 / its cloud's median local resolution

@@ -41,6 +41,7 @@
 #include "render/screen_bins.h"
 #include "scene/camera.h"
 #include "scene/point_cloud.h"
+#include "scene/splat_attributes.h"
 
 namespace pointnpr {
 
@@ -77,6 +78,7 @@ struct Chunk {
   const float* resolution = nullptr;
   const uint32_t* lines = nullptr;  // or null: no line fit
   const uint32_t* order = nullptr;  // the queue order (chunk-local), or null
+  const float* opacity = nullptr;   // opacity_draws: the splats' opacities, or null
   HostColors colors;
   const glm::vec3* normals = nullptr;  // or null: not lit (shading)
   const glm::vec3* disc_normals = nullptr;  // the visibility discs' planes
@@ -173,6 +175,8 @@ struct Kernels {
   vec3 point_normal(uint index) const {
     return unit_or_zero(chunk_->normal_matrix * unpack_normal(pack_normal(chunk_->normals[index])));
   }
+  bool has_opacity() const { return chunk_->opacity != nullptr; }
+  float point_opacity(uint index) const { return chunk_->opacity[index]; }
   vec4 stroke_image(vec2 uv) const { return image_->sample(uv.x, uv.y); }
 #include "feature_strokes_kernels.glsl"
 #include "feature_strokes_sprite.glsl"
@@ -306,6 +310,11 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
         held.push_back(normals);
       }
       if (s.lit && lit_by_shading(*s.params, proto.colors.source)) proto.normals = proto.disc_normals;
+      if (s.opacity_draws) {
+        auto opacity = std::make_shared<const std::vector<float>>(splat_opacities(*cloud));
+        proto.opacity = opacity->data();
+        held.push_back(opacity);
+      }
       held.push_back(cloud);
       held.push_back(degree);
       held.push_back(resolution);

@@ -203,8 +203,14 @@ class GlStipplePasses final : public StipplePasses {
     const gl::Program& prog = ctx_.shaders->compute("stipples.comp", {"PASS_DRAW"});
     set_uniforms(prog);
     bind_all();
+    glUniform1i(prog.location("u_opacity_draws"), s_.opacity_draws ? 1 : 0);
     for (const VisibleChunk& v : chunks) {
       const uint32_t count = bind_queued_chunk(prog, v, s_);
+      if (s_.opacity_draws) {
+        const gl::Buffer* opacity = v.gpu->find({AttributeKind::SplatOpacity});
+        if (!opacity) throw GLError("stipples: the splat opacities were not uploaded");
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, opacity->id());
+      }
       if (count > 0) glDispatchCompute((count + 127) / 128, 1, 1);
       barrier();
       if (capture) {

@@ -40,6 +40,7 @@
 #include "marks/stipples/stipples.h"
 #include "render/native_raster.h"
 #include "scene/point_cloud.h"
+#include "scene/splat_attributes.h"
 
 namespace pointnpr {
 namespace stipples {
@@ -70,6 +71,8 @@ struct Kernels {
 #pragma GCC diagnostic pop
 };
 using Pt = Kernels::Pt;
+// points.glsl's and stipples.comp's kOpacitySalt: the splats the points mark draws.
+constexpr uint32_t kOpacitySalt = 0x6f706163u;
 using StipplePixel = Kernels::StipplePixel;
 
 class NativeStipplePasses final : public StipplePasses {
@@ -273,6 +276,7 @@ class NativeStipplePasses final : public StipplePasses {
     const bool cached = same_chunks(chunks);
     const bool spec_cached = cached && spec_generation_ == window_generation_;
     prepare(chunks);
+    if (s_.opacity_draws) attach_opacities(chunks);
     const uint32_t* hp = k_.hp = host_.hp.data();
     const float* point_spec = host_.point_spec.data();
     std::atomic<uint32_t> kept{0};
@@ -290,6 +294,7 @@ class NativeStipplePasses final : public StipplePasses {
           const Pt p = project(c, local);
           if (!k_.hp_visible(p)) continue;
           const uint32_t id = c.ids[local];
+          if (c.opacity && !(glsl::id_rand(id, kOpacitySalt, 0u) < c.opacity[local])) continue;
           if (s_.u.diffuse && k_.lit_out(p, id, c.spacing ? c.spacing[local] * c.spacing_cell_scale : 0.0f)) continue;
           // The specular measure where the histogram took it in this window.
           if (s_.u.specular && s_.u.tau > 0.0f &&
@@ -364,6 +369,19 @@ class NativeStipplePasses final : public StipplePasses {
     });
   }
 
+  // The splats' opacities of the chunks prepare() listed, one array per cloud.
+  void attach_opacities(std::span<const VisibleChunk> chunks) {
+    opacities_.clear();
+    const PointCloud* last = nullptr;
+    for (size_t i = 0; i < chunks.size(); ++i) {
+      if (clouds_[i].get() != last) {
+        last = clouds_[i].get();
+        opacities_.push_back(splat_opacities(*last));
+      }
+      host_chunks_[i].opacity = opacities_.back().data() + chunks[i].chunk->first;
+    }
+  }
+
   // The host data of `chunks` and the work items over their points.
   void prepare(std::span<const VisibleChunk> chunks) {
     points_ = 0;
@@ -433,6 +451,7 @@ class NativeStipplePasses final : public StipplePasses {
   std::vector<Item> items_;
   std::vector<std::shared_ptr<const PointCloud>> clouds_;  // held while their points are read
   std::vector<std::shared_ptr<const geometry::LocalResolution>> resolutions_;  // and their spacing
+  std::vector<std::vector<float>> opacities_;              // attach_opacities()
   std::vector<uint32_t> hist_, eye_count_, eye_cover_;
   uint32_t* quad_ = nullptr;         // host_.quad
   uint32_t* light_count_ = nullptr;  // host_.light_count

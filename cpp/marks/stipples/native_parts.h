@@ -48,6 +48,7 @@ struct HostChunk {
   const glm::vec3* positions = nullptr;  // the chunk's first point
   const uint32_t* ids = nullptr;         // its stable point ids
   const uint32_t* order = nullptr;       // queue order (chunk-local indices), or null: all in index order
+  const float* opacity = nullptr;        // the dots pass with opacity_draws: its splats' opacities, else null
   uint32_t count = 0;
   uint32_t slot = 0;  // the pass's index of its first point (the per-point arrays')
   const float* spacing = nullptr;  // level_scale spacing: its points' spacing

@@ -65,6 +65,7 @@ class Stipples final : public Mark {
   AttributeSet attributes(const ParamValues& p) const override {
     AttributeSet set{{AttributeKind::PointId}};
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
+    if (p.get_bool("opacity_draws")) set.insert({AttributeKind::SplatOpacity});
     if (level_from_spacing(p)) set.insert({AttributeKind::LocalResolution, kStippleSpacingNeighbors});
     return set;
   }
@@ -191,6 +192,7 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   u.ortho = cam.orthographic ? 1 : 0;
   const float f = u.factor = float(factor);
   s.iterations = p.get_int("iterations");
+  s.opacity_draws = p.get_bool("opacity_draws");
   u.px_per_unit = float(cam.pixels_per_unit(1.0, frame_px.y));
   const float range = float(std::max(ctx.depth_max - ctx.depth_min, 1e-6));
   u.offset = float(p.get_float("depth_offset")) * range;
@@ -452,6 +454,9 @@ const MarkRegistration registration{{
                density_mode_param(),
                queue_level_param(0.1),
                int_param("seed", 0, 0, 65535, "", "Varies every random choice (still fixed per point)"),
+               bool_param("opacity_draws", false,
+                          "A Gaussian-splat capture's opacity is each splat's chance of a dot (the same splats as "
+                          "the points mark draws; its faint haze gets few; plain points: unchanged)"),
            }},
     [] { return std::make_unique<Stipples>(); }}};
 

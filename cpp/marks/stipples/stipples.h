@@ -31,6 +31,7 @@ struct StippleSetup {
   Rect clip;                            // the tile's pixels the mark draws (local; u.clip_min/max)
   int iterations = 0;
   double spacing_cell_scale = 0.0;  // level_scale spacing: a point's cell width over its spacing (2^(8 - LEVEL))
+  bool opacity_draws = false;  // a dot only where id_rand(point id) < the splat's opacity (the dots pass)
   stipples::StippleSettings u{};
 
   // The visible points and covered texels per eye cell are counted for the

@@ -34,7 +34,9 @@ class _WindowProgress:
 
 
 def _report_result(op, objects, recentre, warnings=(), notes=()):
-    points = sum(int(o.get("pointnpr_cache_points", len(o.data.vertices))) for o in objects)
+    # A splat capture in Blender 5.3+ is a point cloud (its points), any other scan a mesh.
+    points = sum(int(o.get("pointnpr_cache_points", len(o.data.vertices if o.type == 'MESH' else o.data.points)))
+                 for o in objects)
     op.report({'INFO'}, "Imported %d points into %d object(s)" % (points, len(objects)))
     cached = [o for o in objects if "pointnpr_cache" in o]
     if cached:

@@ -75,6 +75,28 @@ def _as_uint8_colors(colors):
     return colors.astype(np.uint8, copy=False)
 
 
+def add_color_attribute(data, colors):
+    """The scan colour 'Col' (BYTE_COLOR, sRGB, POINT) of a mesh or point cloud."""
+    colors = _as_uint8_colors(colors)
+    # One float32 RGBA array, filled in place (no float temporaries per channel).
+    rgba = np.ones((len(colors), 4), dtype=np.float32)
+    channels = 4 if colors.shape[1] > 3 else 3
+    np.divide(colors[:, :channels], np.float32(255.0), out=rgba[:, :channels], dtype=np.float32)
+    holder = getattr(data, "color_attributes", None) or data.attributes
+    attr = holder.new("Col", 'BYTE_COLOR', 'POINT')
+    try:
+        attr.data.foreach_set("color_srgb", rgba.reshape(-1))
+    except (AttributeError, TypeError):
+        rgba[:, :3] = sync.srgb_to_linear(rgba[:, :3])
+        attr.data.foreach_set("color", rgba.reshape(-1))
+    del rgba
+    if hasattr(data, "color_attributes"):
+        try:
+            data.color_attributes.active_color = attr
+        except Exception:
+            pass
+
+
 def create_point_mesh(name, positions, colors=None, intensity=None, classification=None):
     """A vertex-only mesh with 'Col' (BYTE_COLOR, sRGB), 'intensity' (FLOAT)
     and 'classification' (INT) point attributes."""
@@ -84,24 +106,7 @@ def create_point_mesh(name, positions, colors=None, intensity=None, classificati
     # float32 in C order is what Blender stores: foreach_set reads it as it is.
     mesh.vertices.foreach_set("co", np.ascontiguousarray(positions, dtype=np.float32).reshape(-1))
     if colors is not None:
-        colors = _as_uint8_colors(colors)
-        # One float32 RGBA array, filled in place (no float temporaries per channel).
-        rgba = np.ones((n, 4), dtype=np.float32)
-        channels = 4 if colors.shape[1] > 3 else 3
-        np.divide(colors[:, :channels], np.float32(255.0), out=rgba[:, :channels], dtype=np.float32)
-        holder = getattr(mesh, "color_attributes", None) or mesh.attributes
-        attr = holder.new("Col", 'BYTE_COLOR', 'POINT')
-        try:
-            attr.data.foreach_set("color_srgb", rgba.reshape(-1))
-        except (AttributeError, TypeError):
-            rgba[:, :3] = sync.srgb_to_linear(rgba[:, :3])
-            attr.data.foreach_set("color", rgba.reshape(-1))
-        del rgba
-        if hasattr(mesh, "color_attributes"):
-            try:
-                mesh.color_attributes.active_color = attr
-            except Exception:
-                pass
+        add_color_attribute(mesh, colors)
     if intensity is not None:
         attr = mesh.attributes.new("intensity", 'FLOAT', 'POINT')
         attr.data.foreach_set("value", np.ascontiguousarray(intensity, dtype=np.float32))
@@ -417,6 +422,10 @@ class ImportJob(PointObjectJob):
         elif self._cached:
             obj = self._add_cached_object(name, coll, pick(self._local), pick(self._colors),
                                           pick(self._intensity), pick(self._classification))
+        elif self._splats is not None and splats.native_point_clouds():  # Blender 5.3+: its own splat type
+            obj = splats.add_point_cloud_object(self, name, coll, pick(self._local), pick(self._colors),
+                                                *(pick(values) for values in self._splats),
+                                                antialiased=self._splats_antialiased)
         else:
             obj = self.add_point_object(name, coll, pick(self._local), pick(self._colors),
                                         pick(self._intensity), pick(self._classification))

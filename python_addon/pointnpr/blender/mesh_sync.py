@@ -21,6 +21,9 @@ import numpy as np
 
 
 _COLOR_TYPES = {'BYTE_COLOR', 'FLOAT_COLOR'}
+# Where an attribute's items hold their value, by data type (QUATERNION's and
+# the scalars': "value"); FLOAT4 is Blender 5.3's splat "radiance:base".
+VALUE_FIELDS = {'BYTE_COLOR': "color", 'FLOAT_COLOR': "color", 'FLOAT_VECTOR': "vector", 'FLOAT4': "vector"}
 
 
 def _core():

@@ -17,7 +17,11 @@ Blender 5.3's own splat point clouds (PointCloud type 'GAUSSIAN_SPLAT', as
 its glTF importer makes them from KHR_gaussian_splatting) are read too:
 "rotation" (QUATERNION), "scale" (FLOAT_VECTOR, linear), "radiance:base"
 (FLOAT4: the DC coefficients r, g, b and the opacity in [0, 1]) and
-"radiance:sh_0" .. (FLOAT_VECTOR, the higher bands in the object's frame)."""
+"radiance:sh_0" .. (FLOAT_VECTOR, the higher bands in the object's frame).
+In such a Blender the importer writes that kind of point cloud
+(add_point_cloud_object) instead of a mesh, plus the scan colour "Col" and
+"pointnpr_antialiased" as above."""
+import bpy
 import numpy as np
 
 # The source attribute name the sync reads them under.
@@ -50,6 +54,45 @@ def write(mesh, opacity, scales, rotations, sh, antialiased=False):
     for k in range(sh.shape[1]):
         attr = mesh.attributes.new("sh_%d" % k, 'FLOAT_VECTOR', 'POINT')
         attr.data.foreach_set("vector", np.ascontiguousarray(sh[:, k]).reshape(-1))
+
+
+def native_point_clouds():
+    """Whether this Blender has its own splat point clouds (5.3+: PointCloud
+    type 'GAUSSIAN_SPLAT')."""
+    prop = bpy.types.PointCloud.bl_rna.properties.get("type") if hasattr(bpy.types, "PointCloud") else None
+    return prop is not None and 'GAUSSIAN_SPLAT' in {item.identifier for item in prop.enum_items}
+
+
+def add_point_cloud_object(job, name, collection, positions, colors, opacity, scales, rotations, sh,
+                           antialiased=False):
+    """One object holding a Blender 5.3 splat point cloud (module docstring),
+    made and tracked by ``job`` (importer.PointObjectJob) so that a failed
+    import removes it again."""
+    from .importer import add_color_attribute
+
+    n = len(positions)
+    cloud = job.track(bpy.data.pointclouds, bpy.data.pointclouds.new(name))
+    cloud.resize(n)
+    cloud.attributes["position"].data.foreach_set("vector", np.ascontiguousarray(positions, np.float32).reshape(-1))
+    cloud.type = 'GAUSSIAN_SPLAT'
+    cloud["pointnpr_antialiased"] = int(bool(antialiased))
+    sh = np.asarray(sh, np.float32).reshape(n, -1, 3)
+    # The DC term and the opacity in one FLOAT4, as Blender's own importers store them.
+    base = np.empty((n, 4), np.float32)
+    base[:, :3] = sh[:, 0]
+    base[:, 3] = np.asarray(opacity, np.float32).reshape(-1)
+    columns = [("rotation", 'QUATERNION', "value", rotations), ("scale", 'FLOAT_VECTOR', "vector", scales),
+               ("radiance:base", 'FLOAT4', "vector", base)]
+    columns += [("radiance:sh_%d" % (k - 1), 'FLOAT_VECTOR', "vector", sh[:, k]) for k in range(1, sh.shape[1])]
+    for attr_name, data_type, prop, values in columns:
+        attr = cloud.attributes.new(attr_name, data_type, 'POINT')
+        attr.data.foreach_set(prop, np.ascontiguousarray(values, np.float32).reshape(-1))
+    if colors is not None:
+        add_color_attribute(cloud, colors)
+    obj = job.track(bpy.data.objects, bpy.data.objects.new(name, cloud))
+    collection.objects.link(obj)
+    job.objects.append(obj)
+    return obj
 
 
 def _values(attrs, name, types, n, width):

@@ -583,7 +583,7 @@ def _sample(obj_type, data, n, attributes):
         if attr is None:
             values.append((attribute, None))
             continue
-        field = {'BYTE_COLOR': "color", 'FLOAT_COLOR': "color", 'FLOAT_VECTOR': "vector"}.get(attr.data_type, "value")
+        field = mesh_sync.VALUE_FIELDS.get(attr.data_type, "value")
         items = attr.data
         values.append((attribute, attr.name, attr.data_type, attr.domain, len(items)))
         if len(items) == n:
