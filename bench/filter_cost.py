@@ -85,8 +85,8 @@ def main():
         for name, parent in builds:
             env = dict(os.environ, PYTHONPATH=os.path.abspath(parent))
             env.pop("POINTNPR_SHADER_DIR", None)
-            run = subprocess.run([sys.executable, __file__, "--child", json.dumps(presets_wanted),
-                                  json.dumps(scans_wanted)] + (["--cpu"] if cpu else []), env=env, cwd=os.path.dirname(here),
+            command = [sys.executable, __file__, "--child", json.dumps(presets_wanted), json.dumps(scans_wanted)]
+            run = subprocess.run(command + (["--cpu"] if cpu else []), env=env, cwd=os.path.dirname(here),
                                  capture_output=True, text=True, check=True)
             line = next(l for l in run.stdout.splitlines() if l.startswith("RESULT "))
             for k, v in json.loads(line[7:]).items():

@@ -19,8 +19,8 @@
 // surface. A gap takes the inverse-distance mean of its enclosing pixels
 // (rgba, straight alpha). Nothing crosses a depth jump: the background
 // beside a silhouette, or a far wall seen past an edge, is enclosed by no
-// surface. Two passes (PASS_CLASSIFY, then the search on listed tiles: see
-// the end of the file).
+// surface. Passes: line sweeps, classify, then the search on the listed
+// pixels (see the end of the file).
 #include "filter_common.glsl"
 layout(rgba32f, binding = 0) uniform readonly image2D u_in;
 layout(rgba32f, binding = 1) uniform writeonly image2D u_out;
@@ -58,9 +58,8 @@ int steps_inside(ivec2 p, ivec2 dir) {
 // `behind` +inf: any covered pixel with a depth stops it) are read from the
 // sweeps (PASS_SWEEP, below): one load per direction whatever the reach.
 // u_runs holds, per pixel, its line's distances ahead (.r) and behind (.g)
-// to the nearest such pixel (0: none within 16), one layer per line
-// orientation (its layer): horizontal, vertical, diagonal (1, 1),
-// antidiagonal (1, -1).
+// to the nearest such pixel (0: none within 16), a layer per orientation:
+// horizontal, vertical, diagonal (1, 1), antidiagonal (1, -1).
 layout(rg8ui, binding = 5) uniform uimage2DArray u_runs;
 int orientation(ivec2 dir) { return dir.y == 0 ? 0 : dir.x == 0 ? 1 : dir.x == dir.y ? 2 : 3; }
 
@@ -192,9 +191,9 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
   imageStore(u_out, p, lines >= 2 ? sum / weight : c);
 }
 
-// Passes: CLASSIFY copies every pixel and lists the pixels that need work;
-// SWEEP (4 dispatches) gives the marches from background pixels their hits;
-// FILL runs the search on the listed pixels only, 64 to a group (dispatched
+// Passes: SWEEP (4 dispatches) gives the marches from background pixels
+// their hits; CLASSIFY copies every pixel and lists the pixels that need
+// work; FILL runs the search on the listed pixels only, 64 to a group (dispatched
 // indirectly from the list's count). llvmpipe runs every invocation of a
 // shader holding the search at a cost even where no lane enters it, so the
 // search runs on nothing else: not on tiles, whose other pixels paid it.
@@ -224,9 +223,9 @@ bool may_give_way(float own, float near) {
 // One invocation per line of orientation u_orientation through the covered
 // box, in one walk along it: a shift register of the last 32 pixels' hits
 // gives the pixel 16 back its distances to the nearest hit ahead (within
-// the register) and behind (a counter). Line l starts on
-// the box's first column (columns: its first row) or, for the diagonals,
-// also on its first (antidiagonals: last) row.
+// the register) and behind (a counter). Line l starts on the box's first
+// column (columns: its first row) or, for the diagonals, also on its first
+// (antidiagonals: last) row.
 uniform int u_orientation;
 layout(local_size_x = 64) in;
 void main() {
@@ -246,11 +245,13 @@ void main() {
   start += u_cover_min;
   uint reg = 0u, behind = 0u;  // bit i of reg: the hit at k - i
   for (int k = 0; k < len + 16; ++k) {
-    reg = (reg << 1) | (k < len && imageLoad(u_depth, start + k * dir).r < INF && covered(imageLoad(u_in, start + k * dir)) ? 1u : 0u);
+    ivec2 q = start + k * dir;
+    reg = (reg << 1) | (k < len && imageLoad(u_depth, q).r < INF && covered(imageLoad(u_in, q)) ? 1u : 0u);
     int j = k - 16;
     if (j < 0) continue;
     uint ahead = reg & 0xffffu;  // bit i: the hit at j + 16 - i
-    imageStore(u_runs, ivec3(start + j * dir, u_orientation), uvec4(ahead == 0u ? 0u : uint(16 - findMSB(ahead)), behind, 0u, 0u));
+    uint to_ahead = ahead == 0u ? 0u : uint(16 - findMSB(ahead));
+    imageStore(u_runs, ivec3(start + j * dir, u_orientation), uvec4(to_ahead, behind, 0u, 0u));
     behind = ((reg >> 16) & 1u) != 0u ? 1u : (behind == 0u || behind >= 16u ? 0u : behind + 1u);
   }
 }
