@@ -19,10 +19,9 @@
 // surface. A gap takes the inverse-distance mean of its enclosing pixels
 // (rgba, straight alpha). Nothing crosses a depth jump: the background
 // beside a silhouette, or a far wall seen past an edge, is enclosed by no
-// surface. Two passes (PASS_CLASSIFY, then the search on listed tiles: see
-// the end of the file).
+// surface. Passes: line sweeps, classify, then the search on the listed
+// pixels (see the end of the file).
 #include "filter_common.glsl"
-layout(local_size_x = 16, local_size_y = 16) in;
 layout(rgba32f, binding = 0) uniform readonly image2D u_in;
 layout(rgba32f, binding = 1) uniform writeonly image2D u_out;
 layout(r32f, binding = 2) uniform readonly image2D u_depth;
@@ -55,8 +54,26 @@ int steps_inside(ivec2 p, ivec2 dir) {
   return min(g_reach, min(room.x, room.y));
 }
 
+// The search's first covered pixels from a background pixel (march with
+// `behind` +inf: any covered pixel with a depth stops it) are read from the
+// sweeps (PASS_SWEEP, below): one load per direction whatever the reach.
+// u_runs holds, per pixel, its line's distances ahead (.r) and behind (.g)
+// to the nearest such pixel (0: none within 16), a layer per orientation:
+// horizontal, vertical, diagonal (1, 1), antidiagonal (1, -1).
+layout(rg8ui, binding = 5) uniform uimage2DArray u_runs;
+int orientation(ivec2 dir) { return dir.y == 0 ? 0 : dir.x == 0 ? 1 : dir.x == dir.y ? 2 : 3; }
+
 Hit march(ivec2 p, ivec2 dir, float behind) {
   int n = steps_inside(p, dir);
+  if (isinf(behind)) {
+    int o = orientation(dir);
+    uvec4 run = imageLoad(u_runs, ivec3(p, o));
+    // Ahead along the orientation's own direction (x increasing; y for columns).
+    int t = int((o == 1 ? dir.y : dir.x) > 0 ? run.r : run.g);
+    if (t == 0 || t > n) return Hit(0, INF, vec4(0.0));
+    ivec2 q = p + t * dir;
+    return Hit(t, imageLoad(u_depth, q).r, imageLoad(u_in, q));
+  }
   // Depths only in the loop, the colour once after it (llvmpipe runs a
   // load in a loop for every lane while any lane needs it).
   for (int k = 1; k <= n; ++k) {
@@ -174,64 +191,138 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
   imageStore(u_out, p, lines >= 2 ? sum / weight : c);
 }
 
-// Two passes, so that the search runs only where it may change something
-// (llvmpipe runs a shader's later code masked for lanes that returned, so
-// one pass cost the search everywhere): CLASSIFY copies every pixel and
-// lists the 16x16 tiles with a pixel that needs work; FILL runs on those
-// tiles only (dispatched indirectly from the list's count).
-layout(std430, binding = 3) buffer Tiles {
-  uint groups_x, groups_y, groups_z, pad;
-  uvec2 tiles[];
+// Passes: SWEEP (4 dispatches) gives the marches from background pixels
+// their hits; CLASSIFY copies every pixel and lists the pixels that need
+// work; FILL runs the search on the listed pixels only, 64 to a group (dispatched
+// indirectly from the list's count). llvmpipe runs every invocation of a
+// shader holding the search at a cost even where no lane enters it, so the
+// search runs on nothing else: not on tiles, whose other pixels paid it.
+layout(std430, binding = 3) buffer Work {
+  uint groups_x, groups_y, groups_z, count;
+  uint pixels[];  // x | y << 16
 };
-// Each tile's nearest depth (+inf: no point), tiles in rows of u_groups.x.
+// Each 16x16 tile's nearest depth (+inf: no point), tiles in rows of u_groups.x.
 layout(std430, binding = 4) buffer TileDepth { float tile_depth[]; };
 uniform ivec2 u_groups;
-#ifdef PASS_CLASSIFY
-shared bool s_work;
+// Whether a pixel at depth `own` may give way to a surface whose nearest
+// depth around its tile is `near`: fill_pixel keeps a covered pixel unless
+// it lies beyond the limit of the surface enclosing it (that surface's
+// nearest hit plus its slope over the search), and that limit is at least
+// `near` plus the slope at the smallest pixel size between `near` and `own`.
+// So a covered pixel searches only behind a depth jump, not everywhere on a
+// surface with gaps (an aerial tile's scan lines), where its marches would
+// run the whole reach through its own surface.
+bool may_give_way(float own, float near) {
+  if (isinf(own)) return true;
+  float a = u_surface_x0.x + near * u_surface_x1.x, b = u_surface_x0.x + own * u_surface_x1.x;
+  float size = a * b > 0.0 ? min(abs(a), abs(b)) : 0.0;
+  float bound = near + 2.0 * float(u_reach) * size * u_grazing;
+  return own > bound - 1e-5 * abs(bound);  // a margin for rounding: only surely kept pixels skip
+}
+#ifdef PASS_SWEEP
+// One invocation per line of orientation u_orientation through the covered
+// box, in one walk along it: a shift register of the last 32 pixels' hits
+// gives the pixel 16 back its distances to the nearest hit ahead (within
+// the register) and behind (a counter). Line l starts on the box's first
+// column (columns: its first row) or, for the diagonals, also on its first
+// (antidiagonals: last) row.
+uniform int u_orientation;
+layout(local_size_x = 64) in;
+void main() {
+  ivec2 size = u_cover_max - u_cover_min;
+  int l = int(gl_GlobalInvocationID.x);
+  ivec2 dir = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1))[u_orientation];
+  ivec2 start;
+  int lines_a = u_orientation == 1 ? size.x : size.y;  // lines starting on the first column (row)
+  if (u_orientation == 1) start = ivec2(l, 0);
+  else if (l < size.y) start = ivec2(0, l);
+  else if (u_orientation == 2) start = ivec2(l - size.y + 1, 0);
+  else start = ivec2(l - size.y + 1, size.y - 1);
+  if (l >= lines_a + (u_orientation >= 2 ? size.x - 1 : 0)) return;
+  // Steps until the line leaves the box.
+  int len = u_orientation == 0 ? size.x : u_orientation == 1 ? size.y
+          : min(size.x - start.x, u_orientation == 2 ? size.y - start.y : start.y + 1);
+  start += u_cover_min;
+  uint reg = 0u, behind = 0u;  // bit i of reg: the hit at k - i
+  for (int k = 0; k < len + 16; ++k) {
+    ivec2 q = start + k * dir;
+    reg = (reg << 1) | (k < len && imageLoad(u_depth, q).r < INF && covered(imageLoad(u_in, q)) ? 1u : 0u);
+    int j = k - 16;
+    if (j < 0) continue;
+    uint ahead = reg & 0xffffu;  // bit i: the hit at j + 16 - i
+    uint to_ahead = ahead == 0u ? 0u : uint(16 - findMSB(ahead));
+    imageStore(u_runs, ivec3(start + j * dir, u_orientation), uvec4(to_ahead, behind, 0u, 0u));
+    behind = ((reg >> 16) & 1u) != 0u ? 1u : (behind == 0u || behind >= 16u ? 0u : behind + 1u);
+  }
+}
+#elif defined(PASS_CLASSIFY)
+layout(local_size_x = 16, local_size_y = 16) in;
+// A background pixel can change only where at least 2 of its 4 lines meet
+// a covered pixel within the reach on both sides (fill_pixel's lines): the
+// background around a surface is not listed.
+bool enclosed(ivec2 p) {
+  int lines = 0;
+  for (int o = 0; o < 4; ++o) {
+    uvec2 run = imageLoad(u_runs, ivec3(p, o)).rg;
+    if (run.r != 0u && run.g != 0u && max(run.r, run.g) <= uint(u_reach)) ++lines;
+  }
+  return lines >= 2;
+}
+shared uint s_count, s_base;
 shared uint s_near;  // float bits: positive floats order as their bits do
 void main() {
   if (gl_LocalInvocationIndex == 0u) {
-    s_work = false;
+    s_count = 0u;
     s_near = floatBitsToUint(INF);
   }
   barrier();
   ivec2 p;
+  bool work = false;
+  uint slot = 0u;
   if (rect_pixel(p)) {
     vec4 c = imageLoad(u_in, p);
     imageStore(u_out, p, c);
     float own;
-    if (needs_work(p, c, own)) s_work = true;
+    work = needs_work(p, c, own) && (covered(c) || enclosed(p));
+    if (work) slot = atomicAdd(s_count, 1u);
     float d = imageLoad(u_depth, p).r;
     if (d >= 0.0 && d < INF) atomicMin(s_near, floatBitsToUint(d));
   }
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
     tile_depth[gl_WorkGroupID.y * uint(u_groups.x) + gl_WorkGroupID.x] = uintBitsToFloat(s_near);
-    if (s_work) tiles[atomicAdd(groups_x, 1u)] = gl_WorkGroupID.xy;
+    s_base = atomicAdd(count, s_count);
+    atomicMax(groups_x, (s_base + s_count + 63u) / 64u);
   }
+  barrier();
+  if (work) pixels[s_base + slot] = uint(p.x) | (uint(p.y) << 16);
 }
 #else
+layout(local_size_x = 64) in;
 void main() {
-  // The ends of a gap lie within u_reach <= 16 px: in this tile or the 8
-  // around it. Their nearest depth bounds how far the scan's spacing spans
-  // here (the same gaps close as with u_reach; far parts search less), and
-  // with no point among them there is nothing to enclose.
-  ivec2 t = ivec2(tiles[gl_WorkGroupID.x]);
-  float near = INF;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      ivec2 q = t + ivec2(dx, dy);
-      if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, u_groups)))
-        near = min(near, tile_depth[q.y * u_groups.x + q.x]);
-    }
-  float size = pixel_size(near);
-  g_reach = u_span > 0.0 && size > 0.0 ? clamp(int(ceil(u_span / size)) - 1, min(u_splat_reach, u_reach), u_reach)
-                                       : u_reach;
-  ivec2 p = u_rect_min + t * 16 + ivec2(gl_LocalInvocationID.xy);
+  uint i = gl_GlobalInvocationID.x;
   // One branch around the search, no early returns: llvmpipe runs code
   // after a return masked, but skips a branch no lane takes.
-  vec4 c = imageLoad(u_in, p);
-  float own;
-  if (!isinf(near) && all(lessThan(p, u_rect_max)) && needs_work(p, c, own)) fill_pixel(p, c, own);
+  if (i < count) {
+    ivec2 p = ivec2(pixels[i] & 0xffffu, pixels[i] >> 16);
+    // The ends of a gap lie within u_reach <= 16 px: in the pixel's tile or
+    // the 8 around it. Their nearest depth bounds how far the scan's spacing
+    // spans here (the same gaps close as with u_reach; far parts search
+    // less), and with no point among them there is nothing to enclose.
+    ivec2 t = (p - u_rect_min) / 16;
+    float near = INF;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        ivec2 q = t + ivec2(dx, dy);
+        if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, u_groups)))
+          near = min(near, tile_depth[q.y * u_groups.x + q.x]);
+      }
+    float size = pixel_size(near);
+    g_reach = u_span > 0.0 && size > 0.0 ? clamp(int(ceil(u_span / size)) - 1, min(u_splat_reach, u_reach), u_reach)
+                                         : u_reach;
+    vec4 c = imageLoad(u_in, p);
+    float own = covered(c) ? imageLoad(u_depth, p).r : INF;  // as needs_work found it
+    if (!isinf(near) && may_give_way(own, near)) fill_pixel(p, c, own);
+  }
 }
 #endif

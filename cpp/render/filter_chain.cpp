@@ -70,28 +70,56 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
 const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture& in, const Rect& covered,
                              const Rect& write) {
   const gl::Texture& out = images.gap_image();
-  // The list of tiles that need the search: 3 uints of indirect dispatch
-  // arguments, padding, then a uvec2 per 16x16 tile. Kept for the GL
+  // The list of pixels that need the search: 3 uints of indirect dispatch
+  // arguments, the list's length, then a uint per pixel. Kept for the GL
   // context's life (like the shader library), grown as frames need.
-  // Then each tile's nearest depth (a float per 16x16 tile).
-  static gl::Buffer* tiles = new gl::Buffer();
+  // Then each 16x16 tile's nearest depth (a float per tile).
+  static gl::Buffer* work = new gl::Buffer();
   static gl::Buffer* tile_depth = new gl::Buffer();
-  static size_t tiles_bytes = 0;
+  static size_t work_bytes = 0, depth_bytes = 0;
   const glm::ivec2 groups = glm::max((write.size() + 15) / 16, glm::ivec2(1));
   const size_t n_tiles = size_t(groups.x) * size_t(groups.y);
-  const size_t bytes = 16 + 8 * n_tiles;
-  if (bytes > tiles_bytes) {
-    *tiles = gl::make_buffer(bytes, nullptr);
-    *tile_depth = gl::make_buffer(4 * n_tiles, nullptr);
-    tiles_bytes = bytes;
+  const size_t bytes = 16 + 4 * n_tiles * 256;
+  if (bytes > work_bytes) {
+    *work = gl::make_buffer(bytes, nullptr);
+    work_bytes = bytes;
   }
+  if (4 * n_tiles > depth_bytes) {
+    *tile_depth = gl::make_buffer(4 * n_tiles, nullptr);
+    depth_bytes = 4 * n_tiles;
+  }
+  // The sweeps' distances to the nearest covered pixel along the 4 line
+  // orientations, a layer each (shaders/gap_fill.comp, PASS_SWEEP); kept
+  // like the buffers above.
+  static GLuint runs = 0;
+  static glm::ivec2 runs_size{0, 0};
+  if (glm::any(glm::greaterThan(images.image_size, runs_size))) {
+    if (runs) glDeleteTextures(1, &runs);
+    runs_size = glm::max(images.image_size, runs_size);
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &runs);
+    glTextureStorage3D(runs, 1, GL_RG8UI, runs_size.x, runs_size.y, 4);
+  }
+  glBindImageTexture(5, runs, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RG8UI);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, tile_depth->id());
   const GLuint args[4] = {0, 1, 1, 0};
-  glNamedBufferSubData(tiles->id(), 0, sizeof(args), args);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, tiles->id());
+  glNamedBufferSubData(work->id(), 0, sizeof(args), args);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, work->id());
   glBindImageTexture(0, in.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
   glBindImageTexture(1, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(2, images.raster_depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  if (!covered.empty()) {
+    const gl::Program& sweep = images.shaders->compute("gap_fill.comp", {"PASS_SWEEP"});
+    sweep.use();
+    glUniform2i(sweep.location("u_cover_min"), covered.min.x, covered.min.y);
+    glUniform2i(sweep.location("u_cover_max"), covered.max.x, covered.max.y);
+    const glm::ivec2 n = covered.size();
+    const int lines[4] = {n.y, n.x, n.x + n.y - 1, n.x + n.y - 1};
+    for (int o = 0; o < 4; ++o) {
+      glUniform1i(sweep.location("u_orientation"), o);
+      glDispatchCompute(GLuint((lines[o] + 63) / 64), 1, 1);
+    }
+  }
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   for (const bool classify : {true, false}) {
     const gl::Program& prog = images.shaders->compute(
         "gap_fill.comp", classify ? std::vector<std::string>{"PASS_CLASSIFY"} : std::vector<std::string>{});
@@ -110,7 +138,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     } else {
       glUniform2i(prog.location("u_rect_min"), write.min.x, write.min.y);
       glUniform2i(prog.location("u_rect_max"), write.max.x, write.max.y);
-      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tiles->id());
+      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, work->id());
       glDispatchComputeIndirect(0);
       glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
