@@ -41,7 +41,9 @@ def splats():
     return means, q, scales, opacity, sh
 
 
-def main():
+def capture_and_camera(width, height):
+    """The splats as a cloud (DC colour as its colours), the lion benchmark's
+    camera, and the splats' arrays (splats())."""
     means, q, scales, opacity, sh = splats()
     n = len(means)
     cloud = pointnpr.PointCloud(means, colors=np.clip(0.5 + 0.28209479177387814 * sh[:, 0], 0, 1),
@@ -49,7 +51,13 @@ def main():
                                 rotations=q.astype(np.float32), sh=sh.reshape(n, -1).astype(np.float32),
                                 sh_degree=3)
     camera = pointnpr.Camera.perspective(pointnpr.look_at(EYE, TARGET), lens=35.0, clip_start=0.1,
-                                         clip_end=100.0, width=W, height=H)
+                                         clip_end=100.0, width=width, height=height)
+    return cloud, camera, (means, q, scales, opacity, sh)
+
+
+def main():
+    cloud, camera, (means, q, scales, opacity, sh) = capture_and_camera(W, H)
+    n = len(means)
     marks = {"gaussians (native)": ("gaussians", {"rasterizer": "native"}),
              "gaussians (compute)": ("gaussians", {"rasterizer": "compute"}),
              "points (native, 2 px)": ("points", {"rasterizer": "native", "color_source": "rgb"})}

@@ -21,7 +21,7 @@ import numpy as np
 import pointnpr
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_gaussians import EYE, TARGET, splats  # noqa: E402
+from bench_gaussians import capture_and_camera  # noqa: E402
 
 W, H = 960, 720
 FRAMES = next((int(a) for a in sys.argv[1:] if a.isdigit()), 5)
@@ -47,14 +47,8 @@ def rows():
 
 
 def main():
-    means, q, scales, opacity, sh = splats()
-    n = len(means)
-    cloud = pointnpr.PointCloud(means, colors=np.clip(0.5 + 0.28209479177387814 * sh[:, 0], 0, 1),
-                                opacity=opacity.astype(np.float32), scales=scales.astype(np.float32),
-                                rotations=q.astype(np.float32), sh=sh.reshape(n, -1).astype(np.float32),
-                                sh_degree=3)
-    camera = pointnpr.Camera.perspective(pointnpr.look_at(EYE, TARGET), lens=35.0, clip_start=0.1,
-                                         clip_end=100.0, width=W, height=H)
+    cloud, camera, arrays = capture_and_camera(W, H)
+    n = len(arrays[0])
     renderer = pointnpr.Renderer()
     scenes = {}
     for name, mark in rows():
