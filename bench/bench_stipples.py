@@ -10,7 +10,9 @@ sys.path.insert(0, __import__("os").path.dirname(__file__))
 import numpy as np, pointnpr, bench_marks as bm
 styles = {"points": pointnpr.Style(mark=("points", {"point_size": 2.0})),
           "stipples (gl)": pointnpr.Style(mark=("stipples", {"specular": True, "level_scale": "point_count", "level": 8.0, "rasterizer": "gl"})),
-          "stipples (auto: native)": pointnpr.Style(mark=("stipples", {"specular": True, "level_scale": "point_count", "level": 8.0}))}
+          "stipples (auto: native)": pointnpr.Style(mark=("stipples", {"specular": True, "level_scale": "point_count", "level": 8.0})),
+          # The defaults since 2026-12-05: the tone and each point's level from its spacing.
+          "stipples (defaults, native)": pointnpr.Style(mark=("stipples", {}))}
 r = pointnpr.Renderer()
 for cname, cloud, cam in bm.clouds():
     scenes = {}
