@@ -140,14 +140,15 @@ void main() {
   if (!hp_visible(p) || !owned(p)) return;
   // A histogram, not the maximum: a few outliers (cells cut by the
   // silhouette) would set a maximum; a percentile ignores them.
-  atomicAdd(spec_hist[specular_bin(specular_raw(p))], 1u);
+  float cell_target = u.level_from_spacing != 0 ? point_spacing[index] * u_spacing_cell_scale : 0.0;
+  atomicAdd(spec_hist[specular_bin(specular_measure(p, cell_target))], 1u);
 #elif defined(PASS_DRAW)
   if (!hp_visible(p)) return;
   uint id = point_ids[index];
   if (u_opacity_draws != 0 && !(id_rand(id, kOpacitySalt, 0u) < splat_opacity[index])) return;
   float cell_target = u.level_from_spacing != 0 ? point_spacing[index] * u_spacing_cell_scale : 0.0;
   if (u.diffuse != 0 && lit_out(p, id, cell_target)) return;
-  if (u.specular != 0 && u.tau > 0.0 && specular_out(id, specular_raw(p), u_spec_ref)) return;
+  if (u.specular != 0 && u.tau > 0.0 && specular_out(id, specular_measure(p, cell_target), u_spec_ref)) return;
   Dot dot = tone_dot(p, id);
   if (dot.diameter <= 0.0) return;
   float diameter = dot.diameter;

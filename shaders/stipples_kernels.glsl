@@ -176,6 +176,17 @@ float specular_raw(Pt p) {
   return eye_area + light_area;
 }
 
+// The specular measure: specular_raw, or with the level from the spacing
+// over the square of the point's cell target (its own spacing, scaled
+// alike for the frame), so it is the area per point on the eye and light
+// planes per unit of the point's own surface: n.(v + l) wherever the scan
+// is denser or sparser. Raw, the sparser parts of a scan read as the
+// highlight (they show more area per point from anywhere).
+float specular_measure(Pt p, float cell_target) {
+  float raw = specular_raw(p);
+  return u.level_from_spacing != 0 && cell_target > 0.0f ? raw / (cell_target * cell_target) : raw;
+}
+
 // The histogram of specular_raw: 8 bins per octave of 2^-64 .. 2^64, the
 // octave from the exponent, the bin within it by the mantissa against
 // 2^(k/8) (float bits). Exact, unlike log2 (llvmpipe's approximates it).

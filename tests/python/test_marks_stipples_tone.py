@@ -92,3 +92,29 @@ def test_the_tone_draws_a_fixed_subset_of_the_dots_by_the_point_id(renderer, imp
             for t in (0.3, 0.6)}
     assert 0 < kept[0.3].sum() < kept[0.6].sum()
     assert np.all(kept[0.6][kept[0.3]])
+
+
+def test_the_highlight_follows_the_surface_not_the_scan_s_density(renderer, implementation):
+    # Two spheres side by side in one segment, of 4,000 and 32,000 points.
+    # The specular measure (area per point seen from eye and light) is 8x
+    # larger on the sparse one everywhere: taken as it is, its whole lit
+    # side reads as the highlight and the dense one opens none (of the
+    # dense sphere's dots the light keeps, 1.0 stay where N.H >= 0.8 and
+    # 0.85 below). Taken per unit of each point's own surface (level_scale
+    # spacing), both open it where N.H is high: measured 0.17 and 0.43 of
+    # the dots stay there, 0.94 and 0.85 below.
+    spheres = [sphere(4000, centre=(-1.2, 0.0, -6.0)), sphere(32000, centre=(1.2, 0.0, -6.0))]
+    pos = np.vstack([p for p, _ in spheres])
+    normals = np.vstack([n for _, n in spheres])
+    sparse = np.arange(len(pos)) < 4000
+    c = pointnpr.PointCloud(pos)
+    base = dict(tone=0.0, tau=0.5, level_scale="spacing", rasterizer=implementation, **CAMERA_LIGHT)
+    lit = kept_ids(renderer, dict(base, specular=False), c, len(pos))
+    kept = kept_ids(renderer, dict(base, specular=True), c, len(pos))
+    to_eye = -pos / np.linalg.norm(pos, axis=1)[:, None]
+    half = light(60.0) + to_eye
+    high = np.sum(normals * half / np.linalg.norm(half, axis=1)[:, None], axis=1) >= 0.8
+    for one in (sparse, ~sparse):
+        assert (lit & one & high).sum() >= 10
+        assert kept[lit & one & high].mean() < 0.6 and kept[lit & one & ~high].mean() > 0.8, (
+            kept[lit & one & high].mean(), kept[lit & one & ~high].mean())

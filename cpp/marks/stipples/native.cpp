@@ -243,7 +243,8 @@ class NativeStipplePasses final : public StipplePasses {
         if (cached && !visible_slot(c.slot + i, hp)) continue;
         const Pt p = project(c, local_index(c, i));
         if (!k_.hp_visible(p) || !k_.owned(p)) continue;
-        const float raw = k_.specular_raw(p);
+        const uint32_t local_i = local_index(c, i);
+        const float raw = k_.specular_measure(p, c.spacing ? c.spacing[local_i] * c.spacing_cell_scale : 0.0f);
         if (point_spec) point_spec[c.slot + i] = raw;
         ++local[size_t(k_.specular_bin(raw))];
       }
@@ -295,10 +296,12 @@ class NativeStipplePasses final : public StipplePasses {
           if (!k_.hp_visible(p)) continue;
           const uint32_t id = c.ids[local];
           if (c.opacity && !(glsl::id_rand(id, kOpacitySalt, 0u) < c.opacity[local])) continue;
-          if (s_.u.diffuse && k_.lit_out(p, id, c.spacing ? c.spacing[local] * c.spacing_cell_scale : 0.0f)) continue;
+          const float cell_target = c.spacing ? c.spacing[local] * c.spacing_cell_scale : 0.0f;
+          if (s_.u.diffuse && k_.lit_out(p, id, cell_target)) continue;
           // The specular measure where the histogram took it in this window.
           if (s_.u.specular && s_.u.tau > 0.0f &&
-              k_.specular_out(id, spec_cached && k_.owned(p) ? point_spec[c.slot + i] : k_.specular_raw(p), spec_ref))
+              k_.specular_out(id, spec_cached && k_.owned(p) ? point_spec[c.slot + i] : k_.specular_measure(p, cell_target),
+                              spec_ref))
             continue;
           const Kernels::Dot dot = k_.tone_dot(p, id);
           if (dot.diameter <= 0.0f) continue;
