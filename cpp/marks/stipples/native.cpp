@@ -300,8 +300,9 @@ class NativeStipplePasses final : public StipplePasses {
           if (s_.u.diffuse && k_.lit_out(p, id, cell_target)) continue;
           // The specular measure where the histogram took it in this window.
           if (s_.u.specular && s_.u.tau > 0.0f &&
-              k_.specular_out(id, spec_cached && k_.owned(p) ? point_spec[c.slot + i] : k_.specular_measure(p, cell_target),
-                              spec_ref))
+              k_.specular_out(
+                  id, spec_cached && k_.owned(p) ? point_spec[c.slot + i] : k_.specular_measure(p, cell_target),
+                  spec_ref))
             continue;
           const Kernels::Dot dot = k_.tone_dot(p, id);
           if (dot.diameter <= 0.0f) continue;

@@ -19,8 +19,8 @@
 
 namespace pointnpr {
 
-constexpr int kStippleHistogramBins = 1024;
-constexpr int kStippleSpacingNeighbors = 8;  // a point's spacing: the mean distance to these nearest neighbours  // log2 of the specular measure, 8 bins per octave (specular_bin)
+constexpr int kStippleHistogramBins = 1024;  // log2 of the specular measure, 8 bins per octave (specular_bin)
+constexpr int kStippleSpacingNeighbors = 8;  // a point's spacing: the mean distance to these nearest neighbours
 
 // What the passes read that is fixed for a frame: the kernels' settings
 // (shaders/stipples_settings.glsl: the camera's float projection, the fine
