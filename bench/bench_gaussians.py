@@ -55,6 +55,17 @@ def capture_and_camera(width, height):
     return cloud, camera, (means, q, scales, opacity, sh)
 
 
+def warmed_scenes(renderer, cloud, camera, width, height, marks):
+    """One scene per (name, mark) with the cloud, each rendered once (the warm-up)."""
+    scenes = {}
+    for name, mark in marks:
+        scene = pointnpr.Scene()
+        scene.add_segment("s", pointnpr.Style(mark=mark), [(cloud, np.eye(4))])
+        renderer.render(scene, camera, width, height)
+        scenes[name] = scene
+    return scenes
+
+
 def main():
     cloud, camera, (means, q, scales, opacity, sh) = capture_and_camera(W, H)
     n = len(means)
@@ -62,12 +73,7 @@ def main():
              "gaussians (compute)": ("gaussians", {"rasterizer": "compute"}),
              "points (native, 2 px)": ("points", {"rasterizer": "native", "color_source": "rgb"})}
     renderer = pointnpr.Renderer()
-    scenes = {}
-    for name, mark in marks.items():
-        scene = pointnpr.Scene()
-        scene.add_segment("s", pointnpr.Style(mark=mark), [(cloud, np.eye(4))])
-        renderer.render(scene, camera, W, H)  # warm-up
-        scenes[name] = scene
+    scenes = warmed_scenes(renderer, cloud, camera, W, H, marks.items())
     times = {name: [] for name in marks}
     mark_ms = {name: [] for name in marks}
     stats = {}

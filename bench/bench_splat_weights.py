@@ -21,7 +21,7 @@ import numpy as np
 import pointnpr
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_gaussians import capture_and_camera  # noqa: E402
+from bench_gaussians import capture_and_camera, warmed_scenes  # noqa: E402
 
 W, H = 960, 720
 FRAMES = next((int(a) for a in sys.argv[1:] if a.isdigit()), 5)
@@ -50,12 +50,7 @@ def main():
     cloud, camera, arrays = capture_and_camera(W, H)
     n = len(arrays[0])
     renderer = pointnpr.Renderer()
-    scenes = {}
-    for name, mark in rows():
-        scene = pointnpr.Scene()
-        scene.add_segment("s", pointnpr.Style(mark=mark), [(cloud, np.eye(4))])
-        renderer.render(scene, camera, W, H)  # warm-up
-        scenes[name] = scene
+    scenes = warmed_scenes(renderer, cloud, camera, W, H, rows())
     times = {name: [] for name in scenes}
     cpu = {name: [] for name in scenes}
     for _ in range(FRAMES):

@@ -141,12 +141,7 @@ def test_points_are_sized_by_each_splat_s_footprint(renderer):
 
 def test_points_are_drawn_with_the_splat_s_opacity_as_their_chance(renderer):
     n = 4000
-    rng = np.random.default_rng(3)
-    means = np.column_stack([rng.uniform(-1.4, 1.4, n), rng.uniform(-1.4, 1.4, n), np.full(n, -5.0)])
-    opacity = np.where(means[:, 0] < 0, 0.2, 0.9).astype(np.float32)
-    cloud = pointnpr.PointCloud(means, opacity=opacity, scales=np.full((n, 3), 0.001, np.float32),
-                                rotations=np.tile(np.float32([1, 0, 0, 0]), (n, 1)),
-                                sh=np.full((n, 3), 1.0, np.float32), sh_degree=0)
+    means, opacity, cloud = _plane_of_two_opacities(n, seed=3, scale=0.001)
     images = {}
     for rasterizer in ("compute", "native", "gl_points"):
         r = _render(renderer, "points", {"point_size": 1, "opacity_draws": True, "rasterizer": rasterizer}, cloud)
@@ -195,13 +190,13 @@ def test_hatching_strokes_are_drawn_with_the_splat_s_opacity_as_their_odds(rende
     assert runs["gl", True].stats["strokes_drawn"] == runs["native", True].stats["strokes_drawn"]
 
 
-def _plane_of_two_opacities(n=8000):
+def _plane_of_two_opacities(n=8000, seed=5, scale=0.01):
     """Splats scattered over the plane z = -5 facing the camera: opacity 0.2
     left of x = 0, 0.9 right of it."""
-    rng = np.random.default_rng(5)
+    rng = np.random.default_rng(seed)
     means = np.column_stack([rng.uniform(-1.4, 1.4, n), rng.uniform(-1.4, 1.4, n), np.full(n, -5.0)])
     opacity = np.where(means[:, 0] < 0, 0.2, 0.9).astype(np.float32)
-    cloud = pointnpr.PointCloud(means, opacity=opacity, scales=np.full((n, 3), 0.01, np.float32),
+    cloud = pointnpr.PointCloud(means, opacity=opacity, scales=np.full((n, 3), scale, np.float32),
                                 rotations=np.tile(np.float32([1, 0, 0, 0]), (n, 1)),
                                 sh=np.full((n, 3), 1.0, np.float32), sh_degree=0)
     return means, opacity, cloud
