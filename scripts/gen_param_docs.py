@@ -46,7 +46,9 @@ def render():
             when = p.get("when")
             doc = p["doc"]
             if when:
-                doc += " (applies when `%s` is %s)" % (when["param"], " or ".join(f"`{v}`" for v in when["values"]))
+                doc += " (applies when %s)" % ", or ".join(
+                    "`%s` is %s" % (c["param"], " or ".join(f"`{v}`" for v in c["values"]))
+                    for c in [when] + list(when.get("or", ())))
             if p.get("former_names"):
                 doc += " (formerly %s: still read from scripts and saved files)" % " or ".join(
                     f"`{n}`" for n in p["former_names"])

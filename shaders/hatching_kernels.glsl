@@ -83,8 +83,13 @@ Stroke place_stroke(uint index, uint id, vec4 v, vec3 n) {
   // X-Toon coordinates: brightness (diffuse + ambient + Phong) and depth.
   vec3 light = vec3(u.light_dir);
   float diffuse = max(dot(n, light), 0.0f);
-  float spec = u.specular > 0.0f ? u.specular * pow(max(dot(reflect(-light, n), to_eye), 0.0f), u.shininess) : 0.0f;
-  float brightness = clamp(u.ambient + (1.0f - u.ambient) * diffuse + spec, 0.0f, 1.0f);
+  // The highlight takes its share from the diffuse term (k_d + k_s = 1):
+  // added on top, it falls where the diffuse light already saturates the
+  // tone and shows nowhere.
+  float lit = diffuse;
+  if (u.specular > 0.0f)
+    lit = (1.0f - u.specular) * diffuse + u.specular * pow(max(dot(reflect(-light, n), to_eye), 0.0f), u.shininess);
+  float brightness = clamp(u.ambient + (1.0f - u.ambient) * lit, 0.0f, 1.0f);
   float depth01 = clamp((depth - u.depth_min) / max(u.depth_max - u.depth_min, 1e-6f), 0.0f, 1.0f);
   vec4 tone = xtoon(vec2(brightness, depth01));
   float alpha_tex = clamp(tone.a, 0.0f, 1.0f);

@@ -48,6 +48,12 @@ ParamSpec only_when(ParamSpec spec, std::string param, std::vector<std::string> 
   return spec;
 }
 
+ParamSpec only_when_any(ParamSpec spec, std::vector<ParamSpec::Condition> conditions) {
+  spec = only_when(std::move(spec), conditions.at(0).param, conditions.at(0).values);
+  spec.or_when.assign(std::make_move_iterator(conditions.begin() + 1), std::make_move_iterator(conditions.end()));
+  return spec;
+}
+
 ParamSpec formerly(ParamSpec spec, std::vector<std::string> names) {
   spec.former_names = std::move(names);
   return spec;
@@ -206,9 +212,10 @@ glm::vec4 ParamValues::get_color(const std::string& name) const {
   return {float(v[0]), float(v[1]), float(v[2]), float(v[3])};
 }
 
-bool applies(const ParamSpec& spec, const ParamValues& values) {
-  if (spec.when_param.empty()) return true;
-  const ParamSpec* other = values.schema().find(spec.when_param);
+namespace {
+
+bool holds(const std::string& param, const std::vector<std::string>& wanted, const ParamValues& values) {
+  const ParamSpec* other = values.schema().find(param);
   if (!other) return true;
   std::string current;
   switch (other->type) {
@@ -217,8 +224,16 @@ bool applies(const ParamSpec& spec, const ParamValues& values) {
     case ParamType::Int: current = values.raw().at(other->name).at(0) != 0.0 ? "nonzero" : "zero"; break;
     default: current = values.get_enum_name(other->name);
   }
-  for (const auto& v : spec.when_values)
-    if (v == current) return true;
+  return std::find(wanted.begin(), wanted.end(), current) != wanted.end();
+}
+
+}  // namespace
+
+bool applies(const ParamSpec& spec, const ParamValues& values) {
+  if (spec.when_param.empty()) return true;
+  if (holds(spec.when_param, spec.when_values, values)) return true;
+  for (const ParamSpec::Condition& c : spec.or_when)
+    if (holds(c.param, c.values, values)) return true;
   return false;
 }
 

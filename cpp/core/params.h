@@ -29,6 +29,13 @@ struct ParamSpec {
   // one of `when_values`; the UI greys it out otherwise.
   std::string when_param;
   std::vector<std::string> when_values;
+  // Further conditions, any of which also makes it apply (a line width
+  // applies when any class of strokes is drawn as lines).
+  struct Condition {
+    std::string param;
+    std::vector<std::string> values;
+  };
+  std::vector<Condition> or_when;
   // Names it had before, which scripts and saved files may still use:
   // validation takes them for this one, and the Blender add-on moves a
   // saved value (and its animation) to the current name when a file opens.
@@ -44,6 +51,9 @@ struct ParamSpec {
 
 // `spec`, applying only while `param` is one of `values` (see ParamSpec).
 ParamSpec only_when(ParamSpec spec, std::string param, std::vector<std::string> values);
+// `spec`, applying only while any of `conditions` holds (the first is its
+// `when`, the others its `or_when`).
+ParamSpec only_when_any(ParamSpec spec, std::vector<ParamSpec::Condition> conditions);
 // `spec`, once named `names` (see ParamSpec::former_names).
 ParamSpec formerly(ParamSpec spec, std::vector<std::string> names);
 // `spec`, added after files were saved without it; they keep `value` (an

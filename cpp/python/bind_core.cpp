@@ -89,6 +89,16 @@ py::dict schema_to_dict(const Schema& schema) {
       py::dict when;
       when["param"] = p.when_param;
       when["values"] = p.when_values;
+      if (!p.or_when.empty()) {
+        py::list alternatives;
+        for (const ParamSpec::Condition& c : p.or_when) {
+          py::dict alternative;
+          alternative["param"] = c.param;
+          alternative["values"] = c.values;
+          alternatives.append(alternative);
+        }
+        when["or"] = alternatives;
+      }
       d["when"] = when;
     }
     params.append(d);

@@ -316,6 +316,14 @@ def _other_values(param):
     return list(param["items"])
 
 
+def _when_spelling(value):
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return "nonzero" if value != 0 else "zero"
+    return value
+
+
 def _set_when_value(node, param, value):
     pid = nodes.property_identifier(param["name"])
     if param["type"] in ("float", "int"):
@@ -355,33 +363,50 @@ def test_parameters_are_greyed_out_when_their_condition_does_not_hold(scene):
             if not when:
                 assert nodes.param_applies(node, param)
                 continue
-            other = by_name[when["param"]]
-            assert other["type"] in ("enum", "bool", "float", "int"), (schema["id"], param["name"])
-            assert set(when["values"]) <= set(_other_values(other)), (schema["id"], param["name"])
-            for value in _other_values(other):
-                _set_when_value(node, other, value)
-                # A condition on a parameter that does not apply itself
-                # does not hold either (chains of conditions).
-                expected = value in when["values"] and nodes.param_applies(node, other)
-                assert nodes.param_applies(node, param) == expected, (schema["id"], param["name"], value)
-                # The drawn row is greyed out exactly then.
-                layout = _FakeLayout()
-                nodes.draw_node_properties(node, layout)
-                pid = nodes.property_identifier(param["name"])
-                row = next(r for r in layout.rows if r.props == [pid])
-                assert row.active == expected
-                checked += 1
+            conditions = [when] + list(when.get("or", ()))
+            for condition in conditions:
+                other = by_name[condition["param"]]
+                assert other["type"] in ("enum", "bool", "float", "int"), (schema["id"], param["name"])
+                assert set(condition["values"]) <= set(_other_values(other)), (schema["id"], param["name"])
+            for i, condition in enumerate(conditions):
+                # The other alternatives made not to hold, this one's
+                # parameter takes each of its values.
+                for alternative in conditions[:i] + conditions[i + 1:]:
+                    alt = by_name[alternative["param"]]
+                    _set_when_value(node, alt, next(v for v in _other_values(alt) if v not in alternative["values"]))
+                other = by_name[condition["param"]]
+                for value in _other_values(other):
+                    _set_when_value(node, other, value)
+                    # A condition on a parameter that does not apply itself
+                    # does not hold either (chains of conditions).
+                    expected = value in condition["values"] and nodes.param_applies(node, other)
+                    assert nodes.param_applies(node, param) == expected, (schema["id"], param["name"], value)
+                    # The drawn row is greyed out exactly then.
+                    layout = _FakeLayout()
+                    nodes.draw_node_properties(node, layout)
+                    pid = nodes.property_identifier(param["name"])
+                    row = next(r for r in layout.rows if r.props == [pid])
+                    assert row.active == expected
+                    checked += 1
+                for alternative in conditions:  # back to the defaults for the next parameter
+                    _set_when_value(node, by_name[alternative["param"]],
+                                    _when_spelling(by_name[alternative["param"]]["default"]))
     assert checked >= 2, "no schema parameter has a 'when' condition"
 
 
 def test_chained_conditions(scene):
     """hatching: pencil_image applies when pencil_set is 'image', which
-    applies when pencil_quantize is on."""
+    applies when pencil_quantize is on, which applies to the points' or
+    X-Toon's colours."""
     node = nodes.new_style("Chain", mark="hatching").nodes["Hatching"]
     params = {p["name"]: p for p, _pid in node.pointnpr_params}
     assert params["pencil_image"]["when"] == {"param": "pencil_set", "values": ["image"]}
     assert params["pencil_set"]["when"] == {"param": "pencil_quantize", "values": ["true"]}
     node.pencil_set = "image"
+    node.pencil_quantize = True
+    assert not nodes.param_applies(node, params["pencil_image"])  # a constant colour
+    node.coloring = "point"
+    assert nodes.param_applies(node, params["pencil_image"])
     node.pencil_quantize = False
     assert not nodes.param_applies(node, params["pencil_set"])
     assert not nodes.param_applies(node, params["pencil_image"])

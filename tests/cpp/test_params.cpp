@@ -114,20 +114,27 @@ TEST(Params, EveryConditionNamesAnEnumBoolOrNumberOfItsSchemaAndOneOfItsValues) 
   int conditions = 0;
   for (const Schema* schema : all) {
     for (const ParamSpec& p : schema->params) {
-      if (p.when_param.empty()) continue;
-      ++conditions;
-      const ParamSpec* other = schema->find(p.when_param);
-      ASSERT_NE(other, nullptr) << schema->id << "." << p.name << " depends on unknown " << p.when_param;
-      const bool number = other->type == ParamType::Float || other->type == ParamType::Int;
-      ASSERT_TRUE(other->type == ParamType::Enum || other->type == ParamType::Bool || number)
-          << schema->id << "." << p.name;
-      ASSERT_FALSE(p.when_values.empty());
-      for (const std::string& v : p.when_values) {
-        const std::vector<std::string> allowed = other->type == ParamType::Bool ? std::vector<std::string>{"true", "false"}
-                                                 : number ? std::vector<std::string>{"zero", "nonzero"}
-                                                          : other->items;
-        EXPECT_NE(std::find(allowed.begin(), allowed.end(), v), allowed.end())
-            << schema->id << "." << p.name << ": " << v << " is not a value of " << other->name;
+      if (p.when_param.empty()) {
+        EXPECT_TRUE(p.or_when.empty()) << schema->id << "." << p.name << ": alternatives without a condition";
+        continue;
+      }
+      std::vector<ParamSpec::Condition> each = {{p.when_param, p.when_values}};
+      each.insert(each.end(), p.or_when.begin(), p.or_when.end());
+      for (const ParamSpec::Condition& c : each) {
+        ++conditions;
+        const ParamSpec* other = schema->find(c.param);
+        ASSERT_NE(other, nullptr) << schema->id << "." << p.name << " depends on unknown " << c.param;
+        const bool number = other->type == ParamType::Float || other->type == ParamType::Int;
+        ASSERT_TRUE(other->type == ParamType::Enum || other->type == ParamType::Bool || number)
+            << schema->id << "." << p.name;
+        ASSERT_FALSE(c.values.empty());
+        for (const std::string& v : c.values) {
+          const std::vector<std::string> allowed = other->type == ParamType::Bool ? std::vector<std::string>{"true", "false"}
+                                                   : number ? std::vector<std::string>{"zero", "nonzero"}
+                                                            : other->items;
+          EXPECT_NE(std::find(allowed.begin(), allowed.end(), v), allowed.end())
+              << schema->id << "." << p.name << ": " << v << " is not a value of " << other->name;
+        }
       }
     }
   }
@@ -147,4 +154,11 @@ TEST(Params, ConditionsFollowTheCurrentValues) {
   const Schema& watercolor = find_filter("watercolor").schema;
   EXPECT_FALSE(applies(*watercolor.find("paper_color"), validate(watercolor, {{"dry_brush", {0.0}}})));
   EXPECT_TRUE(applies(*watercolor.find("paper_color"), validate(watercolor, {{"dry_brush", {0.2}}})));
+  // Any of several conditions: the brush's second layer is painted with two
+  // layers or on small clusters.
+  const Schema& brush = find_mark("brush_splats").schema;
+  const ParamSpec& tint = *brush.find("layer_tint");
+  EXPECT_FALSE(applies(tint, validate(brush, {})));
+  EXPECT_TRUE(applies(tint, validate(brush, {{"layers", {1.0}}})));
+  EXPECT_TRUE(applies(tint, validate(brush, {{"clusters", {1.0}}})));
 }

@@ -426,6 +426,10 @@ double brush_reach(const ParamValues& p) {
 
 namespace {
 
+// A second, smaller brush layer is painted with layers two, or on small
+// clusters when brushes follow clusters.
+const std::vector<ParamSpec::Condition> kSecondLayer = {{"layers", {"two"}}, {"clusters", {"true"}}};
+
 const MarkRegistration registration{{
     with_surface_light(Schema{"brush_splats",
            "Brush splats",
@@ -470,9 +474,14 @@ const MarkRegistration registration{{
                float_param("angle_jitter", 10.0, 0.0, 90.0, "deg",
                            "Seeded noise of theta: each column of Gaussians within this of the previous one"),
                enum_param("layers", {"one", "two"}, 0, "Brush layers: two paints a second, smaller layer over the first"),
-               float_param("layer_scale", 0.6, 0.1, 1.0, "", "Size of the second layer (layers two, or small clusters)"),
-               float_param("layer_angle", 35.0, -180.0, 180.0, "deg", "Turn of the second layer"),
-               float_param("layer_tint", 0.25, -1.0, 1.0, "", "Second layer's colour toward white (> 0) or black (< 0)"),
+               only_when_any(float_param("layer_scale", 0.6, 0.1, 1.0, "",
+                                         "Size of the second layer (layers two, or small clusters)"),
+                             kSecondLayer),
+               only_when_any(float_param("layer_angle", 35.0, -180.0, 180.0, "deg", "Turn of the second layer"),
+                             kSecondLayer),
+               only_when_any(float_param("layer_tint", 0.25, -1.0, 1.0, "",
+                                         "Second layer's colour toward white (> 0) or black (< 0)"),
+                             kSecondLayer),
                bool_param("clusters", false,
                           "Shape brushes by colour region-growing clusters (seed 004 section 3.2.1; computed once "
                           "per cloud): small clusters get two layers, elongated ones longer brushes along their "

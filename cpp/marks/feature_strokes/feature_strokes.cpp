@@ -312,6 +312,17 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
 }
 
 const std::vector<std::string> kPrimitives = {"none", "point_sprite", "line_segment", "textured_stroke"};
+// The parameters choosing each class's primitive.
+const std::vector<std::string> kClasses = {"directional", "non_directional", "dithering"};
+const std::vector<std::string> kUndirected = {"non_directional", "dithering"};
+
+// A setting of some primitives applies while any of `classes` draws one.
+std::vector<ParamSpec::Condition> drawn_as(const std::vector<std::string>& primitives,
+                                           const std::vector<std::string>& classes) {
+  std::vector<ParamSpec::Condition> conditions;
+  for (const std::string& c : classes) conditions.push_back({c, primitives});
+  return conditions;
+}
 
 const MarkRegistration registration{{
     with_surface_light(Schema{"feature_strokes",
@@ -352,18 +363,28 @@ const MarkRegistration registration{{
                only_when(float_param("dither_tone", 0.5, 0.0, 1.0, "",
                                      "How much darker point colours raise the dithering odds (0: colour unused)"),
                          "tone", {"zero"}),
-               float_param("directional_length", 14.0, 1.0, 128.0, "px", "Length of directional strokes and lines"),
-               float_param("other_length", 6.0, 1.0, 128.0, "px",
-                           "Length of non-directional and dithering strokes and lines"),
-               float_param("stroke_width", 4.0, 0.5, 32.0, "px", "Width of textured strokes"),
-               float_param("line_width", 1.2, 0.5, 8.0, "px", "Width of line segments"),
-               float_param("sprite_size", 3.0, 0.5, 32.0, "px", "Diameter of point sprites (Gaussian kernel)"),
-               float_param("screen_angle", 45.0, -180.0, 180.0, "deg",
-                           "The constant screen direction of non-directional and dithering primitives (0: to the "
-                           "right, 90: up)"),
-               enum_param("stroke_texture", {"taper", "brush", "dry", "image"}, 0,
-                          "Alpha texture of textured strokes (seed 001 Fig. 4): tapered, bristle brush, dry brush, "
-                          "or an image (x along the stroke, y across; its alpha times its darkness)"),
+               only_when_any(float_param("directional_length", 14.0, 1.0, 128.0, "px",
+                                         "Length of directional strokes and lines"),
+                             drawn_as({"line_segment", "textured_stroke"}, {"directional"})),
+               only_when_any(float_param("other_length", 6.0, 1.0, 128.0, "px",
+                                         "Length of non-directional and dithering strokes and lines"),
+                             drawn_as({"line_segment", "textured_stroke"}, kUndirected)),
+               only_when_any(float_param("stroke_width", 4.0, 0.5, 32.0, "px", "Width of textured strokes"),
+                             drawn_as({"textured_stroke"}, kClasses)),
+               only_when_any(float_param("line_width", 1.2, 0.5, 8.0, "px", "Width of line segments"),
+                             drawn_as({"line_segment"}, kClasses)),
+               only_when_any(float_param("sprite_size", 3.0, 0.5, 32.0, "px",
+                                         "Diameter of point sprites (Gaussian kernel)"),
+                             drawn_as({"point_sprite"}, kClasses)),
+               only_when_any(float_param("screen_angle", 45.0, -180.0, 180.0, "deg",
+                                         "The constant screen direction of non-directional and dithering "
+                                         "primitives (0: to the right, 90: up)"),
+                             drawn_as({"line_segment", "textured_stroke"}, kUndirected)),
+               only_when_any(enum_param("stroke_texture", {"taper", "brush", "dry", "image"}, 0,
+                                        "Alpha texture of textured strokes (seed 001 Fig. 4): tapered, bristle brush, "
+                                        "dry brush, or an image (x along the stroke, y across; its alpha times its "
+                                        "darkness)"),
+                             drawn_as({"textured_stroke"}, kClasses)),
                only_when(image_param("texture_image", "Stroke alpha texture (x along the stroke, y across)"),
                          "stroke_texture", {"image"}),
                enum_param("coloring", {"constant", "point"}, 0, "constant: the stroke colour; point: the point's colour"),

@@ -227,7 +227,7 @@ hatching::StrokePass Hatching::resolve(const MarkContext& ctx, const ParamValues
 
   const std::vector<glm::vec3>* pencil_colors = nullptr;
   std::vector<std::pair<float, glm::vec3>> by_hue;
-  if (p.get_bool("pencil_quantize")) {
+  if (p.get_bool("pencil_quantize") && applies(*p.schema().find("pencil_quantize"), p)) {
     pencil_colors = &pencils(p);
     for (const glm::vec3& c : *pencil_colors) by_hue.push_back({hue_of(c), c});
     std::sort(by_hue.begin(), by_hue.end(), [](const auto& a, const auto& b) {
@@ -466,7 +466,9 @@ const MarkRegistration registration{{
                                           "camera moves)"),
                                {0.0}),
                float_param("ambient", 0.0, 0.0, 1.0, "", "Brightness every surface gets"),
-               float_param("specular", 0.0, 0.0, 1.0, "", "Phong highlight added to the brightness"),
+               float_param("specular", 0.0, 0.0, 1.0, "",
+                           "The Phong highlight's share of the light (the rest is diffuse, so the highlight shows "
+                           "where the diffuse light alone would already be at full brightness)"),
                only_when(float_param("shininess", 16.0, 1.0, 256.0, "", "Phong exponent of the highlight"),
                          "specular", {"nonzero"}),
                enum_param("coloring", {"constant", "xtoon", "point"}, 0,
@@ -478,9 +480,12 @@ const MarkRegistration registration{{
                          "coloring", {"point"}),
                only_when(color_source_param(), "coloring", {"point"}),
                float_param("hue_shift", 0.0, -180.0, 180.0, "deg", "Hue rotation of the stroke colour"),
-               bool_param("pencil_quantize", false,
-                          "Only colours of a pencil set: the two nearest hues mixed by chance, then black and white "
-                          "for value and saturation"),
+               // A constant colour is chosen as it is wanted (and the default, a
+               // grey, has no hue to match): pencils match the scan's or X-Toon's.
+               only_when(bool_param("pencil_quantize", false,
+                                    "Only colours of a pencil set: the two nearest hues mixed by chance, then black "
+                                    "and white for value and saturation"),
+                         "coloring", {"point", "xtoon"}),
                only_when(enum_param("pencil_set", {"box_12", "box_24", "image"}, 1,
                                     "Pencil colours: 12 or 24 pencils, or the distinct colours of an image"),
                          "pencil_quantize", {"true"}),

@@ -21,6 +21,8 @@ import re
 
 import bpy
 
+from .conditions import draw_node_properties, param_applies, when_holds  # noqa: F401 (the add-on's API)
+
 TREE_IDNAME = "PointNPRStyleTree"
 SOCKET_IDNAME = "PointNPRStyleSocket"
 OUTPUT_IDNAME = "PointNPROutputNode"
@@ -239,63 +241,6 @@ class _StyleNodeMixin:
 
     def draw_label(self):
         return self.bl_label
-
-
-def _when_value(node, param_name):
-    """The current value of ``node``'s parameter ``param_name`` as a "when"
-    condition names it: enum item, "true"/"false" for a bool, "zero"/"nonzero"
-    for a number; None if the node has no such parameter."""
-    for param, pid in getattr(node, "pointnpr_params", ()):
-        if param["name"] == param_name:
-            value = getattr(node, pid)
-            if param["type"] == "bool":
-                return "true" if value else "false"
-            if param["type"] in ("float", "int"):
-                return "nonzero" if value != 0 else "zero"
-            return str(value)
-    return None
-
-
-def when_holds(when, value):
-    """Whether a schema "when" condition ({"param": name, "values": [...]}, or
-    None) holds for the other parameter's ``value`` (enum item or
-    "true"/"false"; a bool or None is accepted too)."""
-    if not when:
-        return True
-    if isinstance(value, bool):
-        value = "true" if value else "false"
-    return value is not None and str(value) in [str(v) for v in when.get("values", ())]
-
-
-def param_applies(node, param, _seen=None):
-    """Whether ``param`` (a schema dict of one of ``node``'s parameters)
-    applies with the node's current values: its "when" condition holds and
-    the parameter it names applies itself (conditions chain: the hatching
-    mark's pencil_image needs pencil_set "image", which needs
-    pencil_quantize on). A condition naming a parameter the node does not
-    have is taken to hold."""
-    when = param.get("when")
-    if not when:
-        return True
-    value = _when_value(node, when.get("param"))
-    if value is None:
-        return True
-    if not when_holds(when, value):
-        return False
-    seen = set(_seen or ()) | {param["name"]}
-    if when["param"] in seen:
-        return True   # a cycle in the schema: do not loop
-    other = next(p for p, _pid in node.pointnpr_params if p["name"] == when["param"])
-    return param_applies(node, other, seen)
-
-
-def draw_node_properties(node, layout):
-    """One row per parameter; rows whose "when" condition does not hold are
-    greyed out (still editable: the value is kept for when it applies)."""
-    for param, pid in getattr(node, "pointnpr_params", ()):
-        row = layout.row()
-        row.active = param_applies(node, param)
-        row.prop(node, pid)
 
 
 def _class_name(role, schema_id):
