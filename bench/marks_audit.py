@@ -12,8 +12,10 @@ Measures, per scan and preset (the preset whole: its mark and its filters):
           surface); for the ink marks paper showing is the look, so only
           reported.
   stray:  pixels the preset draws (alpha > STRAY_ALPHA) farther than
-          STRAY_PX from every pixel a point covers (the points mark at 1 px),
-          in per mille of the drawn pixels and as a count. Limit: none drawn.
+          STRAY_PX from the points' own coverage (each point a disc of twice
+          the scan's median spacing, points beyond the frame's edge
+          included: `coverage`), in per mille of the drawn pixels and as a
+          count. Limit: none drawn.
   r:      ink against Lambert shading: the block correlation (16 px blocks
           fully covered) of the preset's ink (1 - luminance / paper, or
           luminance on dark paper) with the points mark's diffuse shading
@@ -53,6 +55,7 @@ W, H = la.W, la.H
 MARKS = ("hatching", "stipples", "feature_strokes", "brush_splats")
 CLOSE_RADIUS = la.CLOSE_RADIUS
 STRAY_PX, STRAY_ALPHA = 12, 0.05
+COVER_MARGIN = 64  # px: beyond the largest mark's reach (a brush's 3x elongation)
 HOLE_LIMIT, R_LIMIT, FLICKER_LIMIT = 1.0, 0.7, 1.1
 BLOCK = 16
 ORBIT_FRAMES, ORBIT_STEP = 6, 0.5
@@ -138,6 +141,25 @@ def flicker(renderer, cloud, centre, mark, filters, world_from_camera, clip):
     return float(np.mean(mads)) / detail if detail > 0 else float("nan")
 
 
+def coverage(renderer, cloud, pos, centre, world_from_camera, clip):
+    """The points' own coverage: each point a disc as wide as twice the
+    scan's median spacing (its typical neighbourhood, so a sparse surface
+    near the camera closes and an isolated point stays small), drawn on a
+    frame COVER_MARGIN px larger on every side with the same pixel scale
+    (points just outside the picture cover its edge too), cropped."""
+    r, _eps = pointnpr.local_resolution(np.asarray(pos - centre, np.float64), 8)
+    w, h = W + 2 * COVER_MARGIN, H + 2 * COVER_MARGIN
+    wide = pointnpr.Camera.perspective(world_from_camera, lens=35.0 * W / w, clip_start=clip[0], clip_end=clip[1],
+                                       width=w, height=h)
+    scene = pointnpr.Scene()
+    shift = np.eye(4)
+    shift[:3, 3] = centre
+    discs = {"size_mode": "world", "world_size": 2.0 * float(np.median(r))}
+    scene.add_segment("scan", pointnpr.Style(mark=("points", discs)), [(cloud, shift)])
+    alpha = np.asarray(renderer.render(scene, wide, w, h).color)[..., 3]
+    return alpha[COVER_MARGIN:COVER_MARGIN + H, COVER_MARGIN:COVER_MARGIN + W] > 0
+
+
 def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names, with_orbit, overlay):
     cam = pointnpr.Camera.perspective(world_from_camera, lens=35.0, clip_start=clip[0], clip_end=clip[1],
                                       width=W, height=H)
@@ -145,8 +167,7 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
     white, _ = la._cloud(pos, {}, colors=np.ones((len(pos), 3), np.float32))
     base = la._render(renderer, cloud, centre, ("points", {"point_size": 3.0}), [], cam)
     filled = la.erode(la.dilate(base[..., 3] >= 0.5, CLOSE_RADIUS), CLOSE_RADIUS)
-    dots = la._render(renderer, cloud, centre, ("points", {"point_size": 1.0}), [], cam)
-    near = la.dilate(dots[..., 3] > 0, STRAY_PX)
+    near = la.dilate(coverage(renderer, cloud, pos, centre, world_from_camera, clip), STRAY_PX)
     # The baseline of a colourless scan is its lit shape (flat grey has no detail to compare with).
     lit = {} if attrs else {"shading": "diffuse"}
     base_flicker = flicker(renderer, cloud, centre, ("points", {"point_size": 3.0, **lit}), [], world_from_camera,
