@@ -435,7 +435,9 @@ const MarkRegistration registration{{
                enum_param("size_mode", {"resolution", "world", "splat"}, 0,
                           "resolution: splat radius r + eps from each point's neighbours (denser regions get "
                           "smaller brushes); world: one radius in scene units; splat: a Gaussian-splat capture's "
-                          "own footprint, 2 sqrt of the product of its two largest scales (plain points: r)"),
+                          "own footprint, 2 sqrt of the product of its two largest scales (plain points: r). world "
+                          "and splat as the points mark's size_mode; resolution is no one size on screen (its "
+                          "pixels)"),
                only_when(int_param("resolution_neighbors", 8, 2, 64, "",
                                    "Neighbours the local resolution r (mean distance) and eps (its deviation) come from"),
                          "size_mode", {"resolution", "splat"}),

@@ -126,10 +126,11 @@ const MarkRegistration registration{{
                                     "splatting (deterministic ties); gl_points: conventional GL points"),
                          "rasterizer", {"gl", "auto"}),
                enum_param("size_mode", {"pixels", "world", "splat"}, 0,
-                          "Point size in screen pixels, or in scene units projected by the camera; splat: a "
-                          "Gaussian-splat capture's own footprint: twice 2 sqrt of the product of its two largest "
-                          "scales, scene units (plain points: twice the mean distance to 8 neighbours), capped at "
-                          "32 px"),
+                          "pixels: one size on screen; world: one size in scene units, projected by the camera; "
+                          "splat: a Gaussian-splat capture's own footprint: twice 2 sqrt of the product of its two "
+                          "largest scales, scene units (plain points: twice the mean distance to 8 neighbours), "
+                          "capped at 32 px. world and splat as the brush splats' size_mode; pixels is no size "
+                          "from the neighbours (their resolution)"),
                only_when(float_param("point_size", 2.0, 0.5, 32.0, "px", "Splat diameter in pixels (size_mode = pixels)"),
                          "size_mode", {"pixels"}),
                only_when(float_param("world_size", 0.05, 0.0001, 100.0, "m",
