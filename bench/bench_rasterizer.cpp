@@ -77,10 +77,12 @@ RenderSettings frame_settings() {
 void BM_PointsMark(benchmark::State& state, const char* rasterizer) {
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, kThreads);
   const Terrain& t = terrain();
-  const auto& items = find_mark("points").schema.params[0].items;
-  const double index = double(std::find(items.begin(), items.end(), rasterizer) - items.begin());
+  // By the single value each had before gl_method (rasterizer gl with it).
+  std::map<std::string, std::vector<double>> params{{"point_size", {double(state.range(0))}}};
+  const Schema& schema = find_mark("points").schema;
+  set_enum_item(schema, *schema.find("rasterizer"), rasterizer, params);
   Style style;
-  style.set_mark("points", {{"point_size", {double(state.range(0))}}, {"rasterizer", {index}}});
+  style.set_mark("points", params);
   Scene scene;
   scene.segments.push_back({"terrain", style, {{t.cloud, glm::dmat4(1.0)}}});
   Renderer renderer;

@@ -53,8 +53,8 @@ const LionScene& lion() {
   return scene;
 }
 
-// The points mark's rasterizers (the indices of its `rasterizer` values).
-enum class RasterizerKind { Compute = 0, GlPoints = 1, Native = 2 };
+// The points mark's rasterizers: its GL methods and native.
+enum class RasterizerKind { Compute, GlPoints, Native };
 
 RenderSettings frame_settings(const char* mode) {
   RenderSettings s;
@@ -69,7 +69,12 @@ RenderSettings frame_settings(const char* mode) {
 
 Style plain_style(double point_size, RasterizerKind kind) {
   Style style;
-  style.set_mark("points", {{"point_size", {point_size}}, {"rasterizer", {double(kind)}}});
+  // By the single value each had before gl_method (rasterizer gl with it).
+  static const char* const names[] = {"compute", "gl_points", "native"};
+  std::map<std::string, std::vector<double>> params{{"point_size", {point_size}}};
+  const Schema& schema = find_mark("points").schema;
+  set_enum_item(schema, *schema.find("rasterizer"), names[int(kind)], params);
+  style.set_mark("points", params);
   return style;
 }
 

@@ -9,7 +9,7 @@ excess over it is flicker the filter introduces.
 
     PYTHONPATH=build /usr/bin/python3 bench/filter_flicker.py [style ...]
 
-With style names (e.g. `hatching "preset Toon"`), only those are rendered
+With style names (e.g. `pencil_hatching "preset Toon"`), only those are rendered
 (the plain baseline always is).
 """
 import sys
@@ -72,12 +72,12 @@ def main():
     renderer = pointnpr.Renderer()
     lion = pointnpr.read("data/lion_takanawa.ply").to_cloud()
     styles = {"plain": pointnpr.Style(rasterize={"point_size": 2.0})}
-    for f in ["posterize", "color_grade", "blur", "xdog", "kuwahara", "watercolor", "edge_enhance", "hatching",
-              "cartoon", "warp"]:
+    for f in ["posterize", "color_grade", "blur", "xdog", "kuwahara", "watercolor", "edge_enhance",
+              "pencil_hatching", "cartoon", "warp"]:
         styles[f] = pointnpr.Style(rasterize={"point_size": 2.0}, filters=[f])
     styles["mark hatching"] = pointnpr.Style(mark="hatching")
-    styles["hatching (screen space)"] = pointnpr.Style(rasterize={"point_size": 2.0},
-                                                       filters=[("hatching", {"space": "screen"})])
+    styles["pencil_hatching (screen space)"] = pointnpr.Style(rasterize={"point_size": 2.0},
+                                                              filters=[("pencil_hatching", {"space": "screen"})])
     for name in presets.PRESETS:
         if name != "Urban map":  # needs classification; the lion has none
             styles["preset " + name] = presets.style(name)

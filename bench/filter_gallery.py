@@ -14,7 +14,7 @@ from pointnpr import presets
 
 W, H = 320, 224
 ORDER = ["plain", "posterize", "color_grade", "blur", "xdog", "kuwahara", "watercolor", "edge_enhance",
-         "hatching", "cartoon", "warp", "Toon", "Ink outlines", "Watercolor", "Oil paint", "Posterize",
+         "pencil_hatching", "cartoon", "warp", "Toon", "Ink outlines", "Watercolor", "Oil paint", "Posterize",
          "Urban map"]
 
 

@@ -29,6 +29,11 @@ def _range(p):
     return f"{p['min']:g} to {p['max']:g}"
 
 
+def _former_item(f):
+    also = f" with `{f['also'][0]}` = `{f['also'][1]}`" if f.get("also") else ""
+    return f"`{f['name']}` = `{f['now']}`{also}"
+
+
 def render():
     lines = [
         "# Parameters",
@@ -39,7 +44,8 @@ def render():
         "",
     ]
     for s in pointnpr.schemas():
-        lines += [f"## {s['label']} (`{s['id']}`, {s['kind']})", "", s["doc"], "",
+        former_ids = "".join(f"; formerly `{i}`, still read" for i in s.get("former_ids", ()))
+        lines += [f"## {s['label']} (`{s['id']}`, {s['kind']}{former_ids})", "", s["doc"], "",
                   "| parameter | type | default | range | unit | description |",
                   "|---|---|---|---|---|---|"]
         for p in s["params"]:
@@ -52,6 +58,9 @@ def render():
             if p.get("former_names"):
                 doc += " (formerly %s: still read from scripts and saved files)" % " or ".join(
                     f"`{n}`" for n in p["former_names"])
+            if p.get("former_items"):
+                doc += " (former values, still read from scripts and saved files: %s)" % ", ".join(
+                    _former_item(f) for f in p["former_items"])
             lines.append(f"| `{p['name']}` | {p['type']} | {_value(p, p['default'])} | {_range(p)} | "
                          f"{p['unit'] or ''} | {doc} |")
         lines.append("")

@@ -70,6 +70,16 @@ ParamSpec default_changed(ParamSpec spec, std::vector<double> former) {
   return spec;
 }
 
+ParamSpec items_changed(ParamSpec spec, std::vector<std::string> older_items, std::vector<FormerItem> renamed) {
+  spec.older_files_items = std::move(older_items);
+  spec.former_items = std::move(renamed);
+  return spec;
+}
+
+bool answers_to(const Schema& schema, const std::string& id) {
+  return schema.id == id || std::find(schema.former_ids.begin(), schema.former_ids.end(), id) != schema.former_ids.end();
+}
+
 const ParamSpec* Schema::find(const std::string& name) const {
   for (const auto& p : params)
     if (p.name == name) return &p;
@@ -126,7 +136,30 @@ std::string range_text(const ParamSpec& spec) {
   }
   return os.str();
 }
+size_t item_index(const ParamSpec& spec, const std::string& item) {
+  return size_t(std::find(spec.items.begin(), spec.items.end(), item) - spec.items.begin());
+}
 }  // namespace
+
+void set_enum_item(const Schema& schema, const ParamSpec& spec, const std::string& item,
+                   std::map<std::string, std::vector<double>>& numbers) {
+  size_t index = item_index(spec, item);
+  if (index == spec.items.size()) {
+    for (const FormerItem& former : spec.former_items) {
+      if (former.name != item) continue;
+      index = item_index(spec, former.now);
+      if (!former.also_param.empty()) {
+        const ParamSpec* other = schema.find(former.also_param);
+        if (other && !numbers.count(other->name))
+          numbers[other->name] = {double(item_index(*other, former.also_value))};
+      }
+      break;
+    }
+  }
+  if (index == spec.items.size())
+    throw ParameterError(schema.id + "." + spec.name + " = '" + item + "' is not " + range_text(spec));
+  numbers[spec.name] = {double(index)};
+}
 
 ParamValues validate(const Schema& schema, const std::map<std::string, std::vector<double>>& given_by_any_name,
                      const std::map<std::string, std::string>& paths_by_any_name) {

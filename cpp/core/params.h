@@ -13,6 +13,17 @@ namespace pointnpr {
 // kept apart from the numbers (ParamValues::get_path).
 enum class ParamType { Float, Int, Bool, Color, Enum, Path };
 
+// An enum value that older scripts and files used and that is spelt
+// otherwise now, e.g. the gaussians' rasterizer "compute", now "gl" as on
+// every mark; or one folded into two parameters: the points' rasterizer
+// "gl_points", now rasterizer "gl" with gl_method "gl_points".
+struct FormerItem {
+  std::string name;        // the value as older scripts gave it
+  std::string now;         // the item of this parameter it means now
+  std::string also_param;  // "" or another enum parameter it sets too
+  std::string also_value;  // that parameter's item
+};
+
 const char* to_string(ParamType type);
 
 struct ParamSpec {
@@ -47,6 +58,12 @@ struct ParamSpec {
   // store no value of their own.
   std::vector<double> older_files_value;
   bool default_changed = false;  // (older_files_value is the former default)
+  // Values it took before (see FormerItem): scripts may still give them.
+  std::vector<FormerItem> former_items;
+  // The items, in their order, of files saved before they changed (empty:
+  // unchanged). Blender stores an enum's index, so the add-on reads a
+  // saved index through these (and former_items) when such a file opens.
+  std::vector<std::string> older_files_items;
 };
 
 // `spec`, applying only while `param` is one of `values` (see ParamSpec).
@@ -63,6 +80,12 @@ ParamSpec added_later(ParamSpec spec, std::vector<double> value);
 // (see ParamSpec::older_files_value).
 ParamSpec default_changed(ParamSpec spec, std::vector<double> former);
 
+// `spec`, whose items were `older_items` (their order: older files stored
+// indices into it), with `renamed` the values that are spelt otherwise now
+// (see FormerItem, ParamSpec::older_files_items). Same-named items keep
+// their meaning.
+ParamSpec items_changed(ParamSpec spec, std::vector<std::string> older_items, std::vector<FormerItem> renamed);
+
 // Builders keep declarations short and uniform in each filter's file.
 ParamSpec float_param(std::string name, double def, double min, double max, std::string unit, std::string doc);
 ParamSpec int_param(std::string name, int def, int min, int max, std::string unit, std::string doc);
@@ -78,6 +101,9 @@ struct Schema {
   std::string label;   // e.g. "Cartoon"
   std::string doc;
   std::vector<ParamSpec> params;
+  // Ids it had before (a filter renamed so that no mark shares its id):
+  // styles and saved files that name it so still find it.
+  std::vector<std::string> former_ids;
   // "mark", "filter" or "stage"; set by the registry a schema is added to,
   // so a mark and a filter may share an id.
   std::string kind = "stage";
@@ -85,6 +111,16 @@ struct Schema {
   // The parameter of that name or former name, or null.
   const ParamSpec* find(const std::string& name) const;
 };
+
+// Whether `id` is the schema's id or one of its former ids.
+bool answers_to(const Schema& schema, const std::string& id);
+
+// Sets `numbers[spec.name]` to the index of enum item `item`, current or
+// former; a former item folded into two parameters sets the other one too
+// unless `numbers` has it. An unknown item raises ParameterError naming the
+// items.
+void set_enum_item(const Schema& schema, const ParamSpec& spec, const std::string& item,
+                   std::map<std::string, std::vector<double>>& numbers);
 
 // Whether `spec` applies to `values` (its `when` condition holds).
 class ParamValues;

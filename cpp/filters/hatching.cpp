@@ -54,7 +54,9 @@ class Hatching final : public Filter {
 };
 
 const FilterRegistration registration{{
-    Schema{"hatching",
+    // Was "hatching", the hatching mark's id too: styles and files naming
+    // the filter so still find it (Schema::former_ids).
+    Schema{"pencil_hatching",
            "Pencil Hatching",
            "Pencil strokes whose density follows the tone: more, crossing layers where the image is darker.",
            {
@@ -71,7 +73,8 @@ const FilterRegistration registration{{
                float_param("grain", 0.5, 0.0, 1.0, "", "Paper grain breaking up the strokes"),
                int_param("tone_smoothing", 2, 0, 6, "px", "Box radius over which tone is averaged (hides scan noise)"),
                int_param("seed", 0, 0, 65535, "", "Stroke pattern seed"),
-           }},
+           },
+           {"hatching"}},
     [] { return std::make_unique<Hatching>(); }}};
 
 }  // namespace

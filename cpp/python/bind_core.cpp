@@ -32,14 +32,16 @@ RawParams to_raw_params(const Schema& schema, const py::dict& values) {
       continue;
     }
     if (spec && spec->type == ParamType::Enum && py::isinstance<py::str>(value)) {
-      const std::string item = py::str(value);
-      auto it = std::find(spec->items.begin(), spec->items.end(), item);
-      if (it == spec->items.end()) {
-        std::string items;
-        for (const auto& s : spec->items) items += (items.empty() ? "'" : ", '") + s + "'";
-        throw ParameterError(schema.id + "." + name + " = '" + item + "' is not one of " + items);
+      // A former item may set another parameter too, unless that is given.
+      std::map<std::string, std::vector<double>> set;
+      set_enum_item(schema, *spec, py::str(value), set);
+      for (auto& [param, number] : set) {
+        if (param == spec->name)
+          raw.numbers[name] = number;
+        else
+          raw.numbers.emplace(param, number);
       }
-      v.push_back(double(it - spec->items.begin()));
+      continue;
     } else if (py::isinstance<py::str>(value)) {
       throw ParameterError(schema.id + "." + name + " expects a number, got a string");
     } else if (py::isinstance<py::sequence>(value)) {
@@ -83,6 +85,16 @@ py::dict schema_to_dict(const Schema& schema) {
     d["former_names"] = p.former_names;
     d["older_files_value"] = p.older_files_value.empty() ? py::object(py::none()) : param_value(p, p.older_files_value);
     d["default_changed"] = p.default_changed;
+    py::list former_items;
+    for (const FormerItem& f : p.former_items) {
+      py::dict item;
+      item["name"] = f.name;
+      item["now"] = f.now;
+      item["also"] = f.also_param.empty() ? py::object(py::none()) : py::object(py::make_tuple(f.also_param, f.also_value));
+      former_items.append(item);
+    }
+    d["former_items"] = former_items;
+    d["older_files_items"] = p.older_files_items;
     if (p.when_param.empty()) {
       d["when"] = py::none();
     } else {
@@ -105,6 +117,7 @@ py::dict schema_to_dict(const Schema& schema) {
   }
   py::dict out;
   out["id"] = schema.id;
+  out["former_ids"] = schema.former_ids;
   out["label"] = schema.label;
   out["doc"] = schema.doc;
   out["kind"] = schema.kind;

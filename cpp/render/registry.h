@@ -2,6 +2,7 @@
 // One registry for every kind of plugin (marks, filters): each plugin's .cpp
 // adds its Info (a Schema plus a factory) from a static initialiser, and the
 // core looks it up by id within its kind.
+#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
@@ -35,8 +36,14 @@ class Registry {
     return list;
   }
 
+  // By id, or by a former id (Schema::former_ids).
   const Info& find(const std::string& id) const {
     auto it = entries_.find(id);
+    if (it == entries_.end())
+      it = std::find_if(entries_.begin(), entries_.end(), [&](const auto& entry) {
+        const auto& former = entry.second.schema.former_ids;
+        return std::find(former.begin(), former.end(), id) != former.end();
+      });
     if (it == entries_.end()) {
       std::string known;
       for (const auto& [name, info] : entries_) known += (known.empty() ? "" : ", ") + name;

@@ -71,12 +71,17 @@ _atexit.register(_pointnpr.shutdown)
 
 
 def schema(schema_id, kind=None):
-    """The parameter schema of one mark, filter or stage (see schemas()).
-    ``kind`` ('mark', 'filter' or 'stage') tells apart a mark and a filter
-    of the same id (``hatching``); without it the first match wins, marks
-    first."""
-    for s in schemas():
-        if s["id"] == schema_id and kind in (None, s["kind"]):
+    """The parameter schema of one mark, filter or stage (see schemas()),
+    by its id or a former one (``former_ids``: the pencil_hatching filter
+    was ``hatching``, the hatching mark's id, so ``kind`` ('mark', 'filter'
+    or 'stage') tells them apart). Without ``kind`` the first match wins:
+    current ids first, marks first."""
+    matching = [s for s in schemas() if kind in (None, s["kind"])]
+    for s in matching:
+        if s["id"] == schema_id:
+            return s
+    for s in matching:
+        if schema_id in s.get("former_ids", ()):
             return s
     raise KeyError(f"no {kind or 'schema'} named {schema_id!r}")
 

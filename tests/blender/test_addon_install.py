@@ -84,7 +84,7 @@ CHECK_MIGRATED = r'''
 import bpy
 tree = bpy.data.node_groups["Constant"]
 node = tree.nodes["Rasterize"]
-print("MIGRATED", node.bl_idname, node.rasterizer, node.color_source)
+print("MIGRATED", node.bl_idname, node.rasterizer, node.gl_method, node.color_source)
 '''
 
 
@@ -110,7 +110,7 @@ def test_installed_addon_migrates_the_legacy_file_it_opens(tmp_path):
                           stderr=subprocess.STDOUT, timeout=300)
     out = proc.stdout.decode(errors="replace")
     assert proc.returncode == 0, out[-3000:]
-    assert "MIGRATED PointNPRMarkPointsNode gl_points constant" in out, out[-3000:]
+    assert "MIGRATED PointNPRMarkPointsNode gl gl_points constant" in out, out[-3000:]
     shutil.rmtree(user, ignore_errors=True)
 
 
@@ -181,7 +181,7 @@ def test_extension_installs_enables_and_migrates_a_legacy_file(tmp_path):
     code, out = _run_fresh(["-b", os.path.abspath(legacy), "--python-exit-code", "1", "--python", str(check)],
                            user, installed=True)
     assert code == 0, out[-3000:]
-    assert "MIGRATED PointNPRMarkPointsNode gl_points constant" in out, out[-3000:]
+    assert "MIGRATED PointNPRMarkPointsNode gl gl_points constant" in out, out[-3000:]
 
 
 def _tested_blenders():

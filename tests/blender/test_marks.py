@@ -37,11 +37,11 @@ def test_hatching_mark_node_has_its_schema_parameters(scene):
     assert set(desc["mark"][1]) == {p["name"] for p in schema["params"]}
     style = nodes.make_core_style(desc)
     assert style.mark[0] == "hatching"
-    # The filter of the same id is another node.
-    filt = nodes.append_node(tree, nodes.ROLE_FILTER, "hatching", name="Hatch filter")
-    assert filt.bl_idname == "PointNPRFilterHatchingNode"
+    # The pencil hatching filter (once of the same id) is another node.
+    filt = nodes.append_node(tree, nodes.ROLE_FILTER, "pencil_hatching", name="Hatch filter")
+    assert filt.bl_idname == "PointNPRFilterPencilHatchingNode"
     desc = nodes.read_style(tree, 1.0)
-    assert desc["mark"][0] == "hatching" and [f for f, _v in desc["filters"]] == ["hatching"]
+    assert desc["mark"][0] == "hatching" and [f for f, _v in desc["filters"]] == ["pencil_hatching"]
     nodes.make_core_style(desc)
 
 

@@ -42,12 +42,18 @@ def test_every_mark_stage_and_filter_has_a_node():
     assert nodes.find_node_class(nodes.ROLE_MARK, "hatching").bl_idname == "PointNPRMarkHatchingNode"
 
 
-def test_node_idnames_are_unique_though_a_mark_and_a_filter_share_an_id():
-    assert "hatching" in {s["id"] for s in _schemas() if s["kind"] == "filter"}
-    filt = nodes.find_node_class(nodes.ROLE_FILTER, "hatching")
+def test_node_idnames_are_unique_and_the_former_hatching_filter_id_finds_pencil_hatching():
+    assert "hatching" not in {s["id"] for s in _schemas() if s["kind"] == "filter"}
+    filt = nodes.find_node_class(nodes.ROLE_FILTER, "pencil_hatching")
     mark = nodes.find_node_class(nodes.ROLE_MARK, "hatching")
     assert filt is not None and mark is not None and filt is not mark
     assert filt.pointnpr_role == nodes.ROLE_FILTER and mark.pointnpr_role == nodes.ROLE_MARK
+    assert filt.bl_idname == "PointNPRFilterPencilHatchingNode"
+    # Files saved before the rename have nodes of the former class: it stays
+    # registered (versioning replaces them) and names the current one.
+    former = bpy.types.Node.bl_rna_get_subclass_py("PointNPRFilterHatchingNode")
+    assert former is not None and former.pointnpr_current_class is filt
+    assert nodes.find_node_class(nodes.ROLE_FILTER, "hatching") is filt
     idnames = [c.bl_idname for c in nodes.node_classes()]
     assert len(idnames) == len(set(idnames)), idnames
     for cls in nodes.node_classes():
@@ -58,20 +64,22 @@ def test_add_menu_has_a_marks_category_and_no_legacy_node():
     cats = {label: idnames for _id, label, idnames in nodes.node_categories()}
     marks = [s["id"] for s in _schemas() if s["kind"] == "mark"]
     assert cats["Marks"] == [nodes.find_node_class(nodes.ROLE_MARK, m).bl_idname for m in marks]
-    assert "PointNPRFilterHatchingNode" in cats["Filters"]
+    assert "PointNPRFilterPencilHatchingNode" in cats["Filters"]
     assert not any(i.startswith("PointNPRMark") for i in cats["Filters"] + cats["Stages"])
     offered = {i for idnames in cats.values() for i in idnames}
-    # The legacy Rasterize node stays registered (old files) but is not offered.
-    assert nodes.LEGACY_RASTERIZE_IDNAME not in offered
+    # The legacy Rasterize node, and the node of a filter's former id, stay
+    # registered (old files) but are not offered.
+    assert nodes.LEGACY_RASTERIZE_IDNAME not in offered and "PointNPRFilterHatchingNode" not in offered
     assert nodes.find_node_class(nodes.ROLE_RASTERIZE, "rasterize").is_registered
-    assert offered == {c.bl_idname for c in nodes.node_classes()} - {nodes.LEGACY_RASTERIZE_IDNAME}
+    assert offered == {c.bl_idname for c in nodes.node_classes()} - {nodes.LEGACY_RASTERIZE_IDNAME,
+                                                                      "PointNPRFilterHatchingNode"}
 
 
 def test_legacy_rasterize_node_has_the_old_parameters_and_defaults():
     legacy = nodes.find_node_class(nodes.ROLE_RASTERIZE, "rasterize")
     points = pointnpr.schema("points", kind="mark")
     names = [p["name"] for p, _pid in legacy.pointnpr_params]
-    assert names == [p["name"] for p in points["params"] if p["name"] != "rasterizer"]
+    assert names == [p["name"] for p in points["params"] if p["name"] not in ("rasterizer", "gl_method")]
     props = legacy.bl_rna.properties
     assert props["color_source"].default == "rgb"
     # Stored enum indices of old files: the first four items are unchanged.
@@ -143,7 +151,10 @@ def test_scene_settings_follow_composite_schema():
     assert '"rasterizer"' not in inspect.getsource(ui.RENDER_PT_pointnpr.draw)
     points = pointnpr.schema("points", kind="mark")
     rasterizer = next(p for p in points["params"] if p["name"] == "rasterizer")
-    assert rasterizer["items"] == ["compute", "gl_points", "native", "auto"] and rasterizer["default"] == "auto"
+    assert rasterizer["items"] == ["gl", "native", "auto"] and rasterizer["default"] == "auto"
+    # Its former values are the mark's rasterizer gl with that gl_method.
+    assert {f["name"]: f["also"] for f in rasterizer["former_items"]} == \
+        {"compute": ("gl_method", "compute"), "gl_points": ("gl_method", "gl_points")}
 
 
 def test_new_style_chain_and_defaults(scene):

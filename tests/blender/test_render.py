@@ -295,16 +295,19 @@ def test_animation_render_writes_every_frame(tmp_path):
     assert not np.array_equal(images[0], images[2])
 
 
-@pytest.mark.parametrize("rasterizer", ["compute", "gl_points", "native", "auto"])
-def test_rasterizer_choice(tmp_path, rasterizer):
-    """The rasterizer is the Points mark's parameter; the legacy scene
-    setting is ignored."""
+@pytest.mark.parametrize("rasterizer,gl_method", [("gl", "compute"), ("gl", "gl_points"), ("native", "compute"),
+                                                  ("auto", "compute")])
+def test_rasterizer_choice(tmp_path, rasterizer, gl_method):
+    """The rasterizer (and GL method) is the Points mark's parameter; the
+    legacy scene setting is ignored."""
     scene, near, far = helpers.two_planes_scene("depth_test")
     for coll in (near, far):
-        coll.pointnpr_style.nodes["Points"].rasterizer = rasterizer
-    assert nodes.read_style(near.pointnpr_style, 1.0)["mark"][1]["rasterizer"] == rasterizer
-    scene.pointnpr.rasterizer = "compute" if rasterizer == "gl_points" else "gl_points"
-    px, _ = helpers.render_pixels(tmp_path, rasterizer + ".png")
+        node = coll.pointnpr_style.nodes["Points"]
+        node.rasterizer, node.gl_method = rasterizer, gl_method
+    values = nodes.read_style(near.pointnpr_style, 1.0)["mark"][1]
+    assert (values["rasterizer"], values["gl_method"]) == (rasterizer, gl_method)
+    scene.pointnpr.rasterizer = "compute" if gl_method == "gl_points" else "gl_points"
+    px, _ = helpers.render_pixels(tmp_path, rasterizer + gl_method + ".png")
     assert is_color(px[CENTRE], RED), px[CENTRE]
     assert is_color(px[FAR_ONLY], BLUE), px[FAR_ONLY]
 

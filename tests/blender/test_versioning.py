@@ -1,5 +1,6 @@
-"""Files saved before the mark stage: their Rasterize nodes become Points
-mark nodes on load, and they render as they did.
+"""Files saved by older versions of the add-on: their Rasterize nodes
+become Points mark nodes on load, renamed parameters, enum values and
+filters take their current names, and they render as they did.
 
 The references were rendered with the add-on from before the change:
 tests/data/golden/legacy_<example>.png by tests/blender/example_renders.py,
@@ -9,6 +10,7 @@ tests/blender/make_legacy_blend.py.
 import os
 
 import bpy
+import numpy as np
 import pytest
 from pointnpr.blender import nodes, versioning
 
@@ -67,7 +69,9 @@ def test_example_file_is_migrated_and_renders_as_before(fresh_file, tmp_path, na
         assert mark is not None, tree.name
         assert mark.bl_idname == "PointNPRMarkPointsNode"
         assert mark.name == "Rasterize"        # the old name, for its F-Curves
-        assert mark.rasterizer == scene.pointnpr.rasterizer == "compute"
+        # The scene's compute: the mark's gl with that method.
+        assert scene.pointnpr.rasterizer == "compute"
+        assert (mark.rasterizer, mark.gl_method) == ("gl", "compute")
         # make_examples.py set color_source on every Rasterize node.
         assert mark.color_source in ("rgb", "constant")
         assert mark.is_property_set("color_source")
@@ -95,7 +99,7 @@ def test_migration_keeps_values_links_and_location(fresh_file):
     c = constant.nodes["Rasterize"]
     for node in (a, c):
         assert node.bl_idname == "PointNPRMarkPointsNode"
-        assert node.rasterizer == "gl_points"          # was the scene's setting
+        assert (node.rasterizer, node.gl_method) == ("gl", "gl_points")  # was the scene's setting
         assert tuple(node.location) == (-250.0, 0.0)
     # Explicitly "rgb" (the new default is "auto"), not left unset.
     assert a.color_source == "rgb" and a.is_property_set("color_source")
@@ -149,7 +153,7 @@ def test_migration_when_the_addon_is_enabled_on_an_open_file(fresh_file):
     tree = bpy.data.node_groups["Constant"]
     node = tree.nodes["Rasterize"]
     assert node.bl_idname == "PointNPRMarkPointsNode"
-    assert node.color_source == "constant" and node.rasterizer == "gl_points"
+    assert node.color_source == "constant" and (node.rasterizer, node.gl_method) == ("gl", "gl_points")
     assert [n.name for n in nodes.style_chain(tree)] == ["Rasterize", "Cartoon"]
 
 
@@ -176,7 +180,7 @@ def test_migrated_node_name_and_drivers(fresh_file):
     new = tree.nodes['Ras "terize"']
     assert new.bl_idname == "PointNPRMarkPointsNode"
     assert new.parent == frame and tuple(new.location) == (12.0, 34.0)
-    assert new.rasterizer == "gl_points"
+    assert (new.rasterizer, new.gl_method) == ("gl", "gl_points")
     assert new.color_source == "rgb"
     assert [d.data_path for d in tree.animation_data.drivers] == ['nodes["Ras \\"terize\\""].point_size']
     assert {fc.data_path for fc in helpers.fcurves(tree)} == \
@@ -266,3 +270,95 @@ def test_a_changed_default_keeps_older_files_as_they_rendered(fresh_file, tmp_pa
     new = nodes.mark_node(bpy.data.node_groups["New Hatching"])
     assert (new.light_space, new.two_sided) == ("camera", True)
     assert sum(versioning.migrate_added_params(t) for t in bpy.data.node_groups) == 0
+
+
+def _store_raw(node, pid, value):
+    """Stores ``value`` for property ``pid`` as Blender saves it (an enum:
+    its index), past the property's own checks, as an older add-on did."""
+    system = getattr(node, "bl_system_properties_get", None)
+    (system(do_create=True) if system is not None else node)[pid] = value
+
+
+def _as_made_before_items_changed(node):
+    """The record of known parameters that a node made by the add-on before
+    the rasterizer items changed has: names alone, no gl_method."""
+    node[nodes.KNOWN_PARAMS_KEY] = " ".join(p["name"] for p, _pid in node.pointnpr_params if p["name"] != "gl_method")
+
+
+# Tree name: (mark, index saved into the items of the time, what it reads as now).
+OLD_RASTERIZERS = {
+    "Points compute": ("points", 0, ("gl", "compute")),
+    "Points gl_points": ("points", 1, ("gl", "gl_points")),
+    "Points native": ("points", 2, ("native", "compute")),
+    "Points auto": ("points", 3, ("auto", "compute")),
+    "Gaussians native": ("gaussians", 0, ("native",)),
+    "Gaussians compute": ("gaussians", 1, ("gl",)),
+}
+
+
+def test_rasterizer_values_saved_before_the_items_changed_keep_their_meaning(fresh_file, tmp_path):
+    """Every mark's rasterizer is gl / native / auto now; the points' were
+    compute / gl_points / native / auto (gl with gl_method now), the
+    gaussians' native / compute / auto. Blender saved the index: a node made
+    before opens with the value it had, keyframes too; a node made now
+    keeps its own."""
+    for name, (mark, index, _now) in OLD_RASTERIZERS.items():
+        node = nodes.mark_node(nodes.new_style(name, mark=mark))
+        _as_made_before_items_changed(node)
+        _store_raw(node, "rasterizer", index)
+        node.id_data.use_fake_user = True
+    animated = nodes.mark_node(nodes.new_style("Animated", mark="points"))
+    _as_made_before_items_changed(animated)
+    for frame in (1, 9):
+        animated.keyframe_insert("rasterizer", frame=frame)
+    (curve,) = helpers.fcurves(animated.id_data)
+    for key, old_index in zip(curve.keyframe_points, (0, 2)):  # compute, then native
+        key.co[1] = key.handle_left[1] = key.handle_right[1] = old_index
+    made_now = nodes.mark_node(nodes.new_style("Made now", mark="points"))
+    made_now.rasterizer, made_now.gl_method = "native", "gl_points"
+    for node in (animated, made_now):
+        node.id_data.use_fake_user = True
+    path = str(tmp_path / "rasterizers.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)  # the load handler migrates
+    for name, (mark, _index, now) in OLD_RASTERIZERS.items():
+        node = nodes.mark_node(bpy.data.node_groups[name])
+        values = nodes.read_style(node.id_data, 1)["mark"][1]
+        assert (values["rasterizer"], values.get("gl_method"))[:len(now)] == now, name
+        assert (node.rasterizer, getattr(node, "gl_method", None))[:len(now)] == now, name
+    animated = bpy.data.node_groups["Animated"]
+    assert [nodes.read_style(animated, f)["mark"][1]["rasterizer"] for f in (1, 9)] == ["gl", "native"]
+    made_now = nodes.mark_node(bpy.data.node_groups["Made now"])
+    assert (made_now.rasterizer, made_now.gl_method) == ("native", "gl_points")
+    assert versioning.migrate_legacy_nodes() == 0  # once: every node records the current items
+
+
+def test_a_node_of_the_filter_once_named_hatching_becomes_pencil_hatching_and_renders_the_same(fresh_file, tmp_path):
+    """The pencil hatching filter was `hatching`, the hatching mark's id
+    too: a file saved before has nodes of PointNPRFilterHatchingNode, which
+    load with their values, render as they did while not migrated (a
+    library's tree), and are replaced by the current node with the same
+    name, values, links and animation."""
+    scene, near, _far = helpers.two_planes_scene("inpaint")
+    tree = near.pointnpr_style
+    mark = nodes.mark_node(tree)
+    old = tree.nodes.new("PointNPRFilterHatchingNode")
+    old.name = "Pencil"
+    tree.links.new(mark.outputs[0], old.inputs[0])
+    tree.links.new(old.outputs[0], nodes.find_output_node(tree).inputs[0])
+    old.space, old.layers = "screen", 2
+    old.keyframe_insert("spacing", frame=1)
+    desc = nodes.read_style(tree, 1)
+    assert [f for f, _v in desc["filters"]] == ["hatching"]
+    assert nodes.make_core_style(desc).filters[0][0] == "pencil_hatching"
+    before, _ = helpers.render_pixels(tmp_path, "before.png")
+    assert versioning.migrate_legacy_nodes() == 1
+    new = tree.nodes["Pencil"]
+    assert new.bl_idname == "PointNPRFilterPencilHatchingNode"
+    assert (new.space, new.layers) == ("screen", 2) and not new.is_property_set("angle")
+    assert nodes.style_chain(tree) == [mark, new]
+    assert [fc.data_path for fc in helpers.fcurves(tree)] == ['nodes["Pencil"].spacing']
+    assert [f for f, _v in nodes.read_style(tree, 1)["filters"]] == ["pencil_hatching"]
+    after, _ = helpers.render_pixels(tmp_path, "after.png")
+    assert np.array_equal(before, after)
+    assert versioning.migrate_legacy_nodes() == 0

@@ -2,9 +2,12 @@
 // Synthetic scenes with known ground truth for the renderer tests.
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "render/mark.h"
 #include "render/renderer.h"
 
 namespace pointnpr::test {
@@ -72,15 +75,25 @@ inline RenderSettings settings(glm::ivec2 size, const std::string& composite = "
   return s;
 }
 
-// The points mark's rasterizers (the indices of its `rasterizer` values).
-enum class RasterizerKind { Compute = 0, GlPoints = 1, Native = 2, Auto = 3 };
+// The points mark's rasterizers: its GL methods, native and auto.
+enum class RasterizerKind { Compute, GlPoints, Native, Auto };
+
+// Sets the points mark's `rasterizer` (and `gl_method`) in `params` to
+// `kind`, by the single value it had before gl_method (read as rasterizer
+// gl with that method, as a script giving it is).
+inline void set_rasterizer(std::map<std::string, std::vector<double>>& params, RasterizerKind kind) {
+  static const char* const names[] = {"compute", "gl_points", "native", "auto"};
+  const Schema& schema = find_mark("points").schema;
+  params.erase("gl_method");
+  set_enum_item(schema, *schema.find("rasterizer"), names[int(kind)], params);
+}
 
 // `scene` with every points mark set to rasterizer `kind`.
 inline Scene with_rasterizer(Scene scene, RasterizerKind kind) {
   for (Segment& seg : scene.segments) {
     if (seg.style.mark.info->schema.id != "points") continue;
     auto params = seg.style.mark.params.raw();
-    params["rasterizer"] = {double(kind)};
+    set_rasterizer(params, kind);
     seg.style.set_mark("points", params);
   }
   return scene;

@@ -29,7 +29,7 @@ double ink(const Image& out) {
 TEST(FilterHatching, InkGrowsWithTone) {
   double previous = -1.0;
   for (float v : {1.0f, 0.8f, 0.6f, 0.4f, 0.2f, 0.05f}) {
-    const FilterRun run = run_filter(grey({96, 96}, v), "hatching");
+    const FilterRun run = run_filter(grey({96, 96}, v), "pencil_hatching");
     if (v == 0.6f) maybe_dump(run.out, "hatching_grey60");
     const double amount = ink(run.out);
     EXPECT_GT(amount, previous + 0.02) << "grey " << v;
@@ -44,7 +44,7 @@ TEST(FilterHatching, InkGrowsWithTone) {
 TEST(FilterHatching, StrokesRunAlongTheAngle) {
   const Image in = grey({96, 96}, 0.5f);
   for (double angle : {0.0, 90.0}) {
-    const FilterRun run = run_filter(in, "hatching", {{"layers", {1}}, {"angle", {angle}}, {"grain", {0}}});
+    const FilterRun run = run_filter(in, "pencil_hatching", {{"layers", {1}}, {"angle", {angle}}, {"grain", {0}}});
     double dx = 0, dy = 0;
     for (int y = 8; y < 88; ++y)
       for (int x = 8; x < 88; ++x) {
@@ -63,8 +63,8 @@ TEST(FilterHatching, OwnColourCanTintThePaper) {
   Image in({48, 48});
   for (int y = 0; y < 48; ++y)
     for (int x = 0; x < 48; ++x) in.set(x, y, glm::vec4(0.9f, 0.5f, 0.5f, 1.0f));
-  const glm::vec4 plain = run_filter(in, "hatching", {{"layers", {1}}}).out.at(24, 24);
-  const FilterRun tinted = run_filter(in, "hatching", {{"color_mix", {1}}});
+  const glm::vec4 plain = run_filter(in, "pencil_hatching", {{"layers", {1}}}).out.at(24, 24);
+  const FilterRun tinted = run_filter(in, "pencil_hatching", {{"color_mix", {1}}});
   int reddish = 0;
   for (int y = 8; y < 40; ++y)
     for (int x = 8; x < 40; ++x) reddish += tinted.out.at(x, y).r > tinted.out.at(x, y).g + 0.1f;
@@ -97,7 +97,7 @@ TEST(FilterHatching, SurfaceStrokesMoveWithTheScanScreenStrokesDoNot) {
     Scene scene;
     scene.segments.push_back(segment("plane", plane_cloud(-6, 6, -5, 5, 0, 0.02, {110, 110, 110}),
                                      style_with({{"point_size", {2}}},
-                                                {{"hatching", {{"space", {space_index}}, {"grain", {0}}}}})));
+                                                {{"pencil_hatching", {{"space", {space_index}}, {"grain", {0}}}}})));
     const RenderResult a = renderer.render(scene, first, settings(size));
     const RenderResult b = renderer.render(scene, second, settings(size));
     const double followed = shifted_difference(a, b, size, 4), stayed = shifted_difference(a, b, size, 0);
@@ -115,7 +115,7 @@ TEST(FilterHatching, SurfaceStrokeDensityOnScreenHoldsAcrossDistances) {
   Renderer renderer;
   Scene scene;
   scene.segments.push_back(segment("plane", plane_cloud(-30, 30, -25, 25, 0, 0.04, {110, 110, 110}),
-                                   style_with({{"point_size", {2}}}, {{"hatching", {{"grain", {0}}}}})));
+                                   style_with({{"point_size", {2}}}, {{"pencil_hatching", {{"grain", {0}}}}})));
   std::vector<double> inks;
   for (double distance : {8.0, 11.0, 16.0}) {
     const RenderResult r = renderer.render(scene, front_camera({0, 0, distance}, size), settings(size));

@@ -89,10 +89,63 @@ TEST(Params, EveryFilterSchemaIsWellFormed) {
   EXPECT_THROW(find_filter("no_such_filter"), ParameterError);
 }
 
-TEST(Params, MarksAndFiltersAreLookedUpByKindAndMayShareAnId) {
+TEST(Params, AFormerEnumValueIsReadAsItsCurrentItemAndMaySetAnother) {
+  const Schema& points = find_mark("points").schema;
+  const ParamSpec& rasterizer = *points.find("rasterizer");
+  std::map<std::string, std::vector<double>> given;
+  set_enum_item(points, rasterizer, "gl_points", given);
+  ParamValues v = validate(points, given);
+  EXPECT_EQ(v.get_enum_name("rasterizer"), "gl");
+  EXPECT_EQ(v.get_enum_name("gl_method"), "gl_points");
+  // A method given too is kept.
+  given = {{"gl_method", {0}}};
+  set_enum_item(points, rasterizer, "gl_points", given);
+  EXPECT_EQ(validate(points, given).get_enum_name("gl_method"), "compute");
+  given.clear();
+  set_enum_item(points, rasterizer, "native", given);
+  EXPECT_EQ(validate(points, given).get_enum_name("rasterizer"), "native");
+  EXPECT_THROW(set_enum_item(points, rasterizer, "opengl", given), ParameterError);
+  // Every mark with two backends takes the same values, and every former
+  // value and the items older files stored name items that exist.
+  std::vector<const Schema*> all;
+  for (const MarkInfo* m : registered_marks()) all.push_back(&m->schema);
+  for (const FilterInfo* f : registered_filters()) all.push_back(&f->schema);
+  for (const Schema* s : all) {
+    if (const ParamSpec* r = s->find("rasterizer"); r && s->kind == "mark") {
+      EXPECT_EQ(r->items, (std::vector<std::string>{"gl", "native", "auto"})) << s->id;
+    }
+    for (const ParamSpec& p : s->params) {
+      auto has = [](const std::vector<std::string>& items, const std::string& item) {
+        return std::find(items.begin(), items.end(), item) != items.end();
+      };
+      for (const FormerItem& f : p.former_items) {
+        EXPECT_TRUE(has(p.items, f.now)) << s->id << "." << p.name << " " << f.name;
+        EXPECT_FALSE(has(p.items, f.name)) << s->id << "." << p.name << " " << f.name;
+        if (f.also_param.empty()) continue;
+        const ParamSpec* other = s->find(f.also_param);
+        ASSERT_NE(other, nullptr) << s->id << "." << f.also_param;
+        EXPECT_TRUE(has(other->items, f.also_value)) << s->id << "." << f.also_param;
+      }
+      for (const std::string& older : p.older_files_items)
+        EXPECT_TRUE(has(p.items, older) || std::any_of(p.former_items.begin(), p.former_items.end(),
+                                                       [&](const FormerItem& f) { return f.name == older; }))
+            << s->id << "." << p.name << " " << older;
+    }
+  }
+}
+
+TEST(Params, MarksAndFiltersAreLookedUpByKindAndByAFormerId) {
   EXPECT_EQ(find_mark("hatching").schema.kind, "mark");
-  EXPECT_EQ(find_filter("hatching").schema.kind, "filter");
-  EXPECT_NE(&find_mark("hatching").schema, &find_filter("hatching").schema);
+  // The pencil hatching filter was "hatching" too: that id still finds it.
+  EXPECT_EQ(find_filter("pencil_hatching").schema.kind, "filter");
+  EXPECT_EQ(&find_filter("hatching"), &find_filter("pencil_hatching"));
+  EXPECT_TRUE(answers_to(find_filter("pencil_hatching").schema, "hatching"));
+  EXPECT_FALSE(answers_to(find_mark("hatching").schema, "pencil_hatching"));
+  // No current id is another's former id within a kind.
+  std::set<std::string> filter_ids;
+  for (const FilterInfo* f : registered_filters()) filter_ids.insert(f->schema.id);
+  for (const FilterInfo* f : registered_filters())
+    for (const auto& former : f->schema.former_ids) EXPECT_EQ(filter_ids.count(former), 0u) << former;
   EXPECT_EQ(find_mark("points").schema.kind, "mark");
   EXPECT_EQ(inpaint_schema().kind, "stage");
   try {

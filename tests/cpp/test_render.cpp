@@ -314,8 +314,10 @@ TEST(Render, DiffuseShadingUsesNormalsEstimatedOnlyWhenAStyleAsks) {
     // after the first frame, nothing is estimated or uploaded again.
     Scene two = scene;
     Style coarse = lit;
-    coarse.set_mark("points", {{"point_size", {3}}, {"color_source", {3}}, {"shading", {1}},
-                               {"normal_neighbors", {8}}, {"rasterizer", {double(kind)}}});
+    std::map<std::string, std::vector<double>> coarse_params{
+        {"point_size", {3}}, {"color_source", {3}}, {"shading", {1}}, {"normal_neighbors", {8}}};
+    set_rasterizer(coarse_params, kind);
+    coarse.set_mark("points", coarse_params);
     two.segments.push_back(segment("ball again", cloud, coarse));
     renderer.render(with_rasterizer(two, kind), cam, settings(kSize, "inpaint", 0.0));
     const uint64_t both = renderer.upload_count();

@@ -74,8 +74,8 @@ def test_the_sweep_sees_a_change_and_no_change(renderer, scans):
 # Settings issue 40 found to change nothing visible, each pair of which must
 # now give different pictures.
 ISSUE_40_PAIRS = [
-    ("hatching", "stroke_length", 4.0, 512.0),
-    ("hatching", "grain", 0.0, 1.0),
+    ("pencil_hatching", "stroke_length", 4.0, 512.0),
+    ("pencil_hatching", "grain", 0.0, 1.0),
     ("fill_holes", "radius", 1, 6),
     ("edge_enhance", "edl_radius", 1.0, 1.4),
     ("cartoon", "quantize_sharpness", 0.0, 4.0),

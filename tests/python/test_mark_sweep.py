@@ -31,9 +31,10 @@ DATA = os.path.join(os.path.dirname(__file__), "..", "..", "data")
 MARKS = [s for s in pointnpr.schemas() if s["kind"] == "mark"]
 SURFACE = "mesh_surface"  # the segment's meshes, drawn beside its point mark: a style's surface
 # How a mark is drawn, not what: the backend (the parity tests compare its
-# bytes) and the brush's exact path for tiles, so tiled frames match whole
-# ones. Each is asserted to keep the picture instead.
-SAME_PICTURE = ("rasterizer", "tile_invariant")
+# bytes), the points' GL method (compute or GL points) and the brush's exact
+# path for tiles, so tiled frames match whole ones. Each is asserted to keep
+# the picture instead.
+SAME_PICTURE = ("rasterizer", "gl_method", "tile_invariant")
 # Values the host gives their meaning: scene_sun is the world light whose
 # direction Blender sets from its sun lamp (tests/blender/test_marks.py
 # turns the sun and sees the render change).
@@ -173,6 +174,8 @@ CHOICES = [(s, p) for s in MARKS for p in s["params"] if p["name"] in SAME_PICTU
 @pytest.mark.parametrize("schema,param", CHOICES, ids=["%s.%s" % (s["id"], p["name"]) for s, p in CHOICES])
 def test_how_a_mark_is_drawn_keeps_the_picture(renderer, scans, image, schema, param):
     base = base_settings(schema, image)
+    if param["when"] and param["when"]["param"] == "rasterizer":
+        base["rasterizer"] = "gl"  # a GL method acts on the GL backend (auto picks native on llvmpipe)
     for value in other_values(param, base[param["name"]], image):
         for scan in scans:
             share = changed_share(_render(renderer, scan, pointnpr.Style(mark=(schema["id"], base))),

@@ -13,10 +13,10 @@ from conftest import BUILD_DIR, plane
 
 def test_schemas_describe_every_mark_filter_and_stage():
     kinds = {(s["id"], s["kind"]) for s in pointnpr.schemas()}
-    assert {("points", "mark"), ("hatching", "mark"), ("hatching", "filter"), ("cartoon", "filter"),
+    assert {("points", "mark"), ("hatching", "mark"), ("pencil_hatching", "filter"), ("cartoon", "filter"),
             ("warp", "filter"), ("inpaint", "stage"), ("composite", "stage")} <= kinds
     assert "rasterize" not in {i for i, _ in kinds}
-    assert pointnpr.schema("hatching", kind="filter")["label"] == "Pencil Hatching"
+    assert pointnpr.schema("pencil_hatching", kind="filter")["label"] == "Pencil Hatching"
     assert pointnpr.schema("hatching", kind="mark")["label"] == "Hatching"
     with pytest.raises(KeyError):
         pointnpr.schema("cartoon", kind="mark")

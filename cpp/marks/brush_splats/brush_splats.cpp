@@ -439,7 +439,9 @@ const MarkRegistration registration{{
                enum_param("size_mode", {"resolution", "world", "splat"}, 0,
                           "resolution: splat radius r + eps from each point's neighbours (denser regions get "
                           "smaller brushes); world: one radius in scene units; splat: a Gaussian-splat capture's "
-                          "own footprint, 2 sqrt of the product of its two largest scales (plain points: r)"),
+                          "own footprint, 2 sqrt of the product of its two largest scales (plain points: r). world "
+                          "and splat as the points mark's size_mode; resolution is no one size on screen (its "
+                          "pixels)"),
                only_when(int_param("resolution_neighbors", 8, 2, 64, "",
                                    "Neighbours the local resolution r (mean distance) and eps (its deviation) come from"),
                          "size_mode", {"resolution", "splat"}),
@@ -520,10 +522,8 @@ const MarkRegistration registration{{
                bool_param("opacity_weight", false,
                           "A Gaussian-splat capture's opacity weighs each brush's alpha (faint splats paint faintly, "
                           "and those under the cut not at all; plain points: 1)"),
-               enum_param("rasterizer", {"gl", "native", "auto"}, 2,
-                          "gl: the GL passes (for GPUs); native: the exact passes' rules on the CPU's threads "
-                          "(tile-invariant, the same bytes with any thread count; the A-buffer stays on GL); auto: "
-                          "native on a software GL device (llvmpipe) for blur and none, gl on a GPU"),
+               rasterizer_param("gl: the GL passes (for GPUs); native: the exact passes' rules on the CPU's threads "
+                                "(tile-invariant, the same bytes with any thread count; the A-buffer stays on GL)"),
                bool_param("tile_invariant", false,
                           "Every frame by the exact path that frames drawn in tiles (over the memory budget) take, "
                           "so any size and budget give the same bytes (about 2.5x the time on a software GL); off, "

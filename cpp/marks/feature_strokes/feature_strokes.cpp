@@ -404,10 +404,9 @@ const MarkRegistration registration{{
                bool_param("opacity_draws", false,
                           "A Gaussian-splat capture's opacity is each splat's chance of a stroke (the same splats "
                           "as the points mark draws; its faint haze gets few; plain points: unchanged)"),
-               enum_param("rasterizer", {"gl", "native", "auto"}, 2,
-                          "gl: the GL passes (discs into depth, instanced quads, blending); native: the same passes "
-                          "on the CPU's threads (the same images but for the kernels' last bits and rare coverage "
-                          "ties); auto: native on a software GL device (llvmpipe), gl on a GPU"),
+               rasterizer_param("gl: the GL passes (discs into depth, instanced quads, blending); native: the same "
+                                "passes on the CPU's threads (the same images but for the kernels' last bits and rare "
+                                "coverage ties)"),
            }},
                        "the dithering's tone by the points' normals", 0.8),
     [] { return std::make_unique<FeatureStrokes>(); }}};

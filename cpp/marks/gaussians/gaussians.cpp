@@ -62,11 +62,12 @@ const MarkRegistration registration{{
            "Draws a 3D Gaussian splat capture (3DGS PLY, SPZ) as the 3DGS reference rasterizer does: anisotropic "
            "Gaussians, view-dependent SH colour, front-to-back alpha in display sRGB; plain points are not drawn.",
            {
-               // New values last: stored enum indices keep their meaning.
-               enum_param("rasterizer", {"native", "compute", "auto"}, 2,
-                          "native: the 3DGS forward pass on the CPU's threads (TBB over 16 px tiles); compute: its "
-                          "per-pixel compositing as a GL compute pass (projection, SH and sort on the CPU's "
-                          "threads); auto: native on a software GL device (llvmpipe), compute on a GPU"),
+               // Its GL pass was "compute" and native came first: files keep
+               // their indices into that list.
+               items_changed(rasterizer_param("gl: the 3DGS per-pixel compositing as a GL compute pass (projection, "
+                                              "SH and sort on the CPU's threads); native: the 3DGS forward pass on "
+                                              "the CPU's threads (TBB over 16 px tiles)"),
+                             {"native", "compute", "auto"}, {{"compute", "gl"}}),
                int_param("sh_degree", 3, 0, 3, "",
                          "Spherical-harmonic bands of the view-dependent colour (at most the capture's own): "
                          "0 gives every splat one colour from every side"),

@@ -521,11 +521,9 @@ const MarkRegistration registration{{
                int_param("seed", 0, 0, 65535, "", "Varies every random choice (still fixed per point)"),
                density_mode_param(),
                queue_level_param(0.05),
-               enum_param("rasterizer", {"gl", "native", "auto"}, 2,
-                          "gl: the GL passes (a compute pass selects, instanced quads draw); native: the same "
-                          "kernels on the CPU's threads (the same images but for the last bits of pow, exp and "
-                          "sin, and rare coverage ties); auto: native on a software GL device (llvmpipe), gl on "
-                          "a GPU"),
+               rasterizer_param("gl: the GL passes (a compute pass selects, instanced quads draw); native: the same "
+                                "kernels on the CPU's threads (the same images but for the last bits of pow, exp and "
+                                "sin, and rare coverage ties)"),
                bool_param("opacity_draws", false,
                           "A Gaussian-splat capture's opacity scales each splat's odds of strokes (its faint haze "
                           "gets few; plain points: unchanged)"),

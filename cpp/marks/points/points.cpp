@@ -103,11 +103,10 @@ class Points final : public Mark {
   }
 
  private:
-  // auto (render/backend.h): native on a software GL, else GL's compute rasterizer.
+  // native, or the GL method (compute, gl_points); auto by render/backend.h.
   static std::string resolved_rasterizer(const ParamValues& p) {
     if (chosen_backend(p) == Backend::Native) return "native";
-    const std::string r = p.get_enum_name("rasterizer");
-    return r == "auto" ? "compute" : r;
+    return p.get_enum_name("gl_method");
   }
 };
 
@@ -116,16 +115,22 @@ const MarkRegistration registration{{
            "Points",
            "Draws the segment's points as round splats into its own colour and depth images.",
            {
-               // New values last: stored enum indices of older files keep their meaning.
-               enum_param("rasterizer", {"compute", "gl_points", "native", "auto"}, 3,
-                          "compute: compute-shader splatting (deterministic ties); gl_points: conventional GL "
-                          "points; native: the compute rules on the CPU's threads (the same images); auto: native "
-                          "on a software GL device (llvmpipe), compute on a GPU"),
+               // Once one list: compute, gl_points, native, auto (the points'
+               // GL methods are gl_method now, rasterizer as on every mark).
+               items_changed(rasterizer_param("gl: GL draws the splats, by gl_method; native: the compute rules on "
+                                              "the CPU's threads (the same images as compute)"),
+                             {"compute", "gl_points", "native", "auto"},
+                             {{"compute", "gl", "gl_method", "compute"}, {"gl_points", "gl", "gl_method", "gl_points"}}),
+               only_when(enum_param("gl_method", {"compute", "gl_points"}, 0,
+                                    "How GL draws the splats (rasterizer gl, or auto on a GPU): compute: compute-shader "
+                                    "splatting (deterministic ties); gl_points: conventional GL points"),
+                         "rasterizer", {"gl", "auto"}),
                enum_param("size_mode", {"pixels", "world", "splat"}, 0,
-                          "Point size in screen pixels, or in scene units projected by the camera; splat: a "
-                          "Gaussian-splat capture's own footprint: twice 2 sqrt of the product of its two largest "
-                          "scales, scene units (plain points: twice the mean distance to 8 neighbours), capped at "
-                          "32 px"),
+                          "pixels: one size on screen; world: one size in scene units, projected by the camera; "
+                          "splat: a Gaussian-splat capture's own footprint: twice 2 sqrt of the product of its two "
+                          "largest scales, scene units (plain points: twice the mean distance to 8 neighbours), "
+                          "capped at 32 px. world and splat as the brush splats' size_mode; pixels is no size "
+                          "from the neighbours (their resolution)"),
                only_when(float_param("point_size", 2.0, 0.5, 32.0, "px", "Splat diameter in pixels (size_mode = pixels)"),
                          "size_mode", {"pixels"}),
                only_when(float_param("world_size", 0.05, 0.0001, 100.0, "m",

@@ -393,10 +393,8 @@ const MarkRegistration registration{{
            "of dots (a light-view min-depth quadtree thins lit surfaces; point counts seen from eye and light "
            "open highlights).",
            {
-               formerly(enum_param("rasterizer", {"gl", "native", "auto"}, 2,
-                                   "gl: the passes as GL compute shaders (for GPUs); native: the same rules on the "
-                                   "CPU's threads (the same dots); auto: native on a software GL device (llvmpipe), "
-                                   "gl on a GPU"),
+               formerly(rasterizer_param("gl: the passes as GL compute shaders (for GPUs); native: the same "
+                                         "rules on the CPU's threads (the same dots)"),
                         {"implementation"}),
                float_param("dot_size", 2.0, 0.5, 16.0, "px", "Dot diameter"),
                float_param("size_jitter", 0.0, 0.0, 1.0, "", "Random size variation per dot (seeded by the point id)"),

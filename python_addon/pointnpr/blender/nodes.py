@@ -11,9 +11,11 @@ Files saved before the mark stage have Rasterize nodes: a legacy
 ``PointNPRRasterizeNode`` class stays registered (not in the Add menu) so
 their stored values load, and ``migrate_legacy_nodes`` (run on file load and
 when the add-on is enabled) replaces each by a Points mark node of the same
-name, location, links, values and animation. Styles are read back per frame by
-``read_style`` which evaluates the tree's animation itself (custom node
-trees are not reliably evaluated by the depsgraph during final renders).
+name, location, links, values and animation; a filter renamed keeps a class
+under its former id for the same reason (schema_versions.py). Styles are
+read back per frame by ``read_style`` which evaluates the tree's animation
+itself (custom node trees are not reliably evaluated by the depsgraph during
+final renders).
 """
 
 import math
@@ -22,6 +24,7 @@ import re
 import bpy
 
 from .conditions import draw_node_properties, param_applies, when_holds  # noqa: F401 (the add-on's API)
+from .schema_versions import KNOWN_PARAMS_KEY, former_id_classes, known_token, set_item
 
 TREE_IDNAME = "PointNPRStyleTree"
 SOCKET_IDNAME = "PointNPRStyleSocket"
@@ -37,20 +40,6 @@ ROLE_INPAINT = "inpaint"
 # before there was a choice (Listing 1, "paper"), used where the style has
 # no Inpaint Depth node of its own.
 LEGACY_INPAINT_KEY = "pointnpr_inpaint_method"
-# The parameters a node's class had when the node was made (space-separated
-# known_token()s): a parameter added later, or whose default changed, is
-# given its value for older files (versioning.migrate_added_params) only on
-# nodes made before that.
-KNOWN_PARAMS_KEY = "pointnpr_known_params"
-
-
-def known_token(param):
-    """How a node records that it knows a parameter: its name, and with it
-    its default where that changed since older files (so a node made
-    before the change does not count as knowing the new default)."""
-    if param.get("default_changed"):
-        return "%s=%s" % (param["name"], param["default"])
-    return param["name"]
 ROLE_OUTPUT = "output"
 
 POINTS_MARK = "points"        # the default mark: splats, what Rasterize was
@@ -58,7 +47,7 @@ SURFACE_MARK = "mesh_surface"  # how a style draws meshes with faces (beside its
 LEGACY_RASTERIZE_IDNAME = "PointNPRRasterizeNode"
 # Parameters of the points mark that the legacy Rasterize node did not have,
 # and the legacy defaults that differ from the points mark's.
-_LEGACY_ABSENT_PARAMS = ("rasterizer",)
+_LEGACY_ABSENT_PARAMS = ("rasterizer", "gl_method")
 _LEGACY_DEFAULTS = {"color_source": "rgb"}
 
 # Bumped whenever a style changes (property edit, relink): the viewport
@@ -319,6 +308,7 @@ def build_node_classes(schemas):
     for schema in schemas:
         if schema.get("kind") == "filter":
             classes.append(_make_node_class(ROLE_FILTER, schema))
+    classes += former_id_classes(schemas, ROLE_FILTER, _make_node_class, classes)
     for schema in schemas:
         if schema.get("kind") == "stage" and schema["id"] == "inpaint":
             classes.append(_make_node_class(ROLE_INPAINT, schema))
@@ -336,7 +326,7 @@ def node_classes():
 def find_node_class(role, schema_id=""):
     for cls in _generated_classes:
         if cls.pointnpr_role == role and (role == ROLE_OUTPUT or cls.pointnpr_schema_id == schema_id):
-            return cls
+            return getattr(cls, "pointnpr_current_class", None) or cls  # (a former id's: the current)
     return None
 
 
@@ -453,12 +443,16 @@ def surface_node(tree):
 
 
 def set_node_values(node, values):
-    """Sets schema parameters of ``node`` from {name: value}."""
-    known = {param["name"]: pid for param, pid in node.pointnpr_params}
+    """Sets schema parameters of ``node`` from {name: value}; an enum's
+    former value (schema_versions) is taken too."""
+    known = {param["name"]: (param, pid) for param, pid in node.pointnpr_params}
     for name, value in values.items():
         if name not in known:
             raise KeyError("%s has no parameter %r" % (node.bl_label, name))
-        setattr(node, known[name], value)
+        if known[name][0]["type"] == "enum" and isinstance(value, str):
+            set_item(node, name, value)
+        else:
+            setattr(node, known[name][1], value)
 
 
 def _preset_mark(preset):
@@ -742,7 +736,7 @@ def _node_categories():
 
     def items(role_test):
         return [nodeitems_utils.NodeItem(c.bl_idname) for c in _generated_classes
-                if role_test(c.pointnpr_role)]
+                if role_test(c.pointnpr_role) and not hasattr(c, "pointnpr_current_class")]
 
     cats = []
     marks = items(lambda role: role == ROLE_MARK)

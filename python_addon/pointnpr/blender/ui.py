@@ -65,7 +65,8 @@ class POINTNPR_OT_new_style(bpy.types.Operator):
 def _filter_items(_self, _context):
     items = []
     for cls in nodes.node_classes():
-        if cls.pointnpr_role == nodes.ROLE_FILTER:
+        # (Not the class kept for a filter's former id: old files only.)
+        if cls.pointnpr_role == nodes.ROLE_FILTER and not hasattr(cls, "pointnpr_current_class"):
             items.append((cls.pointnpr_schema_id, cls.bl_label, cls.bl_description))
     inpaint = nodes.find_node_class(nodes.ROLE_INPAINT, "inpaint")
     if inpaint is not None:

@@ -12,7 +12,8 @@ Rasterize node of every local style tree by a Points mark node with
   the old node had ("rgb" where it was never changed: the points mark's
   default is "auto");
 * ``rasterizer`` = the ``Scene.pointnpr.rasterizer`` of a scene that uses
-  the style (the first scene when none does).
+  the style (the first scene when none does): ``gl`` with that
+  ``gl_method`` (compute or gl_points).
 
 A parameter added since files were saved without it, or whose default
 changed since, may declare the value that renders them as before (the
@@ -28,6 +29,16 @@ stipples mark's ``implementation``, now ``rasterizer`` as on every mark
 with two backends) keeps its saved value and animation:
 ``migrate_former_names`` moves them to the current name.
 
+Enum values spelt otherwise now, or moved in their list (the schema's
+``former_items`` and ``older_files_items``: every mark's ``rasterizer`` is
+gl / native / auto now; the points' compute and gl_points are rasterizer gl
+with that ``gl_method``, the gaussians' compute is gl), keep their meaning:
+Blender saved their index, which ``migrate_changed_items`` reads through the
+older list (schema_versions.py). A filter renamed (the schema's
+``former_ids``: ``hatching``, the hatching mark's id too, is
+``pencil_hatching``) keeps its nodes: ``migrate_former_ids`` replaces each
+by one of the current class, as a Rasterize node is.
+
 It runs on every file load (a persistent load_post handler) and when the
 add-on is enabled, for a file that is already open. Trees linked from a
 library file cannot be edited: their Rasterize nodes are read as Points
@@ -37,7 +48,7 @@ marks (nodes.read_style) until the library file is migrated itself.
 import bpy
 from bpy.app.handlers import persistent
 
-from . import nodes
+from . import nodes, schema_versions
 
 # Temporary name of a Rasterize node while its replacement takes its name.
 _TMP_NAME = "__pointnpr_legacy_rasterize__"
@@ -78,28 +89,32 @@ def _copy_node_state(old, new):
         new.location = old.location
 
 
-def migrate_node(tree, old, rasterizer):
-    """Replaces the legacy Rasterize node ``old`` of ``tree`` by a Points
-    mark node; returns the new node."""
-    points_cls = nodes.find_node_class(nodes.ROLE_MARK, nodes.POINTS_MARK)
+def _replace_node(tree, old, new_cls, only_set=False):
+    """A node of class ``new_cls`` in the place of ``old``, which is removed:
+    the same name (its F-Curves and drivers follow), location, frame, state,
+    links, and the values of the parameters both have (only those ``old``
+    stores itself, with its record of the parameters it knew, when
+    ``only_set``: then the later migrations treat it as they would
+    ``old``). Returns the new node."""
     name = old.name
     # F-Curves follow a node's renames and die with it: move the old node
     # away first (its curves follow), give its name to the new node, then
     # point the curves at the new node before removing the old one.
     old.name = _TMP_NAME
     tmp_name = old.name
-    new = tree.nodes.new(points_cls.bl_idname)
+    new = tree.nodes.new(new_cls.bl_idname)
     new.name = name
     nodes.repoint_curves(tree, tmp_name, new.name)
     _copy_node_state(old, new)
     new_pids = {param["name"]: pid for param, pid in new.pointnpr_params}
     for param, pid in old.pointnpr_params:
-        if param["name"] in new_pids:
-            # Explicit, never left to the class default: the defaults differ
-            # (color_source "rgb" before, "auto" now).
+        if param["name"] in new_pids and not (only_set and not _is_set(old, pid)):
             setattr(new, new_pids[param["name"]], getattr(old, pid))
-    if "rasterizer" in new_pids:
-        setattr(new, new_pids["rasterizer"], rasterizer)
+    if only_set:
+        if old.get(nodes.KNOWN_PARAMS_KEY) is None:
+            del new[nodes.KNOWN_PARAMS_KEY]
+        else:
+            new[nodes.KNOWN_PARAMS_KEY] = old[nodes.KNOWN_PARAMS_KEY]
     targets = [link.to_socket for out in old.outputs for link in out.links]
     sources = [link.from_socket for inp in old.inputs for link in inp.links]
     tree.nodes.remove(old)
@@ -109,6 +124,49 @@ def migrate_node(tree, old, rasterizer):
         if new.inputs:
             tree.links.new(sock, new.inputs[0])
     return new
+
+
+def migrate_node(tree, old, rasterizer):
+    """Replaces the legacy Rasterize node ``old`` of ``tree`` by a Points
+    mark node; returns the new node. ``rasterizer`` is the scene's former
+    setting (compute or gl_points: now the mark's rasterizer gl with that
+    gl_method)."""
+    points_cls = nodes.find_node_class(nodes.ROLE_MARK, nodes.POINTS_MARK)
+    # Every value explicit, never left to the class default: the defaults
+    # differ (color_source "rgb" before, "auto" now).
+    new = _replace_node(tree, old, points_cls)
+    if any(param["name"] == "rasterizer" for param, _pid in new.pointnpr_params):
+        schema_versions.set_item(new, "rasterizer", rasterizer)
+    return new
+
+
+def migrate_former_ids(tree):
+    """Replaces the nodes of a local style tree whose filter was renamed
+    (the schema's ``former_ids``: the pencil_hatching filter was
+    ``hatching``) by nodes of the current class. Returns how many."""
+    if not nodes.is_style_tree(tree) or tree.library is not None:
+        return 0
+    former = [n for n in tree.nodes if getattr(n, "pointnpr_current_class", None) is not None]
+    for node in former:
+        _replace_node(tree, node, node.pointnpr_current_class, only_set=True)
+    if former:
+        nodes.bump_generation()
+    return len(former)
+
+
+def migrate_changed_items(tree):
+    """Reads the enum values that a local style tree's nodes saved before
+    their items changed (the schema's ``older_files_items``, e.g. the points'
+    rasterizer compute / gl_points / native / auto, now gl / native / auto
+    with gl_method) as the current items, keyframes included. Returns how
+    many values and curves changed."""
+    if not nodes.is_style_tree(tree) or tree.library is not None:
+        return 0
+    changed = sum(schema_versions.migrate_items(tree, node, nodes.tree_curves, nodes.node_path_prefix)
+                  for node in tree.nodes)
+    if changed:
+        nodes.bump_generation()
+    return changed
 
 
 def migrate_tree(tree):
@@ -208,9 +266,12 @@ def migrate_added_params(tree):
 
 def migrate_legacy_nodes():
     """Migrates every local style tree of the open file; returns the number
-    of nodes replaced, of values moved to a parameter's current name and of
-    added parameters given their older files' value."""
-    return sum(migrate_tree(tree) + migrate_former_names(tree) + migrate_added_params(tree)
+    of nodes replaced, of values moved to a parameter's current name or
+    item, and of added parameters given their older files' value."""
+    # In this order: a node replaced, or one of a renamed filter, then
+    # carries what it saved, under the current names, to the later steps.
+    return sum(migrate_tree(tree) + migrate_former_names(tree) + migrate_changed_items(tree) +
+               migrate_former_ids(tree) + migrate_added_params(tree)
                for tree in list(bpy.data.node_groups))
 
 
