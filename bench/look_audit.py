@@ -54,7 +54,8 @@ import pointnpr
 from pointnpr import presets
 
 W, H = 1280, 720
-PRESETS = ["Toon", "Ink outlines", "Flow ink", "Watercolor", "Oil paint", "Posterize", "Urban map", "edge_enhance"]
+PRESETS = ["Toon", "Ink outlines", "Flow ink", "Watercolor", "Oil paint", "Flow oil paint", "Posterize", "Urban map",
+           "edge_enhance"]
 # Not a preset: the depth cues alone (eye-dome lighting and depth lines, defaults), which the issue saw draw line
 # noise on flat Kinect walls.
 EXTRA = {"edge_enhance": {"mark": ("points", {"point_size": 3.0}), "filters": [("edge_enhance", {})]},

@@ -111,15 +111,6 @@ uniform int u_outline_width;
 uniform vec4 u_edge_color;
 uniform float u_fill_norm;  // total weight of the 2D fill kernel
 
-// A band's transfer curve, x = (L - level) / step in [-0.5, 0.5]: Winnemoeller
-// et al.'s tanh(k x), scaled to reach +-0.5 at the band's borders, so the
-// staircase is continuous for every k and k sets only its hardness: the
-// identity (no bands) at k = 0, flat bands as k grows.
-float soft_step(float k, float x) {
-  if (k < 1e-3) return x;
-  return 0.5 * tanh(k * x) / tanh(0.5 * k);
-}
-
 // Fraction of the fill kernel around q that is covered.
 float coverage(ivec2 q) {
   if (!in_image(q, imageSize(u_in))) return 0.0;

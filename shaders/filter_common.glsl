@@ -122,6 +122,15 @@ float surface_fbm(vec3 x, float px, float cell, int octaves, uint seed) {
 
 float gauss(float d2, float sigma) { return exp(-d2 / (2.0 * sigma * sigma)); }
 
+// A band's transfer curve, x = (L - level) / step in [-0.5, 0.5]: Winnemoeller
+// et al.'s tanh(k x), scaled to reach +-0.5 at the band's borders, so the
+// staircase is continuous for every k and k sets only its hardness: the
+// identity (no bands) at k = 0, flat bands as k grows.
+float soft_step(float k, float x) {
+  if (k < 1e-3) return x;
+  return 0.5 * tanh(k * x) / tanh(0.5 * k);
+}
+
 // CIELAB (D65), L in [0,100]: the space Winnemoeller et al. 2006 smooth in.
 vec3 linear_to_lab(vec3 c) {
   vec3 xyz = mat3(0.4124564, 0.2126729, 0.0193339,
@@ -154,3 +163,7 @@ vec3 surface_point(vec2 q, float d) {
   vec3 view = vec3(dot(u_surface_x0, h) + d * dot(u_surface_x1, h), dot(u_surface_y0, h) + d * dot(u_surface_y1, h), -d);
   return (u_object_from_view * vec4(view, 1.0)).xyz;
 }
+
+// Object units one pixel spans at depth d (the view-space x of pixel q at
+// depth d is dot(x0, q) + d dot(x1, q)), times the anchor frame's scale.
+float surface_pixel(float d) { return abs(u_surface_x0.x + d * u_surface_x1.x) * length(u_object_from_view[0].xyz); }

@@ -170,14 +170,9 @@ void main() {
 #endif
 
 #ifdef PASS_SHADE
-layout(rgba32f, binding = 2) uniform readonly image2D u_height;
+#include "paint_relief.glsl"
 uniform float u_relief;
-
-float height_at(ivec2 q, float fallback) {
-  if (!in_image(q, imageSize(u_height))) return fallback;
-  vec4 h = imageLoad(u_height, q);
-  return h.w > 0.0 ? h.x : fallback;
-}
+const float GLOSS = 0.25;  // weight of the ridges' highlight
 
 void main() {
   ivec2 p;
@@ -187,14 +182,6 @@ void main() {
     imageStore(u_out, p, c);
     return;
   }
-  float h = height_at(p, 0.0);
-  float dx = height_at(p + ivec2(1, 0), h) - height_at(p - ivec2(1, 0), h);
-  float dy = height_at(p + ivec2(0, 1), h) - height_at(p - ivec2(0, 1), h);
-  vec3 n = normalize(vec3(-dx * u_relief, -dy * u_relief, 1.0));
-  vec3 l = normalize(vec3(-1.0, 1.0, 1.5));  // light from the upper left
-  float diffuse = max(dot(n, l), 0.0) / l.z;  // 1 on flat paint
-  float specular = pow(max(reflect(-l, n).z, 0.0), 24.0) - pow(reflect(-l, vec3(0.0, 0.0, 1.0)).z, 24.0);
-  vec3 rgb = c.rgb * diffuse + 0.25 * max(specular, 0.0);
-  imageStore(u_out, p, vec4(clamp(rgb, 0.0, 1.0), c.a));
+  imageStore(u_out, p, vec4(lit_paint(c.rgb, relief_slope(p), u_relief, GLOSS), c.a));
 }
 #endif

@@ -100,10 +100,6 @@ uniform ivec2 u_node_min;   // the frame node of the fields images' (0, 0)
 uniform ivec2 u_abs_min;    // the abstracted images are valid in [u_abs_min, u_abs_max)
 uniform ivec2 u_abs_max;
 uniform uint u_seed;
-
-// Object units one pixel spans at depth d (the view-space x of pixel q at
-// depth d is dot(x0, q) + d dot(x1, q)), times the anchor frame's scale.
-float surface_pixel(float d) { return abs(u_surface_x0.x + d * u_surface_x1.x) * length(u_object_from_view[0].xyz); }
 #endif
 
 #ifdef PASS_FIELDS

@@ -66,7 +66,7 @@ void main() {
 #if defined(PASS_FDOG_ACROSS) || defined(PASS_FDOG_ALONG)
 layout(rgba32f, binding = 2) uniform writeonly image2D u_out_f;
 layout(rgba32f, binding = 4) uniform readonly image2D u_src;   // (value, coverage) per pixel
-layout(rgba32f, binding = 5) uniform readonly image2D u_flow;  // (edge direction t, anisotropy, 1)
+#include "flow_curve.glsl"
 uniform ivec2 u_valid_min;  // u_src is valid in [u_valid_min, u_valid_max)
 uniform ivec2 u_valid_max;
 uniform float u_p;
@@ -90,12 +90,6 @@ vec2 sample_src(ivec2 p, vec2 o) {
   return acc;
 }
 
-// The edge direction at the pixel holding offset o from pixel p's centre.
-vec2 tangent(ivec2 p, vec2 o) {
-  ivec2 q = clamp(p + ivec2(floor(o + 0.5)), u_valid_min, u_valid_max - 1);
-  return imageLoad(u_flow, q).xy;
-}
-
 void main() {
   ivec2 p;
   if (!rect_pixel(p)) return;
@@ -104,7 +98,7 @@ void main() {
     return;
   }
 #ifdef PASS_FDOG_ACROSS
-  vec2 t = tangent(p, vec2(0.0));
+  vec2 t = flow_tangent(p, vec2(0.0));
   vec2 n = vec2(t.y, -t.x);  // the gradient direction
   float sr = 1.6 * u_sigma;
   vec4 a = vec4(0.0);
@@ -117,16 +111,12 @@ void main() {
   float g2 = a.w > 0.0 ? a.z / a.w : g1;
   imageStore(u_out_f, p, vec4((1.0 + u_p) * g1 - u_p * g2, 1.0, 0.0, 0.0));
 #else
-  // Both ways along the flow curve, one pixel per step; the tangent's sign
-  // follows the previous step's (the field is an orientation).
+  // Both ways along the flow curve, one pixel per step.
   vec2 acc = sample_src(p, vec2(0.0));
   for (int side = -1; side <= 1; side += 2) {
-    vec2 o = vec2(0.0), dir = float(side) * tangent(p, o);
+    vec2 o = vec2(0.0), dir = float(side) * flow_tangent(p, o);
     for (int k = 1; k <= u_radius; ++k) {
-      vec2 t = tangent(p, o);
-      if (dot(t, dir) < 0.0) t = -t;
-      dir = t;
-      o += dir;
+      flow_step(p, o, dir);
       acc += gauss(float(k * k), u_flow_sigma) * sample_src(p, o);
     }
   }

@@ -132,6 +132,8 @@ class XDoG final : public Filter {
       glUniform1f(prog.location("u_flow_sigma"), float(std::max(p.get_float("flow_length"), 1e-3)));
       glUniform2i(prog.location("u_valid_min"), across ? lightness.min.x : along.min.x, across ? lightness.min.y : along.min.y);
       glUniform2i(prog.location("u_valid_max"), across ? lightness.max.x : along.max.x, across ? lightness.max.y : along.max.y);
+      glUniform2i(prog.location("u_flow_min"), along.min.x, along.min.y);
+      glUniform2i(prog.location("u_flow_max"), along.max.x, along.max.y);
       filters::bind_image(0, *ctx.input, GL_READ_ONLY);
       filters::bind_image(4, across ? L : dog, GL_READ_ONLY);
       filters::bind_image(5, smooth, GL_READ_ONLY);

@@ -55,6 +55,16 @@ PRESETS = {
             ("color_grade", {"saturation": 1.15, "contrast": 1.1}),
         ],
     },
+    # Oil paint after Semmo et al. 2016: strokes that follow the image's flow
+    # (the structure tensor), colours smoothed along it into lightness
+    # bands, bristle streaks fixed to the surface and lit as paint relief.
+    "Flow oil paint": {
+        "mark": ("points", {"point_size": 3.0}),
+        "filters": [
+            ("flow_oil", {}),
+            ("color_grade", {"saturation": 1.15, "contrast": 1.1}),
+        ],
+    },
     # Five lightness levels with XDoG lines, after an oil-paint pass.
     "Posterize": {
         "mark": ("points", {"point_size": 3.0}),

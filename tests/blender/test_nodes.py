@@ -339,7 +339,8 @@ def _set_when_value(node, param, value):
     pid = nodes.property_identifier(param["name"])
     if param["type"] in ("float", "int"):
         assert param["min"] <= 0 < param["max"], param  # both states reachable
-        setattr(node, pid, param["max"] if value == "nonzero" else type(param["default"])(0))
+        # The schema's range is given as floats; an int property takes an int.
+        setattr(node, pid, type(param["default"])(param["max"] if value == "nonzero" else 0))
     else:
         setattr(node, pid, (value == "true") if param["type"] == "bool" else value)
 

@@ -8,7 +8,8 @@ import pytest
 from conftest import plane
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-POINTS_PRESETS = ["Toon", "Ink outlines", "Flow ink", "Watercolor", "Oil paint", "Posterize", "Urban map"]
+POINTS_PRESETS = ["Toon", "Ink outlines", "Flow ink", "Watercolor", "Oil paint", "Flow oil paint", "Posterize",
+                  "Urban map"]
 HATCHING_PRESETS = ["Pencil", "Coloured crayons", "Wax crayons", "Blueprint", "Chalk", "Pointillism"]
 FEATURE_PRESETS = ["Feature stippling", "Feature strokes + stipples", "Feature strokes + hatching"]
 STIPPLES_PRESETS = ["Stipple diffuse", "Stipple specular", "Ink stippling"]
