@@ -13,9 +13,9 @@ import pointnpr
 from pointnpr import presets
 
 W, H = 320, 224
-ORDER = ["plain", "posterize", "color_grade", "blur", "xdog", "kuwahara", "watercolor", "edge_enhance",
-         "pencil_hatching", "cartoon", "warp", "Toon", "Ink outlines", "Watercolor", "Oil paint", "Posterize",
-         "Urban map"]
+ORDER = ["plain", "posterize", "color_grade", "blur", "xdog", "kuwahara", "flow_oil", "watercolor", "edge_enhance",
+         "pencil_hatching", "cartoon", "warp", "fill_holes", "Toon", "Ink outlines", "Flow ink", "Watercolor",
+         "Oil paint", "Flow oil paint", "Posterize", "Urban map"]
 
 
 def render(renderer, cloud, style, camera):
