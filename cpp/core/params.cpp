@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/error.h"
 
@@ -49,6 +50,7 @@ ParamSpec only_when(ParamSpec spec, std::string param, std::vector<std::string> 
 }
 
 ParamSpec only_when_any(ParamSpec spec, std::vector<ParamSpec::Condition> conditions) {
+  if (conditions.empty()) throw std::invalid_argument("only_when_any: " + spec.name + " has no condition");
   spec = only_when(std::move(spec), conditions.at(0).param, conditions.at(0).values);
   spec.or_when.assign(std::make_move_iterator(conditions.begin() + 1), std::make_move_iterator(conditions.end()));
   return spec;

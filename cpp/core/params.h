@@ -122,7 +122,8 @@ bool answers_to(const Schema& schema, const std::string& id);
 void set_enum_item(const Schema& schema, const ParamSpec& spec, const std::string& item,
                    std::map<std::string, std::vector<double>>& numbers);
 
-// Whether `spec` applies to `values` (its `when` condition holds).
+// Whether `spec` applies to `values`: any of its conditions holds (not
+// chained through the parameters they name; the add-on's param_applies is).
 class ParamValues;
 bool applies(const ParamSpec& spec, const ParamValues& values);
 

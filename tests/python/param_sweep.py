@@ -15,10 +15,12 @@ both draw nothing), or the end of the range on that side where that point
 is within a tenth of the range of the default (in log for ranges over two
 decades and more: thresholds and scales); for angles that wrap (deg over
 360 or more) the default +-90; every other enum item; the other bool; the
-complement colour; for an image path, none against an image. Each of those
-must act (or be refused with an error where the other settings need it:
-no image where an image is what a setting draws with), and for numbers one
-of the two (some ranges end in a setting that
+complement colour; for an image path, another image (its tones raised to
+the power 2.2, its alpha following them: other colours, another palette)
+and none, which may be
+refused with a ParameterError (no image where a setting draws with one:
+the user is told, not left with a control that does nothing). Each of those
+must act, and for numbers one of the two (some ranges end in a setting that
 rarely fires: a crease angle of 135 deg, a depth jump of 18 % of the
 distance on these scans)."""
 import numpy as np
@@ -51,7 +53,8 @@ def changed_share(a, b):
 def grey_ramp_image(path):
     """A 4-level inverting LUT strip: as a look-up table clearly not the
     identity, as a paper or stroke texture a height ramp, as an X-Toon or
-    pencil image a ramp of tones."""
+    pencil image a ramp of tones. Beside it (other_image) the same strip
+    with its tones raised to the power 2.2, and an alpha that follows them."""
     n = 4
     strip = np.zeros((n, n * n, 4), np.float32)
     for b in range(n):
@@ -59,7 +62,14 @@ def grey_ramp_image(path):
             for r in range(n):
                 strip[g, b * n + r] = (1 - r / (n - 1), 1 - g / (n - 1), 1 - b / (n - 1), 1)
     pointnpr.save_image(path, strip)
+    raised = strip[..., :3] ** 2.2
+    # Its alpha follows its tone too (X-Toon images are read for their alpha).
+    pointnpr.save_image(other_image(path), np.concatenate([raised, 0.25 + 0.75 * raised.mean(-1, keepdims=True)], -1))
     return path
+
+
+def other_image(path):
+    return path[:-4] + "_gamma.png" if path.endswith(".png") else path + "_gamma.png"
 
 
 def _when_value(value):
@@ -105,7 +115,7 @@ def other_values(param, current, image):
     if kind == "color":
         return [tuple(1.0 - c for c in default[:3]) + (default[3],)]
     if kind == "path":
-        return [image if current == "" else ""]
+        return [image] if current == "" else [other_image(current), ""]
     raise AssertionError("no sweep values for a %s parameter" % kind)
 
 
@@ -117,13 +127,13 @@ def base_settings(schema, image):
 
 
 def applying(schema, settings, param, _seen=()):
-    """`settings` with `param`'s condition made to hold (and that of the
-    parameter the condition names: conditions chain), so it is swept where
-    it applies."""
+    """`settings` with `param`'s condition made to hold (its first
+    alternative, where it has several; and that of the parameter the
+    condition names: conditions chain), so it is swept where it applies."""
     by_name = {p["name"]: p for p in schema["params"]}
     when = param["when"]
-    if not when or param["name"] in _seen:
-        return settings
+    if not when or param["name"] in _seen or when["param"] in _seen:
+        return settings  # (a cycle: what the chain set stays)
     if _when_value(settings[when["param"]]) not in when["values"]:
         settings = dict(settings, **{when["param"]: _holding(when, by_name[when["param"]])})
     return applying(schema, settings, by_name[when["param"]], tuple(_seen) + (param["name"],))
@@ -153,8 +163,10 @@ def dead_parameters(schema, render, n_scans, image, skip=(), skip_values=()):
                     references[scan] = render(settings, scan)
                 try:
                     picture = render(changed, scan)
-                except (pointnpr.Error, pointnpr.ParameterError):
-                    share = 1.0  # refused: the user is told, not left with a control that does nothing
+                except pointnpr.ParameterError:
+                    if param["type"] != "path" or value != "":
+                        raise
+                    share = 1.0  # no image where one is needed: refused, the user is told
                     break
                 share = max(share, changed_share(picture, references[scan]))
                 if share >= MIN_SHARE:

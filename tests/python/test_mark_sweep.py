@@ -39,21 +39,22 @@ SAME_PICTURE = ("rasterizer", "gl_method", "tile_invariant")
 # direction Blender sets from its sun lamp (tests/blender/test_marks.py
 # turns the sun and sees the render change).
 HOST_VALUES = {("light_space", "scene_sun")}
-# Settings that act on data these scans lack, each shown by a test of its
-# own: the thresholds of a capture's floaters (the sweep's quarter points,
-# 2,500 units and 250x the spacing, drop no splat of a real capture;
-# test_marks_gaussians.py drops floaters at 0.05 and 4x), and the pencils,
-# which keep a colour's value and saturation (seed 002, 3.3), so they move
-# only saturated colours, which these scans have few of (test_marks.py's
-# pencil test, on random colours).
+# Settings the sweep's values or these scans cannot show, each shown by a
+# test of its own: the thresholds of a capture's floaters, whose ranges
+# start at 0 (off) and reach far, so the quarter points (2,500 units, 250x
+# the spacing) drop no splat of any real capture (test_marks_gaussians.py
+# drops floaters at 0.05 and 4x); and the pencils, which keep a colour's
+# value and saturation (seed 002, 3.3), so they move only saturated
+# colours, which these scans have few of (test_marks.py's pencil test, on
+# random colours).
 ACTS_ON_OTHER_DATA = {"gaussians": ("max_scale", "isolation"), "hatching": ("pencil_quantize", "pencil_set")}
 
 
 def _capture(pos, colors, seed=3):
     """The points as a Gaussian-splat capture of their own spacing: splats
     elongated and turned at random, a per-point opacity, view-dependent
-    colour to the third band, and a few large faint floaters in front (so
-    the floater settings, the largest radius and the depth's opacity act)."""
+    colour to the third band, and a few large faint floaters (so the
+    largest radius and the depth's opacity act)."""
     rng = np.random.default_rng(seed)
     n = len(pos)
     lo, hi = pos.min(axis=0), pos.max(axis=0)

@@ -156,7 +156,8 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   s.paper = p.get_color("paper_color");
   s.disc_scale = float(p.get_float("disc_scale"));
   s.depth_offset = float(p.get_float("depth_offset"));
-  if (p.get_enum_name("stroke_texture") == "image") {
+  // The image is read (and needed) only while some class draws textured strokes.
+  if (p.get_enum_name("stroke_texture") == "image" && applies(*p.schema().find("stroke_texture"), p)) {
     const std::string& path = p.get_path("texture_image");
     if (path.empty()) throw ParameterError("feature_strokes: stroke_texture 'image' needs a texture_image");
     s.texture_image = &ctx.images->get(path, "stroke", ImageTextures::Sampling::Clamped, [](Image i) { return i; });
