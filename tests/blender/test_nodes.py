@@ -4,7 +4,7 @@ import bpy
 import pointnpr
 import pytest
 from pointnpr import presets
-from pointnpr.blender import nodes
+from pointnpr.blender import conditions, nodes
 
 import helpers
 
@@ -327,14 +327,6 @@ def _other_values(param):
     return list(param["items"])
 
 
-def _when_spelling(value):
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (int, float)):
-        return "nonzero" if value != 0 else "zero"
-    return value
-
-
 def _set_when_value(node, param, value):
     pid = nodes.property_identifier(param["name"])
     if param["type"] in ("float", "int"):
@@ -375,15 +367,15 @@ def test_parameters_are_greyed_out_when_their_condition_does_not_hold(scene):
             if not when:
                 assert nodes.param_applies(node, param)
                 continue
-            conditions = [when] + list(when.get("or", ()))
-            for condition in conditions:
+            alternatives = [when] + list(when.get("or", ()))
+            for condition in alternatives:
                 other = by_name[condition["param"]]
                 assert other["type"] in ("enum", "bool", "float", "int"), (schema["id"], param["name"])
                 assert set(condition["values"]) <= set(_other_values(other)), (schema["id"], param["name"])
-            for i, condition in enumerate(conditions):
+            for i, condition in enumerate(alternatives):
                 # The other alternatives made not to hold, this one's
                 # parameter takes each of its values.
-                for alternative in conditions[:i] + conditions[i + 1:]:
+                for alternative in alternatives[:i] + alternatives[i + 1:]:
                     alt = by_name[alternative["param"]]
                     _set_when_value(node, alt, next(v for v in _other_values(alt) if v not in alternative["values"]))
                 other = by_name[condition["param"]]
@@ -400,9 +392,9 @@ def test_parameters_are_greyed_out_when_their_condition_does_not_hold(scene):
                     row = next(r for r in layout.rows if r.props == [pid])
                     assert row.active == expected
                     checked += 1
-                for alternative in conditions:  # back to the defaults for the next parameter
+                for alternative in alternatives:  # back to the defaults for the next parameter
                     _set_when_value(node, by_name[alternative["param"]],
-                                    _when_spelling(by_name[alternative["param"]]["default"]))
+                                    conditions.when_spelling(by_name[alternative["param"]]["default"]))
     assert checked >= 2, "no schema parameter has a 'when' condition"
 
 

@@ -18,6 +18,7 @@ hides when segments and meshes composite). Parameters of how a mark is
 drawn rather than what (SAME_PICTURE) are asserted to change no more than
 MIN_SHARE. The meshes' surface (mesh_surface) is swept on three spheres:
 textured, vertex-coloured and bare."""
+import functools
 import os
 
 import numpy as np
@@ -72,11 +73,16 @@ def _capture(pos, colors, seed=3):
     return dict(opacity=opacity, scales=scales, rotations=q, sh=sh, sh_degree=3)
 
 
+@functools.lru_cache(maxsize=None)
+def _read(path):
+    return pointnpr.read(path)  # the tile is drawn twice: read once
+
+
 def _scan(path, step, attributes):
     """Every `step`th point of a scan file: "capture" a Gaussian-splat
     capture with its colours, "scalars" its intensity and classes alone,
     "none" its positions alone."""
-    data = pointnpr.read(path)
+    data = _read(path)
     pos = np.asarray(data.positions)[::step]
     attrs = {k: np.asarray(v)[::step] for k, v in data.attributes.items()}
     if attributes == "capture":

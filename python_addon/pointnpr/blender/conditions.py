@@ -9,18 +9,23 @@ as enum items, "true"/"false" for a bool and "zero"/"nonzero" for a number
 """
 
 
+def when_spelling(value):
+    """A parameter's value as a "when" condition names it: "true"/"false"
+    for a bool, "zero"/"nonzero" for a number, the item for an enum."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return "nonzero" if value != 0 else "zero"
+    return str(value)
+
+
 def _when_value(node, param_name):
     """The current value of ``node``'s parameter ``param_name`` as a "when"
-    condition names it: enum item, "true"/"false" for a bool, "zero"/"nonzero"
-    for a number; None if the node has no such parameter."""
+    condition names it (when_spelling); None if the node has no such
+    parameter."""
     for param, pid in getattr(node, "pointnpr_params", ()):
         if param["name"] == param_name:
-            value = getattr(node, pid)
-            if param["type"] == "bool":
-                return "true" if value else "false"
-            if param["type"] in ("float", "int"):
-                return "nonzero" if value != 0 else "zero"
-            return str(value)
+            return when_spelling(getattr(node, pid))
     return None
 
 
