@@ -141,12 +141,13 @@ def flicker(renderer, cloud, centre, mark, filters, world_from_camera, clip):
     return float(np.mean(mads)) / detail if detail > 0 else float("nan")
 
 
-def coverage(renderer, cloud, pos, centre, world_from_camera, clip):
-    """The points' own coverage: each point a disc as wide as twice the
-    scan's median spacing (its typical neighbourhood, so a sparse surface
-    near the camera closes and an isolated point stays small), drawn on a
-    frame COVER_MARGIN px larger on every side with the same pixel scale
-    (points just outside the picture cover its edge too), cropped."""
+def coverage(renderer, cloud, pos, centre, world_from_camera, clip, reach=0):
+    """The points' own coverage grown by `reach` px: each point a disc as
+    wide as twice the scan's median spacing (its typical neighbourhood, so
+    a sparse surface near the camera closes and an isolated point stays
+    small), drawn on a frame COVER_MARGIN px larger on every side with the
+    same pixel scale, grown there (points just outside the picture reach
+    into it), then cropped."""
     r, _eps = pointnpr.local_resolution(np.asarray(pos - centre, np.float64), 8)
     w, h = W + 2 * COVER_MARGIN, H + 2 * COVER_MARGIN
     wide = pointnpr.Camera.perspective(world_from_camera, lens=35.0 * W / w, clip_start=clip[0], clip_end=clip[1],
@@ -156,8 +157,10 @@ def coverage(renderer, cloud, pos, centre, world_from_camera, clip):
     shift[:3, 3] = centre
     discs = {"size_mode": "world", "world_size": 2.0 * float(np.median(r))}
     scene.add_segment("scan", pointnpr.Style(mark=("points", discs)), [(cloud, shift)])
-    alpha = np.asarray(renderer.render(scene, wide, w, h).color)[..., 3]
-    return alpha[COVER_MARGIN:COVER_MARGIN + H, COVER_MARGIN:COVER_MARGIN + W] > 0
+    covered = np.asarray(renderer.render(scene, wide, w, h).color)[..., 3] > 0
+    if reach:
+        covered = la.dilate(covered, reach)
+    return covered[COVER_MARGIN:COVER_MARGIN + H, COVER_MARGIN:COVER_MARGIN + W]
 
 
 def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names, with_orbit, overlay):
@@ -167,7 +170,7 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
     white, _ = la._cloud(pos, {}, colors=np.ones((len(pos), 3), np.float32))
     base = la._render(renderer, cloud, centre, ("points", {"point_size": 3.0}), [], cam)
     filled = la.erode(la.dilate(base[..., 3] >= 0.5, CLOSE_RADIUS), CLOSE_RADIUS)
-    near = la.dilate(coverage(renderer, cloud, pos, centre, world_from_camera, clip), STRAY_PX)
+    near = coverage(renderer, cloud, pos, centre, world_from_camera, clip, STRAY_PX)
     # The baseline of a colourless scan is its lit shape (flat grey has no detail to compare with).
     lit = {} if attrs else {"shading": "diffuse"}
     base_flicker = flicker(renderer, cloud, centre, ("points", {"point_size": 3.0, **lit}), [], world_from_camera,

@@ -28,7 +28,8 @@ uniform int u_eps_mode;         // 0 deviation of the kNN distance, 1 user
 uniform float u_epsilon;        // user eps (scene units)
 uniform float u_size_scale;
 uniform float u_world_radius;   // size_mode world
-uniform float u_max_radius_px;
+uniform float u_max_radius_px;  // the farthest a brush reaches from its point
+uniform vec2 u_support;         // brush_support(): its visible part's reach, sqrt((x stretch)^2 + y) radii
 uniform int u_frame;            // 0 householder, 1 eberly, 2 square_plate, 3 covariance
 uniform float u_angle;          // brush angle theta (radians)
 uniform float u_angle_jitter;   // bound of theta's noise per column (radians)
@@ -112,9 +113,6 @@ BrushSplat brush_splat(uint index) {
     r = splat_radius[index];
   }
   r *= u_size_scale;
-  float px_per_unit = u_px_per_unit / (u_ortho != 0 ? 1.0 : max(depth, 1e-20));
-  s.radius = min(r, u_max_radius_px / px_per_unit);
-  if (!(s.radius > 0.0)) s.visible = false;
   // Frame from the chunk-space normal (strokes stay with the object as the
   // camera moves), then to view space.
   vec3 n = unpackSnorm4x8(normals_u[index]).xyz;
@@ -153,6 +151,12 @@ BrushSplat brush_splat(uint index) {
     s.b = vec3(0.0, 1.0, 0.0);
     s.n = vec3(0.0, 0.0, 1.0);
   }
+  // u_max_radius_px bounds the farthest the brush's visible part reaches
+  // from its point (so isolated points' brushes stay near them).
+  float px_per_unit = u_px_per_unit / (u_ortho != 0 ? 1.0 : max(depth, 1e-20));
+  float along = u_support.x * s.stretch;
+  s.radius = min(r, u_max_radius_px / (px_per_unit * sqrt(along * along + u_support.y)));
+  if (!(s.radius > 0.0)) s.visible = false;
   return s;
 }
 

@@ -230,7 +230,7 @@ PRESETS = {
     "Impressionist": {
         "mark": ("brush_splats", {"gaussians": 9, "amplitude": 1.0, "dev": 0.38, "lambda": 2.7, "sigma_x": 0.142,
                                   "sigma_y": 0.071, "size_scale": 2.0, "angle_jitter": 12.0, "blending": "blur",
-                                  "blur_radius": 1, "max_radius": 10.0}),
+                                  "blur_radius": 1, "max_radius": 11.0}),
         "filters": [],
     },
     # Pointillist: one round Gaussian per point, opaque centres, no blur,
@@ -238,7 +238,7 @@ PRESETS = {
     "Pointillist": {
         "mark": ("brush_splats", {"gaussians": 1, "amplitude": 3.0, "lambda": 2.0, "sigma_x": 0.16, "sigma_y": 0.16,
                                   "size_scale": 2.0, "angle_jitter": 0.0, "blending": "none", "depth_tolerance": 0.5,
-                                  "max_radius": 8.0}),
+                                  "max_radius": 9.5}),
         "filters": [("color_grade", {"saturation": 1.6})],
     },
     # Painterly: the seed's Fig. 4d brush (six Gaussians, A = 2.27,
@@ -246,7 +246,7 @@ PRESETS = {
     "Painterly": {
         "mark": ("brush_splats", {"gaussians": 6, "amplitude": 2.27, "dev": 0.3, "lambda": 2.4, "sigma_x": 0.099,
                                   "sigma_y": 0.1259, "layers": "two", "layer_tint": 0.2, "size_scale": 2.0,
-                                  "angle_jitter": 15.0, "blending": "blur", "blur_radius": 1, "max_radius": 10.0}),
+                                  "angle_jitter": 15.0, "blending": "blur", "blur_radius": 1, "max_radius": 11.0}),
         "filters": [],
     },
 }

@@ -92,9 +92,8 @@ class BrushSplats final : public Mark {
   }
 
   MarkExtent extent(const ParamValues& p) const override {
-    // Half the splat's diagonal at the largest radius and stretch.
-    const double stretch = p.get_bool("clusters") ? p.get_float("max_stretch") : 1.0;
-    return {0.0, float(p.get_float("max_radius") * std::sqrt(stretch * stretch + 1.0)) + 2.0f};
+    // max_radius bounds how far a splat's quad reaches (its corner).
+    return {0.0, float(p.get_float("max_radius")) + 2.0f};
   }
 
   // In tiles (and with tile_invariant) fragments are computed from their
@@ -174,6 +173,8 @@ void set_splat_uniforms(const gl::Program& g, const MarkContext& ctx, const Para
   glUniform1f(g.location("u_size_scale"), float(p.get_float("size_scale")));
   glUniform1f(g.location("u_world_radius"), world ? float(p.get_float("world_radius")) : 0.0f);
   glUniform1f(g.location("u_max_radius_px"), float(p.get_float("max_radius")));
+  const BrushSupport support = brush_support(p);
+  glUniform2f(g.location("u_support"), support.along, support.across2);
   glUniform1i(g.location("u_frame"), p.get_enum("tangent_frame"));
   glUniform1f(g.location("u_angle"), float(glm::radians(p.get_float("brush_angle"))));
   glUniform1f(g.location("u_angle_jitter"), float(glm::radians(p.get_float("angle_jitter"))));
@@ -424,6 +425,30 @@ double brush_reach(const ParamValues& p) {
   return std::pow(2.0 * std::log(std::max(16.0 * an / double(kBrushCut), 1.0 + 1e-6)), 1.0 / p.get_float("lambda"));
 }
 
+BrushSupport brush_support(const ParamValues& p) {
+  // The centres' farthest from the middle (uv), brush_texture.glsl's grid.
+  const int n = p.get_int("gaussians"), rows = (n + 2) / 3;
+  const double dev = p.get_float("dev");
+  double centre = 0.0;
+  for (int row = 0; row < rows; ++row) {
+    const int cols = std::clamp(n - row * 3, 0, 3);
+    const double y = (double(row) - 0.5 * double(rows - 1)) * dev, x = 0.5 * double(cols - 1) * dev;
+    centre = std::max(centre, std::sqrt(x * x + y * y));
+  }
+  // Beyond q^lambda = 2 ln(A N / cut) in both axes' sum no Gaussian adds a
+  // cut / (A N); the sum q_x^lambda + q_y^lambda is at least
+  // (|d| / sigma)^lambda for lambda <= 2 and 2 (|d| / (sqrt 2 sigma))^lambda
+  // above (power means), so |d| past `spread` leaves the alpha below the cut.
+  const double lambda = p.get_float("lambda");
+  const double an = std::max(p.get_float("amplitude") * n, 1e-6);
+  const double q = std::pow(2.0 * std::log(std::max(an / double(kBrushCut), 1.0)), 1.0 / lambda);
+  const double widen = lambda > 2.0 ? std::sqrt(2.0) * std::pow(2.0, -1.0 / lambda) : 1.0;
+  const double spread = std::max(p.get_float("sigma_x"), p.get_float("sigma_y")) * q * widen;
+  // In radii (the quad is 2 radii wide, uv 0..1), within the quad.
+  const double k = 2.0 * (centre + spread);
+  return {float(std::min(k, 1.0)), float(std::clamp(k * k - 1.0, 0.0, 1.0))};
+}
+
 namespace {
 
 // A second, smaller brush layer is painted with layers two, or on small
@@ -455,7 +480,8 @@ const MarkRegistration registration{{
                float_param("size_scale", 1.5, 0.1, 8.0, "",
                            "Splat radius times this (1: r + eps; the brush's Gaussians fade before the square's edge)"),
                float_param("max_radius", 16.0, 0.5, kMaxRadiusPixels, "px",
-                           "Largest splat radius on screen (isolated points far from their neighbours stay small)"),
+                           "The farthest a brush reaches from its point on screen (its square's corner, stretched "
+                           "included): isolated points far from their neighbours stay small"),
                enum_param("tangent_frame", {"householder", "eberly", "square_plate", "covariance"}, 0,
                           "How the brush's axes follow from the normal: Householder formula (continuous, the seed's "
                           "choice), Eberly's cross products, a square-plate stand-in, or the neighbourhood's "

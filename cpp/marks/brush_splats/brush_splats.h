@@ -29,6 +29,17 @@ float brush_noise_offset(const PointCloud& cloud, const ParamValues& p);
 // the cut to the alpha (skipped: it counts as 0 on both paths).
 double brush_reach(const ParamValues& p);
 
+// How far a brush's visible part (alpha >= kBrushCut) reaches from its
+// point, in splat radii, as the terms of sqrt((along stretch)^2 + across2):
+// a brush whose Gaussians sit near its square's corners reaches the corner
+// (along 1, across2 1), one round Gaussian in the middle about its
+// inscribed circle (1, 0). max_radius bounds that reach on screen, so an
+// isolated point's brush stays near it whatever its shape.
+struct BrushSupport {
+  float along = 1.0f, across2 = 1.0f;
+};
+BrushSupport brush_support(const ParamValues& p);
+
 // Depth pass, blending (weighted average, transmittance) and the blur of
 // brush_splats_tiled.vert/.frag, brush_resolve.comp and brush_blur.comp on
 // the CPU's threads, uploaded into ctx.targets.color and .depth over

@@ -159,6 +159,9 @@ Settings resolve_settings(const MarkContext& ctx, const ParamValues& p) {
   s.opacity_weight = p.get_bool("opacity_weight");
   s.world_radius = p.get_enum_name("size_mode") == "world" ? float(p.get_float("world_radius")) : 0.0f;
   s.max_radius_px = float(p.get_float("max_radius"));
+  const BrushSupport support = brush_support(p);
+  s.support_along = support.along;
+  s.support_across2 = support.across2;
   s.tangent_frame = p.get_enum("tangent_frame");
   s.angle = float(glm::radians(p.get_float("brush_angle")));
   s.jitter = float(glm::radians(p.get_float("angle_jitter")));

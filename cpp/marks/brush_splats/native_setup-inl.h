@@ -74,8 +74,13 @@ void SetUpLanes(const Chunk& c, const Settings& s, const uint32_t* index, int n,
   MF ok = hn::And(hn::Ge(depth, hn::Set(d, s.near)), hn::Le(depth, hn::Set(d, s.far)));
   const VF per = s.ortho ? hn::Set(d, 1.0f) : hn::Max(hn::Set(d, 1e-20f), depth);
   const VF px_per_unit = hn::Div(hn::Set(d, s.px_per_unit), per);
-  const VF radius = hn::Min(hn::Div(hn::Set(d, s.max_radius_px), px_per_unit), hn::Load(d, fr));
   const VF zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+  // max_radius bounds the farthest the brush's visible part reaches from
+  // its point (brush_support()), as brush_common.glsl's does.
+  const VF stretch = hn::Load(d, fs);
+  const VF along = hn::Mul(hn::Set(d, s.support_along), stretch);
+  const VF reach = hn::Sqrt(hn::Add(hn::Mul(along, along), hn::Set(d, s.support_across2)));
+  const VF radius = hn::Min(hn::Div(hn::Set(d, s.max_radius_px), hn::Mul(px_per_unit, reach)), hn::Load(d, fr));
   ok = hn::And(ok, hn::Gt(radius, zero));
   // The view's axes where there is no normal (t zero).
   const VF t0x = hn::Load(d, tx), t0y = hn::Load(d, ty), t0z = hn::Load(d, tz);
@@ -90,7 +95,6 @@ void SetUpLanes(const Chunk& c, const Settings& s, const uint32_t* index, int n,
   bvx = hn::IfThenElse(no_normal, zero, bvx), bvy = hn::IfThenElse(no_normal, one, bvy);
   bvz = hn::IfThenElse(no_normal, zero, bvz);
   // The whole splat beyond the near plane (the exact path draws no other).
-  const VF stretch = hn::Load(d, fs);
   const VF reach_z = hn::Mul(hn::Add(hn::Mul(hn::Abs(tvz), stretch), hn::Abs(bvz)), radius);
   ok = hn::AndNot(hn::Lt(hn::Sub(depth, reach_z), hn::Set(d, s.near)), ok);
   // The quad's corners on screen (frame pixels) and their box.

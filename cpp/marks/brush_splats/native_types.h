@@ -53,6 +53,7 @@ struct Settings {
   bool splat_size = false;      // size_mode splat: each Gaussian splat's footprint
   bool opacity_weight = false;  // a Gaussian splat's opacity weighs its brush's alpha
   float epsilon = 0.0f, size_scale = 1.0f, world_radius = 0.0f, max_radius_px = 16.0f;
+  float support_along = 1.0f, support_across2 = 1.0f;  // brush_support()
   int tangent_frame = 0;
   float angle = 0.0f, jitter = 0.0f;
   uint32_t seed = 0;
