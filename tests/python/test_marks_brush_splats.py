@@ -69,6 +69,23 @@ def test_amplitude_scales_the_opacity(renderer):
     assert np.allclose(a2[both], 2.0 * a1[both], rtol=1e-4, atol=1e-5)
 
 
+@pytest.mark.parametrize("rasterizer", ["gl", "native"])
+@pytest.mark.parametrize("preset", ["Impressionist", "Pointillist"])
+def test_max_radius_bounds_how_far_a_brush_reaches(renderer, preset, rasterizer):
+    # An isolated point's brush far larger than the bound: whatever its
+    # shape (Gaussians near the square's corners, or one round one in the
+    # middle), nothing is drawn farther than max_radius from its point, and
+    # the bound is what it draws to (not the corner's reach for a round one).
+    from pointnpr import presets
+    brush = {k: v for k, v in presets.PRESETS[preset]["mark"][1].items()
+             if k in ("gaussians", "amplitude", "dev", "lambda", "sigma_x", "sigma_y")}
+    bound = 12.0
+    alpha = brush_alpha(renderer, world_radius=2.0, max_radius=bound, rasterizer=rasterizer, **brush)
+    ys, xs = np.nonzero(alpha > 0)
+    reach = np.hypot(xs + 0.5 - SIZE / 2, ys + 0.5 - SIZE / 2).max()
+    assert bound - 3.0 < reach <= bound + 0.75, reach
+
+
 def _fill_ratio(alpha):
     """Area of the region above half the peak over its bounding box."""
     region = alpha > 0.5 * alpha.max()
