@@ -57,6 +57,13 @@ CLOSE_RADIUS = la.CLOSE_RADIUS
 STRAY_PX, STRAY_ALPHA = 12, 0.05
 COVER_MARGIN = 64  # px: beyond the largest mark's reach (a brush's 3x elongation)
 HOLE_LIMIT, R_LIMIT, FLICKER_LIMIT = 1.0, 0.7, 1.1
+
+
+def SURFACE(spacing):
+    """The points mark drawn as the scan's surface: discs twice its median
+    spacing across, so a sparse scan's back points do not show through the
+    gaps of its front (the Lambert reference is the front surface's)."""
+    return {"size_mode": "world", "world_size": 2.0 * spacing}
 BLOCK = 16
 ORBIT_FRAMES, ORBIT_STEP = 6, 0.5
 LIGHT_DRAWINGS = {"Chalk"}  # its X-Toon draws light strokes where lit (docs/marks.md)
@@ -141,21 +148,46 @@ def flicker(renderer, cloud, centre, mark, filters, world_from_camera, clip):
     return float(np.mean(mads)) / detail if detail > 0 else float("nan")
 
 
-def coverage(renderer, cloud, pos, centre, world_from_camera, clip, reach=0):
+def light_world(light, world_from_camera):
+    """Toward the light in world axes (render/mark.cpp's view_light_direction)."""
+    a, e = np.radians(light.get("light_azimuth", 135.0)), np.radians(light.get("light_elevation", 45.0))
+    if light.get("light_space") == "camera":  # elevation away from the view axis, azimuth around it
+        return np.asarray(world_from_camera)[:3, :3] @ np.array([np.sin(e) * np.cos(a), np.sin(e) * np.sin(a),
+                                                                  np.cos(e)])
+    return np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+
+
+def lambert_reference(pos, centre, normals, light, world_from_camera):
+    """A white scan lit by the preset's light as a surface seen from the
+    camera: each point's normal turned toward the camera (the side it shows
+    it), max(N.L, 0) as its grey. A surface turned away from a light behind
+    it is dark (|N.L|, the points mark's two-sided shading, lit it)."""
+    shade = np.clip(normals @ light_world(light, world_from_camera), 0.0, 1.0)
+    # Point colours are display sRGB; the render is linear: encode, so it reads `shade`.
+    srgb = np.where(shade <= 0.0031308, 12.92 * shade, 1.055 * shade ** (1 / 2.4) - 0.055).astype(np.float32)
+    return la._cloud(pos, {}, colors=np.repeat(srgb[:, None], 3, axis=1))[0]
+
+
+def median_spacing(pos, centre):
+    """The scan's median spacing: the mean distance to 8 neighbours."""
+    r, _eps = pointnpr.local_resolution(np.asarray(pos - centre, np.float64), 8)
+    return float(np.median(r))
+
+
+def coverage(renderer, cloud, spacing, centre, world_from_camera, clip, reach=0):
     """The points' own coverage grown by `reach` px: each point a disc as
     wide as twice the scan's median spacing (its typical neighbourhood, so
     a sparse surface near the camera closes and an isolated point stays
     small), drawn on a frame COVER_MARGIN px larger on every side with the
     same pixel scale, grown there (points just outside the picture reach
     into it), then cropped."""
-    r, _eps = pointnpr.local_resolution(np.asarray(pos - centre, np.float64), 8)
     w, h = W + 2 * COVER_MARGIN, H + 2 * COVER_MARGIN
     wide = pointnpr.Camera.perspective(world_from_camera, lens=35.0 * W / w, clip_start=clip[0], clip_end=clip[1],
                                        width=w, height=h)
     scene = pointnpr.Scene()
     shift = np.eye(4)
     shift[:3, 3] = centre
-    discs = {"size_mode": "world", "world_size": 2.0 * float(np.median(r))}
+    discs = {"size_mode": "world", "world_size": 2.0 * spacing}
     scene.add_segment("scan", pointnpr.Style(mark=("points", discs)), [(cloud, shift)])
     covered = np.asarray(renderer.render(scene, wide, w, h).color)[..., 3] > 0
     if reach:
@@ -167,13 +199,15 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
     cam = pointnpr.Camera.perspective(world_from_camera, lens=35.0, clip_start=clip[0], clip_end=clip[1],
                                       width=W, height=H)
     cloud, centre = la._cloud(pos, attrs)
-    white, _ = la._cloud(pos, {}, colors=np.ones((len(pos), 3), np.float32))
+    eye = np.asarray(world_from_camera)[:3, 3]
+    normals = pointnpr.estimate_normals(np.asarray(pos - centre, np.float64), 16, orient_toward=eye - centre)
     base = la._render(renderer, cloud, centre, ("points", {"point_size": 3.0}), [], cam)
     filled = la.erode(la.dilate(base[..., 3] >= 0.5, CLOSE_RADIUS), CLOSE_RADIUS)
-    near = coverage(renderer, cloud, pos, centre, world_from_camera, clip, STRAY_PX)
+    spacing = median_spacing(pos, centre)
+    near = coverage(renderer, cloud, spacing, centre, world_from_camera, clip, STRAY_PX)
     # The baseline of a colourless scan is its lit shape (flat grey has no detail to compare with).
     lit = {} if attrs else {"shading": "diffuse"}
-    base_flicker = flicker(renderer, cloud, centre, ("points", {"point_size": 3.0, **lit}), [], world_from_camera,
+    base_flicker = flicker(renderer, cloud, centre, ("points", {**SURFACE(spacing), **lit}), [], world_from_camera,
                            clip) if with_orbit else None
     rows, tiles = [], {m: [base] for m in MARKS}
     for preset in preset_names:
@@ -185,9 +219,9 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
         drawn = img[..., 3] > STRAY_ALPHA
         stray = drawn & ~near
         holes = filled & (img[..., 3] < 0.5)
-        lambert = la._render(renderer, white, centre, ("points", {
-            "shading": "diffuse", "shading_strength": 1.0, "color_source": "rgb", "point_size": 3.0,
-            **light_of(mark, params)}), [], cam)
+        lit_scan = lambert_reference(pos, centre, normals, light_of(mark, params), world_from_camera)
+        lambert = la._render(renderer, lit_scan, centre, ("points", {"color_source": "rgb", **SURFACE(spacing)}), [],
+                             cam)
         r = tone_r(ink_of(img, mark, params), lambert, filled)
         r = -r if preset in LIGHT_DRAWINGS else r
         fl = (flicker(renderer, cloud, centre, (mark, params), spec["filters"], world_from_camera, clip) / base_flicker

@@ -40,9 +40,10 @@ layout(std430, binding = 12) buffer Globals {
 };
 layout(std430, binding = 15) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices (u_queue)
 uniform int u_queue;  // 1: invocation i takes the chunk's i-th point of the resolution queue
-// level_scale spacing: the points' spacing (the normals' binding: stipples read none) and the
-// chunk's cell width over it (spacing_cell_scale).
-layout(std430, binding = 2) readonly buffer PointSpacing { float point_spacing[]; };
+// level_scale spacing: the points' spacing (the colour attribute's binding: stipples read none)
+// and the chunk's cell width over it (spacing_cell_scale). lit_rule share reads the normals
+// (point_attributes.glsl's binding 2, view_normal).
+layout(std430, binding = 1) readonly buffer PointSpacing { float point_spacing[]; };
 uniform float u_spacing_cell_scale;
 struct Captured { vec4 center_id; };  // view-space centre, point id (bits)
 layout(std430, binding = 13) writeonly buffer Capture { Captured capture[]; };
@@ -125,14 +126,14 @@ void main() {
   Pt p = project(point_position(index), u_view_from_chunk);
 #if defined(PASS_PROJECT)
   if (u_project_hp != 0 && p.inside) atomicMin(hp[fine_index(p.fine)], floatBitsToUint(p.depth));
-  if (u_project_quad != 0 && u.diffuse != 0 && u.casters_all != 0 && p.in_depth)
+  if (u_project_quad != 0 && u.quadtree != 0 && u.casters_all != 0 && p.in_depth)
     atomicMin(quad[quad_index(light_texel(p.view, u.levels), u.levels)], light_key(p.view));
 #elif defined(PASS_VISIBLE)
   if (!hp_visible(p)) return;
   bool frame = u_accumulate != 0 && owned(p);
   if (owned(p)) atomicAdd(visible_count, 1u);
   atomicMin(hp_out[fine_index(p.fine)], floatBitsToUint(p.depth));  // the visible surface, spread for the paper
-  if (frame && u.diffuse != 0 && u.casters_all == 0)
+  if (frame && u.quadtree != 0 && u.casters_all == 0)
     atomicMin(quad[quad_index(light_texel(p.view, u.levels), u.levels)], light_key(p.view));
   if (u.specular != 0 || u.tone_scale > 0.0) atomicAdd(eye_count[eye_index(p.center)], 1u);
   if (u.specular != 0 && frame) atomicAdd(light_count[light_cell_index(p.view)], 1u);
@@ -147,9 +148,11 @@ void main() {
   uint id = point_ids[index];
   if (u_opacity_draws != 0 && !(id_rand(id, kOpacitySalt, 0u) < splat_opacity[index])) return;
   float cell_target = u.level_from_spacing != 0 ? point_spacing[index] * u_spacing_cell_scale : 0.0;
-  if (u.diffuse != 0 && lit_out(p, id, cell_target)) return;
+  float lit = u.diffuse != 0 ? lit_scale(p, id, cell_target, u.lit_share != 0 ? packed_view_normal(normals_u[index], u_view_from_chunk) : vec3(0.0)) : 1.0;
+  if (lit <= 0.0) return;
   if (u.specular != 0 && u.tau > 0.0 && specular_out(id, specular_measure(p, cell_target), u_spec_ref)) return;
   Dot dot = tone_dot(p, id);
+  dot.diameter *= lit;
   if (dot.diameter <= 0.0) return;
   float diameter = dot.diameter;
   atomicAdd(kept_count, 1u);

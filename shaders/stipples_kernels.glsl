@@ -75,30 +75,6 @@ uint quad_index(ivec2 t, int level) {
   int x0 = (2 << u.levels) - (2 << level);
   return uint(t.y) * uint(2 << u.levels) + uint(x0 + t.x);
 }
-// The caster closest to the light in its cell of the diffuse LEVEL (the
-// finer level with probability frac) stays paper. With the level from the
-// spacing, the point's level is the one whose cells are `cell_target` wide
-// (its own spacing, scaled by LEVEL): between two levels' widths, the finer
-// with the share of the way to it. A surface facing the light then holds
-// about one point per cell, and the share of points hidden follows N.L
-// wherever the scan is denser or sparser.
-bool lit_out(Pt p, uint id, float cell_target) {
-  int level = u.level_lo;
-  float frac = u.level_frac;
-  if (u.level_from_spacing != 0) {
-    float cell = u.light_extent;
-    level = 0;
-    while (level < u.levels && 0.5f * cell >= cell_target) {
-      cell = 0.5f * cell;
-      level += 1;
-    }
-    frac = level < u.levels ? clamp(2.0f - 2.0f * cell_target / cell, 0.0f, 1.0f) : 0.0f;
-  }
-  level += hash01(id, 1u) < frac ? 1 : 0;
-  ivec2 t = light_texel(p.view, u.levels) >> (u.levels - level);
-  return quad_at(quad_index(t, level)) == light_key(p.view);
-}
-
 // The eye cell along one axis of a position in frame pixels.
 int eye_axis(float pixel, int eye_min, int cells) {
   return floor_clamp(floor(pixel / u.eye_cell) - float(eye_min), 0, cells - 1);
@@ -142,19 +118,13 @@ vec2 eye_sums(vec2 center) {
   return vec2(points, covered);
 }
 
-// Area per point on the eye and light planes around a point: a surface of
-// a points per unit area shows a (n.v) and a (n.l) there, so their sum
-// grows with n.(v + l): largest where the surface faces the half-way
-// direction of eye and light (the highlight). Scene units^2. Both sums run
-// over a window 3 cells wide centred on the point (eye_sums).
-float specular_raw(Pt p) {
-  vec2 sums = eye_sums(p.center);
-  float points = sums.x, covered = sums.y;
+// The light plane's area per visible point around a point: a surface of
+// area a per point shows a |n.l| of it to the light. Scene units^2, over a
+// window 3 light cells wide centred on the point, each cell weighted by its
+// overlap with it.
+float light_area(Pt p) {
   float ox[4];
   float oy[4];
-  float wd = u.ortho != 0 ? 1.0f : p.depth;
-  float px_area = wd / u.px_per_unit;
-  float eye_area = covered / (u.factor * u.factor) * px_area * px_area / max(points, 1.0f);
   vec2 l = light_uv(p.view) * float(u.light_cells);
   ivec2 l0 = ivec2(int(floor(l.x - 1.5f)), int(floor(l.y - 1.5f)));
   for (int k = 0; k <= 3; ++k) {
@@ -172,8 +142,81 @@ float specular_raw(Pt p) {
       occupied += n > 0u ? w : 0.0f;
     }
   float cell = u.light_extent / float(u.light_cells);
-  float light_area = occupied * cell * cell / max(lpoints, 1.0f);
-  return eye_area + light_area;
+  return occupied * cell * cell / max(lpoints, 1.0f);
+}
+
+// order_key's float.
+float key_value(uint k) { return uintBitsToFloat((k & 0x80000000u) != 0u ? k & 0x7fffffffu : ~k); }
+
+// A point's normal (snorm8 in chunk space, point_attributes.glsl's) in view
+// space, unit (zero: none), written out so both backends round alike. The
+// view's own matrix turns it: exact for rotations and uniform scales, the
+// transforms scans are placed with.
+vec3 packed_view_normal(uint bits, mat4 view_from_chunk) {
+  vec4 n = unpackSnorm4x8(bits);
+  PRECISE vec4 v = mat_vec(view_from_chunk, vec4(n.x, n.y, n.z, 0.0f));
+  PRECISE float len = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+  return len > 0.0f ? vec3(v.x / len, v.y / len, v.z / len) : vec3(0.0f);
+}
+
+// How much of a point's dot the light leaves (diffuse): 1 whole, 0 none.
+// Its cell of the diffuse LEVEL (the finer level with probability frac) in
+// the light-view quadtree; with the level from the spacing, the level whose
+// cells are `cell_target` wide (its own spacing, scaled by LEVEL): between
+// two levels' widths, the finer with the share of the way to it.
+// nearest (the paper's): the caster closest to the light in the cell stays
+// paper. A surface facing the light holds about one point per cell, so the
+// share hidden follows N.L; but which point is nearest changes as the
+// cells of a light that turns with the camera slide over the points.
+// share: a point the light reaches (with cast shadows, no farther from it
+// than its cell's nearest plus the visibility step: the eye's rule, seen
+// from the light) is hidden with the chance the nearest rule gives on
+// average, its N.L times u.share_scale (n: its normal in view space,
+// packed_view_normal, turned toward the eye), against a number fixed per
+// point, so the same dots stay as the light turns; its dot shrinks over
+// the last fifth of that chance before it goes, so a moving light fades
+// dots instead of popping them.
+float lit_scale(Pt p, uint id, float cell_target, vec3 n) {
+  int level = u.level_lo;
+  float frac = u.level_frac;
+  if (u.level_from_spacing != 0) {
+    float cell = u.light_extent;
+    level = 0;
+    while (level < u.levels && 0.5f * cell >= cell_target) {
+      cell = 0.5f * cell;
+      level += 1;
+    }
+    frac = level < u.levels ? clamp(2.0f - 2.0f * cell_target / cell, 0.0f, 1.0f) : 0.0f;
+  }
+  level += hash01(id, 1u) < frac ? 1 : 0;
+  if (u.quadtree != 0) {
+    // The share's shadows one level coarser: cells twice as wide hold a
+    // caster wherever a nearer surface is about as dense as the lit one.
+    if (u.lit_share != 0) level = max(level - 1, 0);
+    ivec2 t = light_texel(p.view, u.levels) >> (u.levels - level);
+    uint nearest = quad_at(quad_index(t, level));
+    uint key = light_key(p.view);
+    if (u.lit_share == 0) return nearest == key ? 0.0f : 1.0f;
+    if (!(key_value(key) <= key_value(nearest) + u.offset)) return 1.0f;  // in the shadow of nearer casters
+  }
+  PRECISE float toward_eye = u.ortho != 0 ? n.z : -(n.x * p.view.x + n.y * p.view.y + n.z * p.view.z);
+  PRECISE float nl = n.x * u.light_dir.x + n.y * u.light_dir.y + n.z * u.light_dir.z;
+  float share = max(toward_eye < 0.0f ? -nl : nl, 0.0f) * u.share_scale;
+  return clamp((hash01(id, 7u) - share) * 5.0f + 1.0f, 0.0f, 1.0f);
+}
+
+// Area per point on the eye and light planes around a point: a surface of
+// a points per unit area shows a (n.v) and a (n.l) there, so their sum
+// grows with n.(v + l): largest where the surface faces the half-way
+// direction of eye and light (the highlight). Scene units^2. Both sums run
+// over a window 3 cells wide centred on the point (eye_sums, light_area).
+float specular_raw(Pt p) {
+  vec2 sums = eye_sums(p.center);
+  float points = sums.x, covered = sums.y;
+  float wd = u.ortho != 0 ? 1.0f : p.depth;
+  float px_area = wd / u.px_per_unit;
+  float eye_area = covered / (u.factor * u.factor) * px_area * px_area / max(points, 1.0f);
+  return eye_area + light_area(p);
 }
 
 // The specular measure: specular_raw, or with the level from the spacing

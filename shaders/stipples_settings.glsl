@@ -36,8 +36,11 @@ SETTINGS_BLOCK(StippleSettings, 0)
   float size_jitter;
   uint seed;
   int capture;
-  int level_from_spacing;  // 1: each point's level from its spacing (lit_out's cell_target)
+  int level_from_spacing;  // 1: each point's level from its spacing (lit_scale's cell_target)
   float tone_scale;   // dot_size dots wanted per pixel of surface (-ln(1 - tone) / dot area); 0: off
+  int lit_share;      // 1: lit points hidden by the share of N.L (lit_scale), 0: the cell's nearest (the paper's)
+  float share_scale;  // lit_scale's share per unit of N.L
+  int quadtree;       // 1: the light-view quadtree is built (nearest, or share with cast shadows)
 END_SETTINGS_BLOCK(u)
 
 // A piece of the frame: its fine texture (frame texels [fine_min,

@@ -201,23 +201,23 @@ PRESETS = {
     # light-view quadtree (diffuse only), its cells from each point's own
     # spacing, the dots' density set by the tone whatever the scan's.
     "Stipple diffuse": {
-        "mark": ("stipples", {"level": 9.0, "level_scale": "spacing", "tone": 0.7, "light_azimuth": 135.0,
+        "mark": ("stipples", {"level": 8.5, "level_scale": "spacing", "tone": 0.7, "light_azimuth": 135.0,
                               "light_elevation": 50.0}),
         "filters": [],
     },
     # The same with highlights opened where the surface faces between eye
     # and light (diffuse + specular).
     "Stipple specular": {
-        "mark": ("stipples", {"level": 9.0, "level_scale": "spacing", "tone": 0.7, "light_azimuth": 135.0,
+        "mark": ("stipples", {"level": 8.5, "level_scale": "spacing", "tone": 0.7, "light_azimuth": 135.0,
                               "light_elevation": 50.0, "specular": True, "tau": 0.25}),
         "filters": [],
     },
     # Ink stippling: smaller sepia dots of varying size on cream paper, a
-    # finer quadtree level (more thinning in the light) and a highlight.
+    # key light from higher left and a narrower highlight.
     # (Colours are binary fractions: float32 Blender properties hold them exactly.)
     "Ink stippling": {
         "mark": ("stipples", {"dot_size": 1.6, "size_jitter": 0.5, "dot_color": (0.1875, 0.09375, 0.046875, 1.0),
-                              "paper_color": (0.96875, 0.9296875, 0.84375, 1.0), "level": 9.0, "level_scale": "spacing", "tone": 0.7,
+                              "paper_color": (0.96875, 0.9296875, 0.84375, 1.0), "level": 8.5, "level_scale": "spacing", "tone": 0.7,
                               "light_azimuth": 120.0,
                               "light_elevation": 45.0, "specular": True, "tau": 0.15}),
         "filters": [],

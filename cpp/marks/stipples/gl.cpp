@@ -28,12 +28,15 @@ uint32_t bind_queued_chunk(const gl::Program& prog, const VisibleChunk& v, const
   const ParamValues& p = *s.params;
   bind_chunk(prog, v, ColorSource::Constant,
              {{6, v.gpu->find({AttributeKind::PointId})},
-              {2, v.gpu->find({AttributeKind::LocalResolution, kStippleSpacingNeighbors})}});
+              {1, v.gpu->find({AttributeKind::LocalResolution, kStippleSpacingNeighbors})},
+              {2, v.gpu->find({AttributeKind::Normal, kStippleNormalNeighbors})}});
   if (s.u.level_from_spacing) {
     if (!v.gpu->find({AttributeKind::LocalResolution, kStippleSpacingNeighbors}))
       throw GLError("stipples: the points' spacing was not uploaded");
     glUniform1f(prog.location("u_spacing_cell_scale"), spacing_cell_scale(s, v));
   }
+  if (s.u.lit_share && !v.gpu->find({AttributeKind::Normal, kStippleNormalNeighbors}))
+    throw GLError("stipples: the points' normals were not uploaded");
   const bool queued = draws_queue(v, p);
   glUniform1i(prog.location("u_queue"), queued ? 1 : 0);
   if (!queued) return v.chunk->count;

@@ -39,6 +39,7 @@
 #include "marks/stipples/native_parts.h"
 #include "marks/stipples/stipples.h"
 #include "render/native_raster.h"
+#include "render/gpu_cloud.h"
 #include "scene/point_cloud.h"
 #include "scene/splat_attributes.h"
 
@@ -74,6 +75,7 @@ using Pt = Kernels::Pt;
 // points.glsl's and stipples.comp's kOpacitySalt: the splats the points mark draws.
 constexpr uint32_t kOpacitySalt = 0x6f706163u;
 using StipplePixel = Kernels::StipplePixel;
+
 
 class NativeStipplePasses final : public StipplePasses {
  public:
@@ -122,7 +124,7 @@ class NativeStipplePasses final : public StipplePasses {
     window_chunks_ = chunks;
     uint32_t* point_texel = sized(host_.point_texel, points_);
     uint32_t* point_depth = sized(host_.point_depth, points_);
-    const bool cast_all = casters && s_.u.diffuse && s_.u.casters_all;
+    const bool cast_all = casters && s_.u.quadtree && s_.u.casters_all;
     for_points([&](const HostChunk& c, uint32_t begin, uint32_t end) {
       for (uint32_t i = begin; i < end; ++i) {
         const Pt p = project(c, local_index(c, i));
@@ -142,7 +144,7 @@ class NativeStipplePasses final : public StipplePasses {
     // The visible points: counted, their surface, the frame's counts.
     timer.emplace(ctx_.stats, "stipples_native_visible_ms");
     std::atomic<uint32_t> visible{0};
-    const bool visible_casters = for_frame && s_.u.diffuse && !s_.u.casters_all;
+    const bool visible_casters = for_frame && s_.u.quadtree && !s_.u.casters_all;
     const bool projects = visible_casters || s_.counts_eye();  // else the texel and depth are all it needs
     for_points([&](const HostChunk& c, uint32_t begin, uint32_t end) {
       uint32_t owned_visible = 0;
@@ -297,14 +299,19 @@ class NativeStipplePasses final : public StipplePasses {
           const uint32_t id = c.ids[local];
           if (c.opacity && !(glsl::id_rand(id, kOpacitySalt, 0u) < c.opacity[local])) continue;
           const float cell_target = c.spacing ? c.spacing[local] * c.spacing_cell_scale : 0.0f;
-          if (s_.u.diffuse && k_.lit_out(p, id, cell_target)) continue;
+          const float lit = s_.u.diffuse ? k_.lit_scale(
+                                   p, id, cell_target,
+                                   c.normals ? k_.packed_view_normal(pack_normal(c.normals[local]), c.view_from_chunk)
+                                             : glm::vec3(0.0f)) : 1.0f;
+          if (lit <= 0.0f) continue;
           // The specular measure where the histogram took it in this window.
           if (s_.u.specular && s_.u.tau > 0.0f &&
               k_.specular_out(
                   id, spec_cached && k_.owned(p) ? point_spec[c.slot + i] : k_.specular_measure(p, cell_target),
                   spec_ref))
             continue;
-          const Kernels::Dot dot = k_.tone_dot(p, id);
+          Kernels::Dot dot = k_.tone_dot(p, id);
+          dot.diameter *= lit;
           if (dot.diameter <= 0.0f) continue;
           const float diameter = dot.diameter;
           ++item_kept;
@@ -393,6 +400,7 @@ class NativeStipplePasses final : public StipplePasses {
     items_.clear();
     clouds_.clear();
     resolutions_.clear();
+    normals_.clear();
     for (const VisibleChunk& v : chunks) {
       std::shared_ptr<const PointCloud> cloud = chunk_cloud(v, "stipples");
       HostChunk c;
@@ -408,6 +416,16 @@ class NativeStipplePasses final : public StipplePasses {
         resolutions_.push_back(cloud->analysis().surface_resolution(kStippleSpacingNeighbors));
         c.spacing = resolutions_.back()->r.data() + v.chunk->first;
         c.spacing_cell_scale = spacing_cell_scale(s_, v);
+      }
+      if (s_.u.lit_share) {
+        // The normals the GL passes read (render/gpu_cloud.cpp): the scan's own, else estimated.
+        if (v.gpu->own_normals) {
+          c.normals = cloud->normals().data() + v.chunk->first;
+        } else {
+          normals_.push_back(cloud->analysis().normals(
+              {kStippleNormalNeighbors, geometry::Orientation::Consistent, {}}));
+          c.normals = normals_.back()->data() + v.chunk->first;
+        }
       }
       c.slot = uint32_t(points_);
       points_ += c.count;
@@ -455,6 +473,7 @@ class NativeStipplePasses final : public StipplePasses {
   std::vector<Item> items_;
   std::vector<std::shared_ptr<const PointCloud>> clouds_;  // held while their points are read
   std::vector<std::shared_ptr<const geometry::LocalResolution>> resolutions_;  // and their spacing
+  std::vector<std::shared_ptr<const std::vector<glm::vec3>>> normals_;         // estimated normals (lit_rule share)
   std::vector<std::vector<float>> opacities_;              // attach_opacities()
   std::vector<uint32_t> hist_, eye_count_, eye_cover_;
   uint32_t* quad_ = nullptr;         // host_.quad

@@ -53,6 +53,7 @@ struct HostChunk {
   uint32_t slot = 0;  // the pass's index of its first point (the per-point arrays')
   const float* spacing = nullptr;  // level_scale spacing: its points' spacing
   float spacing_cell_scale = 0.0f;   // and their cell width over it (spacing_cell_scale)
+  const glm::vec3* normals = nullptr;  // lit_rule share: its points' normals (packed as the GPU's are)
   glm::mat4 view_from_chunk{1.0f};
 };
 

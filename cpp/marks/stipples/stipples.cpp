@@ -59,6 +59,11 @@ bool counts_eye(const ParamValues& p) { return p.get_bool("specular") || p.get_f
 bool level_from_spacing(const ParamValues& p) {
   return p.get_bool("diffuse") && p.get_enum_name("level_scale") == "spacing";
 }
+bool lit_share(const ParamValues& p) { return level_from_spacing(p) && p.get_enum_name("lit_rule") == "share"; }
+// Area per point over the squared spacing (the mean distance to 8
+// neighbours): a square grid's, spacing (4 + 4 sqrt 2) / 8 of its step.
+constexpr double kAreaPerSpacing = 0.686;
+
 
 class Stipples final : public Mark {
  public:
@@ -67,6 +72,7 @@ class Stipples final : public Mark {
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
     if (p.get_bool("opacity_draws")) set.insert({AttributeKind::SplatOpacity});
     if (level_from_spacing(p)) set.insert({AttributeKind::LocalResolution, kStippleSpacingNeighbors});
+    if (lit_share(p)) set.insert({AttributeKind::Normal, kStippleNormalNeighbors});
     return set;
   }
 
@@ -230,6 +236,9 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
                                                        glm::dot(view_translation, glm::dvec3(up))));
 
   const bool diffuse = p.get_bool("diffuse"), casters_all = p.get_enum_name("shadow_casters") == "all";
+  // The light-view quadtree: the nearest rule's, and the share rule's cast shadows.
+  const bool quadtree = diffuse && !(lit_share(p) && p.get_enum_name("shadow_casters") == "none");
+  u.quadtree = quadtree ? 1 : 0;
   u.diffuse = diffuse ? 1 : 0;
   u.casters_all = casters_all ? 1 : 0;
   double level = p.get_float("level");
@@ -255,6 +264,12 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   }
   u.level_lo = std::min(int(std::floor(level)), u.levels);
   u.level_frac = float(level - std::floor(level));
+  u.lit_share = lit_share(p) ? 1 : 0;
+  // The share of lit points the nearest rule hides on average: a point's
+  // area on the light's plane (its surface area, a (n.l)) over its cell's
+  // (w^2). Its area is kAreaPerSpacing times its spacing squared, and its
+  // cell is its spacing times 2^(8 - LEVEL) wide.
+  u.share_scale = float(kAreaPerSpacing * std::exp2(2.0 * (level - 8.0)));
   const bool specular = p.get_bool("specular");
   u.specular = specular ? 1 : 0;
   u.tau = float(p.get_float("tau"));
@@ -287,8 +302,8 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   float spec_ref = 1.0f;
   if (!tiled) {
     // The frame whole: one window does the frame's counts and the drawing.
-    passes->hidden_points(draw_window, ctx.chunks, true, diffuse && casters_all, true);
-    if (diffuse) passes->reduce_quadtree();
+    passes->hidden_points(draw_window, ctx.chunks, true, quadtree && casters_all, true);
+    if (quadtree) passes->reduce_quadtree();
     if (s.counts_eye()) passes->cover();
     if (specular) {
       passes->specular_histogram(ctx.chunks);
@@ -302,7 +317,7 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     std::unique_ptr<StippleFrameState> uncached;  // without a frame cache, each tile computes it again
     if (!cached) {
       auto state = std::make_unique<StippleFrameState>();
-      if (diffuse && casters_all) passes->project_casters(frame_chunks);
+      if (quadtree && casters_all) passes->project_casters(frame_chunks);
       // Visibility reads `iterations` texels; an eye cell's sums read 2.5
       // cells and its closed coverage 2 x iterations texels beyond.
       const int visibility_halo = int(std::ceil(float(s.iterations) / f)) + 2;
@@ -328,9 +343,9 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
         }
         return std::span<const VisibleChunk>(reaching);
       };
-      if ((diffuse && !casters_all) || specular)
+      if ((quadtree && !casters_all) || specular)
         for (const StippleWindow& w : sweep(visibility_halo)) passes->hidden_points(w, chunks_in(w), true, false, false);
-      if (diffuse) passes->reduce_quadtree();
+      if (quadtree) passes->reduce_quadtree();
       if (specular) {
         for (const StippleWindow& w : sweep(specular_halo)) {
           const std::span<const VisibleChunk> chunks = chunks_in(w);
@@ -416,16 +431,17 @@ const MarkRegistration registration{{
                float_param("resolution_factor", 1.25, 1.0, 4.0, "",
                            "Hidden-point texture size over the screen's (larger: fewer front points lost where "
                            "they crowd, more iterations needed)"),
-               light_space_param(),
+               // A key light with the camera by default (a world light's Z axis lit Y-down depth frames
+               // from behind); files saved before keep the world light.
+               default_changed(light_space_param(1), {0.0}),
                light_azimuth_param(135.0),
                light_elevation_param(50.0),
                bool_param("diffuse", true, "Thin lit surfaces by the light-view quadtree"),
                only_when(default_changed(float_param("level", 9.0, 0.0, 11.0, "",
                                                      "Quadtree LEVEL: 2^LEVEL cells across the segment seen from the "
-                                                     "light (per point from its spacing with level_scale spacing); the "
-                                                     "point closest to the light in each is hidden (higher: more "
-                                                     "cells, lit areas thinner; fractions blend adjacent levels point "
-                                                     "by point)"),
+                                                     "light (per point from its spacing with level_scale spacing); about "
+                                                     "one point the light reaches in each is hidden (lit_rule; higher: "
+                                                     "more cells, lit areas thinner; fractions blend adjacent levels)"),
                                          {7.0}),
                          "diffuse", {"true"}),
                only_when(default_changed(enum_param("level_scale", {"absolute", "point_count", "spacing"}, 2,
@@ -436,9 +452,24 @@ const MarkRegistration registration{{
                                     "where the scan is denser or sparser"),
                                          {0.0}),
                          "diffuse", {"true"}),
-               only_when(enum_param("shadow_casters", {"all", "visible"}, 0,
-                                    "Points the light sees: all (hidden ones too, so surfaces behind others from the "
-                                    "light stay dense: shadows) or only the visible ones (as the paper's text)"),
+               only_when(added_later(enum_param("lit_rule", {"share", "nearest"}, 0,
+                                                "Which lit points stay paper: share: each point the light reaches "
+                                                "(no nearer caster in its cell) by the chance the nearest rule "
+                                                "gives on average, from its normal's N.L, against a number fixed "
+                                                "per point (the same dots as a camera light turns); nearest: the "
+                                                "point closest to the light in each cell (the paper's, no normals; "
+                                                "its dots change as a turning light's cells slide)"),
+                                     {1.0}),
+                         "level_scale", {"spacing"}),
+               // No cast shadows by default: a light turning with the camera slides its cells
+               // over the points, and shadows cut by them flicker (files saved before keep all).
+               only_when(default_changed(enum_param("shadow_casters", {"all", "visible", "none"}, 2,
+                                                    "Points the light sees: all (hidden ones too, so surfaces behind "
+                                                    "others from the light stay dense: shadows), only the visible "
+                                                    "ones (as the paper's text), or none: no cast shadows, each point "
+                                                    "lit by its own N.L (lit_rule share; the nearest rule needs "
+                                                    "casters and takes the visible ones)"),
+                                         {0.0}),
                          "diffuse", {"true"}),
                bool_param("specular", false, "Open highlights where the surface faces between eye and light"),
                only_when(float_param("tau", 0.2, 0.0, 1.0, "",

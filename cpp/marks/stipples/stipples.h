@@ -21,6 +21,7 @@ namespace pointnpr {
 
 constexpr int kStippleHistogramBins = 1024;  // log2 of the specular measure, 8 bins per octave (specular_bin)
 constexpr int kStippleSpacingNeighbors = 8;  // a point's spacing: the mean distance to these nearest neighbours
+constexpr int kStippleNormalNeighbors = 16;  // lit_rule share's normals (estimated once where a scan has none)
 
 // What the passes read that is fixed for a frame: the kernels' settings
 // (shaders/stipples_settings.glsl: the camera's float projection, the fine
