@@ -244,8 +244,18 @@ std::vector<float> feature_degree(const LocalPoints& pts, const Neighborhoods& n
       const std::vector<float> e = intensity_edges(pts, nb, pca, intensity);
       for (size_t i = 0; i < edges.size(); ++i) edges[i] = std::max(edges[i], e[i]);
     }
+    // An edge saturates at `contrast`, or where the scan's colours vary
+    // everywhere (a textured cloth, a poster, grass) at kTextureMedians
+    // times its own median edge: texture then stays below the feature
+    // threshold and its edges above it (five medians is about the top 3 %
+    // of an exponential spread of edge strengths).
+    constexpr float kTextureMedians = 5.0f;
+    std::vector<float> sorted = edges;
+    std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
+    const float median = sorted.empty() ? 0.0f : sorted[sorted.size() / 2];
+    const float saturate = std::max(o.contrast, kTextureMedians * (std::isfinite(median) ? median : 0.0f));
     const float w = o.edge_weight;
-    for (size_t i = 0; i < g.size(); ++i) g[i] = (1.0f - w) * g[i] + w * std::min(1.0f, edges[i] / o.contrast);
+    for (size_t i = 0; i < g.size(); ++i) g[i] = (1.0f - w) * g[i] + w * std::min(1.0f, edges[i] / saturate);
   }
   advance(current_progress(), pts.size());
   return g;

@@ -52,7 +52,9 @@ float median_plane_deviation(const LocalPoints& pts, const Neighborhoods& nb_wit
 // detection filter on the color or intensity image", as a point-space edge
 // detector (edge_strength below) on CIELAB colours and on intensity as a
 // lightness (0-100 at its 99th percentile), the stronger of the two,
-// divided by `contrast` and clamped to [0, 1]. Result: (1 - w) * geometric
+// divided by `contrast` (or by five times its median over the cloud, where
+// that is larger: a textured scan's colours vary everywhere) and clamped
+// to [0, 1]. Result: (1 - w) * geometric
 // + w * edge (w = edge_weight; the geometric part alone without colours and
 // intensity). A cloud whose parts do not vary has feature degree 0
 // everywhere. LocalPoints order; colors/intensity in that order or empty.
