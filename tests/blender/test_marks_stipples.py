@@ -1,6 +1,7 @@
 """The stipples mark in Blender: its node comes from the schema (Marks
 category), it renders dots, and a stipple style reads no point attribute
-from the scene but the point ids."""
+from the scene but the point ids and, for its default light rule (share:
+N.L from each point's normal), the normals."""
 import bpy
 import numpy as np
 import pointnpr
@@ -33,7 +34,10 @@ def test_stipples_mark_node_has_its_schema_parameters(scene):
     assert desc["mark"][0] == "stipples" and desc["warnings"] == []
     style = nodes.make_core_style(desc)
     assert style.mark[0] == "stipples"
-    assert style.source_attributes == ["point_index"]  # no normals, no colours
+    assert style.source_attributes == ["point_index", "normals"]  # no colours
+    node.lit_rule = "nearest"  # the paper's rule: positions and ids alone
+    style = nodes.make_core_style(nodes.read_style(tree, 1.0))
+    assert style.source_attributes == ["point_index"]
 
 
 def test_stipples_mark_renders_and_level_changes_it(tmp_path):
