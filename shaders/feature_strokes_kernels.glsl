@@ -35,8 +35,16 @@ Record place_record(uint index, uint id, vec4 v) {
   uint kind;
   vec3 dir = vec3(0.0f);
   float grow = 1.0f;  // the dithering mark's size: with a tone, larger where the points are too sparse
+  float weight = 1.0f;  // a feature primitive's width: with a line tone, thinner in the light
   if (feature) {
     kind = 1u;
+    // Line weight from the light (lit chunks): the width times
+    // mix(1, 2 (1 - the tone of white under the light), line_tone), as
+    // dither_tone raises the dithering's odds; at least a fifth.
+    if (lit() && u.line_tone > 0.0f) {
+      float shade = diffuse_shaded(vec3(1.0f), point_normal(index), vec3(u.light_dir), u.shading_strength).x;
+      weight = max(1.0f + u.line_tone * (2.0f * (1.0f - shade) - 1.0f), 0.2f);
+    }
     if (u.use_lines != 0 && has_lines()) {
       uint line_bits = point_line(index);
       float err = float(line_bits >> 24) / 255.0f;
@@ -89,7 +97,7 @@ Record place_record(uint index, uint id, vec4 v) {
     width = u.sprite_size;
   }
   len = len * grow;
-  width = width * grow;
+  width = width * grow * weight;
   rec.center_kind = vec4(vec3(v), float(kind));
   rec.dir_length = vec4(dir, len);
   rec.color = vec4(clamp(u.point_coloring != 0 ? vec3(color) : vec3(u.constant_color), 0.0f, 1.0f), u.opacity);

@@ -58,3 +58,30 @@ def test_an_unlit_tone_draws_the_same_strokes_on_both_paths(renderer):
         ids[path] = np.sort(np.asarray(r.marks["point_id"]))
     assert len(ids["gl"]) > 100
     assert np.array_equal(ids["gl"], ids["native"])
+
+
+def test_the_line_tone_thins_feature_lines_in_the_light(renderer, path):
+    # A wall whose every point is a feature point (colour noise: edges
+    # everywhere), drawn as short lines only, lit 20 and 70 degrees off its
+    # normal. With line_tone 1 the lines are thinner in the light (width x
+    # 2 (1 - shade), at least a fifth); with 0 the light leaves them alone.
+    pos, _ = wall(3.0, 2.4, 0.08, -5.0)
+    colors = np.random.default_rng(5).random((len(pos), 3)).astype(np.float32)
+    c = pointnpr.PointCloud(pos, colors=colors)
+
+    def ink(elevation, line_tone):
+        params = {"feature_threshold": 0.0, "directional": "none", "non_directional": "line_segment",
+                  "dithering": "none", "line_width": 1.0, "other_length": 4.0, "line_tone": line_tone,
+                  "shading": "diffuse", "shading_strength": 1.0, "color_source": "constant", "light_space": "camera",
+                  "light_azimuth": 0.0, "light_elevation": elevation, "rasterizer": path}
+        scene = pointnpr.Scene()
+        scene.add_segment("s", pointnpr.Style(mark=("feature_strokes", params)), [(c, np.eye(4))])
+        img = np.asarray(renderer.render(scene, camera(width=320, height=240), 320, 240).color)
+        return float(1.0 - img[60:180, 80:240, :3].mean())
+
+    plain = ink(20.0, 0.0), ink(70.0, 0.0)
+    toned = ink(20.0, 1.0), ink(70.0, 1.0)
+    assert plain[0] > 0.1 and abs(plain[0] - plain[1]) < 0.01, plain
+    # Measured: 0.18 and 0.18 plain; 0.13 and 0.20 toned (a line a fifth of a
+    # pixel wide still darkens the pixels it crosses a little).
+    assert toned[1] > 1.3 * toned[0] and toned[0] < plain[0] < toned[1], (plain, toned)

@@ -137,6 +137,7 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   u.opacity = float(p.get_float("opacity"));
   u.seed = uint32_t(p.get_int("seed"));
   u.tone = float(p.get_float("tone"));
+  u.line_tone = float(p.get_float("line_tone"));
   u.px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
   // One dithering mark's area on screen: a sprite's disc, a line's or a stroke's rectangle.
   const double other_length = p.get_float("other_length");
@@ -357,6 +358,12 @@ const MarkRegistration registration{{
                                        "density, distance and output size (overlaps cover 1 - exp(-that)); 0: the "
                                        "paper's range-aware odds (dither, dither_tone)"),
                            {0.0}),
+               only_when(added_later(float_param("line_tone", 0.0, 0.0, 1.0, "",
+                                                 "How much the light thins feature strokes, lines and sprites: "
+                                                 "their width times mix(1, 2 x (1 - their shade), this), from "
+                                                 "a fifth in full light to 1 + this in the dark (shading on)"),
+                                     {0.0}),
+                         "shading", {"diffuse", "auto"}),
                only_when(float_param("dither", 0.15, 0.0, 1.0, "",
                                      "Share of non-feature points kept as dithering points at the cloud's median "
                                      "spacing; more where the scan is sparser (uniform in 3D)"),
