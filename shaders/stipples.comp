@@ -42,7 +42,7 @@ layout(std430, binding = 15) readonly buffer Queue { uint queue_order[]; };  // 
 uniform int u_queue;  // 1: invocation i takes the chunk's i-th point of the resolution queue
 // level_scale spacing: the points' spacing (the colour attribute's binding: stipples read none)
 // and the chunk's cell width over it (spacing_cell_scale). lit_rule share reads the normals
-// (point_attributes.glsl's binding 2, view_normal).
+// (point_attributes.glsl's normals_u, binding 2, turned by packed_view_normal).
 layout(std430, binding = 1) readonly buffer PointSpacing { float point_spacing[]; };
 uniform float u_spacing_cell_scale;
 struct Captured { vec4 center_id; };  // view-space centre, point id (bits)
@@ -148,7 +148,8 @@ void main() {
   uint id = point_ids[index];
   if (u_opacity_draws != 0 && !(id_rand(id, kOpacitySalt, 0u) < splat_opacity[index])) return;
   float cell_target = u.level_from_spacing != 0 ? point_spacing[index] * u_spacing_cell_scale : 0.0;
-  float lit = u.diffuse != 0 ? lit_scale(p, id, cell_target, u.lit_share != 0 ? packed_view_normal(normals_u[index], u_view_from_chunk) : vec3(0.0)) : 1.0;
+  vec3 n = u.lit_share != 0 ? packed_view_normal(normals_u[index], u_view_from_chunk) : vec3(0.0);
+  float lit = u.diffuse != 0 ? lit_scale(p, id, cell_target, n) : 1.0;
   if (lit <= 0.0) return;
   if (u.specular != 0 && u.tau > 0.0 && specular_out(id, specular_measure(p, cell_target), u_spec_ref)) return;
   Dot dot = tone_dot(p, id);

@@ -480,8 +480,8 @@ const MarkRegistration registration{{
                float_param("size_scale", 1.5, 0.1, 8.0, "",
                            "Splat radius times this (1: r + eps; the brush's Gaussians fade before the square's edge)"),
                float_param("max_radius", 16.0, 0.5, kMaxRadiusPixels, "px",
-                           "The farthest a brush reaches from its point on screen (its square's corner, stretched "
-                           "included): isolated points far from their neighbours stay small"),
+                           "How far a brush's visible part reaches from its point on screen, stretch included "
+                           "(isolated points far from their neighbours stay small)"),
                enum_param("tangent_frame", {"householder", "eberly", "square_plate", "covariance"}, 0,
                           "How the brush's axes follow from the normal: Householder formula (continuous, the seed's "
                           "choice), Eberly's cross products, a square-plate stand-in, or the neighbourhood's "

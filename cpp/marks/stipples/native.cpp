@@ -38,8 +38,8 @@
 #include "gl/device.h"
 #include "marks/stipples/native_parts.h"
 #include "marks/stipples/stipples.h"
-#include "render/native_raster.h"
 #include "render/gpu_cloud.h"
+#include "render/native_raster.h"
 #include "scene/point_cloud.h"
 #include "scene/splat_attributes.h"
 
@@ -75,7 +75,6 @@ using Pt = Kernels::Pt;
 // points.glsl's and stipples.comp's kOpacitySalt: the splats the points mark draws.
 constexpr uint32_t kOpacitySalt = 0x6f706163u;
 using StipplePixel = Kernels::StipplePixel;
-
 
 class NativeStipplePasses final : public StipplePasses {
  public:

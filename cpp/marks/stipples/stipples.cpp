@@ -64,7 +64,6 @@ bool lit_share(const ParamValues& p) { return level_from_spacing(p) && p.get_enu
 // neighbours): a square grid's, spacing (4 + 4 sqrt 2) / 8 of its step.
 constexpr double kAreaPerSpacing = 0.686;
 
-
 class Stipples final : public Mark {
  public:
   AttributeSet attributes(const ParamValues& p) const override {
