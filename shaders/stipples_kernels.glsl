@@ -177,19 +177,19 @@ vec3 packed_view_normal(uint bits, mat4 view_from_chunk) {
 // the last fifth of that chance before it goes, so a moving light fades
 // dots instead of popping them.
 float lit_scale(Pt p, uint id, float cell_target, vec3 n) {
-  int level = u.level_lo;
-  float frac = u.level_frac;
-  if (u.level_from_spacing != 0) {
-    float cell = u.light_extent;
-    level = 0;
-    while (level < u.levels && 0.5f * cell >= cell_target) {
-      cell = 0.5f * cell;
-      level += 1;
-    }
-    frac = level < u.levels ? clamp(2.0f - 2.0f * cell_target / cell, 0.0f, 1.0f) : 0.0f;
-  }
-  level += hash01(id, 1u) < frac ? 1 : 0;
   if (u.quadtree != 0) {
+    int level = u.level_lo;
+    float frac = u.level_frac;
+    if (u.level_from_spacing != 0) {
+      float cell = u.light_extent;
+      level = 0;
+      while (level < u.levels && 0.5f * cell >= cell_target) {
+        cell = 0.5f * cell;
+        level += 1;
+      }
+      frac = level < u.levels ? clamp(2.0f - 2.0f * cell_target / cell, 0.0f, 1.0f) : 0.0f;
+    }
+    level += hash01(id, 1u) < frac ? 1 : 0;
     // The share's shadows one level coarser: cells twice as wide hold a
     // caster wherever a nearer surface is about as dense as the lit one.
     if (u.lit_share != 0) level = max(level - 1, 0);

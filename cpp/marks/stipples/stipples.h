@@ -38,7 +38,8 @@ struct StippleSetup {
   // The visible points and covered texels per eye cell are counted for the
   // specular measure and for the tone (shaders/stipples_kernels.glsl).
   bool counts_eye() const { return u.specular != 0 || u.tone_scale > 0.0f; }
-  size_t quad_n() const { return u.diffuse ? (size_t(2) << u.levels) * (size_t(1) << u.levels) : 1; }
+  // The light-view quadtree only where it is read (the share rule without cast shadows reads none).
+  size_t quad_n() const { return u.quadtree ? (size_t(2) << u.levels) * (size_t(1) << u.levels) : 1; }
   size_t light_n() const { return u.specular ? size_t(u.light_cells) * size_t(u.light_cells) : 1; }
 };
 
