@@ -62,6 +62,41 @@ const std::vector<uint32_t>& GpuCloud::host_queue_order() const {
   return *queue_order_;
 }
 
+std::vector<ChunkSurface> chunk_surfaces(const PointCloud& cloud) {
+  // A planar Poisson sample of density rho has its 8 nearest neighbours at
+  // a mean distance of 1.113 / sqrt(rho) (the mean over j <= 8 of
+  // Gamma(j + 1/2) / (Gamma(j) sqrt(pi))): a point stands for (r / 1.113)^2.
+  // The chunk's median r, so its few isolated points (each with a large r
+  // of its own) do not count as surface.
+  constexpr int kNeighbors = 8;
+  constexpr double kAreaPerSquaredSpacing = 1.0 / (1.1128 * 1.1128);
+  std::vector<ChunkSurface> areas(cloud.chunks().size());
+  if (cloud.size() < 2) return areas;
+  const std::vector<float>& r = cloud.analysis().surface_resolution(kNeighbors)->r;
+  std::vector<float> chunk_r;
+  for (size_t c = 0; c < areas.size(); ++c) {
+    const PointChunk& chunk = cloud.chunks()[c];
+    if (chunk.count == 0) continue;
+    chunk_r.assign(r.begin() + chunk.first, r.begin() + chunk.first + chunk.count);
+    std::nth_element(chunk_r.begin(), chunk_r.begin() + chunk.count / 2, chunk_r.end());
+    const double median = chunk_r[chunk.count / 2];
+    if (std::isfinite(median)) areas[c].area = double(chunk.count) * median * median * kAreaPerSquaredSpacing;
+    glm::dvec3 sum(0.0);
+    for (uint32_t i = chunk.first; i < chunk.first + chunk.count; ++i) sum += glm::dvec3(cloud.local_positions()[i]);
+    areas[c].centre = sum / double(chunk.count);
+  }
+  return areas;
+}
+
+const std::vector<ChunkSurface>& GpuCloud::host_chunk_surfaces() const {
+  if (!chunk_areas_) {
+    const std::shared_ptr<const PointCloud> cloud = source.lock();
+    if (!cloud) throw Error("the surface areas of a cloud that is gone");
+    chunk_areas_ = std::make_shared<const std::vector<ChunkSurface>>(chunk_surfaces(*cloud));
+  }
+  return *chunk_areas_;
+}
+
 const gl::Buffer* GpuCloud::find(AttributeKey key) const {
   if (key.attribute == AttributeKind::Normal && own_normals) key.k = 0;
   if (is_source_attribute(key.attribute) && key.attribute != AttributeKind::Normal) key.k = 0;

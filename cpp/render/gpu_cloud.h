@@ -13,6 +13,12 @@
 
 namespace pointnpr {
 
+// The surface a chunk's points sample (GpuCloud::host_chunk_surfaces).
+struct ChunkSurface {
+  double area = 0.0;         // cloud units squared; 0: unknown
+  glm::dvec3 centre{0.0};    // the points' mean, chunk-local
+};
+
 struct GpuCloud {
   std::weak_ptr<const PointCloud> source;
   gl::Buffer positions;  // vec3 float offsets, chunk after chunk
@@ -28,6 +34,10 @@ struct GpuCloud {
   // first use and kept: the native rasterizer reads it there, the upload
   // of AttributeKind::QueueOrder takes it from here (sorted once).
   const std::vector<uint32_t>& host_queue_order() const;
+  // The surface each chunk's points sample, chunk by chunk: what the
+  // resolution queue's density follows where the chunk's box is larger than
+  // its points (renderer.cpp). Computed on first use and kept.
+  const std::vector<ChunkSurface>& host_chunk_surfaces() const;
   // A native mark's host data derived per point and kept between frames
   // while the cloud lives (marks/*_native.cpp): one T per name, made on
   // first use; the mark recomputes it in place when its inputs change, so
@@ -41,6 +51,7 @@ struct GpuCloud {
 
  private:
   mutable std::shared_ptr<const std::vector<uint32_t>> queue_order_;
+  mutable std::shared_ptr<const std::vector<ChunkSurface>> chunk_areas_;
   mutable std::map<std::string, std::shared_ptr<void>> host_slots_;
 };
 
@@ -81,5 +92,10 @@ uint32_t queue_hash(uint32_t x);  // lowbias32, as the shaders' hash_u32
 std::vector<uint32_t> queue_order(const PointCloud& cloud);
 // One chunk's: `order` gets the indices of ids[0, count) in queue order.
 void chunk_queue_order(const uint32_t* ids, uint32_t count, uint32_t* order);
+// Per chunk, the area its points sample (their count times the area a
+// point of a planar sample of the chunk's median spacing, surface_resolution
+// of 8 neighbours, stands for; 0 for a cloud of fewer than two points) and
+// their mean position.
+std::vector<ChunkSurface> chunk_surfaces(const PointCloud& cloud);
 
 }  // namespace pointnpr

@@ -109,7 +109,9 @@ void upload_cpu_mark(const MarkTargets& targets, const Rect& clip, const float* 
   *coverage = covered.empty() ? Rect{} : Rect{covered.min + clip.min, covered.max + clip.min};
 }
 
-bool queue_enabled(const ParamValues& p) { return p.get_enum_name("density_mode") == "constant_on_screen"; }
+bool queue_enabled(const ParamValues& p) {
+  return p.raw().count("density_mode") && p.get_enum_name("density_mode") == "constant_on_screen";
+}
 
 bool draws_queue(const VisibleChunk& v, const ParamValues& p) {
   return queue_enabled(p) || v.budget_count < v.chunk->count;

@@ -42,9 +42,11 @@ struct VisibleChunk {
   const PointChunk* chunk = nullptr;
   glm::mat4 view_from_chunk{1.0f};
   uint32_t key_base = 0;  // segment-wide index of the chunk's first point
-  // Projected screen area M of the chunk's bounding box (pixels: the convex
-  // hull of its 8 projected corners, not clipped to the image); negative
-  // where the box crosses the camera plane (then every point is drawn).
+  // Projected screen area M of the chunk (pixels, not clipped to the
+  // image): the convex hull of its box's 8 projected corners, or, for a mark
+  // drawing by the queue, the area its points sample seen at the chunk's
+  // depth where that is less (a box mostly empty; renderer.cpp);
+  // negative where the box crosses the camera plane (every point drawn).
   double screen_area = -1.0;
   // At most this many of the chunk's queue order, set by the frame's point
   // budget (render/point_budget.h); the mark's own count where that is less.

@@ -36,6 +36,23 @@ double ms_since(Clock::time_point t0) {
 
 const float kInf = std::numeric_limits<float>::infinity();
 
+// The pixels chunk `index`'s sampled surface covers seen face-on at the
+// depth of its points' mean; negative where unknown. The queue's M where the box's
+// hull is more: the density on screen then follows the points, not the
+// empty space a chunk's box holds (a Morton run across two regions, a tree
+// over flat ground).
+double points_area(const GpuCloud& gpu, size_t index, const glm::dmat4& view_from_chunk,
+                   const Camera& cam, int height) {
+  const ChunkSurface& surface = gpu.host_chunk_surfaces().at(index);
+  const double area = surface.area;
+  const double depth = -(view_from_chunk * glm::dvec4(surface.centre, 1.0)).z;
+  if (!(area > 0.0) || (!cam.orthographic && !(depth > 0.0))) return -1.0;
+  // An instance's scale: lengths grow by the cube root of the linear part's determinant.
+  const double px = cam.pixels_per_unit(depth, height) *
+                    std::cbrt(std::abs(glm::determinant(glm::dmat3(view_from_chunk))));
+  return area * px * px;
+}
+
 }  // namespace
 
 TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vector<std::string>& warnings);
@@ -115,6 +132,7 @@ struct Renderer::Impl {
     int total = 0, culled = 0;
     const glm::ivec2 size = frame;
     const double margin = double(extent.pixels);
+    const bool queued = queue_enabled(seg.style.mark.params);
     for (const Instance& inst : instances) {
       if (inst.cloud && inst.cloud->skipped_nonfinite() > 0) frame_warnings.add_nonfinite(inst, seg);
       if (!inst.cloud || inst.cloud->size() == 0) continue;
@@ -140,8 +158,13 @@ struct Renderer::Impl {
         out.screen = out.screen.united(r);
         out.depth_min = std::min(out.depth_min, std::max(box.depth_min, cam.clip_start));
         out.depth_max = std::max(out.depth_max, std::min(box.depth_max, cam.clip_end));
-        out.chunks.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base,
-                              box.crosses_near ? -1.0 : box.hull_area()});
+        double area = box.crosses_near ? -1.0 : box.hull_area();
+        if (queued && area >= 0.0) {
+          const double points =
+              points_area(*gpu, size_t(&chunk - inst.cloud->chunks().data()), view_from_chunk, cam, size.y);
+          if (points >= 0.0) area = std::min(area, points);
+        }
+        out.chunks.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base, area});
         out.rects.push_back(r);
         key_base += chunk.count;
       }

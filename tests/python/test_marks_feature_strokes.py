@@ -204,12 +204,24 @@ def test_stroke_density_on_screen_stays_constant_with_the_queue_and_quadruples_w
     # Camera at distance 4 and 8 (the wall 1.2 m wide is in view at both).
     near_q, n_near = _density(renderer, QUEUE, c, 0.0)
     far_q, n_far = _density(renderer, QUEUE, c, 4.0)
-    assert n_far > 300 and n_near < 0.5 * len(pos)  # the queue is not saturated
+    assert n_far > 200 and n_near < 0.5 * len(pos)  # the queue is not saturated
     assert abs(far_q / near_q - 1.0) < 0.15, (near_q, far_q)
     off = dict(QUEUE, density_mode="all_points")
     near_a, _ = _density(renderer, off, c, 0.0)
     far_a, _ = _density(renderer, off, c, 4.0)
     assert 3.2 < far_a / near_a < 4.8, far_a / near_a
+
+
+def test_the_queue_follows_the_points_area_not_the_empty_space_in_a_chunks_box(path):
+    # A few stray points 2 m in front of a wall stretch the box of the chunk
+    # they fall in toward the camera: its hull on screen grows about 4x while
+    # the surface its points sample does not, so the chunk's density must not.
+    renderer = pointnpr.Renderer()
+    pos, _ = wall(1.2, 0.9, 0.005, -4.0)  # 43k points, 3 chunks
+    strays = np.array([[0.1 * i, 0.0, -2.0] for i in range(-2, 3)])
+    _, alone = _density(renderer, QUEUE, pointnpr.PointCloud(pos), 0.0)
+    _, with_strays = _density(renderer, QUEUE, pointnpr.PointCloud(np.vstack([pos, strays])), 0.0)
+    assert alone > 300 and with_strays < 1.05 * alone + len(strays), (alone, with_strays)
 
 
 def test_a_moving_camera_adds_and_removes_points_only_at_the_end_of_the_queue(renderer, path):
