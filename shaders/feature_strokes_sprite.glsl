@@ -39,11 +39,14 @@ StrokeSprite stroke_sprite(Record rec) {
   return s;
 }
 
-// Corner (0 or 1 along r1, 0 or 1 along r2) of a quad, in frame pixels.
+// Corner (0 or 1 along r1, 0 or 1 along r2) of a quad, in frame pixels; a
+// solid line's quad half a pixel larger on every side, for the pixels its
+// edges cover in part (sprite_alpha).
 vec2 sprite_corner(StrokeSprite s, vec2 corner) {
   vec2 r2 = vec2(-s.r1.y, s.r1.x);
-  PRECISE vec2 at = s.center + (2.0f * corner.x - 1.0f) * 0.5f * s.size.x * s.r1 +
-                    (2.0f * corner.y - 1.0f) * 0.5f * s.size.y * r2;
+  float grow = s.primitive == 2u ? 1.0f : 0.0f;
+  PRECISE vec2 at = s.center + (2.0f * corner.x - 1.0f) * 0.5f * (s.size.x + grow) * s.r1 +
+                    (2.0f * corner.y - 1.0f) * 0.5f * (s.size.y + grow) * r2;
   return at;
 }
 
@@ -84,7 +87,11 @@ float sprite_alpha(StrokeSprite s, vec2 frame_px) {
     if (d2 > 1.0f) return 0.0f;
     k = exp(-d2 / (2.0f * 0.4f * 0.4f));
   } else if (s.primitive == 2u) {
-    k = 1.0f;
+    // The share of the pixel the line covers (a box filter along and across
+    // it): a hard-edged line a pixel or two wide turns whole pixels on and
+    // off as it moves by a fraction of one, and crawls on a slow orbit.
+    vec2 half_size = 0.5f * s.size + 0.5f;
+    k = clamp(half_size.x - abs(dot(rel, s.r1)), 0.0f, 1.0f) * clamp(half_size.y - abs(dot(rel, r2)), 0.0f, 1.0f);
   } else {
     k = stroke_alpha(s, uv);
   }
