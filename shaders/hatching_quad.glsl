@@ -70,29 +70,57 @@ StrokeQuad stroke_quad(Stroke s, uint line) {
   return q;
 }
 
-// Corner (0 or 1 along, 0 or 1 across) of a quad, in frame pixels.
+// Pixels per scene unit at linear depth `depth`.
+float quad_px_per_unit(float depth) { return raster.px_per_unit / (raster.ortho != 0 ? 1.0f : depth); }
+
+// Corner (0 or 1 along, 0 or 1 across) of a quad, in frame pixels: half a
+// pixel beyond the stroke on every side, for the pixels its edges cover in
+// part (stroke_alpha).
 vec2 quad_corner(StrokeQuad q, vec2 corner) {
-  return frame_pixel(q.center + q.along * (corner.x - 0.5f) * q.size.x + q.across * (corner.y - 0.5f) * q.size.y);
+  float grow = 1.0f / quad_px_per_unit(-q.center.z);
+  return frame_pixel(q.center + q.along * (corner.x - 0.5f) * (q.size.x + grow) +
+                     q.across * (corner.y - 0.5f) * (q.size.y + grow));
 }
 
-// A stroke's texture at uv (0..1 along, 0..1 across).
-float stroke_alpha(StrokeQuad q, vec2 uv) {
-  float across = abs(2.0f * uv.y - 1.0f);
+// The integral from 0 to t of the profile 1 - t^n across a stroke (n even;
+// n = 0: a solid 1).
+float profile_integral(float t, float n) { return n == 0.0f ? t : t * (1.0f - pow(t * t, 0.5f * n) / (n + 1.0f)); }
+
+// The profile's mean over a pixel: a at its centre (-1..1 across the
+// stroke), h its half-width in those units; 0 beyond the stroke. A pixel
+// sampled at its centre alone switches on and off as a stroke a pixel or two
+// wide moves by a fraction of one, and the drawing crawls.
+float filtered_profile(float a, float h, float n) {
+  float lo = clamp(a - h, -1.0f, 1.0f), hi = clamp(a + h, -1.0f, 1.0f);
+  return (profile_integral(hi, n) - profile_integral(lo, n)) / (2.0f * h);
+}
+
+// A stroke's texture over the pixel at uv (0..1 along, 0..1 across; the
+// texture's detail at the pixel's centre), `px` the stroke's length and
+// width in pixels there.
+float stroke_alpha(StrokeQuad q, vec2 uv, vec2 px) {
   float along = 2.0f * uv.x - 1.0f;
-  if (raster.stroke_texture == 2) return 1.0f;  // ink: solid
-  if (raster.stroke_texture == 3) {             // soft dot
+  if (raster.stroke_texture == 3) {  // soft dot
     vec2 p = vec2(along * max(q.aspect, 1.0f), 2.0f * uv.y - 1.0f);
     return exp(-2.5f * dot(p, p) / max(q.aspect, 1.0f));
   }
+  float h = 1.0f / max(px.y, 1e-6f), a = 2.0f * uv.y - 1.0f;
+  // The share of the pixel within the stroke's ends.
+  float ends = clamp(min(uv.x, 1.0f - uv.x) * px.x + 0.5f, 0.0f, 1.0f);
+  if (raster.stroke_texture == 2) return ends * filtered_profile(a, h, 0.0f);  // ink: solid
+  uv = clamp(uv, vec2(0.0f), vec2(1.0f));
   // Tapered ends and pressure along the stroke.
   float taper = smoothstep(0.0f, 0.18f, uv.x) * smoothstep(1.0f, 0.75f, uv.x);
   vec2 p = vec2(uv.x * q.aspect * 1.5f, uv.y * 2.0f);
   if (raster.stroke_texture == 1) {  // crayon: flat across, waxy gaps
-    float g = id_value_noise(p * vec2(1.0f, 1.5f), q.id);
-    return (1.0f - pow(across, 6.0f)) * smoothstep(0.25f, 0.6f, g) * (0.6f + 0.4f * taper);
+    // Three grains across, but none under 1.5 px: a finer grain, sampled at
+    // pixel centres, flickers as a thin stroke moves.
+    float cell = max(px.y / 3.0f, 1.5f);
+    float g = id_value_noise(vec2(0.5f * uv.x * px.x, uv.y * px.y) / cell, q.id);
+    return ends * filtered_profile(a, h, 6.0f) * smoothstep(0.25f, 0.6f, g) * (0.6f + 0.4f * taper);
   }
   float g = id_value_noise(p, q.id);  // pencil: graphite profile with grain
-  return (1.0f - across * across) * taper * (0.55f + 0.45f * g);
+  return filtered_profile(a, h, 2.0f) * taper * (0.55f + 0.45f * g);
 }
 
 // Where a frame pixel's view ray meets the quad's plane: (u, v) on the
@@ -123,6 +151,7 @@ vec4 stroke_hit(StrokeQuad q, vec2 frame_px) {
 // The stroke's opacity at a hit (not > 0: the pixel draws nothing).
 float stroke_coverage(StrokeQuad q, vec4 hit) {
   if (!(hit.x < 1e6f)) return 0.0f;
-  return clamp(q.color.a * stroke_alpha(q, vec2(hit.x, hit.y)), 0.0f, 1.0f);
+  float px_per_unit = quad_px_per_unit(hit.w);
+  return clamp(q.color.a * stroke_alpha(q, vec2(hit.x, hit.y), q.size * px_per_unit), 0.0f, 1.0f);
 }
 #endif
