@@ -100,9 +100,21 @@ def blocks(a):
     return a[:hb * BLOCK, :wb * BLOCK].reshape(hb, BLOCK, wb, BLOCK).mean((1, 3))
 
 
-def tone_r(ink, lambert, filled):
+def colour_led(mark, params):
+    """Whether the preset's strokes take the scan's own colours (hatching's
+    `coloring` `point`): its tone is then the coloured surface's under the
+    light, Lambert's albedo x N.L, not a white surface's."""
+    return mark == "hatching" and params.get("coloring") == "point"
+
+
+def tone_r(ink, lambert, filled, albedo=None):
     """Blocks fully inside the filled silhouette; the shading is averaged over
-    the pixels its points cover (a sparse scan's 3 px points leave gaps)."""
+    the pixels its points cover (a sparse scan's 3 px points leave gaps).
+    With `albedo` (the scan's colours drawn as the same surface, linear) the
+    reference is the shaded colour's luminance."""
+    if albedo is not None:
+        lambert = lambert.copy()
+        lambert[..., 0] *= albedo[..., :3] @ LUMA
     covered = filled & (lambert[..., 3] >= 0.5)
     full = blocks(filled.astype(np.float32)) > 0.9
     lit = blocks(covered.astype(np.float32))
@@ -209,6 +221,7 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
     lit = {} if attrs else {"shading": "diffuse"}
     base_flicker = flicker(renderer, cloud, centre, ("points", {**SURFACE(spacing), **lit}), [], world_from_camera,
                            clip) if with_orbit else None
+    albedo = la._render(renderer, cloud, centre, ("points", SURFACE(spacing)), [], cam)
     rows, tiles = [], {m: [base] for m in MARKS}
     for preset in preset_names:
         spec = presets.PRESETS[preset]
@@ -222,7 +235,7 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
         lit_scan = lambert_reference(pos, centre, normals, light_of(mark, params), world_from_camera)
         lambert = la._render(renderer, lit_scan, centre, ("points", {"color_source": "rgb", **SURFACE(spacing)}), [],
                              cam)
-        r = tone_r(ink_of(img, mark, params), lambert, filled)
+        r = tone_r(ink_of(img, mark, params), lambert, filled, albedo if colour_led(mark, params) else None)
         r = -r if preset in LIGHT_DRAWINGS else r
         fl = (flicker(renderer, cloud, centre, (mark, params), spec["filters"], world_from_camera, clip) / base_flicker
               if with_orbit else float("nan"))

@@ -2,7 +2,8 @@
 // (hatching_select.comp) and the native one (cpp/marks/hatching/native.cpp)
 // in the subset of cpp/core/glsl.h. The includer defines what reads the
 // point data: has_spacing(), point_spacing(i), has_curvature(),
-// point_curvature(i), point_color(i) and xtoon_image(uv).
+// point_curvature(i), point_color(i), point_color_median() (the cloud's median
+// colour luminance, 0 for the constant colour) and xtoon_image(uv).
 #ifndef HATCHING_KERNELS_GLSL
 #define HATCHING_KERNELS_GLSL
 #include "id_hash.glsl"
@@ -90,6 +91,14 @@ Stroke place_stroke(uint index, uint id, vec4 v, vec3 n) {
   if (u.specular > 0.0f)
     lit = (1.0f - u.specular) * diffuse + u.specular * pow(max(dot(reflect(-light, n), to_eye), 0.0f), u.shininess);
   float brightness = clamp(u.ambient + (1.0f - u.ambient) * lit, 0.0f, 1.0f);
+  // A drawing in the scan's colours: a colour darker than the scan's median
+  // is darker in the tone, a lighter one lighter (the constant colour of a
+  // cloud with none: no change).
+  float median = point_color_median();
+  if (u.color_tone > 0.0f && median > 0.0f) {
+    float value = dot(point_color(index), vec3(0.2126f, 0.7152f, 0.0722f)) / median;
+    brightness = clamp(brightness * mix(1.0f, value, u.color_tone), 0.0f, 1.0f);
+  }
   float depth01 = clamp((depth - u.depth_min) / max(u.depth_max - u.depth_min, 1e-6f), 0.0f, 1.0f);
   vec4 tone = xtoon(vec2(brightness, depth01));
   float alpha_tex = clamp(tone.a, 0.0f, 1.0f);

@@ -18,6 +18,7 @@ layout(std430, binding = 11) readonly buffer Opacity { float splat_opacity[]; };
 uniform int u_has_spacing;
 uniform int u_has_curvature;
 uniform int u_has_opacity;
+uniform float u_color_median;  // the cloud's median colour luminance (0: the constant colour)
 uniform sampler2D u_xtoon_image;
 
 bool has_spacing() { return u_has_spacing != 0; }
@@ -27,6 +28,7 @@ float point_curvature(uint index) { return curvature[index]; }
 bool has_opacity() { return u_has_opacity != 0; }
 float point_opacity(uint index) { return splat_opacity[index]; }
 vec3 point_color(uint index) { return source_color(index).rgb; }
+float point_color_median() { return u_color_median; }
 vec4 xtoon_image(vec2 uv) { return texture(u_xtoon_image, uv); }
 #include "hatching_kernels.glsl"
 

@@ -32,6 +32,7 @@ SETTINGS_BLOCK(HatchingSettings, 0)
   float angle_jitter;   // radians
   int coloring;         // constant, xtoon, point
   float point_blend;
+  float color_tone;     // 0 unless coloring is point
   float hue_shift;      // turns
   int pencil_count;
   float opacity;

@@ -271,6 +271,7 @@ hatching::StrokePass Hatching::resolve(const MarkContext& ctx, const ParamValues
   u.angle_jitter = irregular ? float(glm::radians(p.get_float("angle_jitter"))) : 0.0f;
   u.coloring = p.get_enum("coloring");
   u.point_blend = float(p.get_float("point_blend"));
+  u.color_tone = p.get_enum_name("coloring") == "point" ? float(p.get_float("color_tone")) : 0.0f;
   u.hue_shift = float(p.get_float("hue_shift") / 360.0);
   u.pencil_count = int(by_hue.size());
   u.opacity = float(p.get_float("opacity"));
@@ -377,6 +378,11 @@ void Hatching::draw_strokes_gl(const MarkContext& ctx, const ParamValues& p, con
                   {9, g.find({AttributeKind::LocalResolution, kSpacingNeighbors})},
                   {11, pass.opacity_draws ? g.find({AttributeKind::SplatOpacity}) : nullptr}});
       glUniform1i(select.location("u_has_opacity"), pass.opacity_draws ? 1 : 0);
+      float median = 0.0f;
+      if (pass.select.coloring == 2)
+        if (const auto cloud = g.source.lock())
+          median = median_luminance(g, *cloud, host_colors(g, *cloud, pass.color_source, pass.select.constant_color));
+      glUniform1f(select.location("u_color_median"), median);
       glUniform1i(select.location("u_has_spacing"),
                   g.find({AttributeKind::LocalResolution, kSpacingNeighbors}) ? 1 : 0);
       glUniform1ui(select.location("u_out_base"), batch.offsets[c - batch.begin]);
@@ -477,6 +483,13 @@ const MarkRegistration registration{{
                only_when(color_param("stroke_color", {0.13, 0.13, 0.16, 1.0}, "Stroke colour (display sRGB)"),
                          "coloring", {"constant"}),
                only_when(float_param("point_blend", 0.3, 0.0, 1.0, "", "How much the X-Toon colour tints the point colour"),
+                         "coloring", {"point"}),
+               only_when(added_later(float_param("color_tone", 1.0, 0.0, 1.0, "",
+                                                 "How much the point colour's darkness is tone: the X-Toon "
+                                                 "brightness times mix(1, the colour's luminance, this), so a dark "
+                                                 "colour in the light still gets dense strokes, as a coloured-pencil "
+                                                 "drawing gives it"),
+                                     {0.0}),
                          "coloring", {"point"}),
                only_when(color_source_param(), "coloring", {"point"}),
                float_param("hue_shift", 0.0, -180.0, 180.0, "deg", "Hue rotation of the stroke colour"),

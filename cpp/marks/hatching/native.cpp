@@ -40,6 +40,7 @@ struct HostChunk {
   const float* opacity = nullptr;        // opacity_draws: the splats' opacities, or null
   const uint32_t* order = nullptr;       // the queue order (chunk-local, from first), or null
   HostColors colors;
+  float color_median = 0.0f;             // median_luminance of colors (0: the constant colour)
   uint32_t first = 0, count = 0;
   glm::mat4 view{1.0f};
   glm::mat3 normal_matrix{1.0f};
@@ -57,6 +58,7 @@ struct SelectKernels {
   bool has_curvature() const { return chunk_.curvature != nullptr; }
   float point_curvature(uint index) const { return chunk_.curvature[index]; }
   vec3 point_color(uint index) const { return vec3(chunk_.colors.at(index)); }
+  float point_color_median() const { return chunk_.color_median; }
   vec4 xtoon_image(vec2 uv) const { return xtoon_.sample(uv.x, uv.y); }
 #include "hatching_kernels.glsl"
 };
@@ -170,7 +172,10 @@ void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const Str
       c.opacity = opacity_data;
     }
     if (draws_queue(v, p)) c.order = v.gpu->host_queue_order().data() + v.chunk->first;
-    if (pass.select.coloring == 2) c.colors = host_colors(*v.gpu, *cloud, pass.color_source, pass.select.constant_color);
+    if (pass.select.coloring == 2) {
+      c.colors = host_colors(*v.gpu, *cloud, pass.color_source, pass.select.constant_color);
+      c.color_median = median_luminance(*v.gpu, *cloud, c.colors);
+    }
     c.first = v.chunk->first;
     c.count = queue_count(v, p);
     c.view = v.view_from_chunk;

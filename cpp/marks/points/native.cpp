@@ -54,6 +54,20 @@ HostColors host_colors(const GpuCloud& gpu, const PointCloud& cloud, ColorSource
   return c;
 }
 
+float median_luminance(const GpuCloud& gpu, const PointCloud& cloud, const HostColors& colors) {
+  if (colors.source == ColorSource::Constant || cloud.size() == 0) return 0.0f;
+  float& median = gpu.host_slot<float>("median_luminance:" + std::to_string(int(colors.source)));
+  if (median > 0.0f) return median;
+  const size_t n = cloud.size(), step = std::max<size_t>(1, n / 65536);
+  std::vector<float> lum;
+  lum.reserve(n / step + 1);
+  for (size_t i = 0; i < n; i += step)
+    lum.push_back(glm::dot(glm::vec3(colors.at(uint32_t(i))), glm::vec3(0.2126f, 0.7152f, 0.0722f)));
+  std::nth_element(lum.begin(), lum.begin() + long(lum.size() / 2), lum.end());
+  median = std::max(lum[lum.size() / 2], 1.0f / 255.0f);  // a black scan: every colour its own tone
+  return median;
+}
+
 namespace {
 
 constexpr uint64_t kEmpty = ~uint64_t(0);

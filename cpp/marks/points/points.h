@@ -50,6 +50,11 @@ struct HostColors {
   glm::vec4 at(uint32_t index) const;  // alpha 1
 };
 HostColors host_colors(const GpuCloud& gpu, const PointCloud& cloud, ColorSource source, glm::vec4 constant);
+// The median luminance (display values) of the cloud's colours under
+// `colors`' source, from at most 65,536 points evenly spread through it
+// (computed once per cloud and source, kept in the cloud's host slots); 0
+// for the constant source.
+float median_luminance(const GpuCloud& gpu, const PointCloud& cloud, const HostColors& colors);
 // GL_POINTS with reversed-Z depth into targets.gl_depth; also writes colour
 // and linear depth to targets.color / targets.depth.
 void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s);
