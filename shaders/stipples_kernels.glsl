@@ -202,6 +202,18 @@ float lit_scale(Pt p, uint id, float cell_target, vec3 n) {
   PRECISE float toward_eye = u.ortho != 0 ? n.z : -(n.x * p.view.x + n.y * p.view.y + n.z * p.view.z);
   PRECISE float nl = n.x * u.light_dir.x + n.y * u.light_dir.y + n.z * u.light_dir.z;
   float share = max(toward_eye < 0.0f ? -nl : nl, 0.0f) * u.share_scale;
+  if (u.specular != 0) {
+    // The highlight, where the normal (turned toward the eye) nears the
+    // half-way vector H of light and eye: hidden as specular_out hides, with
+    // 1 - N.H as the difference from the brightest (the paper's measure,
+    // counted on the eye and light planes, finds no highlight on a real scan).
+    PRECISE float vlen = sqrt(p.view.x * p.view.x + p.view.y * p.view.y + p.view.z * p.view.z);
+    vec3 eye = u.ortho != 0 ? vec3(0.0f, 0.0f, 1.0f) : vec3(-p.view.x / vlen, -p.view.y / vlen, -p.view.z / vlen);
+    PRECISE vec3 h = vec3(u.light_dir.x + eye.x, u.light_dir.y + eye.y, u.light_dir.z + eye.z);
+    PRECISE float hlen = sqrt(h.x * h.x + h.y * h.y + h.z * h.z);
+    PRECISE float nh = (n.x * h.x + n.y * h.y + n.z * h.z) / max(hlen, 1e-20f);
+    share += clamp(1.0f - (1.0f - (toward_eye < 0.0f ? -nh : nh)) / max(u.tau, 1e-6f), 0.0f, 1.0f);
+  }
   return clamp((hash01(id, 7u) - share) * 5.0f + 1.0f, 0.0f, 1.0f);
 }
 

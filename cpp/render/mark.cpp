@@ -64,7 +64,8 @@ ParamSpec density_mode_param() {
 
 ParamSpec queue_level_param(double default_level) {
   return only_when(float_param("queue_level", default_level, 0.0, 4.0, "",
-                               "Points drawn per pixel of each chunk's projected bounding-box area (constant_on_screen)"),
+                               "Points drawn per pixel of each chunk's projected area (constant_on_screen): its bounding box's, or "
+                               "the area its points sample where that is less"),
                    "density_mode", {"constant_on_screen"});
 }
 

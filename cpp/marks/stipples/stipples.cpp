@@ -270,6 +270,10 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   // cell is its spacing times 2^(8 - LEVEL) wide.
   u.share_scale = float(kAreaPerSpacing * std::exp2(2.0 * (level - 8.0)));
   const bool specular = p.get_bool("specular");
+  // The highlight takes its share from the diffuse light (k_d + k_s = 1):
+  // opened where the diffuse share alone already leaves paper, it shows
+  // nowhere.
+  if (specular) u.share_scale *= float(1.0 - p.get_float("specular_share"));
   u.specular = specular ? 1 : 0;
   u.tau = float(p.get_float("tau"));
   const float eye_cell = u.eye_cell = float(eye_cell_px(p));
@@ -474,6 +478,12 @@ const MarkRegistration registration{{
                only_when(float_param("tau", 0.2, 0.0, 1.0, "",
                                      "Highlight threshold: points whose normalised difference from the brightest "
                                      "area per point is below tau may be hidden (more below: more often)"),
+                         "specular", {"true"}),
+               only_when(added_later(float_param("specular_share", 0.3, 0.0, 1.0, "",
+                                                 "The highlight's share of the light: lit surfaces keep this much "
+                                                 "more of their dots (the share rule's), so the highlight shows "
+                                                 "where the diffuse light alone would leave paper"),
+                                     {0.0}),
                          "specular", {"true"}),
                only_when(float_param("specular_cell", 8.0, 2.0, 64.0, "px",
                                      "Size of the cells points are counted in, on screen (the light's cells are as "
