@@ -20,9 +20,14 @@ Measures, per scan and preset (the preset whole: its mark and its filters):
           fully covered) of the preset's ink (1 - luminance / paper, or
           luminance on dark paper) with the points mark's diffuse shading
           of a white scan under the preset's own light (its light_space,
-          azimuth and elevation, defaults included). Limit R_LIMIT for
+          azimuth and elevation, defaults included; a stipple preset's
+          highlight included: lambert_reference). Limit R_LIMIT for
           hatching, stipples and feature strokes. A light drawing (chalk on
           its board: LIGHT_DRAWINGS) is measured against the light instead.
+  highlight (stipples with `specular`): ink on the lit side (N.L >= 0.5,
+          N.H < 0.8 under the preset's light) minus ink where N.H >= 0.95,
+          with the highlight and with the same preset's specular off; the
+          highlight must add HIGHLIGHT_LIMIT (printed after the table).
   flicker (--orbit): a slow orbit (ORBIT_FRAMES frames, ORBIT_STEP degrees
           about the camera's up axis through the scan's centre) at half size;
           the mean reprojected frame-to-frame change over the frame's own
@@ -57,6 +62,7 @@ CLOSE_RADIUS = la.CLOSE_RADIUS
 STRAY_PX, STRAY_ALPHA = 12, 0.05
 COVER_MARGIN = 64  # px: beyond the largest mark's reach (a brush's 3x elongation)
 HOLE_LIMIT, R_LIMIT, FLICKER_LIMIT = 1.0, 0.7, 1.1
+HIGHLIGHT_LIMIT = 0.05  # ink: the highlight at least this much brighter against the lit side than without it
 
 
 def SURFACE(spacing):
@@ -83,6 +89,14 @@ def light_of(mark, params):
     defaults = {p["name"]: p["default"] for p in pointnpr.schema(mark, "mark")["params"]}
     return {k: params.get(k, defaults[k]) for k in ("light_space", "light_azimuth", "light_elevation")
             if k in defaults}
+
+
+def highlight_of(mark, params):
+    """A stipple preset's highlight (specular_share, tau), or None."""
+    if mark != "stipples" or not params.get("specular"):
+        return None
+    defaults = {p["name"]: p["default"] for p in pointnpr.schema(mark, "mark")["params"]}
+    return (params.get("specular_share", defaults["specular_share"]), params.get("tau", defaults["tau"]))
 
 
 def ink_of(img, mark, params):
@@ -169,15 +183,51 @@ def light_world(light, world_from_camera):
     return np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
 
 
-def lambert_reference(pos, centre, normals, light, world_from_camera):
+def grey_cloud(pos, grey):
+    """The scan with `grey` (linear, per point) as its colour."""
+    # Point colours are display sRGB; the render is linear: encode, so it reads `grey`.
+    srgb = np.where(grey <= 0.0031308, 12.92 * grey, 1.055 * grey ** (1 / 2.4) - 0.055).astype(np.float32)
+    return la._cloud(pos, {}, colors=np.repeat(srgb[:, None], 3, axis=1))[0]
+
+
+def n_dot_h(pos, normals, light, world_from_camera):
+    to_eye = np.asarray(world_from_camera)[:3, 3] - pos
+    to_eye /= np.linalg.norm(to_eye, axis=1)[:, None]
+    half = light_world(light, world_from_camera) + to_eye
+    return np.clip(np.sum(normals * half, axis=1) / np.linalg.norm(half, axis=1), 0.0, 1.0)
+
+
+def lambert_reference(pos, centre, normals, light, world_from_camera, highlight=None):
     """A white scan lit by the preset's light as a surface seen from the
     camera: each point's normal turned toward the camera (the side it shows
     it), max(N.L, 0) as its grey. A surface turned away from a light behind
-    it is dark (|N.L|, the points mark's two-sided shading, lit it)."""
+    it is dark (|N.L|, the points mark's two-sided shading, lit it). With
+    `highlight` (specular_share, tau: a stipple preset's highlight), the
+    diffuse term gives up that share to clamp(1 - (1 - N.H) / tau, 0, 1),
+    the highlight the preset draws (marks.md, the stipples' specular)."""
     shade = np.clip(normals @ light_world(light, world_from_camera), 0.0, 1.0)
-    # Point colours are display sRGB; the render is linear: encode, so it reads `shade`.
-    srgb = np.where(shade <= 0.0031308, 12.92 * shade, 1.055 * shade ** (1 / 2.4) - 0.055).astype(np.float32)
-    return la._cloud(pos, {}, colors=np.repeat(srgb[:, None], 3, axis=1))[0]
+    if highlight is not None:
+        share, tau = highlight
+        spec = np.clip(1.0 - (1.0 - n_dot_h(pos, normals, light, world_from_camera)) / tau, 0.0, 1.0)
+        shade = np.clip((1.0 - share) * shade + spec, 0.0, 1.0)
+    return grey_cloud(pos, shade)
+
+
+def half_way_reference(pos, centre, normals, light, world_from_camera):
+    """N.H per point (H half-way between the preset's light and the eye), as
+    a grey the points mark draws: where a highlight belongs."""
+    return grey_cloud(pos, n_dot_h(pos, normals, light, world_from_camera))
+
+
+def highlight(ink, lambert, half, filled):
+    """Ink where the highlight belongs (N.H >= 0.95) and on the rest of the
+    lit side (N.L >= 0.5, N.H < 0.8): (lit - high), how much brighter the
+    highlight is than the light around it."""
+    covered = filled & (half[..., 3] >= 0.5)
+    high, lit = covered & (half[..., 0] >= 0.95), covered & (lambert[..., 0] >= 0.5) & (half[..., 0] < 0.8)
+    if high.sum() < 100 or lit.sum() < 100:
+        return float("nan")
+    return float(ink[lit].mean() - ink[high].mean())
 
 
 def median_spacing(pos, centre):
@@ -232,16 +282,28 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
         drawn = img[..., 3] > STRAY_ALPHA
         stray = drawn & ~near
         holes = filled & (img[..., 3] < 0.5)
-        lit_scan = lambert_reference(pos, centre, normals, light_of(mark, params), world_from_camera)
+        lit_scan = lambert_reference(pos, centre, normals, light_of(mark, params), world_from_camera,
+                                     highlight_of(mark, params))
         lambert = la._render(renderer, lit_scan, centre, ("points", {"color_source": "rgb", **SURFACE(spacing)}), [],
                              cam)
         r = tone_r(ink_of(img, mark, params), lambert, filled, albedo if colour_led(mark, params) else None)
         r = -r if preset in LIGHT_DRAWINGS else r
+        shine = None
+        if mark == "stipples" and params.get("specular"):
+            half = la._render(renderer, half_way_reference(pos, centre, normals, light_of(mark, params),
+                                                           world_from_camera), centre,
+                              ("points", {"color_source": "rgb", **SURFACE(spacing)}), [], cam)
+            matte = la._render(renderer, cloud, centre, (mark, dict(params, specular=False)), spec["filters"], cam)
+            diffuse = la._render(renderer, lambert_reference(pos, centre, normals, light_of(mark, params),
+                                                             world_from_camera), centre,
+                                 ("points", {"color_source": "rgb", **SURFACE(spacing)}), [], cam)
+            shine = (highlight(ink_of(img, mark, params), diffuse, half, filled),
+                     highlight(ink_of(matte, mark, params), diffuse, half, filled))
         fl = (flicker(renderer, cloud, centre, (mark, params), spec["filters"], world_from_camera, clip) / base_flicker
               if with_orbit else float("nan"))
         rows.append(dict(scan=name, preset=preset, mark=mark, holes=100.0 * holes.sum() / max(filled.sum(), 1),
                          stray=int(stray.sum()), stray_pm=1000.0 * stray.sum() / max(drawn.sum(), 1), r=r,
-                         flicker=fl))
+                         flicker=fl, highlight=shine))
         mk = img.copy()
         mk[stray] = (1.0, 0.0, 1.0, 1.0)
         tiles[mark].append(mk)
@@ -275,6 +337,8 @@ def verdict(row):
         bad.append("r")
     if row["flicker"] == row["flicker"] and row["flicker"] > FLICKER_LIMIT:
         bad.append("flicker")
+    if row["highlight"] is not None and not row["highlight"][0] - row["highlight"][1] >= HIGHLIGHT_LIMIT:
+        bad.append("highlight")
     return bad
 
 
@@ -296,11 +360,12 @@ def main():
           f"{BLOCK} px blocks (limit {R_LIMIT}); flicker: vs the points mark (limit {FLICKER_LIMIT}x)")
     print("| scan | preset | holes % | stray px (‰ of drawn) | ink vs Lambert r | flicker vs points | over |")
     print("|---|---|---|---|---|---|---|")
-    sheets, fails, sheet_scans = {m: [] for m in MARKS}, 0, []
+    sheets, fails, sheet_scans, highlights = {m: [] for m in MARKS}, 0, [], []
     for name, pos, attrs, cam, clip in scans():
         if only and not any(o.lower() in name.lower() for o in only):
             continue
         rows, tiles = audit_scan(renderer, name, pos, attrs, cam, clip, names, with_orbit, overlay)
+        highlights += [row for row in rows if row["highlight"] is not None]
         for row in rows:
             bad = verdict(row)
             fails += len(bad)
@@ -316,6 +381,10 @@ def main():
             pointnpr.save_image(path, la.sheet(rows_of_tiles))
             label_sheet(path, sheet_scans, ["points (3 px)"] + [n for n in names if presets.PRESETS[n]["mark"][0] == mark])
     print(f"{fails} measures over their limit")
+    print("\nHighlights (stipples with specular): ink on the lit side (N.L >= 0.5, N.H < 0.8) minus ink where "
+          "N.H >= 0.95, with the highlight and without it (the same preset, specular off)")
+    for row in highlights:
+        print(f"| {row['scan']} | {row['preset']} | {row['highlight'][0]:+.3f} | {row['highlight'][1]:+.3f} |")
 
 
 if __name__ == "__main__":
