@@ -37,10 +37,10 @@ double ms_since(Clock::time_point t0) {
 const float kInf = std::numeric_limits<float>::infinity();
 
 // The pixels chunk `index`'s sampled surface covers seen face-on at the
-// depth of its points' mean; negative where unknown. The queue's M where the box's
-// hull is more: the density on screen then follows the points, not the
-// empty space a chunk's box holds (a Morton run across two regions, a tree
-// over flat ground).
+// depth of its points' mean; negative where unknown. The queue's M where
+// the box's hull is more: the density on screen then follows the points,
+// not the empty space a chunk's box holds (a Morton run across two
+// regions, a tree over flat ground).
 double points_area(const GpuCloud& gpu, size_t index, const glm::dmat4& view_from_chunk,
                    const Camera& cam, int height) {
   const ChunkSurface& surface = gpu.host_chunk_surfaces().at(index);

@@ -486,9 +486,9 @@ const MarkRegistration registration{{
                          "coloring", {"point"}),
                only_when(added_later(float_param("color_tone", 1.0, 0.0, 1.0, "",
                                                  "How much the point colour's darkness is tone: the X-Toon "
-                                                 "brightness times mix(1, the colour's luminance, this), so a dark "
-                                                 "colour in the light still gets dense strokes, as a coloured-pencil "
-                                                 "drawing gives it"),
+                                                 "brightness times mix(1, its luminance over the scan's median, "
+                                                 "this), so a dark colour in the light still gets dense strokes, as "
+                                                 "a coloured-pencil drawing gives it"),
                                      {0.0}),
                          "coloring", {"point"}),
                only_when(color_source_param(), "coloring", {"point"}),
