@@ -89,12 +89,13 @@ std::vector<ChunkSurface> chunk_surfaces(const PointCloud& cloud) {
 }
 
 const std::vector<ChunkSurface>& GpuCloud::host_chunk_surfaces() const {
-  if (!chunk_areas_) {
+  std::vector<ChunkSurface>& surfaces = host_slot<std::vector<ChunkSurface>>("chunk_surfaces");
+  if (surfaces.empty()) {
     const std::shared_ptr<const PointCloud> cloud = source.lock();
     if (!cloud) throw Error("the surface areas of a cloud that is gone");
-    chunk_areas_ = std::make_shared<const std::vector<ChunkSurface>>(chunk_surfaces(*cloud));
+    surfaces = chunk_surfaces(*cloud);
   }
-  return *chunk_areas_;
+  return surfaces;
 }
 
 const gl::Buffer* GpuCloud::find(AttributeKey key) const {

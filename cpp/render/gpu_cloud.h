@@ -38,8 +38,8 @@ struct GpuCloud {
   // resolution queue's density follows where the chunk's box is larger than
   // its points (renderer.cpp). Computed on first use and kept.
   const std::vector<ChunkSurface>& host_chunk_surfaces() const;
-  // A native mark's host data derived per point and kept between frames
-  // while the cloud lives (marks/*_native.cpp): one T per name, made on
+  // Host data derived from the cloud and kept between frames while it
+  // lives (the native marks', the chunks' surfaces): one T per name, made on
   // first use; the mark recomputes it in place when its inputs change, so
   // a parameter tweak never piles up copies.
   template <class T>
@@ -51,7 +51,6 @@ struct GpuCloud {
 
  private:
   mutable std::shared_ptr<const std::vector<uint32_t>> queue_order_;
-  mutable std::shared_ptr<const std::vector<ChunkSurface>> chunk_areas_;
   mutable std::map<std::string, std::shared_ptr<void>> host_slots_;
 };
 

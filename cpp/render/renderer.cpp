@@ -36,14 +36,12 @@ double ms_since(Clock::time_point t0) {
 
 const float kInf = std::numeric_limits<float>::infinity();
 
-// The pixels chunk `index`'s sampled surface covers seen face-on at the
-// depth of its points' mean; negative where unknown. The queue's M where
+// The pixels a chunk's sampled surface covers seen face-on at the depth
+// of its points' mean; negative where unknown. The queue's M where
 // the box's hull is more: the density on screen then follows the points,
 // not the empty space a chunk's box holds (a Morton run across two
 // regions, a tree over flat ground).
-double points_area(const GpuCloud& gpu, size_t index, const glm::dmat4& view_from_chunk,
-                   const Camera& cam, int height) {
-  const ChunkSurface& surface = gpu.host_chunk_surfaces().at(index);
+double points_area(const ChunkSurface& surface, const glm::dmat4& view_from_chunk, const Camera& cam, int height) {
   const double area = surface.area;
   const double depth = -(view_from_chunk * glm::dvec4(surface.centre, 1.0)).z;
   if (!(area > 0.0) || (!cam.orthographic && !(depth > 0.0))) return -1.0;
@@ -137,6 +135,7 @@ struct Renderer::Impl {
       if (inst.cloud && inst.cloud->skipped_nonfinite() > 0) frame_warnings.add_nonfinite(inst, seg);
       if (!inst.cloud || inst.cloud->size() == 0) continue;
       GpuCloud* gpu = nullptr;
+      const std::vector<ChunkSurface>* surfaces = nullptr;  // the queue's, once per cloud
       const glm::dmat4 view_from_object = cam.view_from_world * inst.world_from_object;
       for (const PointChunk& chunk : inst.cloud->chunks()) {
         ++total;
@@ -160,8 +159,9 @@ struct Renderer::Impl {
         out.depth_max = std::max(out.depth_max, std::min(box.depth_max, cam.clip_end));
         double area = box.crosses_near ? -1.0 : box.hull_area();
         if (queued && area >= 0.0) {
+          if (!surfaces) surfaces = &gpu->host_chunk_surfaces();
           const double points =
-              points_area(*gpu, size_t(&chunk - inst.cloud->chunks().data()), view_from_chunk, cam, size.y);
+              points_area(surfaces->at(size_t(&chunk - inst.cloud->chunks().data())), view_from_chunk, cam, size.y);
           if (points >= 0.0) area = std::min(area, points);
         }
         out.chunks.push_back({gpu, &chunk, glm::mat4(view_from_chunk), key_base, area});

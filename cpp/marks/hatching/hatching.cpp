@@ -369,6 +369,8 @@ void Hatching::draw_strokes_gl(const MarkContext& ctx, const ParamValues& p, con
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, strokes.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, counters.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, commands.id());
+    const GpuCloud* median_of = nullptr;
+    float median = 0.0f;  // median_luminance of median_of's colours
     for (size_t c = batch.begin; c < batch.end; ++c) {
       const VisibleChunk& v = ctx.chunks[c];
       const GpuCloud& g = *v.gpu;
@@ -378,10 +380,11 @@ void Hatching::draw_strokes_gl(const MarkContext& ctx, const ParamValues& p, con
                   {9, g.find({AttributeKind::LocalResolution, kSpacingNeighbors})},
                   {11, pass.opacity_draws ? g.find({AttributeKind::SplatOpacity}) : nullptr}});
       glUniform1i(select.location("u_has_opacity"), pass.opacity_draws ? 1 : 0);
-      float median = 0.0f;
-      if (pass.select.coloring == 2)
+      if (pass.select.coloring == 2 && &g != median_of) {  // once per cloud
+        median_of = &g, median = 0.0f;
         if (const auto cloud = g.source.lock())
           median = median_luminance(g, *cloud, host_colors(g, *cloud, pass.color_source, pass.select.constant_color));
+      }
       glUniform1f(select.location("u_color_median"), median);
       glUniform1i(select.location("u_has_spacing"),
                   g.find({AttributeKind::LocalResolution, kSpacingNeighbors}) ? 1 : 0);

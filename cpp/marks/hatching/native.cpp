@@ -137,6 +137,8 @@ void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const Str
   std::vector<HostChunk> chunks(ctx.chunks.size());
   std::vector<std::shared_ptr<const void>> held;
   const PointCloud* opacity_cloud = nullptr;
+  const GpuCloud* median_of = nullptr;  // median_luminance of its colours: once per cloud
+  float median = 0.0f;
   const float* opacity_data = nullptr;
   for (size_t i = 0; i < ctx.chunks.size(); ++i) {
     const VisibleChunk& v = ctx.chunks[i];
@@ -174,7 +176,8 @@ void draw_strokes_native(const MarkContext& ctx, const ParamValues& p, const Str
     if (draws_queue(v, p)) c.order = v.gpu->host_queue_order().data() + v.chunk->first;
     if (pass.select.coloring == 2) {
       c.colors = host_colors(*v.gpu, *cloud, pass.color_source, pass.select.constant_color);
-      c.color_median = median_luminance(*v.gpu, *cloud, c.colors);
+      if (v.gpu != median_of) median_of = v.gpu, median = median_luminance(*v.gpu, *cloud, c.colors);  // per cloud
+      c.color_median = median;
     }
     c.first = v.chunk->first;
     c.count = queue_count(v, p);
