@@ -17,9 +17,13 @@
 // search, and more than twice the depth spread of its own enclosing pixels
 // (the scan's local noise), encloses them: back points seen through a front
 // surface. A gap takes the inverse-distance mean of its enclosing pixels
-// (rgba, straight alpha). Nothing crosses a depth jump: the background
-// beside a silhouette, or a far wall seen past an edge, is enclosed by no
-// surface. Passes: line sweeps, classify, then the search on the listed
+// (rgba, straight alpha). The nearer surface never crosses a depth jump:
+// the background beside a silhouette stays, but where a background pixel's
+// lines meet a nearer surface on one side and a farther one on the other
+// and each is a gap between the farther surface's own samples (no longer
+// than twice the spacing at its depth), that surface, which runs on behind
+// the nearer one's edge, fills it (a tree crown's gaps, a wall's beside an
+// occluder). Passes: line sweeps, classify, then the search on the listed
 // pixels (see the end of the file).
 #include "filter_common.glsl"
 layout(rgba32f, binding = 0) uniform readonly image2D u_in;
@@ -130,6 +134,31 @@ void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
   ++acc.lines;
 }
 
+// Line `d` with first pixels a and b where the two are not one surface (a
+// depth jump): the gap is one between the farther surface's own samples when
+// it is no longer than twice the scan's spacing at that surface's depth
+// (where the spacing spans the fewest pixels), so that surface runs on behind
+// the nearer one's edge: it alone fills the background pixel, the nearer
+// one's silhouette stays where it is. Returns the farther end's depth, or
+// +inf when the line does not qualify.
+float far_end(ivec2 d, Hit a, Hit b) {
+  if (a.t == 0 || b.t == 0) return INF;
+  float far = max(a.depth, b.depth);
+  float across = float(a.t + b.t) * length(vec2(d)) * pixel_size(far);
+  return across <= u_span ? far : INF;
+}
+
+void far_line(float far, float lo, Hit a, Hit b, inout Acc acc) {
+  if (isinf(far) || far < lo) return;
+  Hit f = a.depth >= b.depth ? a : b;
+  float w = 1.0 / float(f.t);
+  acc.sum += w * f.color;
+  acc.weight += w;
+  acc.lo = min(acc.lo, f.depth);
+  acc.hi = max(acc.hi, f.depth);
+  ++acc.lines;
+}
+
 // Whether pixel p (colour c) may change: a background pixel, or a covered
 // one with a gap or a nearer surface near it. Everything else is copied.
 bool needs_work(ivec2 p, vec4 c, out float own) {
@@ -160,6 +189,10 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
   Hit a0 = march(p, D0, own), a1 = march(p, D1, own), a2 = march(p, D2, own), a3 = march(p, D3, own);
   if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) return;
   Hit b0 = march(p, -D0, own), b1 = march(p, -D1, own), b2 = march(p, -D2, own), b3 = march(p, -D3, own);
+  // The first hits, for the farther surface's rule (far_end) where the
+  // nearest surface does not enclose the pixel.
+  float f0 = far_end(D0, a0, b0), f1 = far_end(D1, a1, b1), f2 = far_end(D2, a2, b2), f3 = far_end(D3, a3, b3);
+  Hit fa0 = a0, fa1 = a1, fa2 = a2, fa3 = a3, fb0 = b0, fb1 = b1, fb2 = b2, fb3 = b3;
   float near = min(min(min(a0.depth, a1.depth), min(a2.depth, a3.depth)),
                    min(min(b0.depth, b1.depth), min(b2.depth, b3.depth)));
   // Hits beyond what the nearest surface reaches over the search (a back
@@ -187,6 +220,22 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
     // more than twice the spread of its own enclosing pixels (the scan's
     // local noise).
     if (own <= limit || own - hi <= 2.0 * (hi - lo) + pixel_size(hi) * u_grazing) lines = 0;
+  }
+  if (lines < 2 && isinf(own)) {
+    // The farthest of the lines' farther ends, and those one surface with
+    // it (within its slope over the search).
+    float far = max(max(isinf(f0) ? 0.0 : f0, isinf(f1) ? 0.0 : f1), max(isinf(f2) ? 0.0 : f2, isinf(f3) ? 0.0 : f3));
+    float lo_far = far - 2.0 * float(g_reach) * pixel_size(far) * u_grazing;
+    Acc back = Acc(vec4(0.0), 0.0, INF, 0.0, 0);
+    far_line(f0, lo_far, fa0, fb0, back);
+    far_line(f1, lo_far, fa1, fb1, back);
+    far_line(f2, lo_far, fa2, fb2, back);
+    far_line(f3, lo_far, fa3, fb3, back);
+    if (back.lines >= 2) {
+      sum = back.sum;
+      weight = back.weight;
+      lines = back.lines;
+    }
   }
   imageStore(u_out, p, lines >= 2 ? sum / weight : c);
 }

@@ -1,6 +1,6 @@
 // The filter chain's depth-aware gap fill (shaders/gap_fill.comp, issue 40):
-// filters that read neighbourhoods see no background inside a surface, the
-// fill never bridges a depth jump, and back points seen through a front
+// filters that read neighbourhoods see no background inside a surface, a
+// depth jump is closed only by the farther surface, and back points seen through a front
 // surface's gaps give way to it. The harness's view is orthographic, one
 // scene unit per pixel.
 #include <gtest/gtest.h>
@@ -60,26 +60,39 @@ TEST(GapFill, NeighbourhoodFiltersSeeNoBackgroundInsideASurface) {
   }
 }
 
-TEST(GapFill, NeverBridgesADepthJump) {
+TEST(GapFill, ADepthJumpIsClosedOnlyByTheFartherSurfaceWithinItsSpacing) {
   // Two surfaces side by side with a 4 px gap between them: one surface
-  // (equal depths) closes the gap; a statue 90 units in front of a wall
-  // keeps it open.
-  for (const float right_depth : {10.0f, 100.0f}) {
+  // (equal depths) closes the gap. A statue 90 units in front of a wall
+  // never paints into it; the wall runs on behind the statue's edge, so it
+  // fills the gap where the gap is one between its own samples (no longer
+  // than twice the scan's spacing along at least two lines: 5 px from end
+  // to end across, 5 sqrt(2) on the diagonals), and stays open where it is
+  // wider or the spacing unknown.
+  const glm::vec4 statue(0.8f, 0.2f, 0.2f, 1.0f), wall(0.2f, 0.2f, 0.8f, 1.0f);
+  struct Case {
+    float right_depth, spacing;
+    int open;
+  };
+  for (const Case c : {Case{10.0f, 0.0f, 0}, Case{100.0f, 0.0f, 20 * 4}, Case{100.0f, 2.4f, 20 * 4},
+                       Case{100.0f, 3.6f, 0}}) {
     Image in = empty_with_depth({64, 48});
     for (int y = 8; y < 40; ++y)
       for (int x = 8; x < 56; ++x) {
-        if (x < 30) put(in, x, y, glm::vec4(0.8f, 0.2f, 0.2f, 1.0f), 10.0f);
-        if (x >= 34) put(in, x, y, glm::vec4(0.2f, 0.2f, 0.8f, 1.0f), right_depth);
+        if (x < 30) put(in, x, y, statue, 10.0f);
+        if (x >= 34) put(in, x, y, wall, c.right_depth);
       }
+    in.spacing = c.spacing;
     const FilterRun run = run_filters(in, {kOil});
     int open = 0;
     for (int y = 14; y < 34; ++y)
-      for (int x = 30; x < 34; ++x) open += run.out.at(x, y).a < 0.5f;
-    if (right_depth == 10.0f) {
-      EXPECT_EQ(open, 0) << "a gap inside one surface closes";
-    } else {
-      EXPECT_EQ(open, 20 * 4) << "a gap between surfaces at different depths stays open";
-    }
+      for (int x = 30; x < 34; ++x) {
+        const glm::vec4 o = run.out.at(x, y);
+        open += o.a < 0.5f;
+        if (o.a >= 0.5f && c.right_depth > 10.0f) {
+          ASSERT_LT(o.r, 0.3f) << "the statue paints into the gap at " << x;
+        }
+      }
+    EXPECT_EQ(open, c.open) << "depth " << c.right_depth << ", spacing " << c.spacing;
   }
 }
 
