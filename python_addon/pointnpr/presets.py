@@ -22,11 +22,13 @@ PRESETS = {
         ],
     },
     # Black XDoG lines and silhouettes over a pale, desaturated fill; the
-    # oil-paint pass first keeps scan noise from turning into specks.
+    # oil-paint pass first keeps scan noise from turning into specks. No
+    # impasto: XDoG drew its relief as squiggles over every plane (lines on
+    # planes 10-14 % -> 0-2.2 %, bench/look_audit.py).
     "Ink outlines": {
         "mark": ("points", {"point_size": 3.0}),
         "filters": [
-            ("kuwahara", {"radius": 4.0}),
+            ("kuwahara", {"radius": 4.0, "impasto": 0.0}),
             ("xdog", {"thickness": 2.0, "sharpen": 25.0}),
             ("color_grade", {"saturation": 0.0, "exposure": 1.5}),
         ],
@@ -65,11 +67,12 @@ PRESETS = {
             ("color_grade", {"saturation": 1.15, "contrast": 1.1}),
         ],
     },
-    # Five lightness levels with XDoG lines, after an oil-paint pass.
+    # Five lightness levels with XDoG lines, after an oil-paint pass (no
+    # impasto: its relief is no form of the scan, and XDoG outlined it).
     "Posterize": {
         "mark": ("points", {"point_size": 3.0}),
         "filters": [
-            ("kuwahara", {"radius": 3.0}),
+            ("kuwahara", {"radius": 3.0, "impasto": 0.0}),
             ("posterize", {"levels": 5, "space": "lightness"}),
             ("xdog", {"thickness": 1.5, "sharpen": 10.0}),
         ],
