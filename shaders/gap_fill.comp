@@ -33,6 +33,13 @@ uniform int u_reach;
 uniform float u_grazing;
 uniform float u_span;  // the longest gap between the scan's neighbours, view units (0: unknown)
 uniform int u_splat_reach;  // the reach of the splat-width rule (below), px
+// Each covered pixel's point's own spacing, view units (0: unknown), read
+// where u_pixel_spacing is 1: where the scan is sparser than the segment's
+// spacing (an aerial tile's water, a far bank) its own gaps close too.
+layout(r32f, binding = 6) uniform readonly image2D u_spacing;
+uniform int u_pixel_spacing;
+// The longest gap between the scan's neighbours at covered pixel q.
+float span_at(ivec2 q) { return u_pixel_spacing != 0 ? max(u_span, 2.0 * imageLoad(u_spacing, q).r) : u_span; }
 uniform ivec2 u_cover_min;  // covered pixels lie within [u_cover_min, u_cover_max)
 uniform ivec2 u_cover_max;
 
@@ -119,8 +126,9 @@ void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
   float gap = float(a.t + b.t - 1);
   float across = (gap + 1.0) * length(vec2(d)) * pixel_size(min(a.depth, b.depth));  // view units
   if (abs(a.depth - b.depth) > across * u_grazing) return;
-  // Between the scan's neighbours, or between splats as wide as the gap.
-  if (!(across <= u_span)) {
+  // Between the scan's neighbours (the segment's spacing, else either
+  // end's own), or between splats as wide as the gap.
+  if (!(across <= u_span) && !(across <= max(span_at(p + a.t * d), span_at(p - b.t * d)))) {
     int need = (int(gap) + 1) / 2;
     if (a.t > u_splat_reach || b.t > u_splat_reach || 1 + run_length(p, d, a.t, limit, need - 1) < need ||
         1 + run_length(p, -d, b.t, limit, need - 1) < need)
@@ -141,11 +149,11 @@ void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
 // the nearer one's edge: it alone fills the background pixel, the nearer
 // one's silhouette stays where it is. Returns the farther end's depth, or
 // +inf when the line does not qualify.
-float far_end(ivec2 d, Hit a, Hit b) {
+float far_end(ivec2 p, ivec2 d, Hit a, Hit b) {
   if (a.t == 0 || b.t == 0) return INF;
   float far = max(a.depth, b.depth);
   float across = float(a.t + b.t) * length(vec2(d)) * pixel_size(far);
-  return across <= u_span ? far : INF;
+  return across <= u_span || across <= span_at(a.depth >= b.depth ? p + a.t * d : p - b.t * d) ? far : INF;
 }
 
 void far_line(float far, float lo, Hit a, Hit b, inout Acc acc) {
@@ -191,7 +199,8 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
   Hit b0 = march(p, -D0, own), b1 = march(p, -D1, own), b2 = march(p, -D2, own), b3 = march(p, -D3, own);
   // The first hits, for the farther surface's rule (far_end) where the
   // nearest surface does not enclose the pixel.
-  float f0 = far_end(D0, a0, b0), f1 = far_end(D1, a1, b1), f2 = far_end(D2, a2, b2), f3 = far_end(D3, a3, b3);
+  float f0 = far_end(p, D0, a0, b0), f1 = far_end(p, D1, a1, b1), f2 = far_end(p, D2, a2, b2),
+        f3 = far_end(p, D3, a3, b3);
   Hit fa0 = a0, fa1 = a1, fa2 = a2, fa3 = a3, fb0 = b0, fb1 = b1, fb2 = b2, fb3 = b3;
   float near = min(min(min(a0.depth, a1.depth), min(a2.depth, a3.depth)),
                    min(min(b0.depth, b1.depth), min(b2.depth, b3.depth)));
@@ -250,8 +259,9 @@ layout(std430, binding = 3) buffer Work {
   uint groups_x, groups_y, groups_z, count;
   uint pixels[];  // x | y << 16
 };
-// Each 16x16 tile's nearest depth (+inf: no point), tiles in rows of u_groups.x.
-layout(std430, binding = 4) buffer TileDepth { float tile_depth[]; };
+// Each 16x16 tile's nearest depth (+inf: no point) and its points' largest
+// spacing (u_pixel_spacing), tiles in rows of u_groups.x.
+layout(std430, binding = 4) buffer TileDepth { vec2 tile_depth[]; };
 uniform ivec2 u_groups;
 // Whether a pixel at depth `own` may give way to a surface whose nearest
 // depth around its tile is `near`: fill_pixel keeps a covered pixel unless
@@ -318,11 +328,12 @@ bool enclosed(ivec2 p) {
   return lines >= 2;
 }
 shared uint s_count, s_base;
-shared uint s_near;  // float bits: positive floats order as their bits do
+shared uint s_near, s_spacing;  // float bits: positive floats order as their bits do
 void main() {
   if (gl_LocalInvocationIndex == 0u) {
     s_count = 0u;
     s_near = floatBitsToUint(INF);
+    s_spacing = 0u;
   }
   barrier();
   ivec2 p;
@@ -335,11 +346,15 @@ void main() {
     work = needs_work(p, c, own) && (covered(c) || enclosed(p));
     if (work) slot = atomicAdd(s_count, 1u);
     float d = imageLoad(u_depth, p).r;
-    if (d >= 0.0 && d < INF) atomicMin(s_near, floatBitsToUint(d));
+    if (d >= 0.0 && d < INF) {
+      atomicMin(s_near, floatBitsToUint(d));
+      if (u_pixel_spacing != 0) atomicMax(s_spacing, floatBitsToUint(max(imageLoad(u_spacing, p).r, 0.0)));
+    }
   }
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
-    tile_depth[gl_WorkGroupID.y * uint(u_groups.x) + gl_WorkGroupID.x] = uintBitsToFloat(s_near);
+    tile_depth[gl_WorkGroupID.y * uint(u_groups.x) + gl_WorkGroupID.x] = vec2(uintBitsToFloat(s_near),
+                                                                               uintBitsToFloat(s_spacing));
     s_base = atomicAdd(count, s_count);
     atomicMax(groups_x, (s_base + s_count + 63u) / 64u);
   }
@@ -359,16 +374,19 @@ void main() {
     // spans here (the same gaps close as with u_reach; far parts search
     // less), and with no point among them there is nothing to enclose.
     ivec2 t = (p - u_rect_min) / 16;
-    float near = INF;
+    float near = INF, spacing = 0.0;
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         ivec2 q = t + ivec2(dx, dy);
-        if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, u_groups)))
-          near = min(near, tile_depth[q.y * u_groups.x + q.x]);
+        if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, u_groups))) {
+          vec2 tile = tile_depth[q.y * u_groups.x + q.x];
+          near = min(near, tile.x);
+          spacing = max(spacing, tile.y);
+        }
       }
-    float size = pixel_size(near);
-    g_reach = u_span > 0.0 && size > 0.0 ? clamp(int(ceil(u_span / size)) - 1, min(u_splat_reach, u_reach), u_reach)
-                                         : u_reach;
+    float size = pixel_size(near), span = max(u_span, 2.0 * spacing);
+    g_reach = span > 0.0 && size > 0.0 ? clamp(int(ceil(span / size)) - 1, min(u_splat_reach, u_reach), u_reach)
+                                       : u_reach;
     vec4 c = imageLoad(u_in, p);
     float own = covered(c) ? imageLoad(u_depth, p).r : INF;  // as needs_work found it
     if (!isinf(near) && may_give_way(own, near)) fill_pixel(p, c, own);

@@ -21,6 +21,7 @@ uniform int u_image_width;  // the images' (a tile's), for the per-pixel buffers
 uniform int u_queue;  // 1: the i-th invocation draws the chunk's i-th point of the resolution queue
 layout(rgba32f, binding = 0) uniform writeonly image2D u_color_out;
 layout(r32f, binding = 1) uniform writeonly image2D u_depth_out;
+layout(r32f, binding = 2) uniform writeonly image2D u_spacing_out;  // with u_write_spacing
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
@@ -39,6 +40,7 @@ void main() {
   uint key = u_key_base + local;
 #ifdef PASS_COLOR
   vec4 color = point_color(index);
+  float spacing = point_spacing(index);
 #endif
   for (int y = lo.y; y <= hi.y; ++y) {
     for (int x = lo.x; x <= hi.x; ++x) {
@@ -52,6 +54,7 @@ void main() {
       if (depth_keys[pixel] == packed) {
         imageStore(u_color_out, ivec2(x, y), color);
         imageStore(u_depth_out, ivec2(x, y), vec4(s.depth));
+        if (u_write_spacing != 0) imageStore(u_spacing_out, ivec2(x, y), vec4(spacing));
       }
 #endif
 #else
@@ -63,6 +66,7 @@ void main() {
       if (keys[pixel] == key) {
         imageStore(u_color_out, ivec2(x, y), color);
         imageStore(u_depth_out, ivec2(x, y), vec4(s.depth));
+        if (u_write_spacing != 0) imageStore(u_spacing_out, ivec2(x, y), vec4(spacing));
       }
 #endif
 #endif

@@ -9,6 +9,11 @@ layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 7) readonly buffer SplatRadii { float splat_radius[]; };
 layout(std430, binding = 8) readonly buffer SplatOpacities { float splat_opacity[]; };
 uniform int u_opacity_draws;  // 1: drawn where id_rand(point id) < the splat's opacity
+// 1: each pixel's point's spacing is written for the gap fill (its
+// SplatRadius, scaled to view units by u_spacing_scale).
+uniform int u_write_spacing;
+uniform float u_spacing_scale;
+float point_spacing(uint index) { return u_write_spacing != 0 ? splat_radius[index] * u_spacing_scale : 0.0; }
 const uint kOpacitySalt = 0x6f706163u;  // id_rand's salt for the draw (native.cpp: the same)
 
 uniform mat4 u_projection;

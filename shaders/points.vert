@@ -12,6 +12,7 @@ flat out vec4 v_color;
 flat out float v_depth;
 flat out float v_diameter;
 flat out vec2 v_center;  // window position in the images (pixels)
+flat out float v_spacing;
 
 void main() {
   uint index = uint(gl_VertexID);
@@ -19,6 +20,7 @@ void main() {
   v_color = point_color(index);
   v_depth = s.depth;
   v_diameter = s.diameter;
+  v_spacing = point_spacing(index);
   gl_PointSize = s.diameter;
   if (!s.visible) {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume

@@ -73,7 +73,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
   // The list of pixels that need the search: 3 uints of indirect dispatch
   // arguments, the list's length, then a uint per pixel. Kept for the GL
   // context's life (like the shader library), grown as frames need.
-  // Then each 16x16 tile's nearest depth (a float per tile).
+  // Then each 16x16 tile's nearest depth and largest spacing (2 floats).
   static gl::Buffer* work = new gl::Buffer();
   static gl::Buffer* tile_depth = new gl::Buffer();
   static size_t work_bytes = 0, depth_bytes = 0;
@@ -84,9 +84,9 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     *work = gl::make_buffer(bytes, nullptr);
     work_bytes = bytes;
   }
-  if (4 * n_tiles > depth_bytes) {
-    *tile_depth = gl::make_buffer(4 * n_tiles, nullptr);
-    depth_bytes = 4 * n_tiles;
+  if (8 * n_tiles > depth_bytes) {
+    *tile_depth = gl::make_buffer(8 * n_tiles, nullptr);
+    depth_bytes = 8 * n_tiles;
   }
   // The sweeps' distances to the nearest covered pixel along the 4 line
   // orientations, a layer each (shaders/gap_fill.comp, PASS_SWEEP); kept
@@ -107,6 +107,10 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
   glBindImageTexture(0, in.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
   glBindImageTexture(1, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(2, images.raster_depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  // Each pixel's spacing (image 6), where the mark wrote it; else the
+  // depth, bound but not read (u_pixel_spacing 0).
+  const gl::Texture& spacing = images.raster_spacing ? *images.raster_spacing : *images.raster_depth;
+  glBindImageTexture(6, spacing.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   if (!covered.empty()) {
     const gl::Program& sweep = images.shaders->compute("gap_fill.comp", {"PASS_SWEEP"});
     sweep.use();
@@ -128,6 +132,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     glUniform1f(prog.location("u_grazing"), kGapGrazing);
     glUniform1f(prog.location("u_span"), std::max(2.0f * images.sampling.spacing, 0.0f));
     glUniform1i(prog.location("u_splat_reach"), kGapSplatReach);
+    glUniform1i(prog.location("u_pixel_spacing"), images.raster_spacing ? 1 : 0);
     glUniform2i(prog.location("u_groups"), groups.x, groups.y);
     glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
     glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);

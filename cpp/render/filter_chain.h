@@ -37,6 +37,10 @@ struct FilterChainImages {
   // splats, not for marks whose gaps are the drawing (strokes, stipples).
   bool fill_gaps = true;
   std::function<const gl::Texture&()> gap_image;
+  // Each covered pixel's point's spacing, view units (the points mark's
+  // SplatRadius, MarkTargets::spacing; 0 where unknown), or null: the fill
+  // then knows the segment's spacing only.
+  const gl::Texture* raster_spacing = nullptr;
 };
 
 // Runs `steps` from `rect` (the input's covered bounds); returns the image
@@ -58,6 +62,9 @@ constexpr int kGapSplatReach = 8;
 // At most a 16x16 tile, so that a gap's ends lie in its tile or the 8
 // around it (shaders/gap_fill.comp bounds each tile's search by theirs).
 constexpr int kGapReachMax = 16;
+// The neighbours a point's spacing is the mean distance to (the segment's,
+// ScanSampling, and each point's, MarkTargets::spacing).
+constexpr int kGapSpacingNeighbours = 8;
 
 // Sum of the filters' footprints: how far the chain can reach beyond its input.
 int total_footprint(const std::vector<FilterStep>& steps);

@@ -34,6 +34,14 @@ void FrameTargets::ensure(glm::ivec2 new_size, bool new_int64) {
   gl::check_gl("frame target allocation");
 }
 
+const gl::Texture& FrameTargets::spacing_image() {
+  if (raster_spacing.id() == 0) {
+    raster_spacing = gl::Texture(GL_R32F, size);
+    spacing_fbo = gl::make_framebuffer({&raster_color, &raster_depth, &raster_spacing}, &gl_depth, "GL_POINTS spacing");
+  }
+  return raster_spacing;
+}
+
 const gl::Texture& FrameTargets::gap_fill_image() {
   if (gap_filled.id() == 0) gap_filled = gl::Texture(GL_RGBA32F, size);
   return gap_filled;

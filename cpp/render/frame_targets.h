@@ -25,6 +25,11 @@ struct FrameTargets {
   gl::Framebuffer fbo;
   std::deque<gl::Texture> scratch;  // RGBA32F for filters; deque: references stay valid as it grows
   gl::Texture gap_filled;           // RGBA32F: the filter chain's gap fill (made on first use)
+  // R32F: each pixel's point's spacing, view units (the points mark, for the
+  // gap fill), and the GL_POINTS framebuffer writing it as colour 2; made on
+  // first use.
+  gl::Texture raster_spacing;
+  gl::Framebuffer spacing_fbo;
   std::map<std::pair<GLenum, int>, gl::Texture> mark_images;
 
   // Every target at `size` (with 64-bit atomics: one depth-and-key buffer).
@@ -33,6 +38,8 @@ struct FrameTargets {
   const gl::Texture& filter_scratch(int index);
   // The filter chain's gap-filled image (shaders/gap_fill.comp).
   const gl::Texture& gap_fill_image();
+  // raster_spacing (and spacing_fbo), made on first use.
+  const gl::Texture& spacing_image();
   // A mark's scratch image of `format`, by index.
   const gl::Texture& mark_scratch(GLenum format, int index);
   // Clears whole rows [r.min.y, r.max.y) of a per-pixel buffer to ~0: one call.

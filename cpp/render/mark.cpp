@@ -201,12 +201,15 @@ float sparse_spacing(const VisibleChunk& v, int k, float otherwise) {
   return sparse > 0.0f && std::isfinite(sparse) ? sparse : otherwise;
 }
 
+float view_scale(const VisibleChunk& v) {
+  // A camera has none: the instance's.
+  return std::cbrt(std::abs(glm::determinant(glm::mat3(v.view_from_chunk))));
+}
+
 float view_spacing(const VisibleChunk& v, int k) {
   const std::shared_ptr<const PointCloud> cloud = v.gpu->source.lock();
   if (!cloud || cloud->size() == 0) return 0.0f;
-  // The view's scale of object lengths (a camera has none: the instance's).
-  const float scale = std::cbrt(std::abs(glm::determinant(glm::mat3(v.view_from_chunk))));
-  const float spacing = cloud->analysis().surface_resolution(k)->sparse_r * scale;
+  const float spacing = cloud->analysis().surface_resolution(k)->sparse_r * view_scale(v);
   return std::isfinite(spacing) ? spacing : 0.0f;
 }
 

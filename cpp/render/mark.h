@@ -68,6 +68,8 @@ float sparse_spacing(const VisibleChunk& v, int k, float otherwise);
 // of its k nearest neighbours, computed once per cloud) in view units (its
 // instance's scale applied); 0 where the cloud has none.
 float view_spacing(const VisibleChunk& v, int k);
+// How the chunk's view scales its cloud's lengths (its instance's scale).
+float view_scale(const VisibleChunk& v);
 
 // A mesh that survived culling (the mesh_surface mark's input), with its
 // view transform composed in double (its offsets from the mesh origin
@@ -93,6 +95,11 @@ struct MarkTargets {
   const gl::Texture* depth = nullptr;
   const gl::Texture* gl_depth = nullptr;  // DEPTH_COMPONENT32F for GL draws
   GLuint fbo = 0;                         // color0 = color, color1 = depth, depth = gl_depth
+  // Where the filter chain fills gaps (Style::fills_gaps): the points mark
+  // writes each pixel's point's spacing (SplatRadius, view units) here, and
+  // spacing_fbo is fbo with it as color2. Null otherwise.
+  const gl::Texture* spacing = nullptr;
+  GLuint spacing_fbo = 0;
   const gl::Buffer* depth_keys = nullptr; // per pixel uint (uint64 with int64 atomics), cleared to ~0
   const gl::Buffer* keys = nullptr;       // per pixel uint (32-bit path), cleared to ~0
   // Frame-sized scratch textures of a format, by index; contents undefined.

@@ -125,6 +125,9 @@ struct Renderer::Impl {
   Culled cull(const Segment& seg, const std::vector<Instance>& instances, const Camera& cam, RenderResult& result) {
     Culled out;
     const AttributeSet needed = seg.style.attributes();
+    // A streamed cloud is new whenever the view changes its counts: no
+    // per-point spacing for it (a kNN per such frame; segment_sampling alike).
+    const AttributeSet needed_streamed = seg.style.mark.mark->attributes(seg.style.mark.params);
     const MarkExtent extent = seg.style.mark.mark->extent(seg.style.mark.params);
     uint32_t key_base = 0;
     int total = 0, culled = 0;
@@ -150,7 +153,7 @@ struct Renderer::Impl {
           continue;
         }
         if (!gpu) {
-          gpu = &clouds.get(inst.cloud, needed);
+          gpu = &clouds.get(inst.cloud, inst.cached ? needed_streamed : needed);
           const std::string missing = missing_color(needed, *gpu);
           if (!missing.empty()) frame_warnings.add_missing_color(missing, inst, seg);
         }
@@ -245,32 +248,6 @@ struct Renderer::Impl {
     return glm::dmat4(1.0);
   }
 
-  // The segment's point spacing for its filters (render/filter.h
-  // ScanSampling), from the frame's chunks, so every tile gets the same.
-  static ScanSampling scan_sampling(const Segment& seg, const Culled& frame_culled) {
-    // Neighbours of the spacing the marks size their surface from.
-    constexpr int kSpacingNeighbours = 8;
-    ScanSampling out;
-    // An out-of-core scan streams a new cloud whenever the view changes its
-    // counts: its spacing would be a kNN of the streamed points per such
-    // frame. Left unknown there (the filters' pixel rules), until the cache
-    // keeps the spacing.
-    for (const Instance& inst : seg.instances)
-      if (inst.cached) return out;
-    const GpuCloud* last = nullptr;
-    float last_scale = 0.0f;
-    for (const VisibleChunk& v : frame_culled.chunks) {
-      // A cloud's chunks share its spacing; one look-up per cloud and scale.
-      const float scale = std::abs(glm::determinant(glm::mat3(v.view_from_chunk)));
-      if (v.gpu == last && scale == last_scale) continue;
-      last = v.gpu, last_scale = scale;
-      // The largest: each cloud's own gaps close (depths still decide).
-      out.spacing = std::max(out.spacing, view_spacing(v, kSpacingNeighbours));
-    }
-    out.depth_min = float(frame_culled.depth_min);
-    return out;
-  }
-
   // The frame's chunks that reach the tile's region, and their rectangle in
   // the tile's pixels (the depth range stays the frame's: marks see the
   // same numbers in every tile).
@@ -316,11 +293,21 @@ struct Renderer::Impl {
     targets.clear_rows(targets.depth_keys, work, targets.int64 ? 8 : 4);
     if (!targets.int64) targets.clear_rows(targets.keys, work, 4);
 
+    // Each pixel's point's spacing for the gap fill, where the segment's
+    // clouds have one (none streamed, as segment_sampling); 0 elsewhere (a
+    // mesh's pixels).
+    const bool pixel_spacing = seg.style.fills_gaps() && !streams(seg);
+    if (pixel_spacing) clear_texture_rect(targets.spacing_image(), work, zero4, GL_RED, GL_FLOAT);
+
     MarkContext mark;
     mark.shaders = &shaders;
     mark.images = &images;
     mark.camera = &cam;
     mark.targets = mark_targets();
+    if (pixel_spacing) {
+      mark.targets.spacing = &targets.raster_spacing;
+      mark.targets.spacing_fbo = targets.spacing_fbo.id();
+    }
     mark.chunks = visible.chunks;
     mark.clip = screen;
     mark.frame_chunks = in_frame.chunks;
@@ -382,8 +369,9 @@ struct Renderer::Impl {
       chain.time = s.time;
       chain.segment_seed = mark.segment_seed;
       chain.surface = make_surface_frame(cam, frame, surface_anchor(seg));
-      chain.sampling = scan_sampling(seg, in_frame);
+      chain.sampling = segment_sampling(seg, in_frame.chunks, in_frame.depth_min);
       chain.fill_gaps = seg.style.mark.info->schema.id == "points";
+      chain.raster_spacing = mark.targets.spacing;
       chain.gap_image = [this]() -> const gl::Texture& { return targets.gap_fill_image(); };
       current = run_filter_chain(seg.style.filters, chain, rect);
     }
@@ -476,9 +464,7 @@ TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vect
     const MarkStep& m = seg.style.mark;
     // The gap fill (points mark, before a filter that reads neighbourhoods)
     // reads up to its reach around a gap pixel (render/filter_chain.h).
-    const bool gap_fill = m.info->schema.id == "points" &&
-                          std::any_of(seg.style.filters.begin(), seg.style.filters.end(),
-                                      [](const FilterStep& f) { return f.filter->reads_neighbourhood(); });
+    const bool gap_fill = seg.style.fills_gaps();
     const int reach = int(std::ceil(m.mark->extent(m.params).pixels)) + m.mark->screen_reach(m.params) +
                       (gap_fill ? kGapReachMax : 0) + total_footprint(seg.style.filters) +
                       seg.style.inpaint.get_int("radius") + 1;

@@ -1,5 +1,7 @@
 #include "render/style.h"
 
+#include <algorithm>
+
 #include "core/error.h"
 
 namespace pointnpr {
@@ -62,9 +64,45 @@ void Style::set_surface(const std::map<std::string, std::vector<double>>& params
   surface = make_mark("mesh_surface", params);
 }
 
+bool Style::fills_gaps() const {
+  return mark.info->schema.id == "points" &&
+         std::any_of(filters.begin(), filters.end(), [](const FilterStep& f) { return f.filter->reads_neighbourhood(); });
+}
+
+AttributeSet Style::attributes() const {
+  AttributeSet set = mark.mark->attributes(mark.params);
+  if (fills_gaps()) set.insert({AttributeKind::SplatRadius, kGapSpacingNeighbours});
+  return set;
+}
+
 void Style::add_filter(const std::string& id, const std::map<std::string, std::vector<double>>& params,
                        const std::map<std::string, std::string>& paths) {
   filters.push_back(make_filter_step(id, params, paths));
+}
+
+bool streams(const Segment& seg) {
+  return std::any_of(seg.instances.begin(), seg.instances.end(), [](const Instance& i) { return bool(i.cached); });
+}
+
+ScanSampling segment_sampling(const Segment& seg, const std::vector<VisibleChunk>& frame_chunks, double depth_min) {
+  ScanSampling out;
+  // An out-of-core scan streams a new cloud whenever the view changes its
+  // counts: its spacing would be a kNN of the streamed points per such
+  // frame. Left unknown there (the filters' pixel rules), until the cache
+  // keeps the spacing.
+  if (streams(seg)) return out;
+  const GpuCloud* last = nullptr;
+  float last_scale = 0.0f;
+  for (const VisibleChunk& v : frame_chunks) {
+    // A cloud's chunks share its spacing; one look-up per cloud and scale.
+    const float scale = view_scale(v);
+    if (v.gpu == last && scale == last_scale) continue;
+    last = v.gpu, last_scale = scale;
+    // The largest: each cloud's own gaps close (depths still decide).
+    out.spacing = std::max(out.spacing, view_spacing(v, kGapSpacingNeighbours));
+  }
+  out.depth_min = float(depth_min);
+  return out;
 }
 
 }  // namespace pointnpr

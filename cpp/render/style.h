@@ -45,7 +45,11 @@ struct Style {
                   const std::map<std::string, std::string>& paths = {});
   // The per-point attributes the mark reads (only those are computed and
   // uploaded, once per cloud), and the ones of them a host supplies.
-  AttributeSet attributes() const { return mark.mark->attributes(mark.params); }
+  // With the gap fill, each point's spacing too (MarkTargets::spacing).
+  AttributeSet attributes() const;
+  // Whether the filter chain fills the gaps between the mark's splats (the
+  // points mark before a filter that reads neighbourhoods).
+  bool fills_gaps() const;
   std::vector<std::string> source_attributes() const { return source_attribute_names(attributes()); }
 };
 
@@ -65,6 +69,12 @@ struct Segment {
   Style style;
   std::vector<Instance> instances;
 };
+
+// Whether a segment has an out-of-core scan (its points streamed per view).
+bool streams(const Segment& seg);
+// The segment's point spacing for its filters (render/filter.h
+// ScanSampling), from the frame's chunks, so every tile gets the same.
+ScanSampling segment_sampling(const Segment& seg, const std::vector<VisibleChunk>& frame_chunks, double depth_min);
 
 struct Scene {
   std::vector<Segment> segments;  // order = layering order (later on top)

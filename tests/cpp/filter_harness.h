@@ -38,6 +38,9 @@ struct Image {
   // The scan's spacing handed to the chain (ScanSampling::spacing; the
   // harness's view is one unit per pixel); 0 = unknown.
   float spacing = 0.0f;
+  // Each pixel's point's spacing (FilterChainImages::raster_spacing), or
+  // empty: none handed over.
+  std::vector<float> pixel_spacing;
 
   Image() = default;
   explicit Image(glm::ivec2 s) : size(s), rgba(size_t(s.x) * size_t(s.y) * 4, 0.0f) {}
@@ -94,7 +97,10 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
   return gl::Device::instance().run([&] {
     static gl::ShaderLibrary* shaders = new gl::ShaderLibrary();  // lives as long as the GL context
     const glm::ivec2 size = in.size;
-    gl::Texture a(GL_RGBA32F, size), b(GL_RGBA32F, size), z(GL_R32F, size), gap(GL_RGBA32F, size);
+    gl::Texture a(GL_RGBA32F, size), b(GL_RGBA32F, size), z(GL_R32F, size), gap(GL_RGBA32F, size),
+        spacing(GL_R32F, size);
+    if (!in.pixel_spacing.empty())
+      glTextureSubImage2D(spacing.id(), 0, 0, 0, size.x, size.y, GL_RED, GL_FLOAT, in.pixel_spacing.data());
     std::deque<gl::Texture> scratch;
     const float nan4[4] = {std::nanf(""), std::nanf(""), std::nanf(""), std::nanf("")};
     glTextureSubImage2D(a.id(), 0, 0, 0, size.x, size.y, GL_RGBA, GL_FLOAT, in.rgba.data());
@@ -117,6 +123,7 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
       images.first = &a;
       images.second = &b;
       images.raster_depth = &z;
+      images.raster_spacing = in.pixel_spacing.empty() ? nullptr : &spacing;
       images.scratch = [&](int i) -> const gl::Texture& {
         while (int(scratch.size()) <= i) {
           scratch.emplace_back(GL_RGBA32F, size);

@@ -165,4 +165,38 @@ TEST(GapFill, TheScansSpacingClosesScanLineGapsWiderThanItsSplatsAndKeepsItsHole
   EXPECT_EQ(open_pixels(known.out, true), 18 * 18) << "a hole wider than twice the spacing stays open";
 }
 
+TEST(GapFill, EachPointsOwnSpacingClosesWhereTheScanIsSparserThanTheSegments) {
+  // The scan-line lattice above (lines 7 px apart, splats 3x2 px every 3 px)
+  // with the segment's spacing a denser part's (1 px: its lines' gaps stay
+  // open by it). Each point's own spacing is handed over on the lower half
+  // only: its gaps close there, the upper half's stay, and a 24 px hole
+  // stays open.
+  Image in = empty_with_depth({96, 96});
+  in.pixel_spacing.assign(size_t(96 * 96), 0.0f);
+  const float lattice = (3.0f + 3.0f + 6.0f + 6.0f + 7.0f + 7.0f + std::sqrt(58.0f)) / 7.0f;
+  const auto in_hole = [](int x, int y) { return x >= 36 && x < 60 && y >= 8 && y < 32; };
+  for (int y = 1; y < 95; y += 7)
+    for (int x = 4; x < 92; x += 3)
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 3; ++dx)
+          if (!in_hole(x + dx, y + dy)) {
+            put(in, x + dx, y + dy, glm::vec4(0.7f, 0.4f, 0.3f, 1.0f), 10.0f);
+            if (y + dy < 48) in.pixel_spacing[in.index(x + dx, y + dy)] = lattice;
+          }
+  in.spacing = 1.0f;
+  const auto open_pixels = [](const Image& out, int x0, int x1, int y0, int y1) {
+    int n = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) n += out.at(x, y).a < 0.5f;
+    return n;
+  };
+  const FilterRun run = run_filters(in, {kOil});
+  EXPECT_EQ(open_pixels(run.out, 12, 84, 36, 44) + open_pixels(run.out, 12, 30, 4, 36) +
+                open_pixels(run.out, 66, 84, 4, 36),
+            0)
+      << "the lower half's gaps close by its points' own spacing";
+  EXPECT_GT(open_pixels(run.out, 12, 84, 52, 88), 1000) << "the upper half's stay by the segment's";
+  EXPECT_EQ(open_pixels(run.out, 39, 57, 11, 29), 18 * 18) << "a hole wider than twice the spacing stays open";
+}
+
 }  // namespace

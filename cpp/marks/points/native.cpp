@@ -97,6 +97,8 @@ struct ColorChunk {
   HostColors colors;
   const glm::vec3* normals = nullptr;  // cloud order, or null: unlit
   glm::mat3 normal_matrix{1.0f};
+  const float* radius = nullptr;  // cloud order: the points' spacing (SplatRadius), where it is written
+  float spacing_scale = 1.0f;     // its view scale (points.glsl u_spacing_scale)
 };
 
 // The frame-wide numbers of points.glsl's uniforms.
@@ -200,16 +202,17 @@ ScatterFn scatter_function(bool world_size, bool ortho, bool queue) {
 // largest image, a tile's region at most).
 struct HostImages {
   std::vector<uint64_t> keys;
-  std::vector<float> rgba, depth;
-  size_t bytes() const { return held_bytes(keys) + held_bytes(rgba) + held_bytes(depth); }
+  std::vector<float> rgba, depth, spacing;
+  size_t bytes() const { return held_bytes(keys) + held_bytes(rgba) + held_bytes(depth) + held_bytes(spacing); }
 };
-HostImages& host_images(HostScratch& host, size_t pixels) {
+HostImages& host_images(HostScratch& host, size_t pixels, bool spacing) {
   HostImages& images = host.get<HostImages>();
   if (images.keys.size() < pixels) {
     images.keys.resize(pixels);
     images.rgba.resize(4 * pixels);
     images.depth.resize(pixels);
   }
+  if (spacing && images.spacing.size() < pixels) images.spacing.resize(pixels);
   return images;
 }
 
@@ -270,7 +273,7 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
         }
       }
       last_radius = last_opacity = nullptr;
-      if (s.splat_size) {
+      if (s.splat_size || ctx.targets.spacing) {
         splat_data.push_back(std::make_shared<const std::vector<float>>(splat_radii(*cloud, s.splat_k)));
         last_radius = splat_data.back()->data();
       }
@@ -290,7 +293,7 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
       sc.count = s.queue_counts[i];
     }
     sc.key_base = v.key_base;
-    if (last_radius) sc.splat_radius = last_radius + v.chunk->first;
+    if (last_radius && s.splat_size) sc.splat_radius = last_radius + v.chunk->first;
     if (last_opacity) {
       sc.opacity = last_opacity + v.chunk->first;
       sc.ids = cloud->point_index().data() + v.chunk->first;
@@ -309,6 +312,10 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
     cc.colors = host_colors(*v.gpu, *last_cloud, s.color_source, s.constant_color);
     cc.normals = last_normals;
     cc.normal_matrix = glm::transpose(glm::inverse(glm::mat3(v.view_from_chunk)));
+    if (ctx.targets.spacing) {
+      cc.radius = last_radius;
+      cc.spacing_scale = view_scale(v);
+    }
   }
 
   using Clock = std::chrono::steady_clock;
@@ -317,7 +324,9 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
   // many small ones) still spreads over the threads.
   const glm::ivec2 size = clip.size();
   const size_t pixels = size_t(size.x) * size_t(size.y);
-  HostImages& host = host_images(*ctx.host, pixels);
+  const bool write_spacing = ctx.targets.spacing && !s.depth_only;
+  HostImages& host = host_images(*ctx.host, pixels, write_spacing);
+  float* spacing = write_spacing ? host.spacing.data() : nullptr;
   uint64_t* keys = host.keys.data();
   float* rgba = host.rgba.data();
   float* depth = host.depth.data();
@@ -355,6 +364,7 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
         if (packed == kEmpty) {
           std::fill(&rgba[4 * p], &rgba[4 * p + 4], 0.0f);
           depth[p] = std::numeric_limits<float>::infinity();
+          if (spacing) spacing[p] = 0.0f;
           continue;
         }
         const uint32_t key = uint32_t(packed);
@@ -368,11 +378,20 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
         const glm::vec4 c = point_color(color[hint], key - color[hint].key_base, s);
         std::memcpy(&rgba[4 * p], &c, 16);
         std::memcpy(&depth[p], &depth_bits, 4);
+        // As points.glsl's point_spacing (the same float product).
+        if (spacing) {
+          const ColorChunk& cc = color[hint];
+          spacing[p] = cc.radius[cc.first + key - cc.key_base] * cc.spacing_scale;
+        }
       }
   });
 
   const auto t2 = Clock::now();
   upload_cpu_mark(ctx.targets, clip, rgba, depth, row_span, ctx.coverage, "points");
+  if (spacing) {
+    glTextureSubImage2D(ctx.targets.spacing->id(), 0, clip.min.x, clip.min.y, size.x, size.y, GL_RED, GL_FLOAT, spacing);
+    gl::check_gl("points: native spacing upload");
+  }
   if (ctx.stats) {
     auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
     (*ctx.stats)["native_scatter_ms"] += ms(t0, t1);

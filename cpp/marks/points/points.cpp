@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "render/backend.h"
 #include "render/exact_raster.h"
+#include "render/filter_chain.h"  // kGapSpacingNeighbours
 #include "scene/camera.h"
 
 namespace pointnpr {
@@ -41,16 +42,21 @@ void set_splat_uniforms(const gl::Program& p, const MarkContext& ctx, const Spla
   glUniform1i(p.location("u_shading"), s.shading ? 1 : 0);
   glUniform1f(p.location("u_shading_strength"), s.shading_strength);
   glUniform3fv(p.location("u_light_dir"), 1, glm::value_ptr(s.light_dir));
+  glUniform1i(p.location("u_write_spacing"), ctx.targets.spacing ? 1 : 0);
 }
 
-void bind_splat_chunk(const gl::Program& p, const VisibleChunk& v, const SplatSettings& s) {
+void bind_splat_chunk(const gl::Program& p, const VisibleChunk& v, const SplatSettings& s, bool spacing) {
   const gl::Buffer* normals = s.shading ? v.gpu->find({AttributeKind::Normal, s.normal_k}) : nullptr;
   const GpuCloud& c = *v.gpu;
+  static_assert(kSplatNeighbors == kGapSpacingNeighbours, "the splats' footprint is the points' spacing");
+  const gl::Buffer* radii = s.splat_size || spacing ? c.find({AttributeKind::SplatRadius, s.splat_k}) : nullptr;
+  if (spacing && !radii) throw GLError("points: the points' spacing was not uploaded");
   bind_chunk(p, v, s.color_source,
              {{2, normals},
               {6, s.opacity_draws ? c.find({AttributeKind::PointId}) : nullptr},
-              {7, s.splat_size ? c.find({AttributeKind::SplatRadius, s.splat_k}) : nullptr},
+              {7, radii},
               {8, s.opacity_draws ? c.find({AttributeKind::SplatOpacity}) : nullptr}});
+  if (spacing) glUniform1f(p.location("u_spacing_scale"), view_scale(v));
 }
 
 class Points final : public Mark {
@@ -177,6 +183,8 @@ void draw_splats_compute(const MarkContext& ctx, const SplatSettings& s) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, ctx.targets.keys->id());
   glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  if (ctx.targets.spacing)
+    glBindImageTexture(2, ctx.targets.spacing->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   for (const auto& defines : passes) {
     const gl::Program& p = ctx.shaders->compute("points.comp", defines);
     p.use();
@@ -185,7 +193,7 @@ void draw_splats_compute(const MarkContext& ctx, const SplatSettings& s) {
     glUniform1i(p.location("u_queue"), queue ? 1 : 0);
     for (size_t c = 0; c < ctx.chunks.size(); ++c) {
       const VisibleChunk& v = ctx.chunks[c];
-      bind_splat_chunk(p, v, s);
+      bind_splat_chunk(p, v, s, ctx.targets.spacing != nullptr);
       uint32_t count = v.chunk->count;
       if (queue) {
         const gl::Buffer* order = v.gpu->find({AttributeKind::QueueOrder});
@@ -203,7 +211,7 @@ void draw_splats_compute(const MarkContext& ctx, const SplatSettings& s) {
 void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s) {
   const gl::Program& p = ctx.shaders->graphics("points.vert", "points.frag");
   const Rect& clip = ctx.clip;
-  glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.spacing ? ctx.targets.spacing_fbo : ctx.targets.fbo);
   // A square power-of-two viewport over the images and the widest splat's
   // radius around them (points.vert: exact, render/exact_raster.h).
   const ExactRaster raster = exact_raster(ctx.targets, 0.5f * kMaxSplatPixels + 1.0f);
@@ -221,7 +229,7 @@ void draw_splats_gl(const MarkContext& ctx, const SplatSettings& s) {
   raster.set_uniforms(p);
   for (size_t c = 0; c < ctx.chunks.size(); ++c) {
     const VisibleChunk& v = ctx.chunks[c];
-    bind_splat_chunk(p, v, s);
+    bind_splat_chunk(p, v, s, ctx.targets.spacing != nullptr);
     glBindVertexArray(v.gpu->vao.id());
     if (s.queue_counts.empty()) {
       glDrawArrays(GL_POINTS, GLint(v.chunk->first), GLsizei(v.chunk->count));

@@ -1,0 +1,88 @@
+"""The gap fill reads each point's own spacing (issue 40): where a scan is
+sparser than nine in ten of its points (an aerial tile's water, a far
+bank), the gaps between its own samples close too, a hole wider than twice
+that spacing stays open, and every rasterizer writes the same spacing."""
+import numpy as np
+import pytest
+
+import pointnpr
+
+W, H = 320, 240
+# The view: orthographic, one unit per pixel, looking down -z at the plane.
+# Points 2 px apart over most of the plane; over a sparser part (a single
+# flight line's strip, a far bank) scan lines 11 px apart, a point every
+# 3 px along them. 3 px splats: the lines' 8 px gaps are wider than twice
+# the splats (the fill's rule for splats as wide as their gaps does not
+# close them) and than twice the segment's spacing.
+DENSE, SPARSE, ALONG = 2.0, 11.0, 3.0  # px
+SIZE = 3.0
+SPARSE_X, SPARSE_Y = (40.0, 120.0), (-60.0, 60.0)
+HOLE = (60.0, 100.0, -20.0, 20.0)  # x0, x1, y0, y1: no points there
+
+
+def _in(x, y, box):
+    return (x >= box[0]) & (x < box[1]) & (y >= box[2]) & (y < box[3])
+
+
+def _plane():
+    X, Y = np.meshgrid(np.arange(-150.0, 150.0, DENSE), np.arange(-100.0, 100.0, DENSE))
+    sparse_box = SPARSE_X + SPARSE_Y
+    dense = np.column_stack([X.ravel(), Y.ravel()])
+    dense = dense[~_in(dense[:, 0], dense[:, 1], sparse_box)]
+    X, Y = np.meshgrid(np.arange(SPARSE_X[0], SPARSE_X[1], ALONG), np.arange(SPARSE_Y[0], SPARSE_Y[1], SPARSE))
+    sparse = np.column_stack([X.ravel(), Y.ravel()])
+    xy = np.vstack([dense, sparse])
+    xy = xy[~_in(xy[:, 0], xy[:, 1], HOLE)] + 0.25  # off the pixel centres: coverage has no ties
+    pos = np.column_stack([xy, np.full(len(xy), -4.0)]).astype(np.float32)
+    sparse_share = float(_in(xy[:, 0], xy[:, 1], sparse_box).mean())
+    return pointnpr.PointCloud(pos, colors=np.full((len(pos), 3), 150, np.uint8)), sparse_share
+
+
+def _render(renderer, cloud, **backend):
+    scene = pointnpr.Scene()
+    mark = ("points", {"point_size": SIZE, **backend})
+    style = pointnpr.Style(mark=mark, filters=[("kuwahara", {"radius": 2.0, "impasto": 0.0})])
+    scene.add_segment("s", style, [(cloud, np.eye(4))])
+    cam = pointnpr.Camera.orthographic(np.eye(4), float(W), width=W, height=H)
+    return np.asarray(renderer.render(scene, cam, W, H).color)
+
+
+def _open(img, x0, x1, y0, y1):
+    """Background pixels (alpha < 0.5) over scene x in [x0, x1), y in [y0, y1)."""
+    rows = slice(int(H / 2 - y1), int(H / 2 - y0))  # image rows run downwards
+    cols = slice(int(W / 2 + x0), int(W / 2 + x1))
+    return int((img[rows, cols, 3] < 0.5).sum())
+
+
+BACKENDS = [{"rasterizer": "native"}, {"rasterizer": "gl", "gl_method": "compute"},
+            {"rasterizer": "gl", "gl_method": "gl_points"}]
+
+
+def test_a_sparser_part_of_the_scan_closes_by_its_own_spacing_and_keeps_its_hole(renderer):
+    cloud, sparse_share = _plane()
+    # The sparse part is sparser than nine in ten points: the segment's
+    # spacing (their 90th percentile) is the dense part's.
+    r = np.asarray(pointnpr.local_resolution(cloud, 8))
+    assert sparse_share < 0.1 and np.percentile(r, 90) < 1.5 * DENSE, (sparse_share, np.percentile(r, 90))
+    # Away from the hole and the sparse part's border; deep in the hole.
+    away = (SPARSE_X[0] + 6, SPARSE_X[1] - 6, SPARSE_Y[0] + 6, SPARSE_Y[1] - 6)
+    ring = (HOLE[0] - 12, HOLE[1] + 12, HOLE[2] - 12, HOLE[3] + 12)
+    deep = (HOLE[0] + 8, HOLE[1] - 8, HOLE[2] + 8, HOLE[3] - 8)
+    scene = pointnpr.Scene()
+    scene.add_segment("s", pointnpr.Style(mark=("points", {"point_size": SIZE})), [(cloud, np.eye(4))])
+    cam = pointnpr.Camera.orthographic(np.eye(4), float(W), width=W, height=H)
+    unfilled = np.asarray(renderer.render(scene, cam, W, H).color)
+    before = _open(unfilled, *away) - _open(unfilled, *ring)
+    assert before > 2000, "the splats leave the lines' gaps"
+    img = _render(renderer, cloud, rasterizer="native")
+    # Neither the segment's spacing nor the splats' width closes them: what
+    # closes is by the points' own spacing (a pixel-exact rule on this
+    # lattice leaves a few pixels where its diagonals are just too long).
+    assert _open(img, *away) - _open(img, *ring) < 0.05 * before, "the sparse part's gaps close"
+    assert _open(img, *deep) == 24 * 24, "the hole (40 px, over twice the sparse spacing) stays open"
+
+
+@pytest.mark.parametrize("backend", BACKENDS[1:], ids=["compute", "gl_points"])
+def test_every_rasterizer_hands_the_fill_the_same_spacing(renderer, backend):
+    cloud, _ = _plane()
+    assert np.array_equal(_render(renderer, cloud, **backend), _render(renderer, cloud, rasterizer="native"))
