@@ -362,3 +362,101 @@ def test_a_node_of_the_filter_once_named_hatching_becomes_pencil_hatching_and_re
     after, _ = helpers.render_pixels(tmp_path, "after.png")
     assert np.array_equal(before, after)
     assert versioning.migrate_legacy_nodes() == 0
+
+
+def _gl_method_curve(tree):
+    return [fc for fc in helpers.fcurves(tree) if fc.data_path.endswith(".gl_method")]
+
+
+def test_keyframes_of_a_former_item_that_set_two_parameters_animate_both(fresh_file, tmp_path):
+    """The points' gl_points was one rasterizer key; it is rasterizer gl and
+    gl_method gl_points now: gl_method is keyed beside it, stepping at the
+    same frames, so the animation renders as it did. At a key whose former
+    item sets no gl_method (native, auto), gl_method holds what the node
+    had before (the default: the old auto was GL's compute on a GPU), not
+    the static gl_points the migration gave the node."""
+    node = nodes.mark_node(nodes.new_style("Keyed", mark="points"))
+    _as_made_before_items_changed(node)
+    _store_raw(node, "rasterizer", 1)  # static gl_points: the static gl_method becomes gl_points
+    frames = (1, 5, 9, 13)
+    for frame in frames:
+        node.keyframe_insert("rasterizer", frame=frame)
+    (curve,) = helpers.fcurves(node.id_data)
+    for key, old_index in zip(curve.keyframe_points, (1, 3, 0, 2)):  # gl_points, auto, compute, native
+        key.co[1] = key.handle_left[1] = key.handle_right[1] = old_index
+    node.id_data.use_fake_user = True
+    path = str(tmp_path / "keyed.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)  # the load handler migrates
+    tree = bpy.data.node_groups["Keyed"]
+    node = nodes.mark_node(tree)
+    assert (node.rasterizer, node.gl_method) == ("gl", "gl_points")
+    (method,) = _gl_method_curve(tree)
+    assert method.data_path == 'nodes["%s"].gl_method' % node.name
+    assert [k.co[0] for k in method.keyframe_points] == list(frames)
+    assert [k.co[1] for k in method.keyframe_points] == [1.0, 0.0, 0.0, 0.0]  # gl_points, compute...
+    assert {k.interpolation for k in method.keyframe_points} == {'CONSTANT'}
+    read = [(v["rasterizer"], v["gl_method"]) for v in
+            (nodes.read_style(tree, f)["mark"][1] for f in (1, 4, 5, 9, 12, 13))]
+    assert read == [("gl", "gl_points"), ("gl", "gl_points"), ("auto", "compute"),
+                    ("gl", "compute"), ("gl", "compute"), ("native", "compute")]
+    assert versioning.migrate_legacy_nodes() == 0
+    assert len(_gl_method_curve(tree)) == 1
+
+
+def test_a_linked_tree_saved_before_the_items_changed_renders_with_the_old_meaning(fresh_file, tmp_path):
+    """A style linked from a library file saved before the rasterizer items
+    changed cannot be migrated (linked data is read-only): its saved index
+    and keys are read through the older items when the style is read for a
+    render, gl_method too, and it renders as a node made now with the
+    values they mean (gl_points, not native, which index 1 is now)."""
+    helpers.reset_scene()
+    helpers.add_camera()
+    points = helpers.new_collection("Points")
+    rng = np.random.default_rng(1)
+    positions = rng.uniform(-2.0, 2.0, (4000, 3))
+    positions[:, 2] = 0.0
+    # Overlapping splats of many colours: GL points and the compute rules
+    # settle their ties otherwise.
+    helpers.add_points("Cloud", points, positions, colors=rng.uniform(0.0, 1.0, (4000, 3)))
+    library_trees = set()
+    for name, keyed in (("Library static", ()), ("Library keyed", (1, 3))):  # gl_points; auto
+        tree = nodes.new_style(name, mark="points")
+        node = nodes.mark_node(tree)
+        node.color_source, node.point_size = "rgb", 9.0
+        _as_made_before_items_changed(node)
+        _store_raw(node, "rasterizer", 1)  # gl_points
+        for frame in (1, 9)[:len(keyed)]:
+            node.keyframe_insert("rasterizer", frame=frame)
+        for key, index in zip(helpers.fcurves(tree)[0].keyframe_points if keyed else (), keyed):
+            key.co[1] = key.handle_left[1] = key.handle_right[1] = index
+        library_trees.add(tree)
+    library = str(tmp_path / "library.blend")
+    bpy.data.libraries.write(library, library_trees, fake_user=True)
+    for tree in library_trees:
+        bpy.data.node_groups.remove(tree)
+    with bpy.data.libraries.load(library, link=True) as (_src, dst):
+        dst.node_groups = ["Library static", "Library keyed"]
+    linked = {tree.name: tree for tree in dst.node_groups}
+    assert all(tree.library is not None for tree in linked.values())
+    assert versioning.migrate_legacy_nodes() == 0  # read-only: left as saved
+
+    def mark(tree, frame):
+        values = nodes.read_style(tree, frame)["mark"][1]
+        return values["rasterizer"], values["gl_method"]
+
+    assert mark(linked["Library static"], 1) == ("gl", "gl_points")
+    assert [mark(linked["Library keyed"], f) for f in (1, 9)] == [("gl", "gl_points"), ("auto", "compute")]
+    points.pointnpr_style = linked["Library static"]
+    from_library, _ = helpers.render_pixels(tmp_path, "linked.png")
+    made_now = nodes.new_style("Made now", mark="points")
+    nodes.set_node_values(nodes.mark_node(made_now), {"color_source": "rgb", "point_size": 9.0,
+                                                      "rasterizer": "gl", "gl_method": "gl_points"})
+    points.pointnpr_style = made_now
+    assert np.array_equal(from_library, helpers.render_pixels(tmp_path, "gl_points.png")[0])
+    # What index 1 is among the current items (native) draws otherwise.
+    nodes.mark_node(made_now).rasterizer = "native"
+    assert not np.array_equal(from_library, helpers.render_pixels(tmp_path, "native.png")[0])
+    for tree in linked.values():
+        bpy.data.node_groups.remove(tree)
+    bpy.data.libraries.remove(bpy.data.libraries[0])

@@ -24,7 +24,7 @@ import re
 import bpy
 
 from .conditions import draw_node_properties, param_applies, when_holds  # noqa: F401 (the add-on's API)
-from .schema_versions import KNOWN_PARAMS_KEY, former_id_classes, known_token, set_item
+from .schema_versions import KNOWN_PARAMS_KEY, former_id_classes, known_token, older_values, set_item
 
 TREE_IDNAME = "PointNPRStyleTree"
 SOCKET_IDNAME = "PointNPRStyleSocket"
@@ -666,8 +666,12 @@ def _param_value(node, param, pid, curves, frame):
 def node_values(node, frame, curves=None):
     if curves is None:
         curves = animated_values(node.id_data)
-    return {param["name"]: _param_value(node, param, pid, curves, frame)
-            for param, pid in node.pointnpr_params}
+    values = {param["name"]: _param_value(node, param, pid, curves, frame)
+              for param, pid in node.pointnpr_params}
+    # Enum indices saved before the items changed, where not migrated (a
+    # library's tree): read through the older items.
+    values.update(older_values(node, frame, lambda pid: (curves.get((node.name, pid)) or {}).get(0)))
+    return values
 
 
 def read_style(tree, frame):

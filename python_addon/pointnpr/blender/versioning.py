@@ -34,7 +34,8 @@ Enum values spelt otherwise now, or moved in their list (the schema's
 gl / native / auto now; the points' compute and gl_points are rasterizer gl
 with that ``gl_method``, the gaussians' compute is gl), keep their meaning:
 Blender saved their index, which ``migrate_changed_items`` reads through the
-older list (schema_versions.py). A filter renamed (the schema's
+older list (schema_versions.py); a keyed gl_points also keys gl_method. A
+filter renamed (the schema's
 ``former_ids``: ``hatching``, the hatching mark's id too, is
 ``pencil_hatching``) keeps its nodes: ``migrate_former_ids`` replaces each
 by one of the current class, as a Rasterize node is.
@@ -42,7 +43,8 @@ by one of the current class, as a Rasterize node is.
 It runs on every file load (a persistent load_post handler) and when the
 add-on is enabled, for a file that is already open. Trees linked from a
 library file cannot be edited: their Rasterize nodes are read as Points
-marks (nodes.read_style) until the library file is migrated itself.
+marks, values saved under a former name or into the older items as those
+(nodes.read_style), until the library file is migrated itself.
 """
 
 import bpy
