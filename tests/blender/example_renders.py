@@ -10,7 +10,8 @@ Used two ways:
   lion_benchmark again when the gap fill began to close the gaps between
   splats before neighbourhood filters; urban_lidarhd and warsaw_styles again
   when the scan's spacing reached the filters: eye-dome lighting's noise
-  floor and the gap fill's reach):
+  floor and the gap fill's reach; and those two again when the gap fill
+  began to close with the farther surface and each point's own spacing):
 
       blender -b --factory-startup --python-exit-code 1 \
           --python tests/blender/example_renders.py -- <builddir> [names...]
