@@ -29,6 +29,7 @@
 layout(rgba32f, binding = 0) uniform readonly image2D u_in;
 layout(rgba32f, binding = 1) uniform writeonly image2D u_out;
 layout(r32f, binding = 2) uniform readonly image2D u_depth;
+layout(r32f, binding = 7) uniform writeonly image2D u_depth_out;  // the fill pass's
 uniform int u_reach;
 uniform float u_grazing;
 uniform float u_span;  // the longest gap between the scan's neighbours, view units (0: unknown)
@@ -115,6 +116,7 @@ struct Acc {
   vec4 sum;
   float weight, lo, hi;
   int lines;
+  float depth;  // the weighted sum of the ends' depths
 };
 
 // Line `d` through p with first pixels a (along d) and b (against it): a
@@ -136,6 +138,7 @@ void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
   }
   float wa = 1.0 / float(a.t), wb = 1.0 / float(b.t);
   acc.sum += wa * a.color + wb * b.color;
+  acc.depth += wa * a.depth + wb * b.depth;
   acc.weight += wa + wb;
   acc.lo = min(acc.lo, min(a.depth, b.depth));
   acc.hi = max(acc.hi, max(a.depth, b.depth));
@@ -161,6 +164,7 @@ void far_line(float far, float lo, Hit a, Hit b, inout Acc acc) {
   Hit f = a.depth >= b.depth ? a : b;
   float w = 1.0 / float(f.t);
   acc.sum += w * f.color;
+  acc.depth += w * f.depth;
   acc.weight += w;
   acc.lo = min(acc.lo, f.depth);
   acc.hi = max(acc.hi, f.depth);
@@ -215,13 +219,13 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
   if (b1.depth > limit && b1.t > 0) b1 = march(p, -D1, limit);
   if (b2.depth > limit && b2.t > 0) b2 = march(p, -D2, limit);
   if (b3.depth > limit && b3.t > 0) b3 = march(p, -D3, limit);
-  Acc acc = Acc(vec4(0.0), 0.0, INF, 0.0, 0);
+  Acc acc = Acc(vec4(0.0), 0.0, INF, 0.0, 0, 0.0);
   line(p, D0, a0, b0, limit, acc);
   line(p, D1, a1, b1, limit, acc);
   line(p, D2, a2, b2, limit, acc);
   line(p, D3, a3, b3, limit, acc);
   vec4 sum = acc.sum;
-  float weight = acc.weight, lo = acc.lo, hi = acc.hi;
+  float weight = acc.weight, lo = acc.lo, hi = acc.hi, depth = acc.depth;
   int lines = acc.lines;
   if (lines >= 2 && !isinf(own)) {
     // A covered pixel gives way only to a surface it cannot belong to: one
@@ -235,7 +239,7 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
     // it (within its slope over the search).
     float far = max(max(isinf(f0) ? 0.0 : f0, isinf(f1) ? 0.0 : f1), max(isinf(f2) ? 0.0 : f2, isinf(f3) ? 0.0 : f3));
     float lo_far = far - 2.0 * float(g_reach) * pixel_size(far) * u_grazing;
-    Acc back = Acc(vec4(0.0), 0.0, INF, 0.0, 0);
+    Acc back = Acc(vec4(0.0), 0.0, INF, 0.0, 0, 0.0);
     far_line(f0, lo_far, fa0, fb0, back);
     far_line(f1, lo_far, fa1, fb1, back);
     far_line(f2, lo_far, fa2, fb2, back);
@@ -243,10 +247,14 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
     if (back.lines >= 2) {
       sum = back.sum;
       weight = back.weight;
+      depth = back.depth;
       lines = back.lines;
     }
   }
   imageStore(u_out, p, lines >= 2 ? sum / weight : c);
+  // Filters after the fill read its depths (u_depth_out, a copy of u_depth
+  // made before): a filled pixel lies on the surface that filled it.
+  if (lines >= 2) imageStore(u_depth_out, p, vec4(depth / weight));
 }
 
 // Passes: SWEEP (4 dispatches) gives the marches from background pixels

@@ -68,7 +68,7 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
 // The gap fill (shaders/gap_fill.comp) of the image `in` whose covered
 // pixels lie within `covered`, written over `write` of the chain's gap image.
 const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture& in, const Rect& covered,
-                             const Rect& write) {
+                             const Rect& write, const gl::Texture& depth_out) {
   const gl::Texture& out = images.gap_image();
   // The list of pixels that need the search: 3 uints of indirect dispatch
   // arguments, the list's length, then a uint per pixel. Kept for the GL
@@ -111,6 +111,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
   // depth, bound but not read (u_pixel_spacing 0).
   const gl::Texture& spacing = images.raster_spacing ? *images.raster_spacing : *images.raster_depth;
   glBindImageTexture(6, spacing.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  glBindImageTexture(7, depth_out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   if (!covered.empty()) {
     const gl::Program& sweep = images.shaders->compute("gap_fill.comp", {"PASS_SWEEP"});
     sweep.use();
@@ -158,22 +159,34 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
 const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const FilterChainImages& in, Rect& rect) {
   const gl::Texture* current = in.first;
   const gl::Texture* other = in.second;
+  FilterChainImages chain = in;  // its raster_depth the filled one after the fill
   bool filled = false;
-  for (const FilterStep& f : steps) {
-    if (!filled && in.fill_gaps && in.gap_image && f.filter->reads_neighbourhood() && in.raster_depth) {
+  for (size_t i = 0; i < steps.size(); ++i) {
+    const FilterStep& f = steps[i];
+    if (!filled && in.fill_gaps && in.gap_image && in.gap_depth_image && f.filter->reads_neighbourhood() &&
+        in.raster_depth) {
+      // The depths as far as this and the later filters read, where the
+      // fill then writes its own.
+      const std::vector<FilterStep> rest(steps.begin() + std::ptrdiff_t(i), steps.end());
+      const Rect read = rect.grown(2 * total_footprint(rest) + kGapReachMax, in.image_size);
+      const gl::Texture& depth = in.gap_depth_image();
+      if (!read.empty())
+        glCopyImageSubData(in.raster_depth->id(), GL_TEXTURE_2D, 0, read.min.x, read.min.y, 0, depth.id(),
+                           GL_TEXTURE_2D, 0, read.min.x, read.min.y, 0, read.size().x, read.size().y, 1);
       // Filled as far as the filter reads: its rect grown by its footprint.
       const int reach = f.filter->footprint(f.params);
-      const gl::Texture& gaps = fill_gaps(in, *current, rect, rect.grown(2 * reach, in.image_size));
+      const gl::Texture& gaps = fill_gaps(in, *current, rect, rect.grown(2 * reach, in.image_size), depth);
       filled = true;
+      chain.raster_depth = &depth;
       // The filled image stands in for `current`; the filter writes `other`
       // as usual.
       rect = rect.grown(reach, in.image_size);
-      run_step(f, in, gaps, *other, rect);
+      run_step(f, chain, gaps, *other, rect);
       std::swap(current, other);
       continue;
     }
     rect = rect.grown(f.filter->footprint(f.params), in.image_size);
-    run_step(f, in, *current, *other, rect);
+    run_step(f, chain, *current, *other, rect);
     std::swap(current, other);
   }
   return current;

@@ -37,6 +37,9 @@ struct FilterChainImages {
   // splats, not for marks whose gaps are the drawing (strokes, stipples).
   bool fill_gaps = true;
   std::function<const gl::Texture&()> gap_image;
+  // The gap-filled depths (R32F): the filters after the fill read them, so a
+  // filled pixel lies on its surface (eye-dome lighting sees no pit there).
+  std::function<const gl::Texture&()> gap_depth_image;
   // Each covered pixel's point's spacing, view units (the points mark's
   // SplatRadius, MarkTargets::spacing; 0 where unknown), or null: the fill
   // then knows the segment's spacing only.

@@ -42,6 +42,11 @@ const gl::Texture& FrameTargets::spacing_image() {
   return raster_spacing;
 }
 
+const gl::Texture& FrameTargets::gap_depth_image() {
+  if (gap_depth.id() == 0) gap_depth = gl::Texture(GL_R32F, size);
+  return gap_depth;
+}
+
 const gl::Texture& FrameTargets::gap_fill_image() {
   if (gap_filled.id() == 0) gap_filled = gl::Texture(GL_RGBA32F, size);
   return gap_filled;

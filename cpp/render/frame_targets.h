@@ -25,6 +25,7 @@ struct FrameTargets {
   gl::Framebuffer fbo;
   std::deque<gl::Texture> scratch;  // RGBA32F for filters; deque: references stay valid as it grows
   gl::Texture gap_filled;           // RGBA32F: the filter chain's gap fill (made on first use)
+  gl::Texture gap_depth;            // R32F: its depths (made on first use)
   // R32F: each pixel's point's spacing, view units (the points mark, for the
   // gap fill), and the GL_POINTS framebuffer writing it as colour 2; made on
   // first use.
@@ -38,6 +39,7 @@ struct FrameTargets {
   const gl::Texture& filter_scratch(int index);
   // The filter chain's gap-filled image (shaders/gap_fill.comp).
   const gl::Texture& gap_fill_image();
+  const gl::Texture& gap_depth_image();
   // raster_spacing (and spacing_fbo), made on first use.
   const gl::Texture& spacing_image();
   // A mark's scratch image of `format`, by index.

@@ -373,6 +373,7 @@ struct Renderer::Impl {
       chain.fill_gaps = seg.style.mark.info->schema.id == "points";
       chain.raster_spacing = mark.targets.spacing;
       chain.gap_image = [this]() -> const gl::Texture& { return targets.gap_fill_image(); };
+      chain.gap_depth_image = [this]() -> const gl::Texture& { return targets.gap_depth_image(); };
       current = run_filter_chain(seg.style.filters, chain, rect);
     }
 

@@ -98,7 +98,7 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
     static gl::ShaderLibrary* shaders = new gl::ShaderLibrary();  // lives as long as the GL context
     const glm::ivec2 size = in.size;
     gl::Texture a(GL_RGBA32F, size), b(GL_RGBA32F, size), z(GL_R32F, size), gap(GL_RGBA32F, size),
-        spacing(GL_R32F, size);
+        spacing(GL_R32F, size), gap_depth(GL_R32F, size);
     if (!in.pixel_spacing.empty())
       glTextureSubImage2D(spacing.id(), 0, 0, 0, size.x, size.y, GL_RED, GL_FLOAT, in.pixel_spacing.data());
     std::deque<gl::Texture> scratch;
@@ -136,6 +136,7 @@ inline FilterRun run_filters(const Image& in, const std::vector<Step>& steps, do
       images.segment_seed = 12345u;
       images.fill_gaps = fill_gaps;
       images.gap_image = [&]() -> const gl::Texture& { return gap; };
+      images.gap_depth_image = [&]() -> const gl::Texture& { return gap_depth; };
       // An orthographic view one world unit per pixel: the surface point
       // of pixel q at depth d is (q, -d).
       images.surface.x0 = {1.0f, 0.0f, 0.0f};
