@@ -52,9 +52,9 @@ def render():
             when = p.get("when")
             doc = p["doc"]
             if when:
-                doc += " (applies when %s)" % ", or ".join(
-                    "`%s` is %s" % (c["param"], " or ".join(f"`{v}`" for v in c["values"]))
-                    for c in [when] + list(when.get("or", ())))
+                spell = lambda c: "`%s` is %s" % (c["param"], " or ".join(f"`{v}`" for v in c["values"]))
+                doc += " (applies when %s%s)" % (", or ".join(spell(c) for c in [when] + list(when.get("or", ()))),
+                                                 "".join(", and " + spell(c) for c in when.get("and", ())))
             if p.get("former_names"):
                 doc += " (formerly %s: still read from scripts and saved files)" % " or ".join(
                     f"`{n}`" for n in p["former_names"])

@@ -56,6 +56,12 @@ ParamSpec only_when_any(ParamSpec spec, std::vector<ParamSpec::Condition> condit
   return spec;
 }
 
+ParamSpec also_when(ParamSpec spec, std::string param, std::vector<std::string> values) {
+  if (spec.when_param.empty()) throw std::invalid_argument("also_when: " + spec.name + " has no only_when");
+  spec.and_when.push_back({std::move(param), std::move(values)});
+  return spec;
+}
+
 ParamSpec formerly(ParamSpec spec, std::vector<std::string> names) {
   spec.former_names = std::move(names);
   return spec;
@@ -266,6 +272,8 @@ bool holds(const std::string& param, const std::vector<std::string>& wanted, con
 
 bool applies(const ParamSpec& spec, const ParamValues& values) {
   if (spec.when_param.empty()) return true;
+  for (const ParamSpec::Condition& c : spec.and_when)
+    if (!holds(c.param, c.values, values)) return false;
   if (holds(spec.when_param, spec.when_values, values)) return true;
   for (const ParamSpec::Condition& c : spec.or_when)
     if (holds(c.param, c.values, values)) return true;

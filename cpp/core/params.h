@@ -47,6 +47,9 @@ struct ParamSpec {
     std::vector<std::string> values;
   };
   std::vector<Condition> or_when;
+  // Conditions that must hold as well, whichever of the above does (the
+  // stipples' specular_share acts only on the share rule's lit points).
+  std::vector<Condition> and_when;
   // Names it had before, which scripts and saved files may still use:
   // validation takes them for this one, and the Blender add-on moves a
   // saved value (and its animation) to the current name when a file opens.
@@ -71,6 +74,9 @@ ParamSpec only_when(ParamSpec spec, std::string param, std::vector<std::string> 
 // `spec`, applying only while any of `conditions` holds (the first is its
 // `when`, the others its `or_when`).
 ParamSpec only_when_any(ParamSpec spec, std::vector<ParamSpec::Condition> conditions);
+// `spec`, applying only while `param` is one of `values` too (on top of
+// its only_when; see ParamSpec::and_when).
+ParamSpec also_when(ParamSpec spec, std::string param, std::vector<std::string> values);
 // `spec`, once named `names` (see ParamSpec::former_names).
 ParamSpec formerly(ParamSpec spec, std::vector<std::string> names);
 // `spec`, added after files were saved without it; they keep `value` (an

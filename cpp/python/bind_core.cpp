@@ -111,6 +111,16 @@ py::dict schema_to_dict(const Schema& schema) {
         }
         when["or"] = alternatives;
       }
+      if (!p.and_when.empty()) {
+        py::list required;
+        for (const ParamSpec::Condition& c : p.and_when) {
+          py::dict condition;
+          condition["param"] = c.param;
+          condition["values"] = c.values;
+          required.append(condition);
+        }
+        when["and"] = required;
+      }
       d["when"] = when;
     }
     params.append(d);

@@ -356,7 +356,7 @@ class _FakeLayout:
 
 
 def test_parameters_are_greyed_out_when_their_condition_does_not_hold(scene):
-    checked = 0
+    checked = required = 0
     tree = bpy.data.node_groups.new("When", nodes.TREE_IDNAME)
     for schema in _node_schemas():
         cls = _node_class_for(schema)
@@ -395,7 +395,25 @@ def test_parameters_are_greyed_out_when_their_condition_does_not_hold(scene):
                 for alternative in alternatives:  # back to the defaults for the next parameter
                     _set_when_value(node, by_name[alternative["param"]],
                                     conditions.when_spelling(by_name[alternative["param"]]["default"]))
+            # A condition that must hold as well ("and"): with the first
+            # alternative holding (the others as the defaults leave them),
+            # its parameter takes each of its values.
+            first = by_name[when["param"]]
+            for condition in when.get("and", ()):
+                _set_when_value(node, first, when["values"][0])
+                other = by_name[condition["param"]]
+                assert set(condition["values"]) <= set(_other_values(other)), (schema["id"], param["name"])
+                for value in _other_values(other):
+                    _set_when_value(node, other, value)
+                    expected = (value in condition["values"] and nodes.param_applies(node, other) and
+                                nodes.param_applies(node, first))
+                    assert nodes.param_applies(node, param) == expected, (schema["id"], param["name"], value)
+                    checked += 1
+                    required += expected is False
+                for p in (other, first):
+                    _set_when_value(node, p, conditions.when_spelling(p["default"]))
     assert checked >= 2, "no schema parameter has a 'when' condition"
+    assert required >= 1, "no 'and' condition greyed a parameter out"
 
 
 def test_chained_conditions(scene):

@@ -169,10 +169,12 @@ TEST(Params, EveryConditionNamesAnEnumBoolOrNumberOfItsSchemaAndOneOfItsValues) 
     for (const ParamSpec& p : schema->params) {
       if (p.when_param.empty()) {
         EXPECT_TRUE(p.or_when.empty()) << schema->id << "." << p.name << ": alternatives without a condition";
+        EXPECT_TRUE(p.and_when.empty()) << schema->id << "." << p.name << ": requirements without a condition";
         continue;
       }
       std::vector<ParamSpec::Condition> each = {{p.when_param, p.when_values}};
       each.insert(each.end(), p.or_when.begin(), p.or_when.end());
+      each.insert(each.end(), p.and_when.begin(), p.and_when.end());
       for (const ParamSpec::Condition& c : each) {
         ++conditions;
         const ParamSpec* other = schema->find(c.param);
@@ -207,6 +209,14 @@ TEST(Params, ConditionsFollowTheCurrentValues) {
   const Schema& watercolor = find_filter("watercolor").schema;
   EXPECT_FALSE(applies(*watercolor.find("paper_color"), validate(watercolor, {{"dry_brush", {0.0}}})));
   EXPECT_TRUE(applies(*watercolor.find("paper_color"), validate(watercolor, {{"dry_brush", {0.2}}})));
+  // A condition that must hold as well: the stipples' specular share scales
+  // the share rule's lit points, so it acts with a specular light and only
+  // under that rule.
+  const Schema& stipples = find_mark("stipples").schema;
+  const ParamSpec& share = *stipples.find("specular_share");
+  EXPECT_FALSE(applies(share, validate(stipples, {})));  // no specular light
+  EXPECT_TRUE(applies(share, validate(stipples, {{"specular", {1.0}}})));
+  EXPECT_FALSE(applies(share, validate(stipples, {{"specular", {1.0}}, {"lit_rule", {1.0}}})));  // nearest
   // Any of several conditions: the brush's second layer is painted with two
   // layers or on small clusters.
   const Schema& brush = find_mark("brush_splats").schema;

@@ -132,11 +132,16 @@ def applying(schema, settings, param, _seen=()):
     condition names: conditions chain), so it is swept where it applies."""
     by_name = {p["name"]: p for p in schema["params"]}
     when = param["when"]
-    if not when or param["name"] in _seen or when["param"] in _seen:
-        return settings  # (a cycle: what the chain set stays)
-    if _when_value(settings[when["param"]]) not in when["values"]:
-        settings = dict(settings, **{when["param"]: _holding(when, by_name[when["param"]])})
-    return applying(schema, settings, by_name[when["param"]], tuple(_seen) + (param["name"],))
+    if not when or param["name"] in _seen:
+        return settings
+    # The first alternative, and every condition that must hold as well.
+    for condition in [when] + list(when.get("and", ())):
+        if condition["param"] in _seen:
+            continue  # (a cycle: what the chain set stays)
+        if _when_value(settings[condition["param"]]) not in condition["values"]:
+            settings = dict(settings, **{condition["param"]: _holding(condition, by_name[condition["param"]])})
+        settings = applying(schema, settings, by_name[condition["param"]], tuple(_seen) + (param["name"],))
+    return settings
 
 
 def dead_parameters(schema, render, n_scans, image, skip=(), skip_values=()):

@@ -479,12 +479,14 @@ const MarkRegistration registration{{
                                      "Highlight threshold: points whose normalised difference from the brightest "
                                      "area per point is below tau may be hidden (more below: more often)"),
                          "specular", {"true"}),
-               only_when(added_later(float_param("specular_share", 0.3, 0.0, 1.0, "",
-                                                 "The highlight's share of the light: lit surfaces keep this much "
-                                                 "more of their dots (the share rule's), so the highlight shows "
-                                                 "where the diffuse light alone would leave paper"),
-                                     {0.0}),
-                         "specular", {"true"}),
+               also_when(only_when(added_later(float_param("specular_share", 0.3, 0.0, 1.0, "",
+                                                           "The highlight's share of the light: lit surfaces keep "
+                                                           "this much more of their dots (the share rule's), so the "
+                                                           "highlight shows where the diffuse light alone would leave "
+                                                           "paper"),
+                                               {0.0}),
+                                   "specular", {"true"}),
+                         "lit_rule", {"share"}),
                only_when(float_param("specular_cell", 8.0, 2.0, 64.0, "px",
                                      "Size of the cells points are counted in, on screen (the light's cells are as "
                                      "large in scene units at the segment's middle depth)"),

@@ -2,7 +2,9 @@
 
 A condition is {"param": name, "values": [...]} and may carry "or": further
 conditions, any of which also makes the parameter apply (a line width
-applies while any class of strokes is drawn as lines). Values are spelled
+applies while any class of strokes is drawn as lines), and "and":
+conditions that must hold as well (the stipples' specular_share acts only
+on the share rule's lit points). Values are spelled
 as enum items, "true"/"false" for a bool and "zero"/"nonzero" for a number
 (docs/parameters.md). The node UI greys out a parameter that does not apply
 (``param_applies``); the sweep tests and the docs read the same rule.
@@ -56,6 +58,15 @@ def param_applies(node, param, _seen=None):
     if not when:
         return True
     seen = set(_seen or ()) | {param["name"]}
+    for condition in when.get("and", ()):
+        value = _when_value(node, condition["param"])
+        if value is None or condition["param"] in seen:
+            continue
+        if not when_holds(condition, value):
+            return False
+        other = next(p for p, _pid in node.pointnpr_params if p["name"] == condition["param"])
+        if not param_applies(node, other, seen):
+            return False
     for condition in alternatives(when):
         value = _when_value(node, condition.get("param"))
         if value is None:
