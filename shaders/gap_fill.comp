@@ -322,6 +322,38 @@ void main() {
     behind = ((reg >> 16) & 1u) != 0u ? 1u : (behind == 0u || behind >= 16u ? 0u : behind + 1u);
   }
 }
+#elif defined(PASS_SPECK)
+// After the search: a background pixel with at least 6 of its 8 neighbours
+// covered by one surface (their depths within its slope over two pixels) is
+// a pinhole the lines missed (a scan's lattice of lone splats leaves some
+// that no two lines reach) and takes their mean. Reads the fill's colours
+// (u_in) and writes a copy of them (u_out); the depths in place (u_depth
+// and u_depth_out are one image): only background pixels are written and
+// only covered ones read.
+layout(local_size_x = 16, local_size_y = 16) in;
+void main() {
+  ivec2 p;
+  if (!rect_pixel(p) || covered(imageLoad(u_in, p))) return;
+  vec4 sum = vec4(0.0);
+  float depth = 0.0, lo = INF, hi = 0.0;
+  int n = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      ivec2 q = p + ivec2(dx, dy);
+      vec4 c = imageLoad(u_in, q);
+      if ((dx == 0 && dy == 0) || !covered(c)) continue;
+      float d = imageLoad(u_depth, q).r;
+      if (isinf(d)) continue;  // a filter's paint, no surface
+      sum += c;
+      depth += d;
+      lo = min(lo, d);
+      hi = max(hi, d);
+      ++n;
+    }
+  if (n < 6 || hi - lo > 2.0 * pixel_size(lo) * u_grazing) return;
+  imageStore(u_out, p, sum / float(n));
+  imageStore(u_depth_out, p, vec4(depth / float(n)));
+}
 #elif defined(PASS_CLASSIFY)
 layout(local_size_x = 16, local_size_y = 16) in;
 // A background pixel can change only where at least 2 of its 4 lines meet

@@ -67,8 +67,10 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
 
 // The gap fill (shaders/gap_fill.comp) of the image `in` whose covered
 // pixels lie within `covered`, written over `write` of the chain's gap image.
+// Returns the filled image, which holds it over `write`: the gap image or
+// `pinholes` (the chain's input, `in`, may be it).
 const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture& in, const Rect& covered,
-                             const Rect& write, const gl::Texture& depth_out) {
+                             const Rect& write, const gl::Texture& depth_out, const gl::Texture& pinholes) {
   const gl::Texture& out = images.gap_image();
   // The list of pixels that need the search: 3 uints of indirect dispatch
   // arguments, the list's length, then a uint per pixel. Kept for the GL
@@ -150,8 +152,32 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
   }
+  // Pinholes the lines missed (PASS_SPECK): the fill's colours copied into
+  // the other image, closed there; the depths in place. Twice, from one
+  // image into the other (`pinholes`: the chain's input, no longer read,
+  // and back): pinholes side by side each see the other closed the second
+  // time. Within a pixel of the written rect, whose neighbours it reads.
+  const Rect inner = write.grown(-1, images.image_size);
+  const gl::Texture* from = &out;
+  const gl::Texture* to = &pinholes;
+  if (!inner.empty()) {
+    const gl::Program& speck = images.shaders->compute("gap_fill.comp", {"PASS_SPECK"});
+    speck.use();
+    glUniform1f(speck.location("u_grazing"), kGapGrazing);
+    set_surface_uniforms(speck, images.surface);
+    glBindImageTexture(2, depth_out.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    for (int pass = 0; pass < 2; ++pass) {
+      glMemoryBarrier(GL_ALL_BARRIER_BITS);  // the last pass's image stores, before the copy reads them
+      glCopyImageSubData(from->id(), GL_TEXTURE_2D, 0, write.min.x, write.min.y, 0, to->id(), GL_TEXTURE_2D, 0,
+                         write.min.x, write.min.y, 0, write.size().x, write.size().y, 1);
+      glBindImageTexture(0, from->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+      glBindImageTexture(1, to->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+      dispatch_rect(speck, inner);
+      std::swap(from, to);
+    }
+  }
   gl::check_gl("gap fill");
-  return out;
+  return *from;
 }
 
 }  // namespace
@@ -175,7 +201,7 @@ const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const 
                            GL_TEXTURE_2D, 0, read.min.x, read.min.y, 0, read.size().x, read.size().y, 1);
       // Filled as far as the filter reads: its rect grown by its footprint.
       const int reach = f.filter->footprint(f.params);
-      const gl::Texture& gaps = fill_gaps(in, *current, rect, rect.grown(2 * reach, in.image_size), depth);
+      const gl::Texture& gaps = fill_gaps(in, *current, rect, rect.grown(2 * reach, in.image_size), depth, *current);
       filled = true;
       chain.raster_depth = &depth;
       // The filled image stands in for `current`; the filter writes `other`

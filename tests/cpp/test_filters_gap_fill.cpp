@@ -199,4 +199,29 @@ TEST(GapFill, EachPointsOwnSpacingClosesWhereTheScanIsSparserThanTheSegments) {
   EXPECT_EQ(open_pixels(run.out, 39, 57, 11, 29), 18 * 18) << "a hole wider than twice the spacing stays open";
 }
 
+TEST(GapFill, APinholeItsClosedNeighboursSurroundCloses) {
+  // Eight splat pixels a knight's move from a centre (a lattice of lone
+  // returns): each line through the centre meets none of them, so the
+  // search leaves it, but it closes each of its 8 neighbours (2 lines each).
+  // The pinhole pass then closes the centre too, and the surface grows no
+  // further than the ring.
+  Image in = empty_with_depth({48, 48});
+  const glm::ivec2 c{24, 24};
+  for (const glm::ivec2 d : {glm::ivec2(1, 2), glm::ivec2(2, 1), glm::ivec2(2, -1), glm::ivec2(1, -2),
+                             glm::ivec2(-1, -2), glm::ivec2(-2, -1), glm::ivec2(-2, 1), glm::ivec2(-1, 2)})
+    put(in, c.x + d.x, c.y + d.y, glm::vec4(0.4f, 0.6f, 0.3f, 1.0f), 10.0f);
+  in.spacing = 2.0f;
+  const FilterRun run = run_filters(in, {kOil});
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) EXPECT_GE(run.out.at(c.x + dx, c.y + dy).a, 0.5f) << dx << "," << dy;
+  int covered = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) {
+      if (run.out.at(x, y).a < 0.5f) continue;
+      ++covered;
+      EXPECT_TRUE(std::abs(x - c.x) <= 2 && std::abs(y - c.y) <= 2) << x << "," << y;
+    }
+  EXPECT_GE(covered, 17);
+}
+
 }  // namespace
