@@ -68,6 +68,18 @@ py::object param_value(const ParamSpec& spec, const std::vector<double>& v, cons
   }
   return py::none();
 }
+// [{"param", "values"}, ...]: a "when"'s alternatives ("or") or
+// requirements ("and").
+py::list conditions_list(const std::vector<ParamSpec::Condition>& conditions) {
+  py::list out;
+  for (const ParamSpec::Condition& c : conditions) {
+    py::dict condition;
+    condition["param"] = c.param;
+    condition["values"] = c.values;
+    out.append(condition);
+  }
+  return out;
+}
 }  // namespace
 
 py::dict schema_to_dict(const Schema& schema) {
@@ -101,26 +113,8 @@ py::dict schema_to_dict(const Schema& schema) {
       py::dict when;
       when["param"] = p.when_param;
       when["values"] = p.when_values;
-      if (!p.or_when.empty()) {
-        py::list alternatives;
-        for (const ParamSpec::Condition& c : p.or_when) {
-          py::dict alternative;
-          alternative["param"] = c.param;
-          alternative["values"] = c.values;
-          alternatives.append(alternative);
-        }
-        when["or"] = alternatives;
-      }
-      if (!p.and_when.empty()) {
-        py::list required;
-        for (const ParamSpec::Condition& c : p.and_when) {
-          py::dict condition;
-          condition["param"] = c.param;
-          condition["values"] = c.values;
-          required.append(condition);
-        }
-        when["and"] = required;
-      }
+      if (!p.or_when.empty()) when["or"] = conditions_list(p.or_when);
+      if (!p.and_when.empty()) when["and"] = conditions_list(p.and_when);
       d["when"] = when;
     }
     params.append(d);
