@@ -23,8 +23,8 @@
 // and each is a gap between the farther surface's own samples (no longer
 // than twice the spacing at its depth), that surface, which runs on behind
 // the nearer one's edge, fills it (a tree crown's gaps, a wall's beside an
-// occluder). Passes: line sweeps, classify, then the search on the listed
-// pixels (see the end of the file).
+// occluder). Passes: line sweeps, classify, the search on the listed
+// pixels, then twice the pinholes (PASS_SPECK; see the end of the file).
 #include "filter_common.glsl"
 layout(rgba32f, binding = 0) uniform readonly image2D u_in;
 layout(rgba32f, binding = 1) uniform writeonly image2D u_out;
