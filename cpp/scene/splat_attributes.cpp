@@ -14,6 +14,13 @@ std::vector<float> splat_radii(const PointCloud& cloud, int k) {
   return r;
 }
 
+std::shared_ptr<const std::vector<float>> shared_splat_radii(const PointCloud& cloud, int k) {
+  if (cloud.gaussians()) return std::make_shared<const std::vector<float>>(splat_radii(cloud, k));
+  // Aliasing: the radii live as long as the cached LocalResolution they are part of.
+  const std::shared_ptr<const geometry::LocalResolution> resolution = cloud.analysis().surface_resolution(k);
+  return {resolution, &resolution->r};
+}
+
 std::vector<float> splat_opacities(const PointCloud& cloud) {
   const GaussianSplats* splats = cloud.gaussians();
   return splats ? splats->opacity : std::vector<float>(cloud.size(), 1.0f);

@@ -165,7 +165,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
           hold.push_back(resolution);
         }
         if (s.splat_size) {
-          auto radii = std::make_shared<const std::vector<float>>(splat_radii(*cloud, k));
+          auto radii = shared_splat_radii(*cloud, k);
           in.splat_r = radii->data();
           hold.push_back(radii);
         }

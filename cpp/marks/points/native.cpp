@@ -274,7 +274,7 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
       }
       last_radius = last_opacity = nullptr;
       if (s.splat_size || ctx.targets.spacing) {
-        splat_data.push_back(std::make_shared<const std::vector<float>>(splat_radii(*cloud, s.splat_k)));
+        splat_data.push_back(shared_splat_radii(*cloud, s.splat_k));
         last_radius = splat_data.back()->data();
       }
       if (s.opacity_draws) {
