@@ -112,11 +112,31 @@ int run_length(ivec2 p, ivec2 dir, int t, float limit, int cap) {
   return n;
 }
 
+// The 8 directions in turn around a pixel, 0 to 7: (1,0), (1,1), (0,1),
+// (-1,1), (-1,0), (-1,-1), (0,-1), (1,-1); direction k + 4 is k's opposite.
+const ivec2 AROUND[8] = ivec2[8](ivec2(1, 0), ivec2(1, 1), ivec2(0, 1), ivec2(-1, 1), ivec2(-1, 0), ivec2(-1, -1),
+                                 ivec2(0, -1), ivec2(1, -1));
+int around(ivec2 d) { return d.y == 0 ? (d.x > 0 ? 0 : 4) : d.x == 0 ? (d.y > 0 ? 2 : 6) : d.x == d.y ? (d.x > 0 ? 1 : 5) : (d.x > 0 ? 7 : 3); }
+
+// Whether the surface met in the directions marked in `hits` (bit k:
+// direction k, around()) closes the half-turn on one side of a line whose
+// bits are in `lines`: the pixel lies in the mouth of a notch of the
+// surface (its sides the line's ends, its bottom the three directions
+// between them), which a disk as wide as the gap could not enter: the
+// closing of the surface's silhouette by the scan's spacing.
+bool closes_half_turn(int hits, int lines) {
+  int turn = hits | (hits << 8);
+  for (int k = 0; k < 4; ++k)
+    if ((lines & (1 << k)) != 0 && (((turn >> k) & 31) == 31 || ((turn >> (k + 4)) & 31) == 31)) return true;
+  return false;
+}
+
 struct Acc {
   vec4 sum;
   float weight, lo, hi;
   int lines;
   float depth;  // the weighted sum of the ends' depths
+  int across;   // the enclosing lines: bit k for the line through directions k and k + 4 (around())
 };
 
 // Line `d` through p with first pixels a (along d) and b (against it): a
@@ -143,6 +163,7 @@ void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
   acc.lo = min(acc.lo, min(a.depth, b.depth));
   acc.hi = max(acc.hi, max(a.depth, b.depth));
   ++acc.lines;
+  acc.across |= 1 << (around(d) & 3);
 }
 
 // Line `d` with first pixels a and b where the two are not one surface (a
@@ -219,7 +240,7 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
   if (b1.depth > limit && b1.t > 0) b1 = march(p, -D1, limit);
   if (b2.depth > limit && b2.t > 0) b2 = march(p, -D2, limit);
   if (b3.depth > limit && b3.t > 0) b3 = march(p, -D3, limit);
-  Acc acc = Acc(vec4(0.0), 0.0, INF, 0.0, 0, 0.0);
+  Acc acc = Acc(vec4(0.0), 0.0, INF, 0.0, 0, 0.0, 0);
   line(p, D0, a0, b0, limit, acc);
   line(p, D1, a1, b1, limit, acc);
   line(p, D2, a2, b2, limit, acc);
@@ -227,6 +248,14 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
   vec4 sum = acc.sum;
   float weight = acc.weight, lo = acc.lo, hi = acc.hi, depth = acc.depth;
   int lines = acc.lines;
+  if (lines == 1 && isinf(own)) {
+    // One line encloses the pixel: a notch's mouth when the surface closes
+    // the half-turn between its ends (every hit is the nearest surface's:
+    // those beyond `limit` were looked past).
+    int hits = int(a0.t > 0) | int(a2.t > 0) << 1 | int(a1.t > 0) << 2 | int(b3.t > 0) << 3 | int(b0.t > 0) << 4 |
+               int(b2.t > 0) << 5 | int(b1.t > 0) << 6 | int(a3.t > 0) << 7;
+    if (closes_half_turn(hits, acc.across)) lines = 2;
+  }
   if (lines >= 2 && !isinf(own)) {
     // A covered pixel gives way only to a surface it cannot belong to: one
     // nearer by more than that surface's steepest slope over the search and
@@ -239,7 +268,7 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
     // it (within its slope over the search).
     float far = max(max(isinf(f0) ? 0.0 : f0, isinf(f1) ? 0.0 : f1), max(isinf(f2) ? 0.0 : f2, isinf(f3) ? 0.0 : f3));
     float lo_far = far - 2.0 * float(g_reach) * pixel_size(far) * u_grazing;
-    Acc back = Acc(vec4(0.0), 0.0, INF, 0.0, 0, 0.0);
+    Acc back = Acc(vec4(0.0), 0.0, INF, 0.0, 0, 0.0, 0);
     far_line(f0, lo_far, fa0, fb0, back);
     far_line(f1, lo_far, fa1, fb1, back);
     far_line(f2, lo_far, fa2, fb2, back);
@@ -326,7 +355,8 @@ void main() {
 // After the search: a background pixel with at least 6 of its 8 neighbours
 // covered by one surface (their depths within its slope over two pixels) is
 // a pinhole the lines missed (a scan's lattice of lone splats leaves some
-// that no two lines reach) and takes their mean. Reads the fill's colours
+// that no two lines reach), and one with 5 of them side by side the bottom
+// of a notch a pixel wide (closes_half_turn): it takes their mean. Reads the fill's colours
 // (u_in) and writes a copy of them (u_out); the depths in place (u_depth
 // and u_depth_out are one image): only background pixels are written and
 // only covered ones read.
@@ -336,21 +366,21 @@ void main() {
   if (!rect_pixel(p) || covered(imageLoad(u_in, p))) return;
   vec4 sum = vec4(0.0);
   float depth = 0.0, lo = INF, hi = 0.0;
-  int n = 0;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      ivec2 q = p + ivec2(dx, dy);
-      vec4 c = imageLoad(u_in, q);
-      if ((dx == 0 && dy == 0) || !covered(c)) continue;
-      float d = imageLoad(u_depth, q).r;
-      if (isinf(d)) continue;  // a filter's paint, no surface
-      sum += c;
-      depth += d;
-      lo = min(lo, d);
-      hi = max(hi, d);
-      ++n;
-    }
-  if (n < 6 || hi - lo > 2.0 * pixel_size(lo) * u_grazing) return;
+  int n = 0, hits = 0;
+  for (int k = 0; k < 8; ++k) {
+    ivec2 q = p + AROUND[k];
+    vec4 c = imageLoad(u_in, q);
+    if (!covered(c)) continue;
+    float d = imageLoad(u_depth, q).r;
+    if (isinf(d)) continue;  // a filter's paint, no surface
+    sum += c;
+    depth += d;
+    lo = min(lo, d);
+    hi = max(hi, d);
+    ++n;
+    hits |= 1 << k;
+  }
+  if ((n < 6 && !closes_half_turn(hits, 15)) || hi - lo > 2.0 * pixel_size(lo) * u_grazing) return;
   imageStore(u_out, p, sum / float(n));
   imageStore(u_depth_out, p, vec4(depth / float(n)));
 }
@@ -359,13 +389,23 @@ layout(local_size_x = 16, local_size_y = 16) in;
 // A background pixel can change only where at least 2 of its 4 lines meet
 // a covered pixel within the reach on both sides (fill_pixel's lines): the
 // background around a surface is not listed.
+// Or one line does and the surface closes the half-turn on one side of it
+// (a notch's mouth: closes_half_turn).
 bool enclosed(ivec2 p) {
-  int lines = 0;
+  int lines = 0, across = 0, hits = 0;
+  // Orientation o's ahead and behind, as directions around(): horizontal
+  // 0 and 4, vertical 2 and 6, diagonal 1 and 5, antidiagonal 7 and 3.
+  const ivec4 AHEAD = ivec4(0, 2, 1, 7), BEHIND = ivec4(4, 6, 5, 3);
   for (int o = 0; o < 4; ++o) {
     uvec2 run = imageLoad(u_runs, ivec3(p, o)).rg;
-    if (run.r != 0u && run.g != 0u && max(run.r, run.g) <= uint(u_reach)) ++lines;
+    bool ahead = run.r != 0u && run.r <= uint(u_reach), behind = run.g != 0u && run.g <= uint(u_reach);
+    hits |= int(ahead) << AHEAD[o] | int(behind) << BEHIND[o];
+    if (ahead && behind) {
+      ++lines;
+      across |= 1 << (AHEAD[o] & 3);
+    }
   }
-  return lines >= 2;
+  return lines >= 2 || closes_half_turn(hits, across);
 }
 shared uint s_count, s_base;
 shared uint s_near, s_spacing;  // float bits: positive floats order as their bits do

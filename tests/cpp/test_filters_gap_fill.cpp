@@ -225,3 +225,31 @@ TEST(GapFill, APinholeItsClosedNeighboursSurroundCloses) {
 }
 
 }  // namespace
+
+TEST(GapFill, ANotchsMouthClosesAsTheWallsAroundItDoAndAWideBayStaysOpen) {
+  // A solid surface's top edge (y = 40) with notches cut into it: 3 px deep
+  // and 4 px wide (every pixel of it is enclosed along one line only, by
+  // its walls: its mouth), 1 px wide and 1 px deep (a scallop), and a bay
+  // 24 px wide. The notches close; the bay, wider than any splat's reach,
+  // stays open, and nothing grows above the edge or beside the corners.
+  Image in = empty_with_depth({96, 96});
+  const auto notch = [](int x, int y) {
+    return (x >= 20 && x < 24 && y < 43) || (x == 32 && y < 41) || (x >= 50 && x < 74 && y < 46);
+  };
+  for (int y = 40; y < 80; ++y)
+    for (int x = 10; x < 86; ++x)
+      if (!notch(x, y)) put(in, x, y, glm::vec4(0.2f, 0.5f, 0.3f, 1.0f), 10.0f + 0.02f * float(y));
+  const FilterRun run = run_filters(in, {kOil});
+  for (int y = 40; y < 43; ++y)
+    for (int x = 20; x < 24; ++x) EXPECT_GE(run.out.at(x, y).a, 0.5f) << "the notch at " << x << "," << y;
+  EXPECT_GE(run.out.at(32, 40).a, 0.5f) << "the scallop";
+  int bay_open = 0;
+  for (int y = 40; y < 46; ++y)
+    for (int x = 58; x < 66; ++x) bay_open += run.out.at(x, y).a < 0.5f;
+  EXPECT_EQ(bay_open, 8 * 6) << "the bay's middle";
+  for (int y = 0; y < 96; ++y)
+    for (int x = 0; x < 96; ++x)
+      if ((y < 40 || x < 10 || x >= 86 || y >= 80) && run.out.at(x, y) != kSentinel) {
+        ASSERT_EQ(run.out.at(x, y).a, 0.0f) << "grown at " << x << "," << y;
+      }
+}
