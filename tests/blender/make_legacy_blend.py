@@ -6,7 +6,8 @@ add-on and checks the migration against them. Made once, with the old
 package; do not regenerate with a newer one (frames 1 and 6 were rendered
 again from the migrated file on purpose in issue 40, when the Cartoon's
 soft bands changed: "Right" runs through a Cartoon filter; frame 1 again
-when the gap fill began to close the gaps between splats before it):
+when the gap fill began to close the gaps between splats before it, and
+all three when it began to close a notch's mouth, the outline's scallops):
 
     blender -b --factory-startup --python-exit-code 1 \
         --python tests/blender/make_legacy_blend.py -- <old builddir>
