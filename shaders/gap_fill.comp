@@ -124,6 +124,7 @@ int around(ivec2 d) { return d.y == 0 ? (d.x > 0 ? 0 : 4) : d.x == 0 ? (d.y > 0 
 // surface (its sides the line's ends, its bottom the three directions
 // between them), which a disk as wide as the gap could not enter: the
 // closing of the surface's silhouette by the scan's spacing.
+const int AXIS_LINES = 5;  // the horizontal and vertical lines' bits
 bool closes_half_turn(int hits, int lines) {
   int turn = hits | (hits << 8);
   for (int k = 0; k < 4; ++k)
@@ -251,10 +252,13 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
   if (lines == 1 && isinf(own)) {
     // One line encloses the pixel: a notch's mouth when the surface closes
     // the half-turn between its ends (every hit is the nearest surface's:
-    // those beyond `limit` were looked past).
+    // those beyond `limit` were looked past). A horizontal or vertical line
+    // only: a diagonal march slips between two pixels that touch at a
+    // corner, so along a 45 degree border every other diagonal line is
+    // enclosed and a diagonal line's mouths would fill as stripes.
     int hits = int(a0.t > 0) | int(a2.t > 0) << 1 | int(a1.t > 0) << 2 | int(b3.t > 0) << 3 | int(b0.t > 0) << 4 |
                int(b2.t > 0) << 5 | int(b1.t > 0) << 6 | int(a3.t > 0) << 7;
-    if (closes_half_turn(hits, acc.across)) lines = 2;
+    if (closes_half_turn(hits, acc.across & AXIS_LINES)) lines = 2;
   }
   if (lines >= 2 && !isinf(own)) {
     // A covered pixel gives way only to a surface it cannot belong to: one
@@ -405,7 +409,7 @@ bool enclosed(ivec2 p) {
       across |= 1 << (AHEAD[o] & 3);
     }
   }
-  return lines >= 2 || closes_half_turn(hits, across);
+  return lines >= 2 || closes_half_turn(hits, across & AXIS_LINES);
 }
 shared uint s_count, s_base;
 shared uint s_near, s_spacing;  // float bits: positive floats order as their bits do
