@@ -58,10 +58,23 @@ std::vector<std::string> source_attribute_names(const AttributeSet& set) {
   return out;
 }
 
-AttributeKey feature_line_key(int line_neighbors, int feature_neighbors, double threshold) {
-  const int step = std::clamp(int(std::floor(threshold * 20.0 + 1e-9)), 0, 20);
-  return {AttributeKind::FeatureLine,
-          std::clamp(line_neighbors, 1, 99) + 100 * std::clamp(feature_neighbors, 1, 99) + 10000 * step};
+namespace {
+int twentieths(double value) { return std::clamp(int(std::floor(value * 20.0 + 1e-9)), 0, 20); }
+}  // namespace
+
+AttributeKey feature_degree_key(int feature_neighbors, double color_weight) {
+  return {AttributeKind::FeatureDegree, std::clamp(feature_neighbors, 1, 99) + 100 * twentieths(color_weight)};
+}
+
+AttributeKey feature_line_key(int line_neighbors, int feature_neighbors, double threshold, double color_weight) {
+  return {AttributeKind::FeatureLine, std::clamp(line_neighbors, 1, 99) + 100 * std::clamp(feature_neighbors, 1, 99) +
+                                          10000 * twentieths(threshold) + 210000 * twentieths(color_weight)};
+}
+
+FeatureDegreeSpec feature_degree_spec(const AttributeKey& key) {
+  if (key.attribute == AttributeKind::FeatureLine)
+    return {key.k / 100 % 100, float(key.k / 210000) * 0.05f};
+  return {key.k % 100, float(key.k / 100) * 0.05f};
 }
 
 std::string to_string(const AttributeKey& key) {

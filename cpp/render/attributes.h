@@ -20,11 +20,12 @@ enum class AttributeKind : uint8_t {
   Normal,           // the cloud's own (source), else estimated from k neighbours; snorm8 x3
   Curvature,        // surface variation from k neighbours (lambda0 / sum), float
   LocalResolution,  // mean distance to the k nearest neighbours, float
-  FeatureDegree,    // seed 001 feature degree from k neighbours, float in [0, 1]
+  FeatureDegree,    // seed 001 feature degree, float in [0, 1]; k packs its neighbours and colour weight,
+                    // see feature_degree_key()
   QueueOrder,       // continuous resolution queue (seed 001 section 6.3): per chunk, its points' chunk-local
                     // indices in a stable seeded random order (by a hash of the point id), uint; k = 0
   FeatureLine,      // seed 001 eq. 2 line fit among feature points: snorm8 x3 direction + unorm8 error;
-                    // k packs both neighbourhoods and the feature threshold, see feature_line_key()
+                    // k packs both neighbourhoods, the feature threshold and the colour weight, see feature_line_key()
   ResolutionDeviation,  // deviation eps of the distance to the k nearest neighbours (seed 004's r + eps), float
   PrincipalAxis,    // unit eigenvector of the largest eigenvalue of the k-neighbour covariance (seed 004's CM frame); snorm8 x3
   RadiusNormal,     // the cloud's own normals, else least squares within 3r (seed 004; r: 8-neighbour resolution), oriented over k neighbours; snorm8 x3
@@ -42,11 +43,24 @@ struct AttributeKey {
 };
 using AttributeSet = std::set<AttributeKey>;
 
+// The FeatureDegree key: the degree of `feature_neighbors` neighbours whose
+// colour part weighs `color_weight` (geometry::FeatureOptions::edge_weight)
+// rounded down to a multiple of 0.05 (at most 21 variants, however it is
+// animated); k = feature_neighbors + 100 weight step (neighbours <= 99).
+AttributeKey feature_degree_key(int feature_neighbors, double color_weight);
 // The FeatureLine key: lines through the `line_neighbors` nearest feature
-// points, feature points those whose feature degree (of `feature_neighbors`)
-// is >= threshold rounded down to a multiple of 0.05 (at most 21 variants);
-// k = line_neighbors + 100 feature_neighbors + 10000 step (both <= 99).
-AttributeKey feature_line_key(int line_neighbors, int feature_neighbors, double threshold);
+// points, feature points those whose feature degree (feature_degree_key) is
+// >= threshold rounded down to a multiple of 0.05 (at most 21 variants);
+// k = line_neighbors + 100 feature_neighbors + 10000 step + 210000 weight
+// step (both neighbour counts <= 99).
+AttributeKey feature_line_key(int line_neighbors, int feature_neighbors, double threshold, double color_weight);
+// What a FeatureDegree key's k (or the part of a FeatureLine key's k past its
+// line neighbours, k / 100) holds.
+struct FeatureDegreeSpec {
+  int neighbors = 8;
+  float color_weight = 0.5f;
+};
+FeatureDegreeSpec feature_degree_spec(const AttributeKey& key);
 
 // Name used by the bindings and the add-on ("colors", "normals", ...).
 const char* attribute_name(AttributeKind attribute);

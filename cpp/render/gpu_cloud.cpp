@@ -192,15 +192,20 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
         break;
       case AttributeKind::Curvature: buffer = upload(*analysis->curvature(key.k)); break;
       case AttributeKind::LocalResolution: buffer = upload(analysis->surface_resolution(key.k)->r); break;
-      case AttributeKind::FeatureDegree: buffer = upload(*analysis->feature_degree(key.k, {})); break;
+      case AttributeKind::FeatureDegree: {
+        const FeatureDegreeSpec spec = feature_degree_spec(key);
+        buffer = upload(*analysis->feature_degree(spec.neighbors, {spec.color_weight}));
+        break;
+      }
       case AttributeKind::QueueOrder:
         // Kept on the host where the native rasterizer (software devices) reads it too.
         buffer = upload(gl::Device::instance().info().software ? g.host_queue_order() : queue_order(*cloud));
         break;
       case AttributeKind::FeatureLine: {
-        const int k = key.k % 100, feature_k = key.k / 100 % 100;
-        const float threshold = float(key.k / 10000) * 0.05f;
-        const std::vector<float>& degree = *analysis->feature_degree(feature_k, {});
+        const int k = key.k % 100;
+        const float threshold = float(key.k / 10000 % 21) * 0.05f;
+        const FeatureDegreeSpec spec = feature_degree_spec(key);
+        const std::vector<float>& degree = *analysis->feature_degree(spec.neighbors, {spec.color_weight});
         std::vector<uint8_t> mask(degree.size());
         for (size_t i = 0; i < degree.size(); ++i) mask[i] = degree[i] >= threshold ? 1 : 0;
         const geometry::LineFit fit = analysis->line_fit(mask, k);

@@ -61,12 +61,23 @@ TEST(ResolutionQueue, OrderFollowsPointIdsNotInputOrder) {
   for (size_t j = 0; j < n; ++j) EXPECT_EQ(ca.point_index()[oa[j]], cb.point_index()[ob[j]]) << j;
 }
 
-TEST(ResolutionQueue, FeatureLineKeysPackNeighbourhoodsAndThresholdSteps) {
-  EXPECT_EQ(feature_line_key(48, 8, 0.35).k, 48 + 100 * 8 + 10000 * 7);
-  EXPECT_EQ(feature_line_key(48, 8, 0.35), feature_line_key(48, 8, 0.399));  // same 0.05 step
-  EXPECT_NE(feature_line_key(48, 8, 0.35), feature_line_key(48, 8, 0.40));
-  EXPECT_EQ(feature_line_key(48, 8, 1.0).k / 10000, 20);
-  EXPECT_EQ(to_string(feature_line_key(16, 8, 0.0)), "feature_line:816");
+TEST(ResolutionQueue, FeatureKeysPackNeighbourhoodsThresholdAndColourWeightSteps) {
+  EXPECT_EQ(feature_line_key(48, 8, 0.35, 0.0).k, 48 + 100 * 8 + 10000 * 7);
+  EXPECT_EQ(feature_line_key(48, 8, 0.35, 0.5), feature_line_key(48, 8, 0.399, 0.52));  // same 0.05 steps
+  EXPECT_NE(feature_line_key(48, 8, 0.35, 0.5), feature_line_key(48, 8, 0.40, 0.5));
+  EXPECT_NE(feature_line_key(48, 8, 0.35, 0.5), feature_line_key(48, 8, 0.35, 0.55));
+  EXPECT_EQ(feature_line_key(48, 8, 1.0, 0.0).k / 10000, 20);
+  EXPECT_EQ(to_string(feature_line_key(16, 8, 0.0, 0.0)), "feature_line:816");
+  // The colour weight in both keys, decoded as the cache computes the degree.
+  for (const double w : {0.0, 0.5, 0.95, 1.0}) {
+    const FeatureDegreeSpec line = feature_degree_spec(feature_line_key(99, 64, 1.0, w));
+    const FeatureDegreeSpec degree = feature_degree_spec(feature_degree_key(64, w));
+    EXPECT_EQ(line.neighbors, 64);
+    EXPECT_EQ(degree.neighbors, 64);
+    EXPECT_FLOAT_EQ(line.color_weight, float(w));
+    EXPECT_FLOAT_EQ(degree.color_weight, float(w));
+  }
+  EXPECT_EQ(feature_degree_key(8, 0.5), feature_degree_key(8, 0.54));
 }
 
 }  // namespace

@@ -107,6 +107,31 @@ def test_directional_strokes_lie_along_the_box_edges_and_faces_carry_only_dither
     assert (kind[on_face] == 2).all()
 
 
+def test_the_colour_weight_makes_a_colour_edge_a_feature_and_leaves_a_shape_alone(renderer, path):
+    """Seed 001's feature degree is (1 - w) shape + w colour: a flat wall
+    painted half red, half blue has feature points along its colour edge
+    only with a colour weight, never fewer with more weight; a colourless
+    box's feature points do not depend on it."""
+    pos, col = wall(2.0, 1.5, 0.02, -5.0)
+    col[pos[:, 0] > 0.0] = (30, 60, 220)
+    col[pos[:, 0] <= 0.0] = (220, 40, 30)
+    painted = pointnpr.PointCloud(pos, colors=col)
+    features = []
+    for w in (0.0, 0.5, 1.0):
+        r = render(renderer, {"color_weight": w, "shading": "none"}, [painted])
+        kind, ids = np.asarray(r.marks["kind"]), np.asarray(r.marks["point_id"])
+        on_edge = np.abs(pos[ids[kind < 2], 0]) < 0.1  # within 5 spacings of the colour edge
+        features.append(int((kind < 2).sum()))
+        if w > 0.0:
+            assert on_edge.all() and on_edge.size > 100, (w, on_edge.size)
+    assert features[0] == 0 and features[1] <= features[2], features
+    box_pos = box() @ rotation(0.5, 0.6).T + np.array([0.0, 0.0, -4.0])
+    colourless = pointnpr.PointCloud(box_pos)
+    counts = [render(renderer, {"color_weight": w}, [colourless], capture=False).stats["strokes_directional"]
+              for w in (0.0, 1.0)]
+    assert counts[0] == counts[1] > 300, counts
+
+
 def test_dithering_share_follows_the_parameter(renderer, path):
     pos, col = wall(2.0, 1.5, 0.02, -5.0)
     c = pointnpr.PointCloud(pos)

@@ -60,11 +60,12 @@ class FeatureStrokes final : public Mark {
  public:
   AttributeSet attributes(const ParamValues& p) const override {
     const int k = p.get_int("feature_neighbors");
+    const double color_weight = p.get_float("color_weight");
     AttributeSet set{{AttributeKind::PointId},
-                     {AttributeKind::FeatureDegree, k},
+                     feature_degree_key(k, color_weight),
                      {AttributeKind::LocalResolution, kResolutionNeighbors}};
-    if (p.get_enum_name("directional") != "none") 
-      set.insert(feature_line_key(p.get_int("line_neighbors"), k, p.get_float("feature_threshold")));
+    if (p.get_enum_name("directional") != "none")
+      set.insert(feature_line_key(p.get_int("line_neighbors"), k, p.get_float("feature_threshold"), color_weight));
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
     set.insert({AttributeKind::Normal, k});  // the visibility discs' planes (and the light)
     if (p.get_bool("opacity_draws")) set.insert({AttributeKind::SplatOpacity});
@@ -152,7 +153,9 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   s.params = &p;
   s.lit = p.get_enum_name("shading") != "none";
   s.opacity_draws = p.get_bool("opacity_draws");
-  s.line_key = feature_line_key(p.get_int("line_neighbors"), s.feature_k, p.get_float("feature_threshold"));
+  s.degree_key = feature_degree_key(s.feature_k, p.get_float("color_weight"));
+  s.line_key = feature_line_key(p.get_int("line_neighbors"), s.feature_k, p.get_float("feature_threshold"),
+                                p.get_float("color_weight"));
   s.color_source = ColorSource(p.get_enum("color_source"));
   s.paper = p.get_color("paper_color");
   s.disc_scale = float(p.get_float("disc_scale"));
@@ -267,7 +270,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
       const bool lit = lit_by_shading(p, resolved) && g.find({AttributeKind::Normal, k});
       bind_chunk(select, v, s.color_source,
                  {{2, lit ? g.find({AttributeKind::Normal, k}) : nullptr},
-                  {3, g.find({AttributeKind::FeatureDegree, k})}, {4, lines},
+                  {3, g.find(s.degree_key)}, {4, lines},
                   {5, s.queue ? g.find({AttributeKind::QueueOrder}) : nullptr}, {6, g.find({AttributeKind::PointId})},
                   {9, g.find({AttributeKind::LocalResolution, kResolutionNeighbors})},
                   {11, s.opacity_draws ? g.find({AttributeKind::SplatOpacity}) : nullptr}});
@@ -337,6 +340,10 @@ const MarkRegistration registration{{
                            "tau: points whose feature degree is above it are feature points"),
                int_param("feature_neighbors", 8, 4, 64, "",
                          "Neighbours of the feature degree (fewer: thinner feature bands along edges)"),
+               float_param("color_weight", 0.5, 0.0, 1.0, "",
+                           "Weight w of the colour (or intensity) edges in the feature degree: (1 - w) x shape + "
+                           "w x colour (seed 001 section 5.2; 0: shape alone, 1: colour alone; in steps of 0.05; "
+                           "a scan without colours or intensity has its shape only)"),
                int_param("line_neighbors", 48, 4, 99, "",
                          "Nearest feature points the stroke direction is fitted to (eq. 2; more: straighter "
                          "directions along wide feature bands)"),

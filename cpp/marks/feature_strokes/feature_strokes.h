@@ -42,6 +42,7 @@ inline CapturedMark captured(const Record& rec, bool ortho, float px_per_unit) {
 struct FeatureStrokeSettings {
   feature_strokes::FeatureStrokesSettings u{};
   int feature_k = 8;
+  AttributeKey degree_key;  // feature_degree_key: neighbours and colour weight
   AttributeKey line_key;
   ColorSource color_source = ColorSource::Constant;
   glm::vec4 paper{1.0f};

@@ -291,7 +291,8 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
     std::shared_ptr<const PointCloud> cloud = chunk_cloud(v, "feature strokes");
     if (cloud.get() != last) {
       last = cloud.get();
-      auto degree = cloud->analysis().feature_degree(s.feature_k, {});
+      const FeatureDegreeSpec spec = feature_degree_spec(s.degree_key);
+      auto degree = cloud->analysis().feature_degree(spec.neighbors, {spec.color_weight});
       auto resolution = cloud->analysis().surface_resolution(kStrokeResolutionNeighbors);
       std::shared_ptr<const std::vector<uint32_t>> lines = s.u.use_lines ? line_cache.get(v, s.line_key) : nullptr;
       proto = Chunk{};
