@@ -16,7 +16,8 @@ Measures, per scan and preset:
       share of the filled silhouette the preset leaves with alpha < 0.5
       (background). Threshold 0.5 %. Reported with it: the part of those
       holes within 2 CLOSE_RADIUS of covered pixels whose depths differ by
-      more than JUMP (4.4 %, one surface's steepest change over the disk) of the nearest, i.e. where the closing bridged
+      more than JUMP (4.4 %, one surface's steepest change over the disk)
+      of the nearest, i.e. where the closing bridged
       two surfaces (an occlusion shadow, a gap between leaves), which a
       depth-aware fill must leave open; "elsewhere" is the rest, the holes
       such a fill may close (judged against the same 0.5 %).
@@ -304,8 +305,8 @@ def main():
             flag_e = "" if hole_pct - jump_pct <= HOLE_LIMIT else " ✗"
             fails += bool(flag_h) + bool(flag_l)
             fails_elsewhere += bool(flag_e) + bool(flag_l)
-            print(f"| {scan} | {preset} | {hole_pct:.2f}{flag_h} | {jump_pct:.2f} | {hole_pct - jump_pct:.2f}{flag_e} | "
-                  f"{line_pct:.2f}{flag_l} | {nf:,} | {npl:,} |", flush=True)
+            print(f"| {scan} | {preset} | {hole_pct:.2f}{flag_h} | {jump_pct:.2f} | "
+                  f"{hole_pct - jump_pct:.2f}{flag_e} | {line_pct:.2f}{flag_l} | {nf:,} | {npl:,} |", flush=True)
         all_tiles.append(tiles)
         all_marked.append(marked)
     pointnpr.save_image(os.path.join(out_dir, "look_audit.png"), sheet(all_tiles))

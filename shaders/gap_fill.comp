@@ -116,7 +116,11 @@ int run_length(ivec2 p, ivec2 dir, int t, float limit, int cap) {
 // (-1,1), (-1,0), (-1,-1), (0,-1), (1,-1); direction k + 4 is k's opposite.
 const ivec2 AROUND[8] = ivec2[8](ivec2(1, 0), ivec2(1, 1), ivec2(0, 1), ivec2(-1, 1), ivec2(-1, 0), ivec2(-1, -1),
                                  ivec2(0, -1), ivec2(1, -1));
-int around(ivec2 d) { return d.y == 0 ? (d.x > 0 ? 0 : 4) : d.x == 0 ? (d.y > 0 ? 2 : 6) : d.x == d.y ? (d.x > 0 ? 1 : 5) : (d.x > 0 ? 7 : 3); }
+int around(ivec2 d) {
+  if (d.y == 0) return d.x > 0 ? 0 : 4;
+  if (d.x == 0) return d.y > 0 ? 2 : 6;
+  return d.x == d.y ? (d.x > 0 ? 1 : 5) : (d.x > 0 ? 7 : 3);
+}
 
 // Whether the surface met in the directions marked in `hits` (bit k:
 // direction k, around()) closes the half-turn on one side of a line whose
@@ -360,10 +364,10 @@ void main() {
 // covered by one surface (their depths within its slope over two pixels) is
 // a pinhole the lines missed (a scan's lattice of lone splats leaves some
 // that no two lines reach), and one with 5 of them side by side the bottom
-// of a notch a pixel wide (closes_half_turn): it takes their mean. Reads the fill's colours
-// (u_in) and writes a copy of them (u_out); the depths in place (u_depth
-// and u_depth_out are one image): only background pixels are written and
-// only covered ones read.
+// of a notch a pixel wide (closes_half_turn): it takes their mean. Reads
+// the fill's colours (u_in) and writes a copy of them (u_out); the depths
+// in place (u_depth and u_depth_out are one image): only background pixels
+// are written and only covered ones read.
 layout(local_size_x = 16, local_size_y = 16) in;
 void main() {
   ivec2 p;
