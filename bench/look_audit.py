@@ -16,7 +16,7 @@ Measures, per scan and preset:
       share of the filled silhouette the preset leaves with alpha < 0.5
       (background). Threshold 0.5 %. Reported with it: the part of those
       holes within 2 CLOSE_RADIUS of covered pixels whose depths differ by
-      more than JUMP (4.4 %, one surface's steepest change over the disk)
+      more than jump() (4.4 % at 1280 px, one surface's steepest change over the disk)
       of the nearest, i.e. where the closing bridged
       two surfaces (an occlusion shadow, a gap between leaves), which a
       depth-aware fill must leave open; "elsewhere" is the rest, the holes
@@ -79,8 +79,13 @@ HOLE_LIMIT, LINE_LIMIT = 0.5, 1.0  # percent
 # stereo camera's 10 px occlusion gap, as one surface's holes.
 GRAZING = 2.75
 JUMP_RADIUS = 2 * CLOSE_RADIUS
-JUMP = 2 * JUMP_RADIUS * (36.0 / 35.0 / W) * GRAZING
 SCANS_DIR = "/work/shared/data/scans"
+
+
+def jump():
+    """The relative depth step of a jump (above) at the current output width
+    (--quick halves the width, so a pixel spans twice as much)."""
+    return 2 * JUMP_RADIUS * (36.0 / 35.0 / W) * GRAZING
 
 
 def _local(path, **keep):
@@ -151,7 +156,7 @@ def _render(renderer, cloud, centre, mark, filters, cam, depth=False):
 
 def depth_jumps(color, depth, r):
     """Pixels within `r` of covered pixels whose depths differ by more than
-    JUMP (relative to the nearest): where a hole may lie between two
+    jump() (relative to the nearest): where a hole may lie between two
     surfaces, which a depth-aware fill must not bridge."""
     cov = color[..., 3] >= 0.5
     near = np.where(cov, depth, np.inf)
@@ -164,7 +169,7 @@ def depth_jumps(color, depth, r):
                 lo = np.minimum(lo, np.roll(np.roll(pad_n, dy, 0), dx, 1))
                 hi = np.maximum(hi, np.roll(np.roll(pad_f, dy, 0), dx, 1))
     lo, hi = lo[r:-r, r:-r], hi[r:-r, r:-r]
-    return np.isfinite(lo) & (hi > lo * (1.0 + JUMP))
+    return np.isfinite(lo) & (hi > lo * (1.0 + jump()))
 
 
 def _shift_reduce(mask, radius, op):
