@@ -6,7 +6,7 @@ depth test and under depth inpainting.
 Protocol, per scan split into two segments (bench/inpaint_compositing.py's
 scans), per filter: the truth is the unfiltered segments with dense (6 px)
 splats under the depth test, whose splats close the gaps; only pixels at
-least 3 px (the dense splat's radius) inside one segment's truth coverage
+least 3 px (the dense splat's radius; a disk) inside one segment's truth coverage
 are judged, so silhouettes that the dense splats widen do not count. A
 pixel is occlusion-wrong when the 2 px render, filtered, shows the other
 segment there. The criterion: inpainting at most 0.5x the depth test's.
@@ -19,16 +19,9 @@ import numpy as np
 
 import pointnpr
 from inpaint_compositing import FILTERS, H, MODES, SPLATS, W, render, scans
+from look_audit import erode  # by a disk, as the look audit's closing
 
 MARGIN = 3  # px: the dense splat's radius
-
-
-def erode(mask, r):
-    out = mask.copy()
-    for dy in range(-r, r + 1):
-        for dx in range(-r, r + 1):
-            out &= np.roll(np.roll(mask, dy, 0), dx, 1)
-    return out
 
 
 def main():
