@@ -2,7 +2,8 @@
 // select pass (feature_strokes_select.comp) and the native one
 // (cpp/marks/feature_strokes/native.cpp), in the subset of cpp/core/glsl.h.
 // The includer defines what reads the point data: point_degree(i),
-// has_lines(), point_line(i), point_resolution(i), inv_median_r(),
+// has_lines(), point_line(i), point_link(i), point_link_length(i) (the
+// FeatureLine attribute's three words), point_resolution(i), inv_median_r(),
 // max_r() (the chunk's largest r: FeatureStrokeSettings::max_r),
 // has_color(), point_color(i), view_rotation(), lit() (the chunk is
 // shaded), point_normal(i) (view space, zero: none), has_opacity() and
@@ -22,7 +23,7 @@ Record place_record(uint index, uint id, vec4 v) {
   rec.point_id = id;
   rec.primitive = 0u;
   rec.width = 0.0f;
-  rec.pad = 0.0f;
+  rec.chain = 0.0f;
   float depth = -v.z;
   if (!(depth >= u.near_plane && depth <= u.far_plane)) return rec;
   // A Gaussian splat's opacity is its chance of a stroke (opacity_draws),
@@ -49,7 +50,9 @@ Record place_record(uint index, uint id, vec4 v) {
       uint line_bits = point_line(index);
       float err = float(line_bits >> 24) / 255.0f;
       vec3 d = vec3(unpackSnorm4x8(line_bits));
-      if (dot(d, d) > 0.25f && err < u.line_error) {
+      // A point of a chain (its link's flags) is on a line whatever its own fit's error.
+      bool chained = u.chain_lines != 0 && ((point_link(index) >> 24) & 4u) != 0u;
+      if (dot(d, d) > 0.25f && (err < u.line_error || chained)) {
         kind = 0u;
         dir = normalize(view_rotation() * d);
       }
@@ -98,7 +101,32 @@ Record place_record(uint index, uint id, vec4 v) {
   }
   len = len * grow;
   width = width * grow * weight;
-  rec.center_kind = vec4(vec3(v), float(kind));
+  vec3 center = vec3(v);
+  // A chained directional point (FeatureLine's link, geometry/feature_chains.h)
+  // draws the link to its parent, a little longer so the links of a chain
+  // join: its edge reads as one line, not a tick per point. A link longer on
+  // screen than the stroke (a close-up) keeps the point's own stroke, so no
+  // mark reaches farther than extent() allows.
+  if (kind == 0u && prim != 1 && has_lines() && u.chain_lines != 0) {
+    uint link = point_link(index);
+    uint flags = link >> 24;
+    if ((flags & 4u) != 0u) {
+      vec3 to_parent = view_rotation() * (vec3(unpackSnorm4x8(link)) * point_link_length(index));
+      vec3 parent = vec3(v) + to_parent;
+      vec4 ca = mat_vec(u.projection, vec4(vec3(v), 1.0f));
+      vec4 cb = mat_vec(u.projection, vec4(parent, 1.0f));
+      vec2 d = (vec2(cb.x, cb.y) / cb.w - vec2(ca.x, ca.y) / ca.w) * 0.5f * vec2(float(u.size_x), float(u.size_y));
+      float seg = sqrt(dot(d, d));
+      if (-parent.z >= u.near_plane && seg <= 2.0f * u.directional_length && dot(to_parent, to_parent) > 0.0f) {
+        center = 0.5f * (vec3(v) + parent);
+        dir = normalize(to_parent);
+        width = max(width, 1.5f);  // a line thinner than a pixel breaks into dots
+        len = seg + 0.5f * width;
+        rec.chain = 1.0f + float(flags & 3u);  // chained; which ends are free (feature_strokes_sprite.glsl)
+      }
+    }
+  }
+  rec.center_kind = vec4(center, float(kind));
   rec.dir_length = vec4(dir, len);
   rec.color = vec4(clamp(u.point_coloring != 0 ? vec3(color) : vec3(u.constant_color), 0.0f, 1.0f), u.opacity);
   rec.primitive = uint(prim);

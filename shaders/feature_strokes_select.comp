@@ -5,7 +5,7 @@
 
 layout(local_size_x = 128) in;
 layout(std430, binding = 3) readonly buffer Degree { float degree[]; };
-layout(std430, binding = 4) readonly buffer Lines { uint lines[]; };      // snorm8 x3 direction, unorm8 error
+layout(std430, binding = 4) readonly buffer Lines { uint lines[]; };  // 3 a point: line, chain link, its length
 layout(std430, binding = 5) readonly buffer Queue { uint queue_order[]; };  // chunk-local indices in queue order
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 8) buffer Counters { uint counts[3]; };
@@ -24,7 +24,9 @@ uniform int u_has_opacity;     // opacity_draws: the splats' opacities bound
 
 float point_degree(uint index) { return degree[index]; }
 bool has_lines() { return u_has_lines != 0; }
-uint point_line(uint index) { return lines[index]; }
+uint point_line(uint index) { return lines[3u * index]; }
+uint point_link(uint index) { return lines[3u * index + 1u]; }
+float point_link_length(uint index) { return uintBitsToFloat(lines[3u * index + 2u]); }
 float point_resolution(uint index) { return resolution[index]; }
 float inv_median_r() { return u_inv_median_r; }
 float max_r() { return u_max_r; }

@@ -38,6 +38,7 @@ SETTINGS_BLOCK(FeatureStrokesSettings, 0)
   float px_per_unit;         // pixels per scene unit at view depth 1 (orthographic: at any depth)
   float dither_area;         // px^2 of one dithering primitive
   float line_tone;           // how much the light thins feature primitives (their width)
+  int chain_lines;           // chained directional points draw their links (geometry/feature_chains.h)
 END_SETTINGS_BLOCK(u)
 
 struct Record {
@@ -47,7 +48,8 @@ struct Record {
   uint point_id;
   uint primitive;    // 0 none, 1 point sprite, 2 line segment, 3 textured stroke
   float width;       // px
-  float pad;
+  float chain;       // 0: a point's own stroke; else the link to its parent, 1 + its free ends (bit 0 the
+                     // point's, bit 1 the parent's: geometry/feature_chains.h)
 };
 
 // A record's screen-aligned quad (seed 001 Fig. 5).
@@ -61,5 +63,6 @@ struct StrokeSprite {
   float aspect;    // length / width
   uint primitive;
   uint id;
+  float chain;     // Record::chain
 };
 #endif

@@ -36,6 +36,7 @@ StrokeSprite stroke_sprite(Record rec) {
   s.aspect = rec.dir_length.w / max(rec.width, 1e-3f);
   s.primitive = rec.primitive;
   s.id = rec.point_id;
+  s.chain = rec.chain;
   return s;
 }
 
@@ -50,9 +51,19 @@ vec2 sprite_corner(StrokeSprite s, vec2 corner) {
   return at;
 }
 
+// How a link of a chain tapers along (uv.x 0 at the point, 1 at its
+// parent): to a point at a free end of the chain, not at all where it joins
+// the next link.
+float chain_taper(StrokeSprite s, float x) {
+  int ends = int(s.chain) - 1;
+  float t = (ends & 1) != 0 ? smoothstep(0.0f, 0.6f, x) : 1.0f;
+  return (ends & 2) != 0 ? t * (1.0f - smoothstep(0.4f, 1.0f, x)) : t;
+}
+
 // A textured stroke's alpha at uv (0..1 along, 0..1 across).
 float stroke_alpha(StrokeSprite s, vec2 uv) {
   float across = abs(2.0f * uv.y - 1.0f);
+  bool chained = s.chain > 0.5f;
   if (u.stroke_texture == 3) {
     vec4 t = stroke_image(uv);
     return t.a * (1.0f - dot(vec3(t), vec3(0.2126f, 0.7152f, 0.0722f)));
@@ -62,15 +73,17 @@ float stroke_alpha(StrokeSprite s, vec2 uv) {
     uint h = id_hash(s.id * 7u + uint(int(bristle)));
     float reach = 0.65f + 0.35f * float(h >> 8) / 16777216.0f;
     float ink = 0.55f + 0.45f * float(id_hash(h) >> 8) / 16777216.0f;
-    return ink * smoothstep(0.0f, 0.08f, uv.x) * (1.0f - smoothstep(reach - 0.15f, reach, uv.x)) *
-           (1.0f - pow(across, 8.0f));
+    float along = chained ? chain_taper(s, uv.x) : smoothstep(0.0f, 0.08f, uv.x) * (1.0f - smoothstep(reach - 0.15f, reach, uv.x));
+    return ink * along * (1.0f - pow(across, 8.0f));
   }
-  float taper = smoothstep(0.0f, 0.2f, uv.x) * (1.0f - smoothstep(0.7f, 1.0f, uv.x));
+  float taper = chained ? chain_taper(s, uv.x) : smoothstep(0.0f, 0.2f, uv.x) * (1.0f - smoothstep(0.7f, 1.0f, uv.x));
   if (u.stroke_texture == 2) {  // dry brush: broken by grain along the stroke
     float g = id_value_noise(vec2(uv.x * s.aspect * 2.0f, uv.y * 5.0f), s.id);
     return taper * smoothstep(0.3f, 0.55f, g) * (1.0f - pow(across, 4.0f));
   }
-  return taper * (1.0f - across * across);  // taper: pointed ends, round profile
+  // taper: pointed ends, round profile; a chain's line is as wide as its
+  // quad (its width is the line's weight; overlapping strokes give theirs)
+  return taper * (chained ? 1.0f - pow(across, 4.0f) : 1.0f - across * across);
 }
 
 // The quad's opacity at a frame pixel's centre (not > 0: nothing), its

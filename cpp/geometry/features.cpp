@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "geometry/feature_chains.h"
 
 namespace pointnpr::geometry {
 
@@ -268,6 +269,8 @@ LineFit line_fit(const LocalPoints& pts, const std::vector<uint8_t>& mask, int k
   LineFit out;
   out.direction.assign(n, glm::vec3(0.0f));
   out.error.assign(n, 1.0f);
+  out.to_parent.assign(n, glm::vec3(0.0f));
+  out.chain_end.assign(n, 0);
   // The masked points, in Morton order.
   LocalPoints sub;
   sub.origin = pts.origin;
@@ -288,6 +291,11 @@ LineFit line_fit(const LocalPoints& pts, const std::vector<uint8_t>& mask, int k
     if (p.degenerate[s]) continue;
     out.direction[sub.original[s]] = p.major[s];
     out.error[sub.original[s]] = p.linear_error[s];
+  }
+  const FeatureChains chains = feature_chains(sub, nb, p);
+  for (size_t s = 0; s < sub.size(); ++s) {
+    out.to_parent[sub.original[s]] = chains.to_parent[s];
+    out.chain_end[sub.original[s]] = chains.end[s];
   }
   return out;
 }

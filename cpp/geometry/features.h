@@ -87,10 +87,14 @@ std::vector<float> intensity_edges(const LocalPoints& pts, const Neighborhoods& 
 // points. direction: unit, largest-eigenvalue eigenvector; error:
 // (l0+l1)/(l0+l1+l2) in [0, 2/3] (0 = a perfect line). Unmasked points and
 // neighbourhoods whose points coincide get direction (0,0,0), error 1
-// (non-directional). Original order in, original order out.
+// (non-directional). Original order in, original order out. The masked
+// points' chains (geometry/feature_chains.h) over the same neighbourhoods:
+// to_parent (0: none) and chain_end.
 struct LineFit {
   std::vector<glm::vec3> direction;
   std::vector<float> error;
+  std::vector<glm::vec3> to_parent;
+  std::vector<uint8_t> chain_end;
 };
 LineFit line_fit(const LocalPoints& pts, const std::vector<uint8_t>& mask_original, int k);
 

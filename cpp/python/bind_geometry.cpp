@@ -220,6 +220,25 @@ void bind_geometry(py::module_& m) {
       "(direction (N,3), error (N,)): least-squares line through the k nearest (masked) points (seed 001 eq. 2).");
 
   m.def(
+      "feature_chains",
+      [](const py::object& points, int k, const py::object& mask, const py::object& progress) {
+        Source s = source(points);
+        std::vector<uint8_t> msk;
+        if (!mask.is_none()) {
+          CArray<bool> b = mask.cast<CArray<bool>>();
+          if (size_t(b.size()) != s.size()) throw Error("mask must have one value per point");
+          msk.assign(b.data(), b.data() + b.size());
+        }
+        const geometry::LineFit f = without_gil(progress, [&] { return s.get().line_fit(msk, k); });
+        return py::make_tuple(array3(f.to_parent), array1(f.chain_end));
+      },
+      py::arg("points"), py::arg("k") = 8, py::arg("mask") = py::none(), py::arg("progress") = py::none(),
+      "(to_parent (N,3), ends (N,)): the (masked) points that lie along lines, linked into chains (a minimum "
+      "spanning forest of links along their line fits, each at most 2.5x the points' median spacing): the "
+      "offset to each point's parent (0: none, or a chain's root) and its free ends (1: the point's, 2: its "
+      "parent's), what the feature strokes mark draws an edge's line through.");
+
+  m.def(
       "remove_outliers",
       [](const py::object& points, int k, float std_ratio, const py::object& progress) {
         Source s = source(points);

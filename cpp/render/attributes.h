@@ -24,7 +24,9 @@ enum class AttributeKind : uint8_t {
                     // see feature_degree_key()
   QueueOrder,       // continuous resolution queue (seed 001 section 6.3): per chunk, its points' chunk-local
                     // indices in a stable seeded random order (by a hash of the point id), uint; k = 0
-  FeatureLine,      // seed 001 eq. 2 line fit among feature points: snorm8 x3 direction + unorm8 error;
+  FeatureLine,      // seed 001 eq. 2 line fit among feature points, uint x3: snorm8 x3 direction + unorm8 error;
+                    // the chain link (geometry/feature_chains.h): snorm8 x3 unit direction to the parent + flags
+                    // (kFeatureChainLinked | kChainEnd | kChainParentEnd); the link's length, float bits;
                     // k packs both neighbourhoods, the feature threshold and the colour weight, see feature_line_key()
   ResolutionDeviation,  // deviation eps of the distance to the k nearest neighbours (seed 004's r + eps), float
   PrincipalAxis,    // unit eigenvector of the largest eigenvalue of the k-neighbour covariance (seed 004's CM frame); snorm8 x3
@@ -34,6 +36,10 @@ enum class AttributeKind : uint8_t {
                     // scales (its 2-sigma ellipse's mean radius); plain points: the mean distance to their k nearest neighbours
   SplatOpacity,     // a Gaussian splat's opacity in [0, 1], float; plain points: 1; k = 0
 };
+
+// FeatureLine's chain flags: the point links to a parent (the low bits:
+// geometry::kChainEnd, kChainParentEnd).
+constexpr uint32_t kFeatureChainLinked = 4u;
 
 // An attribute and, for computed ones, the neighbourhood size it uses.
 struct AttributeKey {

@@ -209,10 +209,21 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
         std::vector<uint8_t> mask(degree.size());
         for (size_t i = 0; i < degree.size(); ++i) mask[i] = degree[i] >= threshold ? 1 : 0;
         const geometry::LineFit fit = analysis->line_fit(mask, k);
-        std::vector<uint32_t> packed = pack_normals(fit.direction);
-        for (size_t i = 0; i < packed.size(); ++i) {
+        // Per point: the line (direction, error), its chain link (unit
+        // direction to its parent, flags), the link's length (float bits).
+        const std::vector<uint32_t> lines = pack_normals(fit.direction);
+        std::vector<glm::vec3> link_dir(lines.size(), glm::vec3(0.0f));
+        for (size_t i = 0; i < lines.size(); ++i)
+          if (fit.to_parent[i] != glm::vec3(0.0f)) link_dir[i] = glm::normalize(fit.to_parent[i]);
+        const std::vector<uint32_t> links = pack_normals(link_dir);
+        std::vector<uint32_t> packed(3 * lines.size());
+        for (size_t i = 0; i < lines.size(); ++i) {
           const float e = std::isfinite(fit.error[i]) ? std::clamp(fit.error[i], 0.0f, 1.0f) : 1.0f;
-          packed[i] = (packed[i] & 0x00ffffffu) | (uint32_t(std::lround(e * 255.0f)) << 24);
+          packed[3 * i] = (lines[i] & 0x00ffffffu) | (uint32_t(std::lround(e * 255.0f)) << 24);
+          const float length = glm::length(fit.to_parent[i]);
+          const uint32_t flags = length > 0.0f ? kFeatureChainLinked | fit.chain_end[i] : 0u;
+          packed[3 * i + 1] = (links[i] & 0x00ffffffu) | (flags << 24);
+          std::memcpy(&packed[3 * i + 2], &length, 4);
         }
         buffer = upload(packed);
         break;

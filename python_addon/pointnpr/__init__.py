@@ -42,6 +42,7 @@ from ._pointnpr import (  # noqa: F401  (geometry: cpp/geometry, docs/geometry.m
     grid_normals,
     knn,
     line_fit,
+    feature_chains,
     local_resolution,
     radius_search,
     region_growing_rgb,

@@ -81,8 +81,14 @@ class FeatureStrokes final : public Mark {
     const double grow = p.get_float("tone") > 0.0 ? 3.0 : 1.0;
     const double longest = std::max({p.get_float("directional_length"), grow * p.get_float("other_length"),
                                      grow * p.get_float("sprite_size"), grow * p.get_float("stroke_width")});
+    // A chain's link reaches from its point up to twice directional_length
+    // (feature_strokes_kernels.glsl), plus a quarter of its width along and
+    // half across (a width at most twice the stroke's, with a line tone; a
+    // line's quad half a pixel larger).
+    const double link = 2.0 * p.get_float("directional_length") +
+                        2.0 * std::max({p.get_float("stroke_width"), p.get_float("line_width"), 1.5}) + 1.0;
     MarkExtent e;
-    e.pixels = float(0.5 * longest * 1.5 + 2.0 + 0.5 * kMaxDiscPixels);
+    e.pixels = float(std::max(0.5 * longest * 1.5, link) + 2.0 + 0.5 * kMaxDiscPixels);
     return e;
   }
 
@@ -139,6 +145,7 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   u.seed = uint32_t(p.get_int("seed"));
   u.tone = float(p.get_float("tone"));
   u.line_tone = float(p.get_float("line_tone"));
+  u.chain_lines = p.get_bool("chain_lines") ? 1 : 0;
   u.px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
   // One dithering mark's area on screen: a sprite's disc, a line's or a stroke's rectangle.
   const double other_length = p.get_float("other_length");
@@ -354,6 +361,14 @@ const MarkRegistration registration{{
                float_param("line_error", 0.2, 0.0, 0.67, "",
                            "Line fit error (eq. 2, (l0 + l1) / sum, 0 = a perfect line) below which a feature point "
                            "is directional"),
+               only_when_any(added_later(bool_param("chain_lines", true,
+                                                    "Directional feature points that lie along one line, linked "
+                                                    "into a chain through the scan's gaps, draw it as one line "
+                                                    "through them, pointed at its free ends, instead of a stroke "
+                                                    "each along its own fit (the paper's; off in files saved "
+                                                    "before): edges read as lines, not ticks"),
+                                         {0.0}),
+                             drawn_as({"line_segment", "textured_stroke"}, {"directional"})),
                enum_param("non_directional", kPrimitives, 2,
                           "Primitive of the other feature points, along the constant screen direction"),
                enum_param("dithering", kPrimitives, 1,

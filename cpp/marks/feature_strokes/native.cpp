@@ -54,7 +54,7 @@ std::shared_ptr<const std::vector<uint32_t>> FeatureLineHostCache::get(const Vis
     it = it->second.cloud.expired() ? entries_.erase(it) : std::next(it);
   Entry& e = entries_[cloud->id()];
   if (e.lines && e.key == key) return e.lines;
-  auto lines = std::make_shared<std::vector<uint32_t>>(cloud->size());
+  auto lines = std::make_shared<std::vector<uint32_t>>(3 * cloud->size());  // line, link, length
   glGetNamedBufferSubData(buffer->id(), 0, GLsizeiptr(lines->size() * sizeof(uint32_t)), lines->data());
   gl::check_gl("feature strokes: reading the line fits back");
   e = Entry{cloud, key, lines};
@@ -76,7 +76,7 @@ struct Chunk {
   const uint32_t* ids = nullptr;
   const float* degree = nullptr;
   const float* resolution = nullptr;
-  const uint32_t* lines = nullptr;  // or null: no line fit
+  const uint32_t* lines = nullptr;  // or null: no line fit; 3 words a point (FeatureLine)
   const uint32_t* order = nullptr;  // the queue order (chunk-local), or null
   const float* opacity = nullptr;   // opacity_draws: the splats' opacities, or null
   HostColors colors;
@@ -163,7 +163,9 @@ struct Kernels {
   const HostTexture* image_;
   float point_degree(uint index) const { return chunk_->degree[index]; }
   bool has_lines() const { return chunk_->lines != nullptr; }
-  uint point_line(uint index) const { return chunk_->lines[index]; }
+  uint point_line(uint index) const { return chunk_->lines[3 * size_t(index)]; }
+  uint point_link(uint index) const { return chunk_->lines[3 * size_t(index) + 1]; }
+  float point_link_length(uint index) const { return uintBitsToFloat(chunk_->lines[3 * size_t(index) + 2]); }
   float point_resolution(uint index) const { return chunk_->resolution[index]; }
   float inv_median_r() const { return chunk_->inv_median_r; }
   float max_r() const { return chunk_->max_r; }
