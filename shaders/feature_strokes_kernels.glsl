@@ -103,10 +103,11 @@ Record place_record(uint index, uint id, vec4 v) {
   width = width * grow * weight;
   vec3 center = vec3(v);
   // A chained directional point (FeatureLine's link, geometry/feature_chains.h)
-  // draws the link to its parent, a little longer so the links of a chain
-  // join: its edge reads as one line, not a tick per point. A link longer on
-  // screen than the stroke (a close-up) keeps the point's own stroke, so no
-  // mark reaches farther than extent() allows.
+  // draws the link to its parent, half its width longer at each end so the
+  // links of a chain join at any angle: its edge reads as one line, not a
+  // tick per point. A link longer on screen than twice the stroke (a
+  // close-up) keeps the point's own stroke, so no mark reaches farther than
+  // extent() allows.
   if (kind == 0u && prim != 1 && has_lines() && u.chain_lines != 0) {
     uint link = point_link(index);
     uint flags = link >> 24;
@@ -121,7 +122,7 @@ Record place_record(uint index, uint id, vec4 v) {
         center = 0.5f * (vec3(v) + parent);
         dir = normalize(to_parent);
         width = max(width, 1.5f);  // a line thinner than a pixel breaks into dots
-        len = seg + 0.5f * width;
+        len = seg + width;
         rec.chain = 1.0f + float(flags & 3u);  // chained; which ends are free (feature_strokes_sprite.glsl)
       }
     }

@@ -82,13 +82,16 @@ class FeatureStrokes final : public Mark {
     const double longest = std::max({p.get_float("directional_length"), grow * p.get_float("other_length"),
                                      grow * p.get_float("sprite_size"), grow * p.get_float("stroke_width")});
     // A chain's link reaches from its point up to twice directional_length
-    // (feature_strokes_kernels.glsl), plus a quarter of its width along and
-    // half across (a width at most twice the stroke's, with a line tone; a
-    // line's quad half a pixel larger).
+    // (feature_strokes_kernels.glsl), plus half its width along and across
+    // (a width at most twice the stroke's, with a line tone, and at least
+    // 1.5 px; a line's quad half a pixel larger).
     const double link = 2.0 * p.get_float("directional_length") +
                         2.0 * std::max({p.get_float("stroke_width"), p.get_float("line_width"), 1.5}) + 1.0;
     MarkExtent e;
-    e.pixels = float(std::max(0.5 * longest * 1.5, link) + 2.0 + 0.5 * kMaxDiscPixels);
+    // The farthest a point draws: its stroke or link, or its visibility disc
+    // (a separate pass; a stroke is tested against the depth of the pixels
+    // it covers, which the discs reaching those pixels set).
+    e.pixels = float(std::max({0.5 * longest * 1.5, link, 0.5 * double(kMaxDiscPixels)}) + 2.0);
     return e;
   }
 
