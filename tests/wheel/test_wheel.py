@@ -29,7 +29,9 @@ DIST = os.path.join(REPO, "build", "dist")
 ROOT13 = os.path.join(REPO, "build", "debian13-root")
 IN_ROOT13 = ["bash", os.path.join(REPO, "scripts", "debian13_root.sh"), "run"]
 INTERPRETERS = {"cp311": ["/usr/bin/python3"], "cp313": IN_ROOT13 + ["python3.13"]}
-NUMPY = {"cp311": "numpy==1.26.4", "cp313": "numpy==2.3.5"}
+# Each wheel with the numpy its Blenders ship, and cp311 with numpy 2 too
+# (a plain Python 3.11; its pybind11 must read numpy 2's arrays).
+VENVS = {"cp311": "numpy==1.26.4", "cp311-numpy2": "numpy==2.3.5", "cp313": "numpy==2.3.5"}
 # Debian's libraries the compiled module reaches (directly or through OIIO).
 HIDDEN_NAMES = r"lib(OpenImageIO|OpenImageIO_Util|OpenEXR|OpenEXRCore|Imath|Iex|IlmThread|OpenColorIO|tbb)[-.]"
 LIBDIR = "/usr/lib/x86_64-linux-gnu"
@@ -51,13 +53,17 @@ CHECK = textwrap.dedent("""
     scene.add_segment("far", pointnpr.Style(rasterize={"point_size": 3}), [plane(-10, 0.05, (40, 60, 230), 3)])
     camera = pointnpr.Camera.perspective(np.eye(4), width=160, height=120)
     result = pointnpr.Renderer().render(scene, camera, 160, 120, background=(0, 0, 0, 1))
+    # Arrays the bindings make, read through this numpy: a local resolution
+    # per point of an unevenly spaced line (one value repeated: misread).
+    spacing, _ = pointnpr.local_resolution(np.column_stack([np.arange(50.0) ** 2, np.zeros(50), np.zeros(50)]), k=2)
     pointnpr.save_image(sys.argv[1], np.ascontiguousarray(result.color))
     back = pointnpr.load_image(sys.argv[1])
     maps = sorted({line.split()[-1] for line in open("/proc/self/maps") if ".so" in line.split()[-1]})
     print("RESULT " + json.dumps({
         "package": pointnpr.__file__, "maps": maps, "shape": list(back.shape),
         "centre": [float(v) for v in back[60, 80, :3]], "side": [float(v) for v in back[60, 40, :3]],
-        "digest": hashlib.sha256(np.asarray(result.color).tobytes()).hexdigest()}))
+        "digest": hashlib.sha256(np.asarray(result.color).tobytes()).hexdigest(),
+        "numpy": np.__version__, "distinct_spacings": int(np.unique(spacing).size)}))
 """)
 
 
@@ -82,11 +88,11 @@ def _hiding(command):
     return prefix + ["unshare", "-m", "sh", "-c", binds + ' exec "$@"', "sh"] + command
 
 
-@pytest.fixture(scope="module", params=sorted(INTERPRETERS))
+@pytest.fixture(scope="module", params=sorted(VENVS))
 def venv(request, tmp_path_factory):
     """A clean venv (no system site packages) with the wheel of an ABI and
     numpy: the command that runs its python, and a scratch folder it sees."""
-    abi = request.param
+    abi = request.param.split("-")[0]
     if abi == "cp313":
         assert os.path.isfile(os.path.join(ROOT13, ".recipe")), "scripts/debian13_root.sh make"
         scratch = os.path.join(REPO, "build", "wheel-test-cp313")
@@ -104,7 +110,7 @@ def venv(request, tmp_path_factory):
     version = subprocess.run(python + ["-c", "import sys; print('cp%d%d' % sys.version_info[:2])"],
                              capture_output=True, text=True, check=True).stdout.strip()
     assert version == abi, (version, abi)
-    subprocess.run(python + ["-m", "pip", "install", "-q", _wheel(abi), NUMPY[abi]], check=True)
+    subprocess.run(python + ["-m", "pip", "install", "-q", _wheel(abi), VENVS[request.param]], check=True)
     return abi, python, scratch
 
 
@@ -134,6 +140,8 @@ def test_wheel_renders_and_writes_an_image_without_debians_libraries(venv, tmp_p
                           timeout=300, cwd=scratch)
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-3000:]
     result = json.loads(proc.stdout.split("RESULT ", 1)[1])
+    # Arrays made by the bindings hold their own values under this numpy.
+    assert result["distinct_spacings"] > 40, (result["numpy"], result["distinct_spacings"])
     site = os.path.dirname(os.path.dirname(result["package"]))
     assert site.startswith(scratch) and site.endswith("site-packages"), result["package"]
     hidden = set(_hidden_files())
