@@ -13,9 +13,15 @@
 #include "id_hash.glsl"
 #include "feature_strokes_settings.glsl"
 
+// Whether point `index` links to a parent in a chain that draws.
+bool draws_link(uint index) {
+  return u.chain_lines != 0 && u.use_lines != 0 && has_lines() && ((point_link(index) >> 24) & 4u) != 0u;
+}
+
 // What point `index` (id `id`, at view position v) draws (seed 001
-// sections 5.2, 5.3, 6.2, 6.3); primitive 0: nothing.
-Record place_record(uint index, uint id, vec4 v) {
+// sections 5.2, 5.3, 6.2, 6.3); primitive 0: nothing. A point past the
+// queue's drawn ones (not `queued`) draws its chain's link or nothing.
+Record place_record(uint index, uint id, vec4 v, bool queued) {
   Record rec;
   rec.center_kind = vec4(0.0f);
   rec.dir_length = vec4(0.0f);
@@ -24,6 +30,7 @@ Record place_record(uint index, uint id, vec4 v) {
   rec.primitive = 0u;
   rec.width = 0.0f;
   rec.chain = 0.0f;
+  if (!queued && !draws_link(index)) return rec;
   float depth = -v.z;
   if (!(depth >= u.near_plane && depth <= u.far_plane)) return rec;
   // A Gaussian splat's opacity is its chance of a stroke (opacity_draws),
@@ -51,7 +58,7 @@ Record place_record(uint index, uint id, vec4 v) {
       float err = float(line_bits >> 24) / 255.0f;
       vec3 d = vec3(unpackSnorm4x8(line_bits));
       // A point of a chain (its link's flags) is on a line whatever its own fit's error.
-      bool chained = u.chain_lines != 0 && ((point_link(index) >> 24) & 4u) != 0u;
+      bool chained = draws_link(index);
       if (dot(d, d) > 0.25f && (err < u.line_error || chained)) {
         kind = 0u;
         dir = normalize(view_rotation() * d);
@@ -108,7 +115,7 @@ Record place_record(uint index, uint id, vec4 v) {
   // tick per point. A link longer on screen than twice the stroke (a
   // close-up) keeps the point's own stroke, so no mark reaches farther than
   // extent() allows.
-  if (kind == 0u && prim != 1 && has_lines() && u.chain_lines != 0) {
+  if (kind == 0u && prim != 1 && draws_link(index)) {
     uint link = point_link(index);
     uint flags = link >> 24;
     if ((flags & 4u) != 0u) {
@@ -127,6 +134,7 @@ Record place_record(uint index, uint id, vec4 v) {
       }
     }
   }
+  if (!queued && rec.chain == 0.0f) return rec;  // (a link that did not draw: the point's own mark is the queue's)
   rec.center_kind = vec4(center, float(kind));
   rec.dir_length = vec4(dir, len);
   rec.color = vec4(clamp(u.point_coloring != 0 ? vec3(color) : vec3(u.constant_color), 0.0f, 1.0f), u.opacity);

@@ -1,5 +1,6 @@
 // Feature strokes, pass 2a: what each of the chunk's first u_drawn queue
-// points draws (seed 001 sections 5.2, 5.3, 6.2, 6.3).
+// points draws (seed 001 sections 5.2, 5.3, 6.2, 6.3), and past them, up to
+// u_visited, the links of chains.
 #include "point_attributes.glsl"
 #include "feature_strokes_common.glsl"
 
@@ -14,6 +15,7 @@ layout(std430, binding = 11) readonly buffer Opacity { float splat_opacity[]; };
 #include "compact_records.glsl"
 
 uniform uint u_drawn;          // queue points of this chunk to consider
+uniform uint u_visited;        // and past them, while chains draw, those that only draw a link
 uniform int u_queue;           // 1: read queue_order
 uniform int u_has_lines;
 uniform float u_inv_median_r;
@@ -43,9 +45,9 @@ void main() {
   uint j = gl_GlobalInvocationID.x;
   Record rec;
   bool alive = false;
-  if (j < u_drawn) {
+  if (j < u_visited) {
     uint index = u_first + (u_queue != 0 ? queue_order[u_first + j] : j);
-    rec = place_record(index, point_ids[index], u_view_from_chunk * vec4(point_position(index), 1.0));
+    rec = place_record(index, point_ids[index], u_view_from_chunk * vec4(point_position(index), 1.0), j < u_drawn);
     alive = rec.primitive != 0u;
   }
   uint slot = compact_record(alive, 6u);

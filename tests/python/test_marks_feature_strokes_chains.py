@@ -28,10 +28,10 @@ def roof(spacing):
     return local @ R.T + place, px
 
 
-def draw(renderer, pos, chain_lines, path):
+def draw(renderer, pos, chain_lines, path, **more):
     scene = pointnpr.Scene()
     params = {"tone": 0.0, "dithering": "none", "non_directional": "none", "directional": "line_segment",
-              "line_width": 1.5, "directional_length": 3.0, "chain_lines": chain_lines, "rasterizer": path}
+              "line_width": 1.5, "directional_length": 3.0, "chain_lines": chain_lines, "rasterizer": path, **more}
     scene.add_segment("roof", pointnpr.Style(mark=("feature_strokes", params)), [(pointnpr.PointCloud(pos), np.eye(4))])
     cam = pointnpr.Camera.perspective(np.eye(4), lens=LENS, width=W, height=H)
     return renderer.render(scene, cam, W, H, background=(1, 1, 1, 1), capture_marks=True)
@@ -58,3 +58,16 @@ def test_a_chain_draws_the_ridge_as_one_line_where_a_stroke_each_leaves_it_dashe
     direction = np.asarray(chained.marks["direction"])
     assert np.median(np.abs(direction[:, 0])) > 0.95
 
+
+
+@pytest.mark.parametrize("path", ["gl", "native"])
+def test_a_chain_stays_one_line_where_the_resolution_queue_draws_few_of_its_points(renderer, path):
+    # The queue keeps a tenth of the points: a stroke each would dot the
+    # ridge; every link of the chain still draws (its ink is its length on
+    # screen, which the queue need not thin).
+    pos, ridge_px = roof(0.03)
+    thin = {"density_mode": "constant_on_screen", "queue_level": 0.004}
+    chained, each = draw(renderer, pos, True, path, **thin), draw(renderer, pos, False, path, **thin)
+    assert chained.stats["queue_points"] < 0.15 * len(pos)
+    assert ridge_covered(each, ridge_px) < 0.5
+    assert ridge_covered(chained, ridge_px) > 0.98

@@ -177,8 +177,10 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
     s.texture_image = &ctx.images->get(path, "stroke", ImageTextures::Sampling::Clamped, [](Image i) { return i; });
   }
   s.queue = draws_queue(ctx, p);
+  const bool chains_draw = u.chain_lines != 0 && u.use_lines != 0 && (u.prim_directional == 2 || u.prim_directional == 3);
   for (const VisibleChunk& v : ctx.chunks) {
     s.drawn.push_back(queue_count(v, p));
+    s.visited.push_back(chains_draw ? uint32_t(v.chunk->count) : s.drawn.back());
     s.inv_median_r.push_back(1.0f / median_spacing(v, kResolutionNeighbors, 1.0f));
     s.max_r.push_back(2.0f * sparse_spacing(v, kResolutionNeighbors, std::numeric_limits<float>::infinity()));
   }
@@ -242,7 +244,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
   // points and compacts the drawn ones; 6 vertices per record expand them.
   const InkLayer ink(ctx, "feature strokes");
 
-  auto slots_of = [&](size_t c) { return (s.drawn[c] + 127u) / 128u * 128u; };
+  auto slots_of = [&](size_t c) { return (s.visited[c] + 127u) / 128u * 128u; };
   uint32_t largest = 0;
   for (size_t c = 0; c < ctx.chunks.size(); ++c) largest = std::max(largest, slots_of(c));
   const uint32_t capacity = std::max(kBatchPoints, largest);
@@ -291,6 +293,7 @@ void FeatureStrokes::draw(const MarkContext& ctx, const ParamValues& p) const {
       glUniform1f(select.location("u_inv_median_r"), s.inv_median_r[c]);
       glUniform1f(select.location("u_max_r"), s.max_r[c]);
       glUniform1ui(select.location("u_drawn"), s.drawn[c]);
+      glUniform1ui(select.location("u_visited"), s.visited[c]);
       glUniform1ui(select.location("u_out_base"), batch.offsets[c - batch.begin]);
       glUniform1ui(select.location("u_command_base"), batch.offsets[c - batch.begin] / 128u);
       glDispatchCompute(slots_of(c) / 128u, 1, 1);

@@ -53,6 +53,10 @@ struct FeatureStrokeSettings {
   bool opacity_draws = false;           // a stroke only where id_rand(point id) < the splat's opacity
   const ParamValues* params = nullptr;  // the frame's (lit_by_shading)
   std::vector<uint32_t> drawn;      // per chunk: points of its queue considered
+  // Per chunk: points of its queue visited, drawn + those past it that only
+  // draw their chain's link (all, while chains draw: a line is a line at any
+  // distance; its links' ink follows its length on screen, not the queue).
+  std::vector<uint32_t> visited;
   std::vector<float> inv_median_r;  // per chunk: 1 / its cloud's median local resolution
   // Per chunk: the largest local resolution a point's marks use, twice its
   // cloud's sparse spacing. A point farther from its neighbours than

@@ -83,7 +83,7 @@ struct Chunk {
   const glm::vec3* normals = nullptr;  // or null: not lit (shading)
   const glm::vec3* disc_normals = nullptr;  // the visibility discs' planes
   glm::mat3 normal_matrix{1.0f};
-  uint32_t first = 0, count = 0, drawn = 0, key_base = 0;
+  uint32_t first = 0, count = 0, drawn = 0, visited = 0, key_base = 0;
   float inv_median_r = 1.0f;
   float max_r = std::numeric_limits<float>::infinity();
   glm::mat4 view{1.0f};
@@ -184,12 +184,13 @@ struct Kernels {
 #include "feature_strokes_sprite.glsl"
 };
 
-// Pass 2a (feature_strokes_select.comp): queue points [begin, end), kept in order.
+// Pass 2a (feature_strokes_select.comp): queue points [begin, end), kept in
+// order; past the queue's drawn points, only chain links.
 void select_records(Kernels k, uint32_t begin, uint32_t end, std::vector<Record>& out) {
   const Chunk& c = *k.chunk_;
   for (uint32_t j = begin; j < end; ++j) {
     const uint32_t index = c.first + (c.order ? c.order[j] : j);
-    const Record rec = k.place_record(index, c.ids[index], mat_vec(c.view, vec4(c.positions[index], 1.0f)));
+    const Record rec = k.place_record(index, c.ids[index], mat_vec(c.view, vec4(c.positions[index], 1.0f)), j < c.drawn);
     if (rec.primitive != 0u) out.push_back(rec);
   }
 }
@@ -329,6 +330,7 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
     c.first = v.chunk->first;
     c.count = v.chunk->count;
     c.drawn = s.drawn[i];
+    c.visited = s.visited[i];
     c.key_base = v.key_base;
     c.inv_median_r = s.inv_median_r[i];
     c.max_r = s.max_r[i];
@@ -368,11 +370,11 @@ void draw_feature_strokes_native(const MarkContext& ctx, const FeatureStrokeSett
   while (batch_start < chunks.size()) {
     size_t batch_end = batch_start;
     uint32_t used = 0;
-    while (batch_end < chunks.size() && (batch_end == batch_start || used + chunks[batch_end].drawn <= kBatchRecords))
-      used += chunks[batch_end++].drawn;
+    while (batch_end < chunks.size() && (batch_end == batch_start || used + chunks[batch_end].visited <= kBatchRecords))
+      used += chunks[batch_end++].visited;
     const auto ts = Clock::now();
     items.clear();
-    for (size_t i = batch_start; i < batch_end; ++i) add_point_items(items, uint32_t(i), chunks[i].drawn);
+    for (size_t i = batch_start; i < batch_end; ++i) add_point_items(items, uint32_t(i), chunks[i].visited);
     select_in_order(items, records, [&](const PointItem& item, std::vector<Record>& out) {
       select_records(Kernels{s.u, &chunks[item.chunk], &image}, item.begin, item.end, out);
     });
