@@ -108,6 +108,19 @@ auto without_gil(const py::object& progress, F&& call) {
   return call();
 }
 
+// Seed 001 eq. 2 over the masked points (none: all), with their chains.
+geometry::LineFit masked_line_fit(const py::object& points, int k, const py::object& mask,
+                                  const py::object& progress) {
+  Source s = source(points);
+  std::vector<uint8_t> msk;
+  if (!mask.is_none()) {
+    CArray<bool> b = mask.cast<CArray<bool>>();
+    if (size_t(b.size()) != s.size()) throw Error("mask must have one value per point");
+    msk.assign(b.data(), b.data() + b.size());
+  }
+  return without_gil(progress, [&] { return s.get().line_fit(msk, k); });
+}
+
 }  // namespace
 
 void bind_geometry(py::module_& m) {
@@ -206,14 +219,7 @@ void bind_geometry(py::module_& m) {
   m.def(
       "line_fit",
       [](const py::object& points, int k, const py::object& mask, const py::object& progress) {
-        Source s = source(points);
-        std::vector<uint8_t> msk;
-        if (!mask.is_none()) {
-          CArray<bool> b = mask.cast<CArray<bool>>();
-          if (size_t(b.size()) != s.size()) throw Error("mask must have one value per point");
-          msk.assign(b.data(), b.data() + b.size());
-        }
-        const geometry::LineFit f = without_gil(progress, [&] { return s.get().line_fit(msk, k); });
+        const geometry::LineFit f = masked_line_fit(points, k, mask, progress);
         return py::make_tuple(array3(f.direction), array1(f.error));
       },
       py::arg("points"), py::arg("k") = 8, py::arg("mask") = py::none(), py::arg("progress") = py::none(),
@@ -222,19 +228,13 @@ void bind_geometry(py::module_& m) {
   m.def(
       "feature_chains",
       [](const py::object& points, int k, const py::object& mask, const py::object& progress) {
-        Source s = source(points);
-        std::vector<uint8_t> msk;
-        if (!mask.is_none()) {
-          CArray<bool> b = mask.cast<CArray<bool>>();
-          if (size_t(b.size()) != s.size()) throw Error("mask must have one value per point");
-          msk.assign(b.data(), b.data() + b.size());
-        }
-        const geometry::LineFit f = without_gil(progress, [&] { return s.get().line_fit(msk, k); });
+        const geometry::LineFit f = masked_line_fit(points, k, mask, progress);
         return py::make_tuple(array3(f.to_parent), array1(f.chain_end));
       },
       py::arg("points"), py::arg("k") = 8, py::arg("mask") = py::none(), py::arg("progress") = py::none(),
       "(to_parent (N,3), ends (N,)): the (masked) points that lie along lines, linked into chains (a minimum "
-      "spanning forest of links along their line fits, each at most 2.5x the points' median spacing): the "
+      "spanning forest of links along their line fits, bridging gaps of up to 8 of the points' own "
+      "spacings along a line, short side branches cut): the "
       "offset to each point's parent (0: none, or a chain's root) and its free ends (1: the point's, 2: its "
       "parent's), what the feature strokes mark draws an edge's line through.");
 

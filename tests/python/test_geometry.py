@@ -72,6 +72,15 @@ def test_degenerate_inputs_give_documented_results():
     d, err = pointnpr.line_fit(line, k=5)
     np.testing.assert_allclose(np.abs(d[:, 0]), 1.0, atol=1e-5)
     np.testing.assert_allclose(err, 0.0, atol=1e-6)
+    # The line is one chain: every point but its root links to a neighbour
+    # 0.1 away along it, and it has two free ends; a mask leaves the rest out.
+    to_parent, ends = pointnpr.feature_chains(line, k=5)
+    linked = np.linalg.norm(to_parent, axis=1) > 0
+    assert linked.sum() == 49 and ends.dtype == np.uint8
+    np.testing.assert_allclose(np.abs(to_parent[linked, 0]), 0.1, atol=1e-6)
+    assert (ends & 1).astype(bool).sum() + (ends & 2).astype(bool).sum() == 2
+    to_parent, _ = pointnpr.feature_chains(line, k=5, mask=np.arange(50) < 30)
+    assert (np.linalg.norm(to_parent, axis=1) > 0).sum() == 29 and not to_parent[30:].any()
 
     three = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
     n = pointnpr.estimate_normals(three, k=30)  # k larger than the cloud
