@@ -117,21 +117,18 @@ Record place_record(uint index, uint id, vec4 v, bool queued) {
   // extent() allows.
   if (kind == 0u && prim != 1 && draws_link(index)) {
     uint link = point_link(index);
-    uint flags = link >> 24;
-    if ((flags & 4u) != 0u) {
-      vec3 to_parent = view_rotation() * (vec3(unpackSnorm4x8(link)) * point_link_length(index));
-      vec3 parent = vec3(v) + to_parent;
-      vec4 ca = mat_vec(u.projection, vec4(vec3(v), 1.0f));
-      vec4 cb = mat_vec(u.projection, vec4(parent, 1.0f));
-      vec2 d = (vec2(cb.x, cb.y) / cb.w - vec2(ca.x, ca.y) / ca.w) * 0.5f * vec2(float(u.size_x), float(u.size_y));
-      float seg = sqrt(dot(d, d));
-      if (-parent.z >= u.near_plane && seg <= 2.0f * u.directional_length && dot(to_parent, to_parent) > 0.0f) {
-        center = 0.5f * (vec3(v) + parent);
-        dir = normalize(to_parent);
-        width = max(width, 1.5f);  // a line thinner than a pixel breaks into dots
-        len = seg + width;
-        rec.chain = 1.0f + float(flags & 3u);  // chained; which ends are free (feature_strokes_sprite.glsl)
-      }
+    vec3 to_parent = view_rotation() * (vec3(unpackSnorm4x8(link)) * point_link_length(index));
+    vec3 parent = vec3(v) + to_parent;
+    vec4 ca = mat_vec(u.projection, vec4(vec3(v), 1.0f));
+    vec4 cb = mat_vec(u.projection, vec4(parent, 1.0f));
+    vec2 d = (vec2(cb.x, cb.y) / cb.w - vec2(ca.x, ca.y) / ca.w) * 0.5f * vec2(float(u.size_x), float(u.size_y));
+    float seg = sqrt(dot(d, d));
+    if (-parent.z >= u.near_plane && seg <= 2.0f * u.directional_length && dot(to_parent, to_parent) > 0.0f) {
+      center = 0.5f * (vec3(v) + parent);
+      dir = normalize(to_parent);
+      width = max(width, 1.5f);  // a line thinner than a pixel breaks into dots
+      len = seg + width;
+      rec.chain = 1.0f + float((link >> 24) & 3u);  // which ends are free (feature_strokes_sprite.glsl)
     }
   }
   if (!queued && rec.chain == 0.0f) return rec;  // (a link that did not draw: the point's own mark is the queue's)
