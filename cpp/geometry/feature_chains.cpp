@@ -12,9 +12,9 @@ namespace pointnpr::geometry {
 namespace {
 
 struct Link {
-  float d2;
+  float cost;     // its length, more where it runs across its ends' lines
   uint32_t a, b;  // a < b
-  bool operator<(const Link& o) const { return std::tie(d2, a, b) < std::tie(o.d2, o.a, o.b); }
+  bool operator<(const Link& o) const { return std::tie(cost, a, b) < std::tie(o.cost, o.a, o.b); }
 };
 
 uint32_t find_root(std::vector<uint32_t>& up, uint32_t i) {
