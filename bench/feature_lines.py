@@ -2,7 +2,7 @@
 strokes are short disconnected ticks"): each feature stroke preset drawn with
 only its directional class (dithering and non-directional points off) on the
 marks audit's scans at 1280x720, with `chain_lines` on and off in one run.
-The ink (luminance below half the paper's) is split into 8-connected
+The ink (covered pixels whose mean colour is below 0.5) is split into 8-connected
 components; a line that holds together is one long component, ticks are many
 short ones. Printed per scan: ink pixels, components, and the share of the
 ink in components whose bounding box is at least LONG_PX across its diagonal.

@@ -13,9 +13,10 @@
 #include "id_hash.glsl"
 #include "feature_strokes_settings.glsl"
 
-// Whether point `index` links to a parent in a chain that draws.
+// Whether point `index` links to a parent in a chain that draws (chain_lines
+// on where it applies; its link's flags: render/attributes.h kFeatureChainLinked).
 bool draws_link(uint index) {
-  return u.chain_lines != 0 && u.use_lines != 0 && has_lines() && ((point_link(index) >> 24) & 4u) != 0u;
+  return u.chain_lines != 0 && has_lines() && ((point_link(index) >> 24) & 4u) != 0u;
 }
 
 // What point `index` (id `id`, at view position v) draws (seed 001

@@ -9,7 +9,7 @@ namespace {
 void require_a_numpy_this_pybind11_reads() {
 #if PYBIND11_VERSION_MAJOR < 2 || (PYBIND11_VERSION_MAJOR == 2 && PYBIND11_VERSION_MINOR < 12)
   const std::string version = pybind11::module_::import("numpy").attr("__version__").cast<std::string>();
-  if (!version.empty() && version[0] >= '2' && version[1] == '.')
+  if (std::stoi(version) >= 2)  // the major version, the digits before the first dot
     throw pybind11::import_error("pointnpr: this module was built with pybind11 " PYBIND11_TOSTRING(
         PYBIND11_VERSION_MAJOR) "." PYBIND11_TOSTRING(PYBIND11_VERSION_MINOR) ", which misreads numpy " +
                                  version + "'s arrays; use numpy < 2, or a build with pybind11 2.12 or later "

@@ -77,6 +77,10 @@ FeatureDegreeSpec feature_degree_spec(const AttributeKey& key) {
   return {key.k % 100, float(key.k / 100) * 0.05f};
 }
 
+FeatureLineSpec feature_line_spec(const AttributeKey& key) {
+  return {key.k % 100, float(key.k / 10000 % 21) * 0.05f, feature_degree_spec(key)};
+}
+
 std::string to_string(const AttributeKey& key) {
   std::string s = attribute_name(key.attribute);
   if (key.k > 0) {

@@ -67,6 +67,13 @@ struct FeatureDegreeSpec {
   float color_weight = 0.5f;
 };
 FeatureDegreeSpec feature_degree_spec(const AttributeKey& key);
+// What a FeatureLine key's k holds besides its feature degree's.
+struct FeatureLineSpec {
+  int line_neighbors = 48;
+  float threshold = 0.0f;  // feature points: degree >= this (a multiple of 0.05)
+  FeatureDegreeSpec degree;
+};
+FeatureLineSpec feature_line_spec(const AttributeKey& key);
 
 // Name used by the bindings and the add-on ("colors", "normals", ...).
 const char* attribute_name(AttributeKind attribute);

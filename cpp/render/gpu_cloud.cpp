@@ -202,13 +202,12 @@ GpuCloud& GpuCloudCache::get(const std::shared_ptr<const PointCloud>& cloud, con
         buffer = upload(gl::Device::instance().info().software ? g.host_queue_order() : queue_order(*cloud));
         break;
       case AttributeKind::FeatureLine: {
-        const int k = key.k % 100;
-        const float threshold = float(key.k / 10000 % 21) * 0.05f;
-        const FeatureDegreeSpec spec = feature_degree_spec(key);
-        const std::vector<float>& degree = *analysis->feature_degree(spec.neighbors, {spec.color_weight});
+        const FeatureLineSpec spec = feature_line_spec(key);
+        const std::vector<float>& degree =
+            *analysis->feature_degree(spec.degree.neighbors, {spec.degree.color_weight});
         std::vector<uint8_t> mask(degree.size());
-        for (size_t i = 0; i < degree.size(); ++i) mask[i] = degree[i] >= threshold ? 1 : 0;
-        const geometry::LineFit fit = analysis->line_fit(mask, k);
+        for (size_t i = 0; i < degree.size(); ++i) mask[i] = degree[i] >= spec.threshold ? 1 : 0;
+        const geometry::LineFit fit = analysis->line_fit(mask, spec.line_neighbors);
         // Per point: the line (direction, error), its chain link (unit
         // direction to its parent, flags), the link's length (float bits).
         const std::vector<uint32_t> lines = pack_normals(fit.direction);

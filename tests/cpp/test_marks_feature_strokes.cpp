@@ -78,6 +78,12 @@ TEST(ResolutionQueue, FeatureKeysPackNeighbourhoodsThresholdAndColourWeightSteps
     EXPECT_FLOAT_EQ(degree.color_weight, float(w));
   }
   EXPECT_EQ(feature_degree_key(8, 0.5), feature_degree_key(8, 0.54));
+  // The line fit's own part, decoded as the cache computes the fit.
+  const FeatureLineSpec spec = feature_line_spec(feature_line_key(48, 8, 0.37, 0.5));
+  EXPECT_EQ(spec.line_neighbors, 48);
+  EXPECT_FLOAT_EQ(spec.threshold, 0.35f);
+  EXPECT_EQ(spec.degree.neighbors, 8);
+  EXPECT_FLOAT_EQ(spec.degree.color_weight, 0.5f);
 }
 
 }  // namespace

@@ -85,8 +85,9 @@ class FeatureStrokes final : public Mark {
     // (feature_strokes_kernels.glsl), plus half its width along and across
     // (a width at most twice the stroke's, with a line tone, and at least
     // 1.5 px; a line's quad half a pixel larger).
-    const double link = 2.0 * p.get_float("directional_length") +
-                        2.0 * std::max({p.get_float("stroke_width"), p.get_float("line_width"), 1.5}) + 1.0;
+    const double link = chains_draw(p) ? 2.0 * p.get_float("directional_length") +
+                                             2.0 * std::max({p.get_float("stroke_width"), p.get_float("line_width"), 1.5}) + 1.0
+                                       : 0.0;
     MarkExtent e;
     // The farthest a point draws: its stroke or link, or its visibility disc
     // (a separate pass; a stroke is tested against the depth of the pixels
@@ -102,6 +103,12 @@ class FeatureStrokes final : public Mark {
   // tile is the bytes of the frame. No pass reads neighbouring pixels, so
   // the extent is the whole reach.
   bool draws_tiles(const ParamValues&) const override { return true; }
+
+  // Chained points draw their links: chain_lines on where it applies (the
+  // directional class draws lines or strokes; its schema condition).
+  static bool chains_draw(const ParamValues& p) {
+    return p.get_bool("chain_lines") && applies(*p.schema().find("chain_lines"), p);
+  }
 
   // auto (render/backend.h): the native passes on a software GL, GL on a GPU.
   static bool native(const ParamValues& p) { return chosen_backend(p) == Backend::Native; }
@@ -148,7 +155,7 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   u.seed = uint32_t(p.get_int("seed"));
   u.tone = float(p.get_float("tone"));
   u.line_tone = float(p.get_float("line_tone"));
-  u.chain_lines = p.get_bool("chain_lines") ? 1 : 0;
+  u.chain_lines = chains_draw(p) ? 1 : 0;
   u.px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
   // One dithering mark's area on screen: a sprite's disc, a line's or a stroke's rectangle.
   const double other_length = p.get_float("other_length");
@@ -177,10 +184,9 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
     s.texture_image = &ctx.images->get(path, "stroke", ImageTextures::Sampling::Clamped, [](Image i) { return i; });
   }
   s.queue = draws_queue(ctx, p);
-  const bool chains_draw = u.chain_lines != 0 && u.use_lines != 0 && (u.prim_directional == 2 || u.prim_directional == 3);
   for (const VisibleChunk& v : ctx.chunks) {
     s.drawn.push_back(queue_count(v, p));
-    s.visited.push_back(chains_draw ? uint32_t(v.chunk->count) : s.drawn.back());
+    s.visited.push_back(u.chain_lines != 0 ? uint32_t(v.chunk->count) : s.drawn.back());
     s.inv_median_r.push_back(1.0f / median_spacing(v, kResolutionNeighbors, 1.0f));
     s.max_r.push_back(2.0f * sparse_spacing(v, kResolutionNeighbors, std::numeric_limits<float>::infinity()));
   }
