@@ -45,6 +45,8 @@ uniform int u_queue;  // 1: invocation i takes the chunk's i-th point of the res
 // (point_attributes.glsl's normals_u, binding 2, turned by packed_view_normal).
 layout(std430, binding = 1) readonly buffer PointSpacing { float point_spacing[]; };
 uniform float u_spacing_cell_scale;
+uniform float u_spread_scale;  // spread_from_spacing: the chunk's spacing to spread_texels' scale,
+uniform float u_spread_cap;    // and the largest spacing it spreads (the cloud's sparse spacing)
 struct Captured { vec4 center_id; };  // view-space centre, point id (bits)
 layout(std430, binding = 13) writeonly buffer Capture { Captured capture[]; };
 #ifdef PASS_RESOLVE
@@ -125,14 +127,29 @@ void main() {
   uint index = u_first + (u_queue != 0 ? queue_order[u_first + i] : i);
   Pt p = project(point_position(index), u_view_from_chunk);
 #if defined(PASS_PROJECT)
-  if (u_project_hp != 0 && p.inside) atomicMin(hp[fine_index(p.fine)], floatBitsToUint(p.depth));
+  if (u_project_hp != 0 && p.inside) {
+    // Its own spread (spread_from_spacing): a step deeper per texel, as the iterations' spreading.
+    int r = u.spread_max > 0 ? spread_texels(p.depth, point_spacing[index], u_spread_cap, u_spread_scale) : 0;
+    ivec2 lo = max(p.fine - r, ivec2(0)), hi = min(p.fine + r, win.fine_size - 1);
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x) {
+        ivec2 d = ivec2(x, y) - p.fine;
+        if (!in_spread(d.x, d.y, r)) continue;
+        atomicMin(hp[fine_index(ivec2(x, y))], floatBitsToUint(spread_depth(p, max(abs(d.x), abs(d.y)))));
+      }
+  }
   if (u_project_quad != 0 && u.quadtree != 0 && u.casters_all != 0 && p.in_depth)
     atomicMin(quad[quad_index(light_texel(p.view, u.levels), u.levels)], light_key(p.view));
 #elif defined(PASS_VISIBLE)
   if (!hp_visible(p)) return;
   bool frame = u_accumulate != 0 && owned(p);
   if (owned(p)) atomicAdd(visible_count, 1u);
-  atomicMin(hp_out[fine_index(p.fine)], floatBitsToUint(p.depth));  // the visible surface, spread for the paper
+  // The visible surface, spread for the paper (its own spread included, without the step).
+  int r = u.spread_max > 0 ? spread_texels(p.depth, point_spacing[index], u_spread_cap, u_spread_scale) : 0;
+  ivec2 lo = max(p.fine - r, ivec2(0)), hi = min(p.fine + r, win.fine_size - 1);
+  for (int y = lo.y; y <= hi.y; ++y)
+    for (int x = lo.x; x <= hi.x; ++x)
+      if (in_spread(x - p.fine.x, y - p.fine.y, r)) atomicMin(hp_out[fine_index(ivec2(x, y))], floatBitsToUint(p.depth));
   if (frame && u.quadtree != 0 && u.casters_all == 0)
     atomicMin(quad[quad_index(light_texel(p.view, u.levels), u.levels)], light_key(p.view));
   if (u.specular != 0 || u.tone_scale > 0.0) atomicAdd(eye_count[eye_index(p.center)], 1u);

@@ -55,6 +55,26 @@ bool owned_texel(ivec2 t) {
   return t.x >= win.owned_min.x && t.y >= win.owned_min.y && t.x < win.owned_max.x && t.y < win.owned_max.y;
 }
 bool owned(Pt p) { return owned_texel(p.fine + win.fine_min); }
+// spread_from_spacing: how many fine texels a point covers around it before
+// the iterations: half its own spacing on screen (`scale`: half the texels
+// per scene unit at view depth 1), so the points of a sparse surface meet
+// and hide what lies behind it, and the surface is counted whole for the
+// tone. The spacing is taken at most `cap` (the scan's sparse spacing): a
+// gap wider than nine in ten of the scan's points have around them is a
+// hole in the scan, and a lone point stays small. At most u.spread_max
+// texels, which bounds a point's work and the tiles' halos.
+int spread_texels(float depth, float spacing, float cap, float scale) {
+  if (u.spread_max <= 0) return 0;
+  float t = min(spacing, cap) * scale;
+  return floor_clamp(u.ortho != 0 ? t : t / depth, 0, u.spread_max);
+}
+// Whether a texel (dx, dy) from the point's lies within its spread r: a
+// disc, as the point's share of the surface is.
+bool in_spread(int dx, int dy, int r) { return dx * dx + dy * dy <= r * r + r; }
+// The depth a point writes `ring` texels from its own (Chebyshev): a step
+// deeper per texel, as that many spreading passes would give it.
+float spread_depth(Pt p, int ring) { return p.depth + u.offset * float(ring); }
+
 // Not behind the spread surface: within one step of its texel's depth.
 bool hp_visible(Pt p) { return p.inside && p.depth <= uintBitsToFloat(hp_at(fine_index(p.fine))) + u.offset; }
 

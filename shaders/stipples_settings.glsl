@@ -41,6 +41,7 @@ SETTINGS_BLOCK(StippleSettings, 0)
   int lit_share;      // 1: lit points hidden by the share of N.L (lit_scale), 0: the cell's nearest (the paper's)
   float share_scale;  // lit_scale's share per unit of N.L
   int quadtree;       // 1: the light-view quadtree is built (nearest, or share with cast shadows)
+  int spread_max;     // spread_from_spacing: the most fine texels a point covers each way (spread_texels); 0: off
 END_SETTINGS_BLOCK(u)
 
 // A piece of the frame: its fine texture (frame texels [fine_min,

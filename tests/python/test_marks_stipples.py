@@ -38,9 +38,10 @@ def implementation(request):
 
 
 # The paper's mechanism as it describes it: every visible point a dot, one
-# LEVEL for the whole segment (the tone and the level from the spacing are
-# tested on their own below).
-PAPER = dict(tone=0.0, level_scale="absolute", level=7.0)
+# LEVEL for the whole segment, a fixed spreading (the tone, the level from
+# the spacing and each point's spread are tested on their own: below,
+# test_marks_stipples_tone.py and test_marks_stipples_spread.py).
+PAPER = dict(tone=0.0, level_scale="absolute", level=7.0, spread_from_spacing=False)
 
 
 def stipples(**params):
@@ -80,10 +81,14 @@ def test_hidden_points_removed_on_a_closed_sphere(renderer, ball):
 
 def test_no_iterations_leave_back_points_in_the_holes(renderer, ball):
     # Without spreading, back points show through the gaps between front
-    # points (the paper's Fig. 12a): the iterations are what removes them.
+    # points (the paper's Fig. 12a): the iterations are what removes them,
+    # or each point's own spread (spread_from_spacing) without any.
     c, pos, normals, to_eye = ball
-    kept, _ = kept_points(renderer, stipples(diffuse=False, iterations=0), c)
-    assert kept[np.sum(normals * to_eye, axis=1) < -0.1].mean() > 0.3
+    back = np.sum(normals * to_eye, axis=1) < -0.1
+    kept, _ = kept_points(renderer, stipples(diffuse=False, iterations=0, spread_from_spacing=False), c)
+    assert kept[back].mean() > 0.3
+    kept, _ = kept_points(renderer, stipples(diffuse=False, iterations=0, spread_from_spacing=True), c)
+    assert kept[back].mean() < 0.01
 
 
 def _kept_by_light_angle(kept, visible, normals, l, edges):

@@ -30,10 +30,12 @@ uint32_t bind_queued_chunk(const gl::Program& prog, const VisibleChunk& v, const
              {{6, v.gpu->find({AttributeKind::PointId})},
               {1, v.gpu->find({AttributeKind::LocalResolution, kStippleSpacingNeighbors})},
               {2, v.gpu->find({AttributeKind::Normal, kStippleNormalNeighbors})}});
-  if (s.u.level_from_spacing) {
-    if (!v.gpu->find({AttributeKind::LocalResolution, kStippleSpacingNeighbors}))
-      throw GLError("stipples: the points' spacing was not uploaded");
-    glUniform1f(prog.location("u_spacing_cell_scale"), spacing_cell_scale(s, v));
+  if (s.reads_spacing() && !v.gpu->find({AttributeKind::LocalResolution, kStippleSpacingNeighbors}))
+    throw GLError("stipples: the points' spacing was not uploaded");
+  if (s.u.level_from_spacing) glUniform1f(prog.location("u_spacing_cell_scale"), spacing_cell_scale(s, v));
+  if (s.u.spread_max > 0) {
+    glUniform1f(prog.location("u_spread_scale"), spread_scale(s, v));
+    glUniform1f(prog.location("u_spread_cap"), spread_cap(v));
   }
   if (s.u.lit_share && !v.gpu->find({AttributeKind::Normal, kStippleNormalNeighbors}))
     throw GLError("stipples: the points' normals were not uploaded");

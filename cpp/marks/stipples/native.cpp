@@ -130,7 +130,17 @@ class NativeStipplePasses final : public StipplePasses {
         const uint32_t texel = p.inside ? k_.fine_index(p.fine) : kOutside;
         point_texel[c.slot + i] = texel;
         point_depth[c.slot + i] = bits(p.depth);
-        if (p.inside) fetch_min(hp[texel], bits(p.depth));
+        if (p.inside) {
+          // Its own spread (spread_from_spacing): a step deeper per texel, as the iterations' spreading.
+          const int r = spread_of(c, local_index(c, i), p.depth);
+          if (r == 0) {
+            fetch_min(hp[texel], bits(p.depth));
+          } else {
+            for_spread(p.fine, r, [&](int x, int y, int ring) {
+              fetch_min(hp[k_.fine_index(glm::ivec2(x, y))], bits(k_.spread_depth(p, ring)));
+            });
+          }
+        }
         if (cast_all && p.in_depth) cast(p);
       }
     });
@@ -152,7 +162,16 @@ class NativeStipplePasses final : public StipplePasses {
         const uint32_t texel = point_texel[c.slot + i];
         const bool own = owned_texel(texel);
         owned_visible += own ? 1u : 0u;
-        fetch_min(surf[texel], point_depth[c.slot + i]);
+        // The visible surface, spread for the paper (its own spread included, without the step).
+        const int r = spread_of(c, local_index(c, i), from_bits(point_depth[c.slot + i]));
+        if (r == 0) {
+          fetch_min(surf[texel], point_depth[c.slot + i]);
+        } else {
+          const glm::ivec2 t(int(texel % uint32_t(w_.k.fine_size.x)), int(texel / uint32_t(w_.k.fine_size.x)));
+          for_spread(t, r, [&](int x, int y, int) {
+            fetch_min(surf[k_.fine_index(glm::ivec2(x, y))], point_depth[c.slot + i]);
+          });
+        }
         if (!projects) continue;
         const Pt p = project(c, local_index(c, i));
         if (visible_casters && own) cast(p);
@@ -411,10 +430,12 @@ class NativeStipplePasses final : public StipplePasses {
         c.count = queue_count(v, *s_.params);
       }
       c.view_from_chunk = v.view_from_chunk;
-      if (s_.u.level_from_spacing) {
+      if (s_.reads_spacing()) {
         resolutions_.push_back(cloud->analysis().surface_resolution(kStippleSpacingNeighbors));
         c.spacing = resolutions_.back()->r.data() + v.chunk->first;
         c.spacing_cell_scale = spacing_cell_scale(s_, v);
+        c.spread_scale = spread_scale(s_, v);
+        c.spread_cap = spread_cap(v);
       }
       if (s_.u.lit_share) {
         // The normals the GL passes read (render/gpu_cloud.cpp): the scan's own, else estimated.
@@ -459,6 +480,19 @@ class NativeStipplePasses final : public StipplePasses {
   }
 
   Pt project(const HostChunk& c, uint32_t local) const { return k_.project(c.positions[local], c.view_from_chunk); }
+  // The fine texels a point covers each way (spread_texels), at its view depth.
+  int spread_of(const HostChunk& c, uint32_t local, float depth) const {
+    return s_.u.spread_max > 0 ? k_.spread_texels(depth, c.spacing[local], c.spread_cap, c.spread_scale) : 0;
+  }
+  // f(x, y, ring) over the texels of the spread r around t (in_spread; ring:
+  // the Chebyshev distance), clipped to the window.
+  template <class F>
+  void for_spread(glm::ivec2 t, int r, F&& f) const {
+    const glm::ivec2 lo = glm::max(t - r, glm::ivec2(0)), hi = glm::min(t + r, w_.k.fine_size - 1);
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x)
+        if (k_.in_spread(x - t.x, y - t.y, r)) f(x, y, std::max(std::abs(x - t.x), std::abs(y - t.y)));
+  }
   // Into the finest level of the quadtree: the caster closest to the light.
   void cast(const Pt& p) {
     fetch_min(quad_[k_.quad_index(k_.light_texel(p.view, s_.u.levels), s_.u.levels)], k_.light_key(p.view));

@@ -51,8 +51,10 @@ struct HostChunk {
   const float* opacity = nullptr;        // the dots pass with opacity_draws: its splats' opacities, else null
   uint32_t count = 0;
   uint32_t slot = 0;  // the pass's index of its first point (the per-point arrays')
-  const float* spacing = nullptr;  // level_scale spacing: its points' spacing
+  const float* spacing = nullptr;  // level_scale spacing or spread_from_spacing: its points' spacing
   float spacing_cell_scale = 0.0f;   // and their cell width over it (spacing_cell_scale)
+  float spread_scale = 0.0f;         // spread_from_spacing: their spacing to spread_texels' scale,
+  float spread_cap = 0.0f;           // and the largest spacing spread (spread_cap)
   const glm::vec3* normals = nullptr;  // lit_rule share: its points' normals (packed as the GPU's are)
   glm::mat4 view_from_chunk{1.0f};
 };

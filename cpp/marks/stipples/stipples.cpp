@@ -60,6 +60,9 @@ bool level_from_spacing(const ParamValues& p) {
   return p.get_bool("diffuse") && p.get_enum_name("level_scale") == "spacing";
 }
 bool lit_share(const ParamValues& p) { return level_from_spacing(p) && p.get_enum_name("lit_rule") == "share"; }
+bool spreads(const ParamValues& p) { return p.get_bool("spread_from_spacing"); }
+// Fine texels a point's depth reaches: the most its own spread covers, and the iterations.
+int reach_texels(const ParamValues& p) { return p.get_int("iterations") + (spreads(p) ? kStippleMaxSpread : 0); }
 // Area per point over the squared spacing (the mean distance to 8
 // neighbours): a square grid's, spacing (4 + 4 sqrt 2) / 8 of its step.
 constexpr double kAreaPerSpacing = 0.686;
@@ -70,7 +73,7 @@ class Stipples final : public Mark {
     AttributeSet set{{AttributeKind::PointId}};
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
     if (p.get_bool("opacity_draws")) set.insert({AttributeKind::SplatOpacity});
-    if (level_from_spacing(p)) set.insert({AttributeKind::LocalResolution, kStippleSpacingNeighbors});
+    if (level_from_spacing(p) || spreads(p)) set.insert({AttributeKind::LocalResolution, kStippleSpacingNeighbors});
     if (lit_share(p)) set.insert({AttributeKind::Normal, kStippleNormalNeighbors});
     return set;
   }
@@ -80,7 +83,7 @@ class Stipples final : public Mark {
     const bool tone = p.get_float("tone") > 0.0;
     const double growth = tone ? kMaxToneGrowth : 1.0, moved = tone ? 1.5 * p.get_float("dot_size") : 0.0;
     const double dot = 0.5 * p.get_float("dot_size") * (1.0 + p.get_float("size_jitter")) * growth + moved + 1.0;
-    const double spread = double(p.get_int("iterations") + 1) / p.get_float("resolution_factor") + 1.0;
+    const double spread = double(reach_texels(p) + 1) / p.get_float("resolution_factor") + 1.0;
     return {0.0, float(std::max(dot, spread))};
   }
 
@@ -89,14 +92,15 @@ class Stipples final : public Mark {
   // Per-point decisions use frame pixels and texels anchored at the frame's
   // corner; what depends on every visible point is computed once per frame.
   bool draws_tiles(const ParamValues& /*p*/) const override { return true; }
-  // Beyond the dot (the extent): a dot's visibility reads `iterations`
-  // texels around it, the paper the visible points spread iterations + 1
-  // texels further, and the specular's and the tone's sums 2.5 cells (and
-  // their closed coverage 2 x iterations texels) around the dot.
+  // Beyond the dot (the extent): a dot's visibility reads the reach
+  // (`iterations` and a point's own spread) around it, the paper the visible
+  // points spread reach + 1 texels further, and the specular's and the
+  // tone's sums 2.5 cells (and their closed coverage 2 x reach texels)
+  // around the dot.
   // (At the lowest factor draw() may lower it to: one texel per pixel.)
   int screen_reach(const ParamValues& p) const override {
     const double f = std::min(p.get_float("resolution_factor"), 1.0);
-    const double k = double(p.get_int("iterations"));
+    const double k = double(reach_texels(p));
     double reach = (2.0 * k + 1.0) / f;
     if (counts_eye(p)) reach = std::max(reach, 2.5 * eye_cell_px(p) + 3.0 * k / f);
     return int(std::ceil(reach)) + 3;
@@ -197,6 +201,10 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
   u.ortho = cam.orthographic ? 1 : 0;
   const float f = u.factor = float(factor);
   s.iterations = p.get_int("iterations");
+  if (spreads(p)) {
+    u.spread_max = kStippleMaxSpread;
+    s.spread_scale = 0.5 * double(factor) * cam.pixels_per_unit(1.0, frame_px.y);
+  }
   s.opacity_draws = p.get_bool("opacity_draws");
   u.px_per_unit = float(cam.pixels_per_unit(1.0, frame_px.y));
   const float range = float(std::max(ctx.depth_max - ctx.depth_min, 1e-6));
@@ -321,10 +329,10 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
     if (!cached) {
       auto state = std::make_unique<StippleFrameState>();
       if (quadtree && casters_all) passes->project_casters(frame_chunks);
-      // Visibility reads `iterations` texels; an eye cell's sums read 2.5
-      // cells and its closed coverage 2 x iterations texels beyond.
-      const int visibility_halo = int(std::ceil(float(s.iterations) / f)) + 2;
-      const int specular_halo = int(std::ceil(2.5f * eye_cell + 2.0f * float(s.iterations) / f)) + visibility_halo;
+      // Visibility reads the reach's texels; an eye cell's sums read 2.5
+      // cells and its closed coverage 2 x the reach beyond.
+      const int visibility_halo = int(std::ceil(float(s.reach_texels()) / f)) + 2;
+      const int specular_halo = int(std::ceil(2.5f * eye_cell + 2.0f * float(s.reach_texels()) / f)) + visibility_halo;
       auto sweep = [&](int halo) {
         const glm::ivec2 interior = glm::max(ctx.targets.size - 2 * halo, glm::ivec2(64));
         return sweep_windows(frame_clip, interior, halo, f, eye_cell, fine_lo, fine_hi);
@@ -385,9 +393,13 @@ void Stipples::draw(const MarkContext& ctx, const ParamValues& p) const {
 
 }  // namespace
 
+// With the view's scale of object lengths (the instance's; the view keeps them).
 float spacing_cell_scale(const StippleSetup& s, const VisibleChunk& v) {
-  // The view's scale of object lengths (the instance's; the view keeps them).
   return float(s.spacing_cell_scale * std::cbrt(std::abs(glm::determinant(glm::dmat3(v.view_from_chunk)))));
+}
+float spread_scale(const StippleSetup& s, const VisibleChunk& v) { return float(s.spread_scale * view_scale(v)); }
+float spread_cap(const VisibleChunk& v) {
+  return sparse_spacing(v, kStippleSpacingNeighbors, std::numeric_limits<float>::max());
 }
 
 CapturedMark captured_dot(const StippleSetup& s, glm::vec3 center, uint32_t id) {
@@ -428,6 +440,12 @@ const MarkRegistration registration{{
                int_param("iterations", 3, 0, 32, "",
                          "Hidden points: how many times each texel takes its neighbours' depths (closes holes "
                          "between front points of this many texels)"),
+               added_later(bool_param("spread_from_spacing", true,
+                                      "Hidden points: each point first covers half its own spacing on screen (at "
+                                      "most 8 texels each way), so a sparse surface closes, hides what lies behind "
+                                      "it and counts its whole area for the tone; the iterations then add their "
+                                      "texels (off: the iterations alone, the paper's)"),
+                           {0.0}),
                float_param("depth_offset", 0.038, 0.0, 0.5, "",
                            "Hidden points: depth added per spreading step and kept in front of the surface, as a "
                            "fraction of the segment's view depth range (the paper's 'slightly larger depth')"),

@@ -22,6 +22,9 @@ namespace pointnpr {
 constexpr int kStippleHistogramBins = 1024;  // log2 of the specular measure, 8 bins per octave (specular_bin)
 constexpr int kStippleSpacingNeighbors = 8;  // a point's spacing: the mean distance to these nearest neighbours
 constexpr int kStippleNormalNeighbors = 16;  // lit_rule share's normals (estimated once where a scan has none)
+// spread_from_spacing: the most fine texels a point covers each way (half a
+// spacing of 16 texels): bounds a point's writes and the tiles' halos.
+constexpr int kStippleMaxSpread = 8;
 
 // What the passes read that is fixed for a frame: the kernels' settings
 // (shaders/stipples_settings.glsl: the camera's float projection, the fine
@@ -31,6 +34,7 @@ struct StippleSetup {
   const ParamValues* params = nullptr;  // the resolution queue's (draws_queue, queue_count)
   Rect clip;                            // the tile's pixels the mark draws (local; u.clip_min/max)
   int iterations = 0;
+  double spread_scale = 0.0;  // spread_from_spacing: half the fine texels per scene unit at view depth 1
   double spacing_cell_scale = 0.0;  // level_scale spacing: a point's cell width over its spacing (2^(8 - LEVEL))
   bool opacity_draws = false;  // a dot only where id_rand(point id) < the splat's opacity (the dots pass)
   stipples::StippleSettings u{};
@@ -38,6 +42,10 @@ struct StippleSetup {
   // The visible points and covered texels per eye cell are counted for the
   // specular measure and for the tone (shaders/stipples_kernels.glsl).
   bool counts_eye() const { return u.specular != 0 || u.tone_scale > 0.0f; }
+  // The points' spacing is read: for their levels, or for their spread.
+  bool reads_spacing() const { return u.level_from_spacing != 0 || u.spread_max > 0; }
+  // How far (fine texels) a point's depth reaches: its own spread and the iterations.
+  int reach_texels() const { return iterations + u.spread_max; }
   // The light-view quadtree only where it is read (the share rule without cast shadows reads none).
   size_t quad_n() const { return u.quadtree ? (size_t(2) << u.levels) * (size_t(1) << u.levels) : 1; }
   size_t light_n() const { return u.specular ? size_t(u.light_cells) * size_t(u.light_cells) : 1; }
@@ -101,6 +109,10 @@ class StipplePasses {
 // A chunk's points' cell width over their spacing (its instance's scale
 // applied), for lit_out's cell_target.
 float spacing_cell_scale(const StippleSetup& s, const VisibleChunk& v);
+// A chunk's spacing to spread_texels' scale (the view's scale of object lengths included).
+float spread_scale(const StippleSetup& s, const VisibleChunk& v);
+// The largest spacing a chunk's points spread (its cloud's sparse spacing; unbounded without one).
+float spread_cap(const VisibleChunk& v);
 
 // The captured mark of a dot drawn at `center` (view space) for point `id`.
 CapturedMark captured_dot(const StippleSetup& s, glm::vec3 center, uint32_t id);
