@@ -105,24 +105,41 @@ Stroke place_stroke(uint index, uint id, vec4 v, vec3 n) {
 
   // Length and width in scene units (before the per-stroke variations).
   float scale = u.world_units != 0 ? 1.0f : (u.ortho != 0 ? 1.0f : depth) / u.px_per_unit;
-  float base_len = u.stroke_length * scale;
+  float full_len = u.stroke_length * scale;
   float width = u.stroke_width * scale;
+  // Curvature (surface variation, at most 1/3) shortens the stroke: ~0 on
+  // smooth surfaces, ~0.05 and more at creases and corners (where strokes
+  // get their shortest: 15 % of the length).
+  float shortened = 1.0f;
+  if (has_curvature() && u.curvature_length > 0.0f) {
+    float c = point_curvature(index);
+    shortened = 1.0f - 0.85f * u.curvature_length * clamp((c == c ? c : 0.0f) / 0.05f, 0.0f, 1.0f);
+  }
+  float base_len = full_len * shortened;
 
   // Lighting by omission and cross vs parallel, by probabilistic
   // interpolation; the coverage limit scales the odds by the point's share
   // of the surface over a stroke's area (as many strokes per area however
-  // dense or irregular the scan).
+  // dense or irregular the scan). Curvature changes the strokes' length,
+  // not the tone: the ink a shortened stroke loses is made up by keeping
+  // more strokes where the limit thins them, and the rest by crossing more
+  // of them (cross_hatch > 0; one crossing at most).
   float keep = alpha_tex * u.density;
+  float crossing_odds = alpha_tex * u.cross_share;
+  float ink_kept = shortened;  // of a full-length stroke's, after the limit's share
   if (u.coverage > 0.0f && has_spacing()) {
     float r = point_spacing(index);
     float area = 0.88f * r * r;
-    keep *= min(1.0f, u.coverage * area / max(base_len * width * (1.0f + alpha_tex * u.cross_share), 1e-30f));
+    float limit = u.coverage * area / max(full_len * width * (1.0f + crossing_odds), 1e-30f);
+    keep *= min(1.0f, limit / shortened);
+    ink_kept = shortened * min(1.0f, limit / shortened) / max(min(1.0f, limit), 1e-30f);
   }
   // A Gaussian splat's opacity scales the odds (opacity_draws): a capture's
   // faint haze gets few strokes.
   if (has_opacity()) keep *= point_opacity(index);
   if (id_rand(id, 0u, u.seed) >= keep) return s;
-  bool crossing = id_rand(id, 1u, u.seed) < alpha_tex * u.cross_share;
+  if (crossing_odds > 0.0f && ink_kept < 1.0f) crossing_odds = min(1.0f, (1.0f + crossing_odds) / ink_kept - 1.0f);
+  bool crossing = id_rand(id, 1u, u.seed) < crossing_odds;
 
   // d1 = u - (u.n) n; where u is (nearly) the normal, the axis least aligned with it.
   vec3 line = vec3(u.direction);
@@ -138,15 +155,8 @@ Stroke place_stroke(uint index, uint id, vec4 v, vec3 n) {
   }
   vec3 d2 = cross(n, d1);
 
-  // Curvature (surface variation, at most 1/3) shortens; a seeded factor varies.
-  float len = base_len;
-  if (has_curvature() && u.curvature_length > 0.0f) {
-    // Surface variation: ~0 on smooth surfaces, ~0.05 and more at creases
-    // and corners (where strokes get their shortest: 15 % of the length).
-    float c = point_curvature(index);
-    len *= 1.0f - 0.85f * u.curvature_length * clamp((c == c ? c : 0.0f) / 0.05f, 0.0f, 1.0f);
-  }
-  len *= max(1.0f + u.length_jitter * (2.0f * id_rand(id, 3u, u.seed) - 1.0f), 0.05f);
+  // A seeded factor varies the length.
+  float len = base_len * max(1.0f + u.length_jitter * (2.0f * id_rand(id, 3u, u.seed) - 1.0f), 0.05f);
 
   vec3 center = vec3(v);
   if (u.position_jitter > 0.0f)
