@@ -452,7 +452,8 @@ const MarkRegistration registration{{
                float_param("length_jitter", 0.3, 0.0, 1.0, "", "Random length factor per stroke (hand-drawn lengths)"),
                float_param("curvature_length", 0.6, 0.0, 1.0, "",
                            "How much strokes shorten where the surface curves: at a surface variation of 0.05 (creases, "
-                           "corners) to 1 - 0.85 x this (0: off, no curvature computed)"),
+                           "corners) to 1 - 0.85 x this; the tone stays (more strokes kept where the coverage limit "
+                           "thins them, then more crossings). 0: off, no curvature computed"),
                enum_param("placement", {"regular", "irregular"}, 0,
                           "regular: strokes centred on their points along d1; irregular: seeded jitter of position "
                           "and angle"),
