@@ -19,6 +19,20 @@ bool draws_link(uint index) {
   return u.chain_lines != 0 && has_lines() && ((point_link(index) >> 24) & 4u) != 0u;
 }
 
+// A point's share of the surface on screen (px^2): its spacing squared on
+// screen (r as the seed's range-aware dithering uses it), foreshortened by
+// its normal (at most 5x: a grazing surface).
+float surface_px(uint index, vec4 v, float r) {
+  float wd = u.ortho != 0 ? 1.0f : -v.z;
+  float r_px = (r == r ? r : 0.0f) * u.px_per_unit / wd;
+  // Normals only where the chunk is lit (bound): else native has none and GL's binding holds positions.
+  vec3 n = lit() ? point_normal(index) : vec3(0.0f);
+  float to_eye = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+  float facing = n.x * n.x + n.y * n.y + n.z * n.z > 0.25f && to_eye > 0.0f
+                     ? abs(n.x * v.x + n.y * v.y + n.z * v.z) / to_eye : 1.0f;
+  return r_px * r_px * max(facing, 0.2f);
+}
+
 // What point `index` (id `id`, at view position v) draws (seed 001
 // sections 5.2, 5.3, 6.2, 6.3); primitive 0: nothing. A point past the
 // queue's drawn ones (not `queued`) draws its chain's link or nothing.
@@ -65,6 +79,16 @@ Record place_record(uint index, uint id, vec4 v, bool queued) {
         dir = normalize(view_rotation() * d);
       }
     }
+    // A rough surface (foliage, a noisy wall) is feature points through and
+    // through, with no dithering to give it tone: where its points lie
+    // sparser on screen than the tone's ink needs, its marks grow (to 3x),
+    // as the dithering's; the line tone then lights them.
+    if (kind == 1u && u.tone > 0.0f) {
+      float r = point_resolution(index);
+      r = r == r ? min(r, max_r()) : r;
+      float need = u.tone * surface_px(index, v, r) / u.other_area;
+      grow = need > 1.0f ? min(sqrt(need), 3.0f) : 1.0f;
+    }
   } else {
     // Range-aware dithering for unorganised clouds: odds by the point's
     // share of surface (its spacing squared, relative to the cloud's median)
@@ -85,14 +109,7 @@ Record place_record(uint index, uint id, vec4 v, bool queued) {
       // area over a mark's, the point's share of the surface its spacing
       // squared on screen, foreshortened by the normal (r as the seed's
       // range-aware dithering uses it).
-      float wd = u.ortho != 0 ? 1.0f : depth;
-      float r_px = (r == r ? r : 0.0f) * u.px_per_unit / wd;
-      // Normals only where the chunk is lit (bound): else native has none and GL's binding holds positions.
-      vec3 n = lit() ? point_normal(index) : vec3(0.0f);
-      float to_eye = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
-      float facing = n.x * n.x + n.y * n.y + n.z * n.z > 0.25f && to_eye > 0.0f
-                         ? abs(n.x * v.x + n.y * v.y + n.z * v.z) / to_eye : 1.0f;
-      odds = u.tone * (1.0f - lum) * r_px * r_px * max(facing, 0.2f) / u.dither_area;
+      odds = u.tone * (1.0f - lum) * surface_px(index, v, r) / u.dither_area;
       // Where one mark per point is too little ink, each grows (to 3x).
       grow = odds > 1.0f ? min(sqrt(odds), 3.0f) : 1.0f;
     }

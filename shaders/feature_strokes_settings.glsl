@@ -37,6 +37,7 @@ SETTINGS_BLOCK(FeatureStrokesSettings, 0)
   float tone;                // 0: the paper's dithering odds; else the dithering's ink (marks' area per surface)
   float px_per_unit;         // pixels per scene unit at view depth 1 (orthographic: at any depth)
   float dither_area;         // px^2 of one dithering primitive
+  float other_area;          // px^2 of one non-directional primitive
   float line_tone;           // how much the light thins feature primitives (their width)
   int chain_lines;           // chained directional points draw their links (chain_lines where it applies)
 END_SETTINGS_BLOCK(u)

@@ -85,3 +85,30 @@ def test_the_line_tone_thins_feature_lines_in_the_light(renderer, path):
     # Measured: 0.18 and 0.18 plain; 0.13 and 0.20 toned (a line a fifth of a
     # pixel wide still darkens the pixels it crosses a little).
     assert toned[1] > 1.3 * toned[0] and toned[0] < plain[0] < toned[1], (plain, toned)
+
+
+def test_a_rough_surface_s_feature_marks_keep_the_tone_where_they_are_sparse(renderer, path):
+    # A wall whose every point is a non-directional feature point (colour
+    # noise), drawn as sprites with no dithering: foliage on an aerial tile
+    # is such a surface, with no dithering points to give it tone. Its
+    # sprites used to keep their size, so its ink followed the points'
+    # spacing (measured 0.28, 0.17 at 0.03 and 0.05 between points); with a
+    # tone they grow where too sparse for it, as the dithering's: 0.63, 0.62
+    # (the tone's 1 - exp(-1)), and at 0.08 the growth's cap (3x) leaves 0.32.
+    def ink(spacing, tone):
+        pos, _ = wall(3.0, 2.4, spacing, -5.0)
+        colors = np.random.default_rng(5).random((len(pos), 3)).astype(np.float32)
+        params = {"feature_threshold": 0.0, "directional": "none", "non_directional": "point_sprite",
+                  "sprite_size": 2.0, "dithering": "none", "tone": tone, "shading": "diffuse",
+                  "color_source": "constant", "light_space": "camera", "light_elevation": 20.0, "rasterizer": path}
+        scene = pointnpr.Scene()
+        scene.add_segment("s", pointnpr.Style(mark=("feature_strokes", params)),
+                          [(pointnpr.PointCloud(pos, colors=colors), np.eye(4))])
+        img = np.asarray(renderer.render(scene, camera(width=320, height=240), 320, 240).color)
+        return float(1.0 - img[60:180, 80:240, :3].mean())
+
+    plain = [ink(s, 0.0) for s in (0.03, 0.05)]
+    toned = [ink(s, 1.0) for s in (0.03, 0.05)]
+    assert plain[0] > 1.4 * plain[1], plain
+    assert abs(toned[0] - toned[1]) < 0.03 and min(toned) > 2.0 * max(plain), toned
+    assert ink(0.08, 1.0) < min(toned) - 0.1  # at most 3x the sprite: a very sparse surface stays lighter

@@ -157,11 +157,15 @@ FeatureStrokeSettings FeatureStrokes::resolve(const MarkContext& ctx, const Para
   u.line_tone = float(p.get_float("line_tone"));
   u.chain_lines = chains_draw(p) ? 1 : 0;
   u.px_per_unit = float(cam.pixels_per_unit(1.0, size.y));
-  // One dithering mark's area on screen: a sprite's disc, a line's or a stroke's rectangle.
+  // One dithering or non-directional mark's area on screen: a sprite's disc, a line's or a stroke's rectangle.
   const double other_length = p.get_float("other_length");
-  u.dither_area = float(u.prim_dither == 1   ? 0.25 * M_PI * u.sprite_size * u.sprite_size
-                        : u.prim_dither == 3 ? other_length * u.stroke_width
-                                             : other_length * u.line_width);
+  auto mark_area = [&](int prim) {
+    return float(prim == 1 ? 0.25 * M_PI * u.sprite_size * u.sprite_size
+                 : prim == 3 ? other_length * u.stroke_width
+                             : other_length * u.line_width);
+  };
+  u.dither_area = mark_area(u.prim_dither);
+  u.other_area = mark_area(u.prim_other);
   const double angle = glm::radians(p.get_float("screen_angle"));
   u.screen_dir_x = float(std::cos(angle));
   u.screen_dir_y = float(std::sin(angle));
