@@ -77,10 +77,13 @@ class FeatureStrokes final : public Mark {
   }
 
   MarkExtent extent(const ParamValues& p) const override {
-    // With a tone, dithering marks grow up to 3x (feature_strokes_kernels.glsl).
+    // With a tone, dithering and non-directional marks grow up to 3x, and a
+    // line tone widens feature marks up to 1 + it (feature_strokes_kernels.glsl).
     const double grow = p.get_float("tone") > 0.0 ? 3.0 : 1.0;
+    const double wide = grow * std::max(1.0 + p.get_float("line_tone"), 1.0);
     const double longest = std::max({p.get_float("directional_length"), grow * p.get_float("other_length"),
-                                     grow * p.get_float("sprite_size"), grow * p.get_float("stroke_width")});
+                                     wide * p.get_float("sprite_size"), wide * p.get_float("stroke_width"),
+                                     wide * p.get_float("line_width")});
     // A chain's link reaches from its point up to twice directional_length
     // (feature_strokes_kernels.glsl), plus half its width along and across
     // (a width at most twice the stroke's, with a line tone, and at least
@@ -393,8 +396,10 @@ const MarkRegistration registration{{
                added_later(float_param("tone", 1.0, 0.0, 4.0, "",
                                        "Ink of the dithering: its marks cover this share of the surface on screen "
                                        "where it is darkest (x 1 - its shade or colour's luminance) at any scan "
-                                       "density, distance and output size (overlaps cover 1 - exp(-that)); 0: the "
-                                       "paper's range-aware odds (dither, dither_tone)"),
+                                       "density, distance and output size (overlaps cover 1 - exp(-that)); where "
+                                       "non-directional feature marks are too sparse for this share (a rough "
+                                       "surface, all feature points), they grow too (line_tone lights them); 0: "
+                                       "the paper's range-aware odds (dither, dither_tone)"),
                            {0.0}),
                only_when(added_later(float_param("line_tone", 0.0, 0.0, 1.0, "",
                                                  "How much the light thins feature strokes, lines and sprites: "
