@@ -132,6 +132,16 @@ Stroke place_stroke(uint index, uint id, vec4 v, vec3 n) {
     float area = 0.88f * r * r;
     float limit = u.coverage * area / max(full_len * width * (1.0f + crossing_odds), 1e-30f);
     keep *= min(1.0f, limit / shortened);
+    // grow_sparse_strokes: where the points are too sparse for the coverage
+    // (every stroke drawn still covers the surface fewer times: a near or
+    // sparse surface), each stroke grows, length and width alike, at most
+    // 3x (as the stipples' dots and the feature strokes' marks do): the
+    // tone at any density.
+    if (u.grow_sparse != 0 && limit > 1.0f) {
+      float grow = min(sqrt(limit), 3.0f);
+      base_len *= grow;
+      width *= grow;
+    }
     ink_kept = shortened * min(1.0f, limit / shortened) / max(min(1.0f, limit), 1e-30f);
   }
   // A Gaussian splat's opacity scales the odds (opacity_draws): a capture's

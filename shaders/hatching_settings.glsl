@@ -39,6 +39,7 @@ SETTINGS_BLOCK(HatchingSettings, 0)
   float alpha_modification;
   float alpha_jitter;
   uint seed;
+  int grow_sparse;      // 1: strokes too sparse for the coverage grow (grow_sparse_strokes)
 END_SETTINGS_BLOCK(u)
 
 // A point's strokes (std430, 64 bytes).

@@ -109,19 +109,22 @@ class Hatching final : public Mark {
 
   MarkExtent extent(const ParamValues& p) const override {
     // Half a stroke (longest: jittered length, moved by the position jitter)
-    // plus its width, around each point.
+    // plus its width, around each point; with a coverage, a stroke where the
+    // points are too sparse for it grows up to 3x (hatching_kernels.glsl).
     const bool irregular = p.get_enum_name("placement") == "irregular";
-    const double reach = (1.0 + p.get_float("length_jitter")) * (0.5 + (irregular ? p.get_float("position_jitter") : 0.0));
+    const double grow = p.get_float("stroke_coverage") > 0.0 && p.get_bool("grow_sparse_strokes") ? 3.0 : 1.0;
+    const double reach =
+        grow * (1.0 + p.get_float("length_jitter")) * (0.5 + (irregular ? p.get_float("position_jitter") : 0.0));
     MarkExtent e;
     // Depth discs in scene units are capped on screen as splats are.
     const float disc_px = p.get_enum_name("depth_disc") == "pixels"
                               ? float(std::max(p.get_float("depth_size"), 1.0)) * 0.5f
                               : kMaxSplatPixels * 0.5f;
     if (p.get_enum_name("units") == "world") {
-      e.world = reach * p.get_float("world_length") + p.get_float("world_width");
+      e.world = reach * p.get_float("world_length") + grow * p.get_float("world_width");
       e.pixels = disc_px + 2.0f;  // depth discs and the 1.5 px minimum width
     } else {
-      e.pixels = float(reach * p.get_float("line_length") + p.get_float("line_width")) + 2.0f + disc_px;
+      e.pixels = float(reach * p.get_float("line_length") + grow * p.get_float("line_width")) + 2.0f + disc_px;
     }
     return e;
   }
@@ -261,6 +264,7 @@ hatching::StrokePass Hatching::resolve(const MarkContext& ctx, const ParamValues
   u.density = float(p.get_float("density"));
   u.cross_share = float(p.get_float("cross_hatch"));
   u.coverage = float(p.get_float("stroke_coverage"));
+  u.grow_sparse = p.get_bool("grow_sparse_strokes") ? 1 : 0;
   u.world_units = world_units ? 1 : 0;
   u.stroke_length = float(world_units ? p.get_float("world_length") : p.get_float("line_length"));
   u.stroke_width = float(world_units ? p.get_float("world_width") : p.get_float("line_width"));
@@ -441,6 +445,11 @@ const MarkRegistration registration{{
                            "Keeps at most enough strokes to cover the surface this many times over, from each "
                            "point's spacing (dense or irregular scans get the same stroke density; 0: off, every "
                            "point may draw)"),
+               added_later(bool_param("grow_sparse_strokes", true,
+                                      "Where the points are too sparse on screen for the stroke coverage (a near or "
+                                      "sparse surface), strokes grow, length and width alike, up to 3x, so the tone "
+                                      "holds at any density (with stroke_coverage above 0)"),
+                           {0.0}),
                float_param("cross_hatch", 0.5, 0.0, 1.0, "",
                            "Cross-hatch proportion h: a point draws a crossing second line with probability "
                            "X-Toon alpha x h (0: parallel hatching only)"),
