@@ -11,12 +11,20 @@
 #ifndef FEATURE_STROKES_KERNELS_GLSL
 #define FEATURE_STROKES_KERNELS_GLSL
 #include "id_hash.glsl"
+#include "sparse_growth.glsl"
 #include "feature_strokes_settings.glsl"
 
 // Whether point `index` links to a parent in a chain that draws (chain_lines
 // on where it applies; its link's flags: render/attributes.h kFeatureChainLinked).
 bool draws_link(uint index) {
   return u.chain_lines != 0 && has_lines() && ((point_link(index) >> 24) & 4u) != 0u;
+}
+
+// A point's spacing, capped at twice the cloud's sparse spacing (an
+// outlier's stays its neighbourhood's); NaN where it has none.
+float capped_resolution(uint index) {
+  float r = point_resolution(index);
+  return r == r ? min(r, max_r()) : r;
 }
 
 // A point's share of the surface on screen (px^2): its spacing squared on
@@ -84,17 +92,15 @@ Record place_record(uint index, uint id, vec4 v, bool queued) {
     // sparser on screen than the tone's ink needs, its marks grow (to 3x),
     // as the dithering's; the line tone then lights them.
     if (kind == 1u && u.tone > 0.0f) {
-      float r = point_resolution(index);
-      r = r == r ? min(r, max_r()) : r;
+      float r = capped_resolution(index);
       float need = u.tone * surface_px(index, v, r) / u.other_area;
-      grow = need > 1.0f ? min(sqrt(need), 3.0f) : 1.0f;
+      grow = sparse_growth(need);
     }
   } else {
     // Range-aware dithering for unorganised clouds: odds by the point's
     // share of surface (its spacing squared, relative to the cloud's median)
     // so the kept points are uniform in 3D, raised where the colour is dark.
-    float r = point_resolution(index);
-    r = r == r ? min(r, max_r()) : r;
+    float r = capped_resolution(index);
     float rel = r == r ? r * inv_median_r() : 1.0f;
     float lum = has_color() ? dot(vec3(color), vec3(0.2126f, 0.7152f, 0.0722f)) : 0.5f;
     // Lit (shading): the tone of the colour, or of white, under the light.
@@ -111,7 +117,7 @@ Record place_record(uint index, uint id, vec4 v, bool queued) {
       // range-aware dithering uses it).
       odds = u.tone * (1.0f - lum) * surface_px(index, v, r) / u.dither_area;
       // Where one mark per point is too little ink, each grows (to 3x).
-      grow = odds > 1.0f ? min(sqrt(odds), 3.0f) : 1.0f;
+      grow = sparse_growth(odds);
     }
     if (id_rand(id, 1u, u.seed) >= odds) return rec;
     kind = 2u;

@@ -7,6 +7,7 @@
 #ifndef HATCHING_KERNELS_GLSL
 #define HATCHING_KERNELS_GLSL
 #include "id_hash.glsl"
+#include "sparse_growth.glsl"
 #include "hatching_settings.glsl"
 
 // The procedural X-Toon textures: x = brightness, y = depth (0 near). As
@@ -137,8 +138,8 @@ Stroke place_stroke(uint index, uint id, vec4 v, vec3 n) {
     // sparse surface), each stroke grows, length and width alike, at most
     // 3x (as the stipples' dots and the feature strokes' marks do): the
     // tone at any density.
-    if (u.grow_sparse != 0 && limit > 1.0f) {
-      float grow = min(sqrt(limit), 3.0f);
+    if (u.grow_sparse != 0) {
+      float grow = sparse_growth(limit);
       base_len *= grow;
       width *= grow;
     }

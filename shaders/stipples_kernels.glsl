@@ -7,6 +7,7 @@
 #ifndef STIPPLES_KERNELS_GLSL
 #define STIPPLES_KERNELS_GLSL
 #include "id_hash.glsl"
+#include "sparse_growth.glsl"
 #include "stipples_settings.glsl"
 
 float hash01(uint id, uint salt) { return id_rand(id, salt, u.seed); }
@@ -318,7 +319,7 @@ Dot tone_dot(Pt p, uint id) {
   if (share < 1.0f)
     dot.diameter = hash01(id, 4u) < share ? dot.diameter : 0.0f;
   else
-    dot.diameter = dot.diameter * min(sqrt(share), 3.0f);
+    dot.diameter = dot.diameter * sparse_growth(share);
   return dot;
 }
 // Area coverage of a disc at (dx, dy) from a pixel's centre: a 1 px wide

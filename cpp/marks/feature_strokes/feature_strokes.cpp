@@ -37,6 +37,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/sparse_growth.h"
 #include "geometry/analysis.h"
 #include "marks/feature_strokes/feature_strokes.h"
 #include "render/backend.h"
@@ -79,7 +80,7 @@ class FeatureStrokes final : public Mark {
   MarkExtent extent(const ParamValues& p) const override {
     // With a tone, dithering and non-directional marks grow up to 3x, and a
     // line tone widens feature marks up to 1 + it (feature_strokes_kernels.glsl).
-    const double grow = p.get_float("tone") > 0.0 ? 3.0 : 1.0;
+    const double grow = p.get_float("tone") > 0.0 ? kMaxSparseGrowth : 1.0;
     const double wide = grow * std::max(1.0 + p.get_float("line_tone"), 1.0);
     const double longest = std::max({p.get_float("directional_length"), grow * p.get_float("other_length"),
                                      wide * p.get_float("sprite_size"), wide * p.get_float("stroke_width"),

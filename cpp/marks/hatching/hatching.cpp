@@ -40,6 +40,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/sparse_growth.h"
 #include "gl/device.h"
 #include "marks/hatching/hatching.h"
 #include "render/backend.h"
@@ -112,7 +113,7 @@ class Hatching final : public Mark {
     // plus its width, around each point; with a coverage, a stroke where the
     // points are too sparse for it grows up to 3x (hatching_kernels.glsl).
     const bool irregular = p.get_enum_name("placement") == "irregular";
-    const double grow = p.get_float("stroke_coverage") > 0.0 && p.get_bool("grow_sparse_strokes") ? 3.0 : 1.0;
+    const double grow = p.get_float("stroke_coverage") > 0.0 && p.get_bool("grow_sparse_strokes") ? kMaxSparseGrowth : 1.0;
     const double reach =
         grow * (1.0 + p.get_float("length_jitter")) * (0.5 + (irregular ? p.get_float("position_jitter") : 0.0));
     MarkExtent e;

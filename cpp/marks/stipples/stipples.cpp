@@ -33,6 +33,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
+#include "core/sparse_growth.h"
 #include "marks/stipples/stipples.h"
 #include "render/backend.h"
 #include "render/box_projection.h"
@@ -49,7 +50,6 @@ constexpr double kSpecularPercentile = 0.95;  // the reference of the specular m
 // `specular_cell` they are with it): a few dots' spacing, so the density
 // follows the surface's and not single dots'.
 constexpr double kToneCell = 8.0;
-constexpr double kMaxToneGrowth = 3.0;  // tone_dot's largest growth of a dot (shaders/stipples_kernels.glsl)
 
 // The eye cells' size in pixels.
 double eye_cell_px(const ParamValues& p) {
@@ -81,7 +81,7 @@ class Stipples final : public Mark {
   MarkExtent extent(const ParamValues& p) const override {
     // With a tone, a dot grows and moves by up to 1.5 dot sizes (tone_dot).
     const bool tone = p.get_float("tone") > 0.0;
-    const double growth = tone ? kMaxToneGrowth : 1.0, moved = tone ? 1.5 * p.get_float("dot_size") : 0.0;
+    const double growth = tone ? kMaxSparseGrowth : 1.0, moved = tone ? 1.5 * p.get_float("dot_size") : 0.0;
     const double dot = 0.5 * p.get_float("dot_size") * (1.0 + p.get_float("size_jitter")) * growth + moved + 1.0;
     const double spread = double(reach_texels(p) + 1) / p.get_float("resolution_factor") + 1.0;
     return {0.0, float(std::max(dot, spread))};
