@@ -62,7 +62,15 @@ StrokeQuad stroke_quad(Stroke s, uint line) {
   q.center = center;
   q.aspect = len / width;
   q.along = d;
-  q.offset = raster.offset_radii * disc_radius;
+  // A depth disc faces the camera at its point's depth, so on a surface
+  // inclined by theta the nearest disc over a pixel lies up to a radius x
+  // tan(theta) in front of the surface there: the offset covers that where
+  // the paper's does not (steep sides, where a sparse scan's discs are
+  // wide), up to twice the paper's (steeper, a stroke is nearly edge-on,
+  // and a larger offset shows the surface behind through it).
+  float facing = abs(dot(n, view_dir));
+  float incline = sqrt(max(1.0f - facing * facing, 0.0f)) / max(facing, 1e-6f);
+  q.offset = clamp(incline, raster.offset_radii, 2.0f * raster.offset_radii) * disc_radius;
   q.across = across;
   q.id = s.point_id * 2u + line;
   q.size = vec2(len, width);

@@ -22,7 +22,9 @@
 //  - Depth pass: every point as a disc into depth only; strokes then drawn
 //    with the depth test, no depth writes, moved toward the camera by
 //    `depth_offset` disc radii (the paper's polygon offset, in scene units
-//    so it holds at any depth). Strokes blend order-independently (weighted
+//    so it holds at any depth; on a surface steeper than that offset allows,
+//    by its slope, up to twice as many: camera-facing discs stand in front
+//    of a steep surface by a radius x its slope). Strokes blend order-independently (weighted
 //    average colour, product of transmittances, minimum depth: sums and
 //    products in a fixed primitive order, so the bytes never vary).
 //  - What the paper left open: strokes past the silhouette are clipped to
@@ -293,7 +295,8 @@ hatching::StrokePass Hatching::resolve(const MarkContext& ctx, const ParamValues
   rs.near_plane = float(cam.clip_start);
   rs.far_plane = float(cam.clip_end);
   rs.px_per_unit = px_per_unit;
-  // The offset toward the camera, in depth-disc radii (scene units).
+  // The offset toward the camera, in depth-disc radii (scene units; on a
+  // steep surface more: hatching_quad.glsl).
   rs.offset_radii = depth_pass ? float(p.get_float("depth_offset")) : 0.0f;
   const DepthDisc disc = depth_disc(ctx, p);
   rs.disc_world = disc.world ? 1 : 0;
@@ -538,8 +541,9 @@ const MarkRegistration registration{{
                only_when(float_param("depth_world_size", 0.03, 0.0001, 100.0, "m", "Diameter of the depth-pass discs"),
                          "depth_disc", {"world"}),
                only_when(float_param("depth_offset", 2.0, 0.0, 10.0, "",
-                                     "Strokes moved toward the camera by this many disc radii (polygon offset; 0 "
-                                     "lets discs cut the strokes)"),
+                                     "Strokes moved toward the camera by this many disc radii (polygon offset), "
+                                     "on a steep surface by its slope (tan of its angle to the view), up to twice "
+                                     "as many; 0 lets discs cut the strokes"),
                          "depth_pass", {"true"}),
                only_when(bool_param("clip_to_surface", true, "Cut strokes where they leave the surface's silhouette"),
                          "depth_pass", {"true"}),
