@@ -21,7 +21,9 @@ uniform ivec2 u_size;         // the frame's (the projection maps to it)
 uniform float u_near;
 uniform float u_far;
 uniform int u_ortho;
-uniform int u_size_mode;      // 0 pixels, 1 world, 2 each Gaussian splat's footprint (world)
+uniform int u_size_mode;      // 0 pixels, 1 world, 2 each point's SplatRadius (world) x u_radius_diameters
+uniform float u_radius_diameters;  // 2: a Gaussian splat's footprint; 1: the point's spacing (size_mode spacing)
+uniform float u_min_size;          // pixels: size_mode spacing's point_size, else 0
 uniform float u_point_size;
 uniform float u_world_size;
 uniform float u_px_per_unit;  // pixels per scene unit at view depth 1
@@ -48,8 +50,8 @@ Splat project_point(uint index) {
   precise vec2 center = (clip.xy / clip.w * 0.5 + 0.5) * vec2(u_size);
   s.center = center;
   float w = u_ortho != 0 ? 1.0 : s.depth;
-  float units = u_size_mode == 2 ? 2.0 * splat_radius[index] : u_world_size;
-  s.diameter = u_size_mode == 0 ? u_point_size : clamp(units * u_px_per_unit / w, 1.0, u_max_size);
+  float units = u_size_mode == 2 ? u_radius_diameters * splat_radius[index] : u_world_size;
+  s.diameter = u_size_mode == 0 ? u_point_size : max(clamp(units * u_px_per_unit / w, 1.0, u_max_size), u_min_size);
   // Stochastic transparency, hashed from the point id: the same points in every frame and tile.
   if (u_opacity_draws != 0 && !(id_rand(point_ids[index], kOpacitySalt, 0u) < splat_opacity[index])) s.visible = false;
   return s;

@@ -11,11 +11,19 @@ validated against the C++ schemas by tests/python/test_presets.py;
     style = pointnpr.presets.style("Watercolor")
 """
 
+# The image-space looks' splats (issue 40): as wide as each point's own
+# spacing where the scan is sparse on screen (an aerial tile near the
+# camera, a canopy of lone returns), so the filters see a closed surface,
+# and 3 px where it is dense. bench/look_audit.py: the aerial tiles' holes
+# 0.4-2.1 % -> 0.02-0.3 %, the LiDAR HD tile's Watercolor 0.8 s -> 0.5 s a
+# frame (docs/filter_measurements.md).
+SPLATS = {"size_mode": "spacing", "point_size": 3.0}
+
 PRESETS = {
     # Flat colour bands with outlines; a light oil-paint pass first removes
     # scan noise so the bands are clean.
     "Toon": {
-        "mark": ("points", {"point_size": 3.0}),
+        "mark": ("points", dict(SPLATS)),
         "filters": [
             ("kuwahara", {"radius": 3.0}),
             ("cartoon", {"levels": 4, "outline_width": 2, "smoothing": 2}),
@@ -26,7 +34,7 @@ PRESETS = {
     # impasto: XDoG drew its relief as squiggles over every plane (lines on
     # planes 10-14 % -> 0-2.2 %, bench/look_audit.py).
     "Ink outlines": {
-        "mark": ("points", {"point_size": 3.0}),
+        "mark": ("points", dict(SPLATS)),
         "filters": [
             ("kuwahara", {"radius": 4.0, "impasto": 0.0}),
             ("xdog", {"thickness": 2.0, "sharpen": 25.0}),
@@ -37,21 +45,21 @@ PRESETS = {
     # structure tensor's edge direction), over a pale wash of the colours:
     # coherent strokes where the isotropic lines break into specks.
     "Flow ink": {
-        "mark": ("points", {"point_size": 3.0}),
+        "mark": ("points", dict(SPLATS)),
         "filters": [
             ("kuwahara", {"radius": 3.0, "impasto": 0.0}),
             ("xdog", {"thickness": 1.5, "sharpen": 60.0, "threshold": 0.02, "flow_length": 3.0}),
             ("color_grade", {"saturation": 0.35, "exposure": 1.2}),
         ],
     },
-    # The watercolor filter over 3 px splats.
+    # The watercolor filter over the splats.
     "Watercolor": {
-        "mark": ("points", {"point_size": 3.0}),
+        "mark": ("points", dict(SPLATS)),
         "filters": [("watercolor", {})],
     },
     # Kuwahara oil paint, a little more saturation and contrast.
     "Oil paint": {
-        "mark": ("points", {"point_size": 3.0}),
+        "mark": ("points", dict(SPLATS)),
         "filters": [
             ("kuwahara", {"radius": 6.0}),
             ("color_grade", {"saturation": 1.15, "contrast": 1.1}),
@@ -61,7 +69,7 @@ PRESETS = {
     # (the structure tensor), colours smoothed along it into lightness
     # bands, bristle streaks fixed to the surface and lit as paint relief.
     "Flow oil paint": {
-        "mark": ("points", {"point_size": 3.0}),
+        "mark": ("points", dict(SPLATS)),
         "filters": [
             ("flow_oil", {}),
             ("color_grade", {"saturation": 1.15, "contrast": 1.1}),
@@ -70,7 +78,7 @@ PRESETS = {
     # Five lightness levels with XDoG lines, after an oil-paint pass (no
     # impasto: its relief is no form of the scan, and XDoG outlined it).
     "Posterize": {
-        "mark": ("points", {"point_size": 3.0}),
+        "mark": ("points", dict(SPLATS)),
         "filters": [
             ("kuwahara", {"radius": 3.0, "impasto": 0.0}),
             ("posterize", {"levels": 5, "space": "lightness"}),
@@ -80,7 +88,7 @@ PRESETS = {
     # Seed 000 Fig. 1: class colours, eye-dome shading (ambient-occlusion
     # like) with depth outlines, watercolor over all.
     "Urban map": {
-        "mark": ("points", {"point_size": 3.0, "color_source": "classification"}),
+        "mark": ("points", dict(SPLATS, color_source="classification")),
         "filters": [
             ("edge_enhance", {"edl_strength": 1.0, "outline_width": 1}),
             ("watercolor", {"wobble": 1.5, "edge_darkening": 0.8}),

@@ -72,6 +72,7 @@ CASES = {
     "2 px": {"point_size": 2},
     "3.5 px": {"point_size": 3.5},
     "world size": {"size_mode": "world", "world_size": 0.03},
+    "spacing size": {"size_mode": "spacing", "point_size": 1.5},
     "rgb": {"color_source": "rgb"},
     "intensity": {"color_source": "intensity"},
     "classification": {"color_source": "classification"},
@@ -137,7 +138,8 @@ def test_queue_adds_points_only_at_its_end(renderer, cloud):
 
 
 def test_tiles_are_the_bytes_of_the_whole_frame(renderer, cloud):
-    for params in ({"point_size": 3}, {"point_size": 1.5}, {"size_mode": "world", "world_size": 0.05}):
+    for params in ({"point_size": 3}, {"point_size": 1.5}, {"size_mode": "world", "world_size": 0.05},
+                   {"size_mode": "spacing", "point_size": 2}):
         whole = render(renderer, cloud, dict(params, rasterizer="native"), width=257, height=199)
         tiled = render(renderer, cloud, dict(params, rasterizer="native"), width=257, height=199, tile_size=64)
         assert tiled[2].stats["tiles"] > 1

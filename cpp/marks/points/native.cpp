@@ -110,6 +110,7 @@ struct Frame {
   bool ortho = false;
   bool world_size = false;
   float point_size = 2.0f, world_size_units = 0.05f, px_per_unit = 1.0f;
+  float radius_diameters = 2.0f, min_pixels = 0.0f;  // SplatSettings'
 };
 
 glm::vec4 row(const glm::dmat4& m, int r) { return {float(m[0][r]), float(m[1][r]), float(m[2][r]), float(m[3][r])}; }
@@ -142,10 +143,11 @@ void scatter_chunk(const ScatterChunk& c, const Frame& f, uint64_t* keys, int st
     const float w = dot_affine(c.clip_w, p);
     const float cx = (dot_affine(c.clip_x, p) / w * 0.5f + 0.5f) * f.size.x - f.origin.x;
     const float cy = (dot_affine(c.clip_y, p) / w * 0.5f + 0.5f) * f.size.y - f.origin.y;
-    const float units = kWorldSize && c.splat_radius ? 2.0f * c.splat_radius[local] : f.world_size_units;
+    const float units = kWorldSize && c.splat_radius ? f.radius_diameters * c.splat_radius[local] : f.world_size_units;
     const float diameter =
-        kWorldSize ? std::clamp(units * f.px_per_unit / (kOrtho ? 1.0f : depth), 1.0f, kMaxSplatPixels)
-                   : f.point_size;
+        kWorldSize
+            ? std::max(std::clamp(units * f.px_per_unit / (kOrtho ? 1.0f : depth), 1.0f, kMaxSplatPixels), f.min_pixels)
+            : f.point_size;
     const float r = 0.5f * diameter;
     // Off the clip rectangle (or not finite): nothing to cover, and no
     // float too large for an int below.
@@ -246,6 +248,8 @@ void draw_splats_native(const MarkContext& ctx, const SplatSettings& s) {
   f.world_size = s.world_size;
   f.point_size = s.point_size;
   f.world_size_units = s.world_diameter;
+  f.radius_diameters = s.radius_diameters;
+  f.min_pixels = s.min_pixels;
   f.px_per_unit = float(cam.pixels_per_unit(1.0, frame_px.y));
 
   // Host data of every chunk; the analyses' normals are held while drawing.

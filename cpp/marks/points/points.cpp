@@ -37,6 +37,8 @@ void set_splat_uniforms(const gl::Program& p, const MarkContext& ctx, const Spla
   glUniform1f(p.location("u_world_size"), s.world_diameter);
   glUniform1f(p.location("u_px_per_unit"), float(cam.pixels_per_unit(1.0, size.y)));
   glUniform1f(p.location("u_max_size"), kMaxSplatPixels);
+  glUniform1f(p.location("u_radius_diameters"), s.radius_diameters);
+  glUniform1f(p.location("u_min_size"), s.min_pixels);
   glUniform4fv(p.location("u_constant_color"), 1, glm::value_ptr(s.constant_color));
   glUniform4i(p.location("u_clip_rect"), ctx.clip.min.x, ctx.clip.min.y, ctx.clip.max.x, ctx.clip.max.y);
   glUniform1i(p.location("u_shading"), s.shading ? 1 : 0);
@@ -59,13 +61,21 @@ void bind_splat_chunk(const gl::Program& p, const VisibleChunk& v, const SplatSe
   if (spacing) glUniform1f(p.location("u_spacing_scale"), view_scale(v));
 }
 
+// size_mode splat and spacing size each splat by its point's SplatRadius
+// (a Gaussian splat's footprint; plain points: their mean distance to 8
+// neighbours, capped at twice their neighbours' median).
+bool sized_by_radius(const ParamValues& p) {
+  const std::string mode = p.get_enum_name("size_mode");
+  return mode == "splat" || mode == "spacing";
+}
+
 class Points final : public Mark {
  public:
   AttributeSet attributes(const ParamValues& p) const override {
     AttributeSet set = color_attributes(ColorSource(p.get_enum("color_source")));
     if (p.get_enum("shading") != 0) set.insert({AttributeKind::Normal, p.get_int("normal_neighbors")});
     if (queue_enabled(p)) set.insert({AttributeKind::QueueOrder});
-    if (p.get_enum_name("size_mode") == "splat") set.insert({AttributeKind::SplatRadius, kSplatNeighbors});
+    if (sized_by_radius(p)) set.insert({AttributeKind::SplatRadius, kSplatNeighbors});
     if (p.get_bool("opacity_draws")) {
       set.insert({AttributeKind::SplatOpacity});
       set.insert({AttributeKind::PointId});
@@ -86,8 +96,12 @@ class Points final : public Mark {
   void draw(const MarkContext& ctx, const ParamValues& p) const override {
     SplatSettings s;
     s.world_size = p.get_enum_name("size_mode") != "pixels";
-    s.splat_size = p.get_enum_name("size_mode") == "splat";
+    s.splat_size = sized_by_radius(p);
     s.splat_k = kSplatNeighbors;
+    if (p.get_enum_name("size_mode") == "spacing") {
+      s.radius_diameters = 1.0f;
+      s.min_pixels = float(p.get_float("point_size"));
+    }
     s.opacity_draws = p.get_bool("opacity_draws");
     s.point_size = float(p.get_float("point_size"));
     s.world_diameter = float(p.get_float("world_size"));
@@ -131,14 +145,17 @@ const MarkRegistration registration{{
                                     "How GL draws the splats (rasterizer gl, or auto on a GPU): compute: compute-shader "
                                     "splatting (deterministic ties); gl_points: conventional GL points"),
                          "rasterizer", {"gl", "auto"}),
-               enum_param("size_mode", {"pixels", "world", "splat"}, 0,
+               enum_param("size_mode", {"pixels", "world", "splat", "spacing"}, 0,
                           "pixels: one size on screen; world: one size in scene units, projected by the camera; "
                           "splat: a Gaussian-splat capture's own footprint: twice 2 sqrt of the product of its two "
                           "largest scales, scene units (plain points: twice the mean distance to 8 neighbours), "
-                          "capped at 32 px. world and splat as the brush splats' size_mode; pixels is no size "
-                          "from the neighbours (their resolution)"),
-               only_when(float_param("point_size", 2.0, 0.5, 32.0, "px", "Splat diameter in pixels (size_mode = pixels)"),
-                         "size_mode", {"pixels"}),
+                          "capped at 32 px; spacing: as wide as the point's own spacing (its mean distance to 8 "
+                          "neighbours, at most twice theirs), so a scan's gaps close where it is sparse on screen, "
+                          "and at least point_size, capped at 32 px. world and splat as the brush splats' "
+                          "size_mode; pixels is no size from the neighbours (their resolution)"),
+               only_when(float_param("point_size", 2.0, 0.5, 32.0, "px",
+                                     "Splat diameter in pixels (size_mode = pixels; spacing: the least)"),
+                         "size_mode", {"pixels", "spacing"}),
                only_when(float_param("world_size", 0.05, 0.0001, 100.0, "m",
                                      "Splat diameter in scene units (size_mode = world); capped at 32 px on screen"),
                          "size_mode", {"world"}),

@@ -10,6 +10,12 @@ struct SplatSettings {
   // world_size: each Gaussian splat's footprint (SplatRadius, k = splat_k) instead of world_diameter.
   bool splat_size = false;
   int splat_k = 8;
+  // splat_size: the diameter in SplatRadius (2: a Gaussian splat's
+  // footprint; 1: size_mode spacing, the point's mean distance to its
+  // neighbours), and at least this many pixels (size_mode spacing:
+  // point_size).
+  float radius_diameters = 2.0f;
+  float min_pixels = 0.0f;
   // A Gaussian splat's opacity is the chance it is drawn (SplatOpacity, PointId).
   bool opacity_draws = false;
   float point_size = 2.0f;     // pixels
