@@ -445,10 +445,11 @@ def test_chained_conditions(scene):
 
 def test_points_size_parameters_follow_size_mode(scene):
     """The rule on known parameters: the points mark's point_size applies in
-    size_mode 'pixels', world_size in 'world'."""
+    size_mode 'pixels' and 'spacing' (its least size there), world_size in
+    'world'."""
     points = nodes.new_style("Sizes").nodes["Points"]
     params = {p["name"]: p for p, _pid in points.pointnpr_params}
-    assert params["point_size"]["when"] == {"param": "size_mode", "values": ["pixels"]}
+    assert params["point_size"]["when"] == {"param": "size_mode", "values": ["pixels", "spacing"]}
     assert params["world_size"]["when"] == {"param": "size_mode", "values": ["world"]}
     points.size_mode = "pixels"
     assert nodes.param_applies(points, params["point_size"])
@@ -456,6 +457,9 @@ def test_points_size_parameters_follow_size_mode(scene):
     points.size_mode = "world"
     assert not nodes.param_applies(points, params["point_size"])
     assert nodes.param_applies(points, params["world_size"])
+    points.size_mode = "spacing"
+    assert nodes.param_applies(points, params["point_size"])
+    assert not nodes.param_applies(points, params["world_size"])
 
 
 # ---------------------------------------------------------------------------
