@@ -32,6 +32,7 @@ def inclined_plane(degrees, spacing=0.06):
 
 
 def middle_ink(renderer, implementation, cloud, depth_pass):
+    # The light nearly across the view: the plane in shade, strokes all over it.
     params = dict(coloring="constant", density=1.0, cross_hatch=0.0, stroke_coverage=2.0, curvature_length=0.0,
                   opacity=1.0, alpha_jitter=0.0, ambient=0.0, light_space="camera", light_elevation=-89.0,
                   depth_pass=depth_pass, paper_color=(1.0, 1.0, 1.0, 1.0), rasterizer=implementation)
