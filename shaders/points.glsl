@@ -3,8 +3,9 @@
 #include "point_attributes.glsl"
 #include "id_hash.glsl"
 
-// Gaussian-splat captures (cpp/marks/points/points.cpp): each splat's own
-// footprint (size_mode splat) and its opacity as the chance it is drawn.
+// Each point's SplatRadius (cpp/marks/points/points.cpp): a Gaussian
+// splat's footprint, a plain point's spacing (size_mode splat, spacing); a
+// capture's opacity as the chance it is drawn.
 layout(std430, binding = 6) readonly buffer PointIds { uint point_ids[]; };
 layout(std430, binding = 7) readonly buffer SplatRadii { float splat_radius[]; };
 layout(std430, binding = 8) readonly buffer SplatOpacities { float splat_opacity[]; };

@@ -81,8 +81,8 @@ struct ScatterChunk {
   uint32_t key_base = 0;
   glm::vec4 depth_row{0.0f};  // -view z
   glm::vec4 clip_x{0.0f}, clip_y{0.0f}, clip_w{0.0f};
-  // Gaussian-splat captures (points.glsl): per point (chunk-local) its
-  // footprint radius (size_mode splat) and, with ids, the opacity a hash of
+  // Per point (chunk-local) its SplatRadius (size_mode splat or spacing:
+  // points.glsl) and, for Gaussian-splat captures with ids, the opacity a hash of
   // its id is drawn under; null: the frame's size, every point drawn.
   const float* splat_radius = nullptr;
   const float* opacity = nullptr;

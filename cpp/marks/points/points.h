@@ -7,7 +7,8 @@ namespace pointnpr {
 
 struct SplatSettings {
   bool world_size = false;     // diameter in scene units (else pixels)
-  // world_size: each Gaussian splat's footprint (SplatRadius, k = splat_k) instead of world_diameter.
+  // world_size: each point's SplatRadius (k = splat_k; a Gaussian splat's footprint, a plain point's
+  // spacing) instead of world_diameter.
   bool splat_size = false;
   int splat_k = 8;
   // splat_size: the diameter in SplatRadius (2: a Gaussian splat's
