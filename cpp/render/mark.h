@@ -185,6 +185,9 @@ struct MarkContext {
   uint32_t segment_seed = 0;
   NativeLimits native;  // RenderSettings::native: the native backends' limits for this call
   HostScratch* host = nullptr;  // the renderer's: what native backends keep between frames
+  // The frame's memory budget (RenderSettings::memory_budget or the
+  // default): what a native backend's host records may take, at most.
+  size_t memory_budget = 0;
   std::map<std::string, double>* stats = nullptr;
   std::vector<std::string>* warnings = nullptr;
   std::vector<CapturedMark>* capture = nullptr;  // null unless asked

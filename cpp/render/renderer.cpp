@@ -319,6 +319,7 @@ struct Renderer::Impl {
     mark.segment_seed = uint32_t(index) * 2654435761u;
     mark.native = s.native;
     mark.host = &host;
+    mark.memory_budget = s.memory_budget > 0 ? s.memory_budget : kDefaultMemoryBudget;
     mark.stats = &result.stats;
     mark.warnings = &result.warnings;
     mark.capture = s.capture_marks ? &result.marks : nullptr;

@@ -244,3 +244,18 @@ def test_bins_wider_than_their_side_are_cut_to_the_same_bytes(renderer):
     high), the bytes of 64-pixel bins."""
     cut = _passes(renderer, {"max_bins": 2})
     assert [f["digest"] for f in cut] == [f["digest"] for f in _passes(renderer)]
+
+
+def test_the_frames_memory_budget_sizes_the_batches_to_the_same_bytes(renderer, lion):
+    """A batch's splat records (a Splat and its key, 172 bytes) take at most
+    half the frame's memory budget: at the default 2 GiB the lion (341k
+    splats) and clouds of up to about 6M drawn splats are set up once; at
+    32 MiB (16 MiB of records, about 98k splats) the lion runs in batches,
+    each set up for the depth pass and again for the blend, to the same
+    bytes, and the renderer keeps no more than the budget between frames."""
+    whole = _render(renderer, {"rasterizer": "native"}, lion)
+    small = _render(renderer, {"rasterizer": "native"}, lion, memory_budget_gb=1.0 / 32)
+    assert whole.stats["brush_native_batches"] == 1
+    assert small.stats["brush_native_batches"] >= 3
+    assert small.stats["host_kept_mb"] <= 32.0
+    assert _digest(small) == _digest(whole)

@@ -7,7 +7,8 @@
 //  1. Setup: every splat (of the chunk's resolution queue when it is on)
 //     as brush_common.glsl's brush_splat() and the tiled vertex shader
 //     make it: plane, axes, depth range, colour, column angles, and the
-//     box of pixels its quad can cover. Batches of at most kBatch splats,
+//     box of pixels its quad can cover. Batches of splats within half the
+//     frame's memory budget,
 //     a vector of lanes at a time; the camera-independent part (point
 //     frames, native_settings.cpp) kept per cloud between frames.
 //  2. Depth pass: each screen bin (render/screen_bins.h) runs its splats
@@ -64,7 +65,7 @@ using namespace brush_native;
 // (bounded by the largest clip, a tile's region at most).
 struct HostImages {
   std::vector<float> surface, accum, reveal, nearest, sums, color;
-  std::vector<Splat> splats;  // a batch's (at most kBatch)
+  std::vector<Splat> splats;  // a batch's (within half the memory budget)
   std::vector<SplatKey> keys;  // theirs
   tbb::enumerable_thread_specific<BinScratch> bins;
   std::atomic<size_t> candidate_capacity{0};  // the workers' largest (Candidates::shared)
@@ -243,9 +244,15 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   // in parallel and kept in point order; with one batch the blend pass
   // reuses the depth pass's splats.
   using Item = PointItem;
-  // NativeLimits::batch_splats (tests): fewer splats a batch, so that several
-  // run the passes apart.
-  const uint64_t batch_splats = NativeLimits::lowered(ctx.native.batch_splats, kBatch);
+  // A batch's records (a Splat and its key) take at most half the frame's
+  // memory budget (the other half: the images and caches), so a cloud of
+  // up to 6M drawn splats runs once at the default 2 GiB, and setting up
+  // every splat a second time for the blend is rare. NativeLimits::
+  // batch_splats (tests): fewer, so that several run the passes apart.
+  const uint64_t budget_splats =
+      ctx.memory_budget > 0 ? std::max<uint64_t>(kBatchMin, ctx.memory_budget / 2 / (sizeof(Splat) + sizeof(SplatKey)))
+                            : kBatch;
+  const uint64_t batch_splats = NativeLimits::lowered(ctx.native.batch_splats, budget_splats);
   std::vector<std::pair<size_t, size_t>> batches;
   for (size_t b = 0; b < chunks.size();) {
     size_t e = b;

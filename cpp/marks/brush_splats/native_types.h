@@ -25,7 +25,8 @@
 namespace pointnpr::brush_native {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr uint32_t kBatch = 1u << 21;          // splats set up at once (about 300 MiB)
+constexpr uint32_t kBatch = 1u << 21;          // splats set up at once without a frame budget (about 300 MiB)
+constexpr uint32_t kBatchMin = 1u << 16;       // and at least, with any budget
 constexpr uint32_t kGrain = 8192;              // points per setup work item
 constexpr uint64_t kKeptFramesMax = 1u << 22;  // points of a cloud whose point frames are kept (60 B each: 240 MiB)
 constexpr int kTable = 4096;                   // brush table intervals
