@@ -85,3 +85,39 @@ def test_every_brush_preset_covers_a_kinect_frame(renderer, preset):
     holes = (filled & (alpha < 0.5)).sum() / filled.sum()
     assert filled.sum() > 0.3 * w * h
     assert holes <= 0.01, holes
+
+
+
+@pytest.mark.parametrize("rasterizer", ["native", "gl"])
+@pytest.mark.parametrize("preset", BRUSH_PRESETS)
+def test_a_rim_over_a_surface_behind_is_whole_and_one_against_nothing_stays_soft(renderer, rasterizer, preset):
+    # Where a brush's rim covers half a pixel or more it is the pixel's
+    # surface and the wall's splats under it are cut: the rim alone left the
+    # pixel part covered, a pale ring around the patch (Impressionist: 35 %
+    # of the ring's pixels, down to alpha 0.54). The wall under the rim now
+    # shows (shaders/brush_rims.glsl): the ring (the patch's own soft edge,
+    # within 3 px of its outside, where the wall alone is whole) is whole
+    # with the wall behind; the wall's border, against nothing, keeps its
+    # soft edge.
+    wall = _grid(-1.0, 1.0, -1.0, 1.0, -2.5, 0.05)
+    patch = _grid(-0.3, 0.3, -0.3, 0.3, -2.0, 0.05)
+    normals = np.tile(np.array([[0.0, 0.0, 1.0]], np.float32), (len(wall) + len(patch), 1))
+    colors = np.vstack([np.tile([[0.2, 0.3, 0.8]], (len(wall), 1)), np.tile([[0.9, 0.6, 0.1]], (len(patch), 1))])
+    colors = colors.astype(np.float32)
+    cam = pointnpr.Camera.perspective(np.eye(4), lens=35.0, clip_start=0.1, clip_end=100.0, width=256, height=256)
+    params = dict(presets.PRESETS[preset]["mark"][1], rasterizer=rasterizer, shading="none")
+
+    def alpha(points, n, c):
+        return _alpha(renderer, ("brush_splats", params), pointnpr.PointCloud(points, normals=n, colors=c), cam, 256, 256)
+
+    wall_alone = alpha(wall, normals[:len(wall)], colors[:len(wall)])
+    patch_alone = alpha(patch, normals[len(wall):], colors[len(wall):])
+    both = alpha(np.vstack([wall, patch]), normals, colors)
+    whole = 1.0 - 0.5 / 255.0
+    ring = ((patch_alone > 0.0) & (patch_alone < whole) & look_audit.dilate(patch_alone == 0.0, 3) &
+            (wall_alone >= whole))
+    assert ring.sum() > 500
+    assert (both[ring] < whole).mean() <= 0.02 and both[ring].min() > 0.95, (
+        (both[ring] < whole).mean(), both[ring].min())
+    soft = (wall_alone > 0.0) & (wall_alone < whole) & ~look_audit.dilate(patch_alone > 0.0, 20)
+    assert soft.sum() > 100 and np.array_equal(both[soft], wall_alone[soft])

@@ -103,7 +103,9 @@ class BrushSplats final : public Mark {
   // fallback too).
   bool draws_tiles(const ParamValues&) const override { return true; }
   int screen_reach(const ParamValues& p) const override {
-    return p.get_enum_name("blending") == "none" ? 0 : p.get_int("blur_radius");
+    // The rims' marches, then the blur's taps.
+    const int rims = int(std::ceil(p.get_float("max_radius")));
+    return rims + (p.get_enum_name("blending") == "none" ? 0 : p.get_int("blur_radius"));
   }
 
   void draw(const MarkContext& ctx, const ParamValues& p) const override;
@@ -308,10 +310,30 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const
   dispatch_rect(resolve, clip);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 
+  // Rims over the surface behind (brush_rims.glsl), into `sums`, copied back.
+  const gl::Texture& sums = ctx.targets.scratch(GL_RGBA32F, 1);
+  {
+    const RimReach rim = rim_reach(ctx, p);
+    const gl::Program& g = ctx.shaders->compute("brush_rims.comp");
+    g.use();
+    glUniform2f(g.location("u_footprint"), rim.footprint0, rim.footprint1);
+    glUniform1f(g.location("u_grazing"), kRimGrazing);
+    glUniform1i(g.location("u_reach"), rim.reach);
+    glUniform2i(g.location("u_clip_min"), clip.min.x, clip.min.y);
+    glUniform2i(g.location("u_clip_max"), clip.max.x, clip.max.y);
+    glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(2, sums.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    dispatch_rect(g, clip);
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    glCopyImageSubData(sums.id(), GL_TEXTURE_2D, 0, clip.min.x, clip.min.y, 0, ctx.targets.color->id(), GL_TEXTURE_2D,
+                       0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1);
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  }
+
   // Blur with depth occlusion.
   const int radius = p.get_int("blur_radius");
   if (!blur || radius <= 0) return;
-  const gl::Texture& sums = ctx.targets.scratch(GL_RGBA32F, 1);
   const float sigma = std::max(0.5f, 0.5f * float(radius));
   for (const char* pass : {"PASS_X", "PASS_Y"}) {
     const bool x = std::string(pass) == "PASS_X";

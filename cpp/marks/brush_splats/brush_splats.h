@@ -17,6 +17,24 @@ constexpr float kBrushCut = 1.0f / 255.0f;  // alpha below this is no coverage
 // left the pixel mostly uncovered).
 constexpr float kSurfaceCut = 0.5f;
 
+// The rims of brushes in front of another surface (shaders/brush_rims.glsl,
+// after the resolve on both paths): a pixel's footprint at view depth d,
+// footprint0 + d footprint1, to tell two surfaces apart by more than one
+// turned kRimGrazing (tan 70 degrees, as the filters' gap fill) from the
+// view changes over a pixel; and the longest march, max_radius (no brush
+// reaches farther on screen, so no rim is wider).
+constexpr float kRimGrazing = 2.75f;
+struct RimReach {
+  float footprint0 = 0.0f, footprint1 = 0.0f;
+  int reach = 0;
+};
+RimReach rim_reach(const MarkContext& ctx, const ParamValues& p);
+// The native passes' rims (native_rims.cpp): `color` (straight RGBA) and
+// `depth` over a clip of `size`, rows within `row_span` (x first and last),
+// `scratch` 4 floats a pixel.
+void fill_rims_native(const RimReach& rim, float* color, const float* depth, glm::ivec2 size,
+                      const std::vector<glm::ivec2>& row_span, float* scratch);
+
 // The least a splat's depth tolerance reaches toward the camera, in the
 // cloud's units: three standard deviations of the scan's own depth noise
 // (Analysis::plane_deviation over normal_neighbors), so the row-to-row

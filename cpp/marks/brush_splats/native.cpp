@@ -27,7 +27,8 @@
 //     their bound, or a frame of several batches, runs the blend as a pass
 //     of its own over the splats (the same tests and float operations, so
 //     the same bytes).
-//  4. Resolve, blur (with depth occlusion) and upload.
+//  4. Resolve, the rims over the surface behind (native_rims.cpp), blur
+//     (with depth occlusion) and upload.
 // The brush: exp(-q^lambda / 2) over q / reach (over sqrt(q / reach) for
 // lambda < 1, steep at 0) fitted once a frame by eight polynomial pieces,
 // or tabulated and interpolated where no piece fits within 1e-5;
@@ -358,6 +359,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         }
       }
   });
+  fill_rims_native(rim_reach(ctx, p), color, depth, size, row_span, host.sums.data());
   if (p.get_enum_name("blending") != "none" && p.get_int("blur_radius") > 0)
     blur(s, lanes, color, depth, row_span, host.sums.data());
   const float* result = color;
