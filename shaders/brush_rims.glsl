@@ -8,13 +8,16 @@
 // ground, a statue over its hedge) then leaves the pixel partly covered by
 // the rim alone: a pale crack around every such edge. A partly covered
 // pixel from which a march through partly covered pixels of its own surface
-// meets a surface farther away (by more than one surface turned kRimGrazing
-// from the view changes over a pixel) takes that surface under its rim, as
-// the splats cut away would have laid it. A rim against nothing (the
-// silhouette's outside), or inside its own surface, keeps its coverage.
+// meets a surface behind it (one whose splats the blend would cut there:
+// farther, less their own blend offset, than this surface continued over
+// the step, which may turn up to kRimGrazing from the view) takes that
+// surface under its rim, as the splats cut away would have laid it. A rim
+// against nothing (the silhouette's outside), or within its own surface
+// (neighbouring splats within each other's offsets), keeps its coverage.
 // The includer defines rim_color(p) (straight colour and coverage, alpha 0
-// where nothing is), rim_depth(p) (linear view depth) and rim_in(p) (within
-// the images).
+// where nothing is), rim_depth(p) (linear view depth), rim_offset(p) (the
+// blend offset of the pixel's surface splat, 0 where no brush is the
+// surface) and rim_in(p) (within the images).
 #ifndef BRUSH_RIMS_GLSL
 #define BRUSH_RIMS_GLSL
 
@@ -51,13 +54,13 @@ vec4 rim_fill(ivec2 q, RimRule r) {
       vec4 o = rim_color(p);
       if (!(o.w > 0.0f)) break;  // the silhouette's outside
       float od = rim_depth(p);
-      float slope = (r.footprint0 + last * r.footprint1) * r.grazing * run;
-      if (od > last + slope) {  // a surface behind this one
+      float reach = (r.footprint0 + last * r.footprint1) * r.grazing * run + rim_offset(p);
+      if (od > last + reach) {  // a surface behind this one
         nearest = k;
         behind = o;
         break;
       }
-      if (od < last - slope || o.w >= kRimOpaque) break;  // a nearer surface, or this one covered
+      if (od < last - reach || o.w >= kRimOpaque) break;  // a nearer surface, or this one covered
       last = od;
     }
   }

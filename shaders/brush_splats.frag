@@ -21,11 +21,13 @@ flat in vec3 v_cos;         // cos and sin of theta per column
 flat in vec3 v_sin;
 flat in uint v_id;
 flat in int v_two_layers;  // the point's cluster asks for two layers
+flat in float v_offset;    // the blend's offset (PASS_DEPTH: kept with the surface, for its rims)
 
 #include "brush_texture.glsl"
 
 #ifdef PASS_DEPTH
 layout(location = 0) out vec4 o_depth;
+layout(location = 1) out vec4 o_offset;
 #elif defined(PASS_COUNT) || defined(PASS_STORE)
 #else
 layout(location = 0) out vec4 o_accum;
@@ -56,6 +58,7 @@ void main() {
 #endif
 #ifdef PASS_DEPTH
   o_depth = vec4(v_depth);
+  o_offset = vec4(v_offset);
 #elif defined(PASS_COUNT)
   uint before = atomicAdd(counts[pixel_of(ivec2(gl_FragCoord.xy))], 1u);
   atomicMax(row_base[u_list_size.y + 1], before + 1u);  // the longest list

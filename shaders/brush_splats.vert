@@ -13,6 +13,7 @@ flat out vec3 v_cos;           // cos and sin of theta per column
 flat out vec3 v_sin;
 flat out uint v_id;
 flat out int v_two_layers;
+flat out float v_offset;       // the blend's offset (scene units; PASS_DEPTH writes it with the surface)
 
 const vec2 CORNERS[4] = vec2[](vec2(0, 0), vec2(1, 0), vec2(0, 1), vec2(1, 1));
 
@@ -27,10 +28,11 @@ void main() {
   vec3 p = s.center + (s.t * ((corner.x - 0.5) * s.stretch) + s.b * (corner.y - 0.5)) * (2.0 * s.radius);
   v_depth = -p.z;
   // Toward the camera along the view ray (the screen position is kept).
+  v_offset = max(u_offset_radii * s.radius, u_noise_offset);
 #ifdef PASS_DEPTH
   float offset = 0.0;  // the surface itself
 #else
-  float offset = max(u_offset_radii * s.radius, u_noise_offset);
+  float offset = v_offset;
 #endif
   if (u_ortho != 0) p.z += offset;
   else p *= max(1.0 - offset / max(length(p), 1e-20), 0.0);

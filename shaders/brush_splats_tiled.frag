@@ -41,6 +41,7 @@ layout(r32f, binding = 0) uniform readonly image2D u_surface;    // the depth pa
 
 #ifdef PASS_DEPTH
 layout(location = 0) out vec4 o_depth;
+layout(location = 1) out vec4 o_offset;
 #elif defined(PASS_BLEND)
 layout(location = 0) out vec4 o_accum;
 layout(location = 1) out vec4 o_reveal;
@@ -94,6 +95,7 @@ void main() {
 #ifdef PASS_DEPTH
   gl_FragDepth = clamp(u_ortho != 0 ? 1.0 - (depth - u_near) / (u_far - u_near) : u_near / depth, 0.0, 1.0);
   o_depth = vec4(depth);
+  o_offset = vec4(v_offset);
 #elif defined(PASS_COUNT)
   uint before = atomicAdd(counts[pixel_of(q)], 1u);
   atomicMax(row_base[u_list_size.y + 1], before + 1u);  // the longest list

@@ -51,10 +51,11 @@ void main() {
   // camera), which is never behind the fragment's own test (the shader's,
   // exact): hidden splats are dropped before shading.
   float depth = -s.center.z;
+  float blend_offset = max(u_offset_radii * s.radius, u_noise_offset);
 #ifdef PASS_DEPTH
   float offset = 0.0;  // the surface itself
 #else
-  float offset = max(u_offset_radii * s.radius, u_noise_offset);
+  float offset = blend_offset;
 #endif
   float nearest = depth - reach_z - offset;
   float z = u_ortho != 0 ? 1.0 - (nearest - u_near) / (u_far - u_near) : u_near / max(nearest, 1e-30);
@@ -64,7 +65,7 @@ void main() {
   v_u_axis = s.t / (2.0 * s.radius * s.stretch);
   v_v_axis = s.b / (2.0 * s.radius);
   v_normal = cross(s.t, s.b);
-  v_offset = offset;
+  v_offset = blend_offset;  // (PASS_DEPTH: kept with the surface, for its rims)
   v_color = brush_color(index, s);
   uint id = point_ids[index];
   vec3 angles = brush_column_angles(id);

@@ -324,6 +324,7 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const
     glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     glBindImageTexture(2, sums.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(3, ctx.targets.scratch(GL_R32F, 2).id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     dispatch_rect(g, clip);
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
     glCopyImageSubData(sums.id(), GL_TEXTURE_2D, 0, clip.min.x, clip.min.y, 0, ctx.targets.color->id(), GL_TEXTURE_2D,
@@ -366,7 +367,13 @@ bool BrushSplats::draw_gl(const MarkContext& ctx, const ParamValues& p) const {
   // 1. Depth pass: the nearest brush surface per pixel (GL depth, reversed
   // Z, from each fragment's own depth; its linear depth in the segment's).
   const std::optional<ExactRaster> raster = raster_viewport(ctx, p, *this);
-  const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth}, ctx.targets);
+  // With the depth, the blend offset of the surface's splat (its rims'
+  // test, brush_rims.glsl; 0 where no brush is the surface).
+  const gl::Texture& surface_offset = ctx.targets.scratch(GL_R32F, 2);
+  const float no_offset = 0.0f;
+  glClearTexSubImage(surface_offset.id(), 0, ctx.clip.min.x, ctx.clip.min.y, 0, ctx.clip.size().x,
+                     ctx.clip.size().y, 1, GL_RED, GL_FLOAT, &no_offset);
+  const gl::Framebuffer depth_fbo = make_fbo({ctx.targets.depth, &surface_offset}, ctx.targets);
   {
     const MarkRasterState state(ctx.targets, ctx.clip);
     glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo.id());
@@ -379,7 +386,7 @@ bool BrushSplats::draw_gl(const MarkContext& ctx, const ParamValues& p) const {
     depth_pass.use();
     set_splat_uniforms(depth_pass, ctx, p);
     set_raster_viewport(depth_pass, raster);
-    glUniform1f(depth_pass.location("u_offset_radii"), 0.0f);
+    glUniform1f(depth_pass.location("u_offset_radii"), float(p.get_float("depth_tolerance")));
     draw_all(ctx, depth_pass, p);
   }
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);

@@ -29,10 +29,10 @@ struct RimReach {
   int reach = 0;
 };
 RimReach rim_reach(const MarkContext& ctx, const ParamValues& p);
-// The native passes' rims (native_rims.cpp): `color` (straight RGBA) and
-// `depth` over a clip of `size`, rows within `row_span` (x first and last),
-// `scratch` 4 floats a pixel.
-void fill_rims_native(const RimReach& rim, float* color, const float* depth, glm::ivec2 size,
+// The native passes' rims (native_rims.cpp): `color` (straight RGBA),
+// `depth` and the surfaces' blend offsets over a clip of `size`, rows
+// within `row_span` (x first and last), `scratch` 4 floats a pixel.
+void fill_rims_native(const RimReach& rim, float* color, const float* depth, const float* offset, glm::ivec2 size,
                       const std::vector<glm::ivec2>& row_span, float* scratch);
 
 // The least a splat's depth tolerance reaches toward the camera, in the

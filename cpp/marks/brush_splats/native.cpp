@@ -65,14 +65,14 @@ using namespace brush_native;
 // renderer (HostScratch) so a frame does not page-fault them in anew
 // (bounded by the largest clip, a tile's region at most).
 struct HostImages {
-  std::vector<float> surface, accum, reveal, nearest, sums, color;
+  std::vector<float> surface, accum, reveal, nearest, sums, color, offset;
   std::vector<Splat> splats;  // a batch's (within half the memory budget)
   std::vector<SplatKey> keys;  // theirs
   tbb::enumerable_thread_specific<BinScratch> bins;
   std::atomic<size_t> candidate_capacity{0};  // the workers' largest (Candidates::shared)
   size_t bytes() const {
     size_t n = held_bytes(surface) + held_bytes(accum) + held_bytes(reveal) + held_bytes(nearest) +
-               held_bytes(sums) + held_bytes(color) + held_bytes(splats) + held_bytes(keys);
+               held_bytes(sums) + held_bytes(color) + held_bytes(offset) + held_bytes(splats) + held_bytes(keys);
     for (const BinScratch& b : bins) n += b.bytes();
     return n;
   }
@@ -86,6 +86,7 @@ HostImages& host_images(HostScratch& host, size_t pixels) {
     images.nearest.resize(pixels);
     images.sums.resize(4 * pixels);
     images.color.resize(4 * pixels);
+    images.offset.resize(pixels);
   }
   return images;
 }
@@ -233,12 +234,14 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
   const glm::ivec2 size = clip.size();
   const size_t pixels = size_t(size.x) * size_t(size.y);
   HostImages& host = host_images(*ctx.host, pixels);
-  const Images im{host.surface.data(), host.accum.data(), host.reveal.data(), host.nearest.data(), size.x, clip.min};
+  const Images im{host.surface.data(), host.accum.data(), host.reveal.data(), host.nearest.data(), size.x, clip.min,
+                  host.offset.data()};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
     std::fill(im.surface + r.begin(), im.surface + r.end(), kInf);
     std::fill(im.accum + 4 * r.begin(), im.accum + 4 * r.end(), 0.0f);
     std::fill(im.reveal + r.begin(), im.reveal + r.end(), 1.0f);
     std::fill(im.nearest + r.begin(), im.nearest + r.end(), kInf);
+    std::fill(im.offset + r.begin(), im.offset + r.end(), 0.0f);
   });
 
   // Batches of whole chunks (a chunk larger than a batch is one), set up
@@ -359,7 +362,7 @@ void draw_brush_splats_native(const MarkContext& ctx, const ParamValues& p) {
         }
       }
   });
-  fill_rims_native(rim_reach(ctx, p), color, depth, size, row_span, host.sums.data());
+  fill_rims_native(rim_reach(ctx, p), color, depth, im.offset, size, row_span, host.sums.data());
   if (p.get_enum_name("blending") != "none" && p.get_int("blur_radius") > 0)
     blur(s, lanes, color, depth, row_span, host.sums.data());
   const float* result = color;

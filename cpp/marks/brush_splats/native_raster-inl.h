@@ -174,6 +174,7 @@ HWY_INLINE void KeepCovering(const Splat& sp, Fragments& f, const float* a1, con
     for (unsigned m = MaskBits(moves); m != 0; m &= m - 1) {
       const int i = j + __builtin_ctz(m);
       im.surface[f.q[i]] = f.depth[i];
+      im.offset[f.q[i]] = sp.offset;
     }
     if (!out) continue;
     const unsigned bits = MaskBits(covers);

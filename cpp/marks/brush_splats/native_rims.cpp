@@ -28,21 +28,23 @@ using namespace glsl;
 struct Kernels {
   const float* color;
   const float* depth;
+  const float* offset;
   ivec2 size;
   vec4 rim_color(ivec2 p) const {
     const float* c = color + 4 * (size_t(p.y) * size_t(size.x) + size_t(p.x));
     return vec4(c[0], c[1], c[2], c[3]);
   }
   float rim_depth(ivec2 p) const { return depth[size_t(p.y) * size_t(size.x) + size_t(p.x)]; }
+  float rim_offset(ivec2 p) const { return offset[size_t(p.y) * size_t(size.x) + size_t(p.x)]; }
   bool rim_in(ivec2 p) const { return p.x >= 0 && p.y >= 0 && p.x < size.x && p.y < size.y; }
 #include "brush_rims.glsl"
 };
 
 }  // namespace brush_rims
 
-void fill_rims_native(const RimReach& rim, float* color, const float* depth, glm::ivec2 size,
+void fill_rims_native(const RimReach& rim, float* color, const float* depth, const float* offset, glm::ivec2 size,
                       const std::vector<glm::ivec2>& row_span, float* scratch) {
-  brush_rims::Kernels k{color, depth, size};
+  brush_rims::Kernels k{color, depth, offset, size};
   const brush_rims::Kernels::RimRule rule{rim.footprint0, rim.footprint1, kRimGrazing, rim.reach};
   // Into the scratch (the rims read their neighbours as resolved), then back.
   auto rows = [&](bool back) {

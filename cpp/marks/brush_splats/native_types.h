@@ -163,6 +163,7 @@ struct Images {
   float* nearest;  // the blended fragments' nearest depth (where no brush is the surface)
   int stride;
   glm::ivec2 min;
+  float* offset = nullptr;  // the surface's splat's blend offset (Splat::offset; 0: no surface), for its rims
 };
 
 // Which pass a splat's fragments run: the depth pass, the blend pass, or
