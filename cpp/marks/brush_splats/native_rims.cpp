@@ -46,7 +46,8 @@ void fill_rims_native(const RimReach& rim, float* color, const float* depth, con
                       const std::vector<glm::ivec2>& row_span, float* scratch) {
   brush_rims::Kernels k{color, depth, offset, size};
   const brush_rims::Kernels::RimRule rule{rim.footprint0, rim.footprint1, kRimGrazing, rim.reach};
-  // Into the scratch (the rims read their neighbours as resolved), then back.
+  // Into the scratch (the rims read their neighbours as resolved), then
+  // back; a pixel left as it was is marked by a negative alpha there.
   auto rows = [&](bool back) {
     tbb::parallel_for(tbb::blocked_range<int>(0, size.y, 8), [&](const tbb::blocked_range<int>& r) {
       for (int y = r.begin(); y < r.end(); ++y) {
@@ -54,9 +55,12 @@ void fill_rims_native(const RimReach& rim, float* color, const float* depth, con
         for (int x = span.x; x <= span.y; ++x) {
           const size_t q = 4 * (size_t(y) * size_t(size.x) + size_t(x));
           if (back) {
-            std::copy(scratch + q, scratch + q + 4, color + q);
+            if (scratch[q + 3] >= 0.0f) std::copy(scratch + q, scratch + q + 4, color + q);
             continue;
           }
+          scratch[q + 3] = -1.0f;
+          const float a = color[q + 3];
+          if (!(a > 0.0f && a < 1.0f)) continue;  // (the kernel returns these as they are)
           const glm::vec4 c = k.rim_fill(glm::ivec2(x, y), rule);
           for (int ch = 0; ch < 4; ++ch) scratch[q + size_t(ch)] = c[ch];
         }
