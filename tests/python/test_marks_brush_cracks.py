@@ -88,7 +88,7 @@ def test_every_brush_preset_covers_a_kinect_frame(renderer, preset):
 
 
 
-@pytest.mark.parametrize("rasterizer", ["native", "gl"])
+@pytest.mark.parametrize("rasterizer", ["native", "gl", "gl, a_buffer"])
 @pytest.mark.parametrize("preset", BRUSH_PRESETS)
 def test_a_rim_over_a_surface_behind_is_whole_and_one_against_nothing_stays_soft(renderer, rasterizer, preset):
     # Where a brush's rim covers half a pixel or more it is the pixel's
@@ -105,7 +105,9 @@ def test_a_rim_over_a_surface_behind_is_whole_and_one_against_nothing_stays_soft
     colors = np.vstack([np.tile([[0.2, 0.3, 0.8]], (len(wall), 1)), np.tile([[0.9, 0.6, 0.1]], (len(patch), 1))])
     colors = colors.astype(np.float32)
     cam = pointnpr.Camera.perspective(np.eye(4), lens=35.0, clip_start=0.1, clip_end=100.0, width=256, height=256)
-    params = dict(presets.PRESETS[preset]["mark"][1], rasterizer=rasterizer, shading="none")
+    params = dict(presets.PRESETS[preset]["mark"][1], rasterizer=rasterizer.split(",")[0], shading="none")
+    if rasterizer.endswith("a_buffer"):
+        params["blending"] = "a_buffer"
 
     def alpha(points, n, c):
         return _alpha(renderer, ("brush_splats", params), pointnpr.PointCloud(points, normals=n, colors=c), cam, 256, 256)

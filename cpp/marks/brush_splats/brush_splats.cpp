@@ -269,6 +269,29 @@ void near_surface_tests(const MarkContext& ctx, const gl::Program& g, const Para
   glUniform1f(g.location("u_offset_radii"), float(p.get_float("depth_tolerance")));
 }
 
+// gl_passes.h: from the segment's colour and depth into `sums`, copied back.
+void draw_rims(const MarkContext& ctx, const ParamValues& p) {
+  const Rect& clip = ctx.clip;
+  const gl::Texture& sums = ctx.targets.scratch(GL_RGBA32F, 1);
+  const RimReach rim = rim_reach(ctx, p);
+  const gl::Program& g = ctx.shaders->compute("brush_rims.comp");
+  g.use();
+  glUniform2f(g.location("u_footprint"), rim.footprint0, rim.footprint1);
+  glUniform1f(g.location("u_grazing"), kRimGrazing);
+  glUniform1i(g.location("u_reach"), rim.reach);
+  glUniform2i(g.location("u_clip_min"), clip.min.x, clip.min.y);
+  glUniform2i(g.location("u_clip_max"), clip.max.x, clip.max.y);
+  glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  glBindImageTexture(2, sums.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(3, ctx.targets.scratch(GL_R32F, 2).id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  dispatch_rect(g, clip);
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  glCopyImageSubData(sums.id(), GL_TEXTURE_2D, 0, clip.min.x, clip.min.y, 0, ctx.targets.color->id(), GL_TEXTURE_2D,
+                     0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1);
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
 }  // namespace brush_gl
 
 namespace {
@@ -310,27 +333,8 @@ void draw_blended(const MarkContext& ctx, const ParamValues& p, bool blur, const
   dispatch_rect(resolve, clip);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 
-  // Rims over the surface behind (brush_rims.glsl), into `sums`, copied back.
+  draw_rims(ctx, p);
   const gl::Texture& sums = ctx.targets.scratch(GL_RGBA32F, 1);
-  {
-    const RimReach rim = rim_reach(ctx, p);
-    const gl::Program& g = ctx.shaders->compute("brush_rims.comp");
-    g.use();
-    glUniform2f(g.location("u_footprint"), rim.footprint0, rim.footprint1);
-    glUniform1f(g.location("u_grazing"), kRimGrazing);
-    glUniform1i(g.location("u_reach"), rim.reach);
-    glUniform2i(g.location("u_clip_min"), clip.min.x, clip.min.y);
-    glUniform2i(g.location("u_clip_max"), clip.max.x, clip.max.y);
-    glBindImageTexture(0, ctx.targets.color->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, ctx.targets.depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    glBindImageTexture(2, sums.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(3, ctx.targets.scratch(GL_R32F, 2).id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    dispatch_rect(g, clip);
-    glMemoryBarrier(GL_ALL_BARRIER_BITS);
-    glCopyImageSubData(sums.id(), GL_TEXTURE_2D, 0, clip.min.x, clip.min.y, 0, ctx.targets.color->id(), GL_TEXTURE_2D,
-                       0, clip.min.x, clip.min.y, 0, clip.size().x, clip.size().y, 1);
-    glMemoryBarrier(GL_ALL_BARRIER_BITS);
-  }
 
   // Blur with depth occlusion.
   const int radius = p.get_int("blur_radius");
@@ -393,7 +397,10 @@ bool BrushSplats::draw_gl(const MarkContext& ctx, const ParamValues& p) const {
 
   // 2. The splats near that surface, blended.
   const std::string blending = p.get_enum_name("blending");
-  if (blending == "a_buffer" && draw_a_buffer(ctx, p, raster)) return true;
+  if (blending == "a_buffer" && draw_a_buffer(ctx, p, raster)) {
+    draw_rims(ctx, p);
+    return true;
+  }
   if (blending == "a_buffer" && native_blur(p)) {
     // Over its budget: blur, by the native passes where they would draw
     // blur (the whole mark again, over ctx.clip).

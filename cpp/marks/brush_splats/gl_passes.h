@@ -24,6 +24,9 @@ void draw_all(const MarkContext& ctx, const gl::Program& g, const ParamValues& p
 // The depth test of the splats near the depth pass's surface.
 void near_surface_tests(const MarkContext& ctx, const gl::Program& g, const ParamValues& p);
 
+// The rims of brushes over the surface behind (brush_rims.glsl), after
+// either blend.
+void draw_rims(const MarkContext& ctx, const ParamValues& p);
 // Blending by the A-buffer: false (with a warning) where the frame's
 // fragments would not fit its budget; nothing is then allocated for them.
 bool draw_a_buffer(const MarkContext& ctx, const ParamValues& p, const std::optional<ExactRaster>& raster);
