@@ -20,10 +20,9 @@
 // (rgba, straight alpha). The nearer surface never crosses a depth jump:
 // the background beside a silhouette stays, but where a background pixel's
 // lines meet a nearer surface on one side and a farther one on the other
-// and each is a gap between the farther surface's own samples (no longer
-// than twice the spacing at its depth), that surface, which runs on behind
-// the nearer one's edge, fills it (a tree crown's gaps, a wall's beside an
-// occluder). Passes: line sweeps, classify, the search on the listed
+// (a jump, or a gap between the farther surface's own samples), that
+// surface, which runs on behind the nearer one's edge, fills it (a tree
+// crown's gaps, a wall in a depth camera's shadow beside an occluder). Passes: line sweeps, classify, the search on the listed
 // pixels, then twice the pinholes (PASS_SPECK; see the end of the file).
 #include "filter_common.glsl"
 layout(rgba32f, binding = 0) uniform readonly image2D u_in;
@@ -171,17 +170,25 @@ void line(ivec2 p, ivec2 d, Hit a, Hit b, float limit, inout Acc acc) {
   acc.across |= 1 << (around(d) & 3);
 }
 
-// Line `d` with first pixels a and b where the two are not one surface (a
-// depth jump): the gap is one between the farther surface's own samples when
-// it is no longer than twice the scan's spacing at that surface's depth
-// (where the spacing spans the fewest pixels), so that surface runs on behind
-// the nearer one's edge: it alone fills the background pixel, the nearer
-// one's silhouette stays where it is. Returns the farther end's depth, or
-// +inf when the line does not qualify.
+// Line `d` with first pixels a and b: where the two are a depth jump apart
+// (the nearer surface's shadow, below), or the gap is one between the
+// farther surface's own samples (no longer than twice the scan's spacing at
+// that surface's depth), the farther surface runs on behind the nearer
+// one's edge: it alone fills the background pixel, the nearer one's
+// silhouette stays where it is. Returns the farther end's depth, or +inf
+// when the line does not qualify.
 float far_end(ivec2 p, ivec2 d, Hit a, Hit b) {
   if (a.t == 0 || b.t == 0) return INF;
   float far = max(a.depth, b.depth);
   float across = float(a.t + b.t) * length(vec2(d)) * pixel_size(far);
+  // Or the nearer end's shadow: a scanner beside the camera (a depth
+  // camera's projector, a laser's other station; up to 45 degrees off the
+  // view) misses a band of what lies behind an edge as wide as the edge
+  // stands in front of it. A gap no wider than its ends' depth step is such
+  // a band (at any depth jump, whose step is more than the steepest slope
+  // over the gap, within the search's reach): the farther end runs on
+  // behind the edge and fills it.
+  if (across <= far - min(a.depth, b.depth)) return far;
   return across <= u_span || across <= span_at(a.depth >= b.depth ? p + a.t * d : p - b.t * d) ? far : INF;
 }
 

@@ -60,39 +60,38 @@ TEST(GapFill, NeighbourhoodFiltersSeeNoBackgroundInsideASurface) {
   }
 }
 
-TEST(GapFill, ADepthJumpIsClosedOnlyByTheFartherSurfaceWithinItsSpacing) {
-  // Two surfaces side by side with a 4 px gap between them: one surface
-  // (equal depths) closes the gap. A statue 90 units in front of a wall
-  // never paints into it; the wall runs on behind the statue's edge, so it
-  // fills the gap where the gap is one between its own samples (no longer
-  // than twice the scan's spacing along at least two lines: 5 px from end
-  // to end across, 5 sqrt(2) on the diagonals), and stays open where it is
-  // wider or the spacing unknown.
+TEST(GapFill, ADepthJumpIsClosedOnlyByTheFartherSurfaceWithinTheReach) {
+  // Two surfaces side by side with a gap between them: one surface (equal
+  // depths) closes a 4 px gap. A statue 90 units in front of a wall never
+  // paints into it; the wall runs on behind the statue's edge (a scanner
+  // beside the camera misses a band of it as wide as the statue stands in
+  // front), so it fills the gap, with or without a known spacing, as far
+  // as the search reaches (16 px at most: a 40 px gap stays open).
   const glm::vec4 statue(0.8f, 0.2f, 0.2f, 1.0f), wall(0.2f, 0.2f, 0.8f, 1.0f);
   struct Case {
     float right_depth, spacing;
-    int open;
+    int gap, open;
   };
-  for (const Case c : {Case{10.0f, 0.0f, 0}, Case{100.0f, 0.0f, 20 * 4}, Case{100.0f, 2.4f, 20 * 4},
-                       Case{100.0f, 3.6f, 0}}) {
-    Image in = empty_with_depth({64, 48});
+  for (const Case c : {Case{10.0f, 0.0f, 4, 0}, Case{100.0f, 0.0f, 4, 0}, Case{100.0f, 2.4f, 4, 0},
+                       Case{100.0f, 0.0f, 40, 20 * 40}}) {
+    Image in = empty_with_depth({96, 48});
     for (int y = 8; y < 40; ++y)
-      for (int x = 8; x < 56; ++x) {
+      for (int x = 8; x < 88; ++x) {
         if (x < 30) put(in, x, y, statue, 10.0f);
-        if (x >= 34) put(in, x, y, wall, c.right_depth);
+        if (x >= 30 + c.gap) put(in, x, y, wall, c.right_depth);
       }
     in.spacing = c.spacing;
     const FilterRun run = run_filters(in, {kOil});
     int open = 0;
     for (int y = 14; y < 34; ++y)
-      for (int x = 30; x < 34; ++x) {
+      for (int x = 30; x < 30 + c.gap; ++x) {
         const glm::vec4 o = run.out.at(x, y);
         open += o.a < 0.5f;
         if (o.a >= 0.5f && c.right_depth > 10.0f) {
           ASSERT_LT(o.r, 0.3f) << "the statue paints into the gap at " << x;
         }
       }
-    EXPECT_EQ(open, c.open) << "depth " << c.right_depth << ", spacing " << c.spacing;
+    EXPECT_EQ(open, c.open) << "depth " << c.right_depth << ", spacing " << c.spacing << ", gap " << c.gap;
   }
 }
 
