@@ -11,7 +11,9 @@ Used two ways:
   splats before neighbourhood filters; urban_lidarhd and warsaw_styles again
   when the scan's spacing reached the filters: eye-dome lighting's noise
   floor and the gap fill's reach; and those two again when the gap fill
-  began to close with the farther surface and each point's own spacing):
+  began to close with the farther surface and each point's own spacing;
+  urban_lidarhd and lion_benchmark again when the farther surface began to
+  fill a gap no wider than the depth step beside a nearer edge):
 
       blender -b --factory-startup --python-exit-code 1 \
           --python tests/blender/example_renders.py -- <builddir> [names...]
