@@ -87,7 +87,6 @@ def test_every_brush_preset_covers_a_kinect_frame(renderer, preset):
     assert holes <= 0.01, holes
 
 
-
 @pytest.mark.parametrize("rasterizer", ["native", "gl", "gl, a_buffer"])
 @pytest.mark.parametrize("preset", BRUSH_PRESETS)
 def test_a_rim_over_a_surface_behind_is_whole_and_one_against_nothing_stays_soft(renderer, rasterizer, preset):
@@ -110,7 +109,8 @@ def test_a_rim_over_a_surface_behind_is_whole_and_one_against_nothing_stays_soft
         params["blending"] = "a_buffer"
 
     def alpha(points, n, c):
-        return _alpha(renderer, ("brush_splats", params), pointnpr.PointCloud(points, normals=n, colors=c), cam, 256, 256)
+        cloud = pointnpr.PointCloud(points, normals=n, colors=c)
+        return _alpha(renderer, ("brush_splats", params), cloud, cam, 256, 256)
 
     wall_alone = alpha(wall, normals[:len(wall)], colors[:len(wall)])
     patch_alone = alpha(patch, normals[len(wall):], colors[len(wall):])
