@@ -10,7 +10,7 @@
 // pixel from which a march through partly covered pixels of its own surface
 // meets a surface behind it (one whose splats the blend would cut there:
 // farther, less their own blend offset, than this surface continued over
-// the step, which may turn up to kRimGrazing from the view) takes that
+// the step, which may turn up to kSteepestSurfaceSlope from the view) takes that
 // surface under its rim, as the splats cut away would have laid it. A rim
 // against nothing (the silhouette's outside), or within its own surface
 // (neighbouring splats within each other's offsets), keeps its coverage.
@@ -24,7 +24,7 @@
 struct RimRule {
   float footprint0;  // a pixel's size at view depth d: footprint0 + d footprint1
   float footprint1;
-  float grazing;     // kRimGrazing
+  float grazing;     // kSteepestSurfaceSlope
   int reach;         // px: the longest march (a brush's reach on screen)
 };
 

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "gl/device.h"
+#include "render/surface_slope.h"
 
 namespace pointnpr {
 
@@ -24,15 +25,6 @@ int total_footprint(const std::vector<FilterStep>& steps) {
   for (const FilterStep& f : steps) total += f.filter->footprint(f.params);
   return total;
 }
-
-namespace {
-
-// The gap fill's search. Its ends are one surface when their depths differ
-// by no more than a surface turned kGapGrazing (tan 70 degrees) away from
-// the view changes over the gap, in the pixel's own footprint at that depth.
-constexpr float kGapGrazing = 2.75f;
-
-}  // namespace
 
 int gap_fill_reach(const ScanSampling& sampling, const SurfaceFrame& surface) {
   if (!(sampling.spacing > 0.0f)) return kGapSplatReach;
@@ -132,7 +124,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
         "gap_fill.comp", classify ? std::vector<std::string>{"PASS_CLASSIFY"} : std::vector<std::string>{});
     prog.use();
     glUniform1i(prog.location("u_reach"), gap_fill_reach(images.sampling, images.surface));
-    glUniform1f(prog.location("u_grazing"), kGapGrazing);
+    glUniform1f(prog.location("u_grazing"), kSteepestSurfaceSlope);
     glUniform1f(prog.location("u_span"), std::max(2.0f * images.sampling.spacing, 0.0f));
     glUniform1i(prog.location("u_splat_reach"), kGapSplatReach);
     glUniform1i(prog.location("u_pixel_spacing"), images.raster_spacing ? 1 : 0);
@@ -163,7 +155,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
   if (!inner.empty()) {
     const gl::Program& speck = images.shaders->compute("gap_fill.comp", {"PASS_SPECK"});
     speck.use();
-    glUniform1f(speck.location("u_grazing"), kGapGrazing);
+    glUniform1f(speck.location("u_grazing"), kSteepestSurfaceSlope);
     set_surface_uniforms(speck, images.surface);
     glBindImageTexture(2, depth_out.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     for (int pass = 0; pass < 2; ++pass) {

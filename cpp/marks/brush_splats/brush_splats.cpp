@@ -277,7 +277,7 @@ void draw_rims(const MarkContext& ctx, const ParamValues& p) {
   const gl::Program& g = ctx.shaders->compute("brush_rims.comp");
   g.use();
   glUniform2f(g.location("u_footprint"), rim.footprint0, rim.footprint1);
-  glUniform1f(g.location("u_grazing"), kRimGrazing);
+  glUniform1f(g.location("u_grazing"), kSteepestSurfaceSlope);
   glUniform1i(g.location("u_reach"), rim.reach);
   glUniform2i(g.location("u_clip_min"), clip.min.x, clip.min.y);
   glUniform2i(g.location("u_clip_max"), clip.max.x, clip.max.y);

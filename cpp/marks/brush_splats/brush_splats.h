@@ -6,6 +6,7 @@
 // blending; the A-buffer stays on GL (its fallback over the budget, blur,
 // is native there too).
 #include "render/mark.h"
+#include "render/surface_slope.h"
 
 namespace pointnpr {
 
@@ -20,10 +21,9 @@ constexpr float kSurfaceCut = 0.5f;
 // The rims of brushes in front of another surface (shaders/brush_rims.glsl,
 // after the resolve on both paths): a pixel's footprint at view depth d,
 // footprint0 + d footprint1, to tell two surfaces apart by more than one
-// turned kRimGrazing (tan 70 degrees, as the filters' gap fill) from the
-// view changes over a pixel; and the longest march, max_radius (no brush
-// reaches farther on screen, so no rim is wider).
-constexpr float kRimGrazing = 2.75f;
+// turned as steeply as kSteepestSurfaceSlope from the view changes over a
+// pixel; and the longest march, max_radius (no brush reaches farther on
+// screen, so no rim is wider).
 struct RimReach {
   float footprint0 = 0.0f, footprint1 = 0.0f;
   int reach = 0;

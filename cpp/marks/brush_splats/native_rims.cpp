@@ -45,7 +45,7 @@ struct Kernels {
 void fill_rims_native(const RimReach& rim, float* color, const float* depth, const float* offset, glm::ivec2 size,
                       const std::vector<glm::ivec2>& row_span, float* scratch) {
   brush_rims::Kernels k{color, depth, offset, size};
-  const brush_rims::Kernels::RimRule rule{rim.footprint0, rim.footprint1, kRimGrazing, rim.reach};
+  const brush_rims::Kernels::RimRule rule{rim.footprint0, rim.footprint1, kSteepestSurfaceSlope, rim.reach};
   // Into the scratch (the rims read their neighbours as resolved), then
   // back; a pixel left as it was is marked by a negative alpha there.
   auto rows = [&](bool back) {
