@@ -73,8 +73,8 @@ LINE_CONTRAST = 0.15      # display-sRGB luminance step that makes a line pixel 
 HOLE_LIMIT, LINE_LIMIT = 0.5, 1.0  # percent
 # A hole at a jump between surfaces: the covered pixels within 2 CLOSE_RADIUS of it (the widest gap the closing
 # bridges, so both of its sides) include depths farther apart than one surface turned 70 degrees from the view (the
-# gap fill's kSteepestSurfaceSlope, tan 70) changes over the disk's diameter: 4 CLOSE_RADIUS px times the pixel's footprint
-# (depth x 36 mm / 35 mm / W, the audit's camera) x tan 70, relative to the depth (4.4 %). A fixed 5 % within
+# gap fill's kSteepestSurfaceSlope, tan 70) changes over the disk's diameter: 4 CLOSE_RADIUS px times the pixel's
+# footprint (depth x 36 mm / 35 mm / W, the audit's camera) x tan 70, relative to the depth (4.4 %). A fixed 5 % within
 # CLOSE_RADIUS counted a bridge's occlusion gap on an aerial tile seen from hundreds of metres, and the middle of a
 # stereo camera's 10 px occlusion gap, as one surface's holes.
 GRAZING = 2.75
