@@ -21,6 +21,14 @@ Measures, per scan and preset:
       two surfaces (an occlusion shadow, a gap between leaves), which a
       depth-aware fill must leave open; "elsewhere" is the rest, the holes
       such a fill may close (judged against the same 0.5 %).
+      Holes at the scan's spacing: the same share, of the silhouette closed
+      instead by each point's own spacing (its mean distance to its 8
+      nearest, the renderer's ScanSampling) in px at its depth
+      (spacing_filled): a gap between neighbouring samples wherever the
+      scan is, however sparse (up to OWN_CLOSE_MAX px), and not an opening
+      wider than them (foliage's gaps and the notches of their borders,
+      which the fixed CLOSE_RADIUS counts on a dense scan). Judged against
+      the same 0.5 %.
   (b) lines on planes: points whose surface variation (PCA of k = 64
       neighbours, lambda0 / sum) is below PLANAR_VARIATION are planar; the
       flag is rendered as the points' colour (same mark), made the majority
@@ -43,7 +51,8 @@ Measures, per scan and preset:
 
 Writes out_dir/look_audit.png (contact sheet: rows = scans, columns = the
 points mark then the presets; 1/4 scale), out_dir/look_audit_marked.png
-(the same with hole pixels red, dark red at depth jumps, and line pixels blue) and prints a markdown
+(the same with hole pixels red, dark red at depth jumps, magenta where only the
+scan's spacing counts them, and line pixels blue) and prints a markdown
 table. `--quick` renders at 640x360; `--tiles` also writes every render and
 its marked copy at full size; `--scan=`/`--preset=` pick some (by name).
 """
@@ -71,6 +80,8 @@ ERODE_PLANAR = 4          # px kept away from a planar region's border
 LINE_CONTRAST = 0.15      # display-sRGB luminance step that makes a line pixel (EDL's contour noise on a Kinect wall
                           # is 0.1 to 0.2; the oil pass's impasto streaks mostly stay under it)
 HOLE_LIMIT, LINE_LIMIT = 0.5, 1.0  # percent
+SPACING_K = 8             # neighbours of a point's spacing (the renderer's ScanSampling)
+OWN_CLOSE_MAX = 16        # px: the widest closing by the scan's spacing (a lone return's gap at most 32 px)
 # A hole at a jump between surfaces: the covered pixels within 2 CLOSE_RADIUS of it (the widest gap the closing
 # bridges, so both of its sides) include depths farther apart than one surface turned 70 degrees from the view (the
 # gap fill's kSteepestSurfaceSlope, tan 70) changes over the disk's diameter: 4 CLOSE_RADIUS px times the pixel's
@@ -142,6 +153,29 @@ def _cloud(pos, attrs, colors=None):
     if colors is not None:
         kw = {"colors": colors}
     return pointnpr.PointCloud((pos - centre).astype(np.float32), **kw), centre
+
+
+def spacing_filled(renderer, spacing_cloud, scale, centre, mark, cam, base, base_depth):
+    """The silhouette closed by the scan's own spacing: the covered pixels
+    of the points whose spacing (mean distance to their SPACING_K nearest,
+    as the renderer's ScanSampling) spans at least k px at their depth,
+    closed by a disk of radius k, for every k up to OWN_CLOSE_MAX. So a gap
+    is one between neighbouring samples wherever the scan is, and a gap
+    wider than the samples' spacing (foliage's openings and the notches of
+    their borders, a street between roofs) is not a hole."""
+    plain = dict(mark[1], color_source="rgb")
+    sp = _render(renderer, spacing_cloud, centre, (mark[0], plain), [], cam)
+    cov = base[..., 3] >= 0.5
+    pixel = np.where(cov, base_depth, np.inf) * (36.0 / 35.0 / W)
+    lin = np.clip(sp[..., 0], 0.0, 1.0)  # the renderer reads colours as sRGB: encode back
+    encoded = np.where(lin <= 0.0031308, 12.92 * lin, 1.055 * lin ** (1 / 2.4) - 0.055)
+    radius_px = np.where(cov, encoded * scale / pixel, 0.0)
+    out = cov.copy()
+    for k in range(1, OWN_CLOSE_MAX + 1):
+        seeds = cov & (radius_px >= k)
+        if seeds.any():
+            out |= erode(dilate(seeds, k), k)
+    return out
 
 
 def _render(renderer, cloud, centre, mark, filters, cam, depth=False):
@@ -224,6 +258,9 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
     planar = (variation < PLANAR_VARIATION).astype(np.float32)
     planar_cloud, _ = _cloud(pos, {}, colors=np.repeat(planar[:, None], 3, 1))
     grey_cloud, _ = _cloud(pos, {}, colors=np.full((len(pos), 3), 0.6, np.float32))
+    spacing = np.asarray(pointnpr.local_resolution((pos - centre).astype(np.float32), k=SPACING_K)[0], np.float32)
+    spacing_scale = 4.0 * float(np.median(spacing))  # colours hold spacing / scale, up to 4x the median
+    spacing_cloud, _ = _cloud(pos, {}, colors=np.repeat(np.clip(spacing / spacing_scale, 0, 1)[:, None], 3, 1))
     rows, tiles, marked = [], [], []
     base_mark = None
     for preset in preset_names:
@@ -242,17 +279,21 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
             if not tiles:
                 tiles.append(base)
                 marked.append(base)
+            own = spacing_filled(renderer, spacing_cloud, spacing_scale, centre, mark, cam, base, base_depth)
         img = _render(renderer, cloud, centre, mark, spec["filters"], cam)
         holes = filled & (img[..., 3] < 0.5)
+        own_holes = own & (img[..., 3] < 0.5)
+        own_pct = 100.0 * own_holes.sum() / max(own.sum(), 1)
         grey = _render(renderer, grey_cloud, centre, (mark[0], dict(mark[1], color_source="rgb")), spec["filters"],
                        cam)
         lines = region & line_pixels(grey)
         hole_pct = 100.0 * holes.sum() / max(filled.sum(), 1)
         line_pct = 100.0 * lines.sum() / max(region.sum(), 1)
         jump_pct = 100.0 * (holes & jumps).sum() / max(filled.sum(), 1)
-        rows.append((name, preset, hole_pct, jump_pct, line_pct, int(filled.sum()), int(region.sum())))
+        rows.append((name, preset, hole_pct, jump_pct, own_pct, line_pct, int(filled.sum()), int(region.sum())))
         tiles.append(img)
         mk = img.copy()
+        mk[own_holes & ~holes] = (1.0, 0.0, 1.0, 1.0)  # a hole at the scan's spacing only: magenta
         mk[holes] = (1.0, 0.0, 0.0, 1.0)
         mk[holes & jumps] = (0.45, 0.0, 0.0, 1.0)  # at a depth jump: dark red
         mk[lines] = (0.0, 0.3, 1.0, 1.0)
@@ -294,29 +335,33 @@ def main():
           f"(limit {HOLE_LIMIT} %); lines: % of the planar region (variation < {PLANAR_VARIATION}, eroded "
           f"{ERODE_PLANAR} px) darker than its 5x5 closing by > {LINE_CONTRAST} on constant-grey input "
           f"(limit {LINE_LIMIT} %)")
-    print("| scan | preset | holes % | of which at depth jumps % | elsewhere % | lines on planes % | filled px | "
-          "planar px |")
-    print("|---|---|---|---|---|---|---|---|")
-    all_tiles, all_marked, fails, fails_elsewhere = [], [], 0, 0
+    print("| scan | preset | holes % | of which at depth jumps % | elsewhere % | holes at the scan's spacing % | "
+          "lines on planes % | filled px | planar px |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    all_tiles, all_marked, fails, fails_elsewhere, fails_own = [], [], 0, 0, 0
     for name, pos, attrs, cam, clip in scans():
         if only and not any(o.lower() in name.lower() for o in only):
             continue
         rows, tiles, marked = audit_scan(renderer, name, pos, attrs, cam, clip, presets_run,
                                          out_dir if "--tiles" in sys.argv else None)
-        for scan, preset, hole_pct, jump_pct, line_pct, nf, npl in rows:
+        for scan, preset, hole_pct, jump_pct, own_pct, line_pct, nf, npl in rows:
             flag_h = "" if hole_pct <= HOLE_LIMIT else " ✗"
             flag_l = "" if line_pct <= LINE_LIMIT else " ✗"
             # The holes a depth-aware fill may close: those not between two surfaces.
             flag_e = "" if hole_pct - jump_pct <= HOLE_LIMIT else " ✗"
+            flag_o = "" if own_pct <= HOLE_LIMIT else " ✗"
             fails += bool(flag_h) + bool(flag_l)
             fails_elsewhere += bool(flag_e) + bool(flag_l)
+            fails_own += bool(flag_o) + bool(flag_l)
             print(f"| {scan} | {preset} | {hole_pct:.2f}{flag_h} | {jump_pct:.2f} | "
-                  f"{hole_pct - jump_pct:.2f}{flag_e} | {line_pct:.2f}{flag_l} | {nf:,} | {npl:,} |", flush=True)
+                  f"{hole_pct - jump_pct:.2f}{flag_e} | {own_pct:.2f}{flag_o} | {line_pct:.2f}{flag_l} | {nf:,} | "
+                  f"{npl:,} |", flush=True)
         all_tiles.append(tiles)
         all_marked.append(marked)
     pointnpr.save_image(os.path.join(out_dir, "look_audit.png"), sheet(all_tiles))
     pointnpr.save_image(os.path.join(out_dir, "look_audit_marked.png"), sheet(all_marked))
-    print(f"{fails} measures over their limit ({fails_elsewhere} with the holes at depth jumps left out)")
+    print(f"{fails} measures over their limit ({fails_elsewhere} with the holes at depth jumps left out, "
+          f"{fails_own} with the holes at the scan's spacing)")
 
 
 if __name__ == "__main__":
