@@ -123,7 +123,13 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     const gl::Program& prog = images.shaders->compute(
         "gap_fill.comp", classify ? std::vector<std::string>{"PASS_CLASSIFY"} : std::vector<std::string>{});
     prog.use();
-    glUniform1i(prog.location("u_reach"), gap_fill_reach(images.sampling, images.surface));
+    // With each pixel's own spacing the search may reach as far as any:
+    // the fill narrows it per tile to that tile's sparsest points at its
+    // nearest depth (a lone return's gaps close; a dense tile searches its
+    // splat reach). The segment's 90th-percentile spacing would cap the
+    // sparse tenth's own gaps short of closing.
+    glUniform1i(prog.location("u_reach"),
+                images.raster_spacing ? kGapReachMax : gap_fill_reach(images.sampling, images.surface));
     glUniform1f(prog.location("u_grazing"), kSteepestSurfaceSlope);
     glUniform1f(prog.location("u_span"), std::max(2.0f * images.sampling.spacing, 0.0f));
     glUniform1i(prog.location("u_splat_reach"), kGapSplatReach);

@@ -54,7 +54,8 @@ const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const 
 // How far the gap fill searches from a gap pixel for the surface around it,
 // in pixels: twice the scan's spacing at the segment's nearest depth (gaps
 // wider than that are holes in the scan), at least kGapSplatReach and at
-// most kGapReachMax.
+// most kGapReachMax. Where each pixel's point's own spacing is known the
+// search reaches kGapReachMax instead, narrowed per tile by that spacing.
 int gap_fill_reach(const ScanSampling& sampling, const SurfaceFrame& surface);
 // The reach of the fill's other rule (gaps between splats as wide as the gap
 // close, where the scan is sparser than its spacing or the spacing is
