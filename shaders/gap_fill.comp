@@ -53,16 +53,12 @@ struct Hit {
   vec4 color;
 };
 
-// How far this pixel's search goes: u_reach, or less where the surface
-// near its tile is farther than the segment's nearest (set by main).
-int g_reach = 0;
-
 // The first pixel along `dir` nearer than `behind` (covered, finite depth).
-// How many steps along `dir` stay within the covered box, up to g_reach.
+// How many steps along `dir` stay within the covered box, up to u_reach.
 int steps_inside(ivec2 p, ivec2 dir) {
-  ivec2 room = mix(mix(ivec2(g_reach), p - u_cover_min, lessThan(dir, ivec2(0))), u_cover_max - 1 - p,
+  ivec2 room = mix(mix(ivec2(u_reach), p - u_cover_min, lessThan(dir, ivec2(0))), u_cover_max - 1 - p,
                    greaterThan(dir, ivec2(0)));
-  return min(g_reach, min(room.x, room.y));
+  return min(u_reach, min(room.x, room.y));
 }
 
 // The search's first covered pixels from a background pixel (march with
@@ -282,7 +278,7 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
     // The farthest of the lines' farther ends, and those one surface with
     // it (within its slope over the search).
     float far = max(max(isinf(f0) ? 0.0 : f0, isinf(f1) ? 0.0 : f1), max(isinf(f2) ? 0.0 : f2, isinf(f3) ? 0.0 : f3));
-    float lo_far = far - 2.0 * float(g_reach) * pixel_size(far) * u_grazing;
+    float lo_far = far - 2.0 * float(u_reach) * pixel_size(far) * u_grazing;
     Acc back = Acc(vec4(0.0), 0.0, INF, 0.0, 0, 0.0, 0);
     far_line(f0, lo_far, fa0, fb0, back);
     far_line(f1, lo_far, fa1, fb1, back);
@@ -311,9 +307,9 @@ layout(std430, binding = 3) buffer Work {
   uint groups_x, groups_y, groups_z, count;
   uint pixels[];  // x | y << 16
 };
-// Each 16x16 tile's nearest depth (+inf: no point) and its points' largest
-// spacing (u_pixel_spacing), tiles in rows of u_groups.x.
-layout(std430, binding = 4) buffer TileDepth { vec2 tile_depth[]; };
+// Each 16x16 tile's nearest depth (+inf: no point), tiles in rows of
+// u_groups.x.
+layout(std430, binding = 4) buffer TileDepth { float tile_depth[]; };
 uniform ivec2 u_groups;
 // Whether a pixel at depth `own` may give way to a surface whose nearest
 // depth around its tile is `near`: fill_pixel keeps a covered pixel unless
@@ -423,12 +419,11 @@ bool enclosed(ivec2 p) {
   return lines >= 2 || closes_half_turn(hits, across & AXIS_LINES);
 }
 shared uint s_count, s_base;
-shared uint s_near, s_spacing;  // float bits: positive floats order as their bits do
+shared uint s_near;  // float bits: positive floats order as their bits do
 void main() {
   if (gl_LocalInvocationIndex == 0u) {
     s_count = 0u;
     s_near = floatBitsToUint(INF);
-    s_spacing = 0u;
   }
   barrier();
   ivec2 p;
@@ -441,15 +436,11 @@ void main() {
     work = needs_work(p, c, own) && (covered(c) || enclosed(p));
     if (work) slot = atomicAdd(s_count, 1u);
     float d = imageLoad(u_depth, p).r;
-    if (d >= 0.0 && d < INF) {
-      atomicMin(s_near, floatBitsToUint(d));
-      if (u_pixel_spacing != 0) atomicMax(s_spacing, floatBitsToUint(max(imageLoad(u_spacing, p).r, 0.0)));
-    }
+    if (d >= 0.0 && d < INF) atomicMin(s_near, floatBitsToUint(d));
   }
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
-    tile_depth[gl_WorkGroupID.y * uint(u_groups.x) + gl_WorkGroupID.x] = vec2(uintBitsToFloat(s_near),
-                                                                               uintBitsToFloat(s_spacing));
+    tile_depth[gl_WorkGroupID.y * uint(u_groups.x) + gl_WorkGroupID.x] = uintBitsToFloat(s_near);
     s_base = atomicAdd(count, s_count);
     atomicMax(groups_x, (s_base + s_count + 63u) / 64u);
   }
@@ -464,27 +455,25 @@ void main() {
   // after a return masked, but skips a branch no lane takes.
   if (i < count) {
     ivec2 p = ivec2(pixels[i] & 0xffffu, pixels[i] >> 16);
-    // The ends of a gap lie within u_reach <= 16 px: in the pixel's tile or
-    // the 8 around it. Their nearest depth bounds how far the scan's spacing
-    // spans here (the same gaps close as with u_reach; far parts search
-    // less), and with no point among them there is nothing to enclose.
-    ivec2 t = (p - u_rect_min) / 16;
-    float near = INF, spacing = 0.0;
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        ivec2 q = t + ivec2(dx, dy);
-        if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, u_groups))) {
-          vec2 tile = tile_depth[q.y * u_groups.x + q.x];
-          near = min(near, tile.x);
-          spacing = max(spacing, tile.y);
-        }
-      }
-    float size = pixel_size(near), span = max(u_span, 2.0 * spacing);
-    g_reach = span > 0.0 && size > 0.0 ? clamp(int(ceil(span / size)) - 1, min(u_splat_reach, u_reach), u_reach)
-                                       : u_reach;
     vec4 c = imageLoad(u_in, p);
     float own = covered(c) ? imageLoad(u_depth, p).r : INF;  // as needs_work found it
-    if (!isinf(near) && may_give_way(own, near)) fill_pixel(p, c, own);
+    // A background pixel was listed for the surface its lines meet. A
+    // covered one searches only where it may give way to the nearest
+    // surface around it: the ends of a gap lie within u_reach <= 16 px, in
+    // the pixel's tile or the 8 around it.
+    bool search = isinf(own);
+    if (!search) {
+      ivec2 t = (p - u_rect_min) / 16;
+      float near = INF;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          ivec2 q = t + ivec2(dx, dy);
+          if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, u_groups)))
+            near = min(near, tile_depth[q.y * u_groups.x + q.x]);
+        }
+      search = !isinf(near) && may_give_way(own, near);
+    }
+    if (search) fill_pixel(p, c, own);
   }
 }
 #endif

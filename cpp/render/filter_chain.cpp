@@ -67,7 +67,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
   // The list of pixels that need the search: 3 uints of indirect dispatch
   // arguments, the list's length, then a uint per pixel. Kept for the GL
   // context's life (like the shader library), grown as frames need.
-  // Then each 16x16 tile's nearest depth and largest spacing (2 floats).
+  // Then each 16x16 tile's nearest depth (a float).
   static gl::Buffer* work = new gl::Buffer();
   static gl::Buffer* tile_depth = new gl::Buffer();
   static size_t work_bytes = 0, depth_bytes = 0;
@@ -78,9 +78,9 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     *work = gl::make_buffer(bytes, nullptr);
     work_bytes = bytes;
   }
-  if (8 * n_tiles > depth_bytes) {
-    *tile_depth = gl::make_buffer(8 * n_tiles, nullptr);
-    depth_bytes = 8 * n_tiles;
+  if (4 * n_tiles > depth_bytes) {
+    *tile_depth = gl::make_buffer(4 * n_tiles, nullptr);
+    depth_bytes = 4 * n_tiles;
   }
   // The sweeps' distances to the nearest covered pixel along the 4 line
   // orientations, a layer each (shaders/gap_fill.comp, PASS_SWEEP); kept
@@ -123,11 +123,12 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     const gl::Program& prog = images.shaders->compute(
         "gap_fill.comp", classify ? std::vector<std::string>{"PASS_CLASSIFY"} : std::vector<std::string>{});
     prog.use();
-    // With each pixel's own spacing the search may reach as far as any:
-    // the fill narrows it per tile to that tile's sparsest points at its
-    // nearest depth (a lone return's gaps close; a dense tile searches its
-    // splat reach). The segment's 90th-percentile spacing would cap the
-    // sparse tenth's own gaps short of closing.
+    // With each pixel's own spacing the search reaches kGapReachMax: every
+    // line's rules bound its gap by its ends' own spacing (span_at), so the
+    // reach only bounds the search, and the same everywhere a tile of the
+    // frame finds the same. The segment's 90th-percentile spacing at its
+    // nearest depth cut the sparse tenth's own gaps short (slivers between
+    // an aerial canopy's lone returns).
     glUniform1i(prog.location("u_reach"),
                 images.raster_spacing ? kGapReachMax : gap_fill_reach(images.sampling, images.surface));
     glUniform1f(prog.location("u_grazing"), kSteepestSurfaceSlope);
