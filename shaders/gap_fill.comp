@@ -53,12 +53,17 @@ struct Hit {
   vec4 color;
 };
 
+// How far this pixel's search goes: u_reach, or less where the surfaces it
+// meets are farther or denser than the segment's nearest (set by
+// fill_pixel from its own hits, so a tile of the frame finds the same).
+int g_reach = 0;
+
 // The first pixel along `dir` nearer than `behind` (covered, finite depth).
-// How many steps along `dir` stay within the covered box, up to u_reach.
+// How many steps along `dir` stay within the covered box, up to g_reach.
 int steps_inside(ivec2 p, ivec2 dir) {
-  ivec2 room = mix(mix(ivec2(u_reach), p - u_cover_min, lessThan(dir, ivec2(0))), u_cover_max - 1 - p,
+  ivec2 room = mix(mix(ivec2(g_reach), p - u_cover_min, lessThan(dir, ivec2(0))), u_cover_max - 1 - p,
                    greaterThan(dir, ivec2(0)));
-  return min(u_reach, min(room.x, room.y));
+  return min(g_reach, min(room.x, room.y));
 }
 
 // The search's first covered pixels from a background pixel (march with
@@ -223,13 +228,32 @@ bool needs_work(ivec2 p, vec4 c, out float own) {
   return true;
 }
 
+// The longest gap between the scan's neighbours at hit h along d (0: none).
+float spacing_of(ivec2 p, ivec2 d, Hit h) { return h.t > 0 ? span_at(p + h.t * d) : 0.0; }
+Hit within_reach(Hit h) { return h.t > g_reach ? Hit(0, INF, vec4(0.0)) : h; }
+
 void fill_pixel(ivec2 p, vec4 c, float own) {
   // The first pixels met along the 8 directions (one variable each: no
   // arrays); at least two lines must meet a surface on one side.
   const ivec2 D0 = ivec2(1, 0), D1 = ivec2(0, 1), D2 = ivec2(1, 1), D3 = ivec2(1, -1);
+  g_reach = u_reach;
   Hit a0 = march(p, D0, own), a1 = march(p, D1, own), a2 = march(p, D2, own), a3 = march(p, D3, own);
-  if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) return;
   Hit b0 = march(p, -D0, own), b1 = march(p, -D1, own), b2 = march(p, -D2, own), b3 = march(p, -D3, own);
+  // The ends of a gap lie at most twice their points' spacing apart: the
+  // search reaches that far (less a pixel) at the nearest depth met, and
+  // no less than the splat rule's reach.
+  float met = min(min(min(a0.depth, a1.depth), min(a2.depth, a3.depth)),
+                  min(min(b0.depth, b1.depth), min(b2.depth, b3.depth)));
+  float span = max(max(max(spacing_of(p, D0, a0), spacing_of(p, D1, a1)),
+                       max(spacing_of(p, D2, a2), spacing_of(p, D3, a3))),
+                   max(max(spacing_of(p, -D0, b0), spacing_of(p, -D1, b1)),
+                       max(spacing_of(p, -D2, b2), spacing_of(p, -D3, b3))));
+  float size = pixel_size(met);
+  g_reach = span > 0.0 && size > 0.0 ? clamp(int(ceil(span / size)) - 1, min(u_splat_reach, u_reach), u_reach)
+                                     : u_reach;
+  a0 = within_reach(a0), a1 = within_reach(a1), a2 = within_reach(a2), a3 = within_reach(a3);
+  b0 = within_reach(b0), b1 = within_reach(b1), b2 = within_reach(b2), b3 = within_reach(b3);
+  if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) return;
   // The first hits, for the farther surface's rule (far_end) where the
   // nearest surface does not enclose the pixel.
   float f0 = far_end(p, D0, a0, b0), f1 = far_end(p, D1, a1, b1), f2 = far_end(p, D2, a2, b2),
@@ -278,7 +302,7 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
     // The farthest of the lines' farther ends, and those one surface with
     // it (within its slope over the search).
     float far = max(max(isinf(f0) ? 0.0 : f0, isinf(f1) ? 0.0 : f1), max(isinf(f2) ? 0.0 : f2, isinf(f3) ? 0.0 : f3));
-    float lo_far = far - 2.0 * float(u_reach) * pixel_size(far) * u_grazing;
+    float lo_far = far - 2.0 * float(g_reach) * pixel_size(far) * u_grazing;
     Acc back = Acc(vec4(0.0), 0.0, INF, 0.0, 0, 0.0, 0);
     far_line(f0, lo_far, fa0, fb0, back);
     far_line(f1, lo_far, fa1, fb1, back);

@@ -123,12 +123,11 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     const gl::Program& prog = images.shaders->compute(
         "gap_fill.comp", classify ? std::vector<std::string>{"PASS_CLASSIFY"} : std::vector<std::string>{});
     prog.use();
-    // With each pixel's own spacing the search reaches kGapReachMax: every
-    // line's rules bound its gap by its ends' own spacing (span_at), so the
-    // reach only bounds the search, and the same everywhere a tile of the
-    // frame finds the same. The segment's 90th-percentile spacing at its
-    // nearest depth cut the sparse tenth's own gaps short (slivers between
-    // an aerial canopy's lone returns).
+    // With each pixel's own spacing the search may reach kGapReachMax; each
+    // pixel narrows it to twice the spacing of the points its lines meet, at
+    // their nearest depth (fill_pixel). The segment's 90th-percentile
+    // spacing at its nearest depth cut the sparse tenth's own gaps short
+    // (slivers between an aerial canopy's lone returns).
     glUniform1i(prog.location("u_reach"),
                 images.raster_spacing ? kGapReachMax : gap_fill_reach(images.sampling, images.surface));
     glUniform1f(prog.location("u_grazing"), kSteepestSurfaceSlope);

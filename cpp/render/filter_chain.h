@@ -55,7 +55,8 @@ const gl::Texture* run_filter_chain(const std::vector<FilterStep>& steps, const 
 // in pixels: twice the scan's spacing at the segment's nearest depth (gaps
 // wider than that are holes in the scan), at least kGapSplatReach and at
 // most kGapReachMax. Where each pixel's point's own spacing is known the
-// search reaches kGapReachMax instead (each line's rules bound its gap).
+// search may reach kGapReachMax instead, narrowed per pixel by the spacing
+// of the points its lines meet.
 int gap_fill_reach(const ScanSampling& sampling, const SurfaceFrame& surface);
 // The reach of the fill's other rule (gaps between splats as wide as the gap
 // close, where the scan is sparser than its spacing or the spacing is
