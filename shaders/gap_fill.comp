@@ -29,7 +29,8 @@ layout(rgba32f, binding = 0) uniform readonly image2D u_in;
 layout(rgba32f, binding = 1) uniform writeonly image2D u_out;
 layout(r32f, binding = 2) uniform readonly image2D u_depth;
 layout(r32f, binding = 7) uniform writeonly image2D u_depth_out;  // the fill pass's
-uniform int u_reach;
+uniform int u_reach;        // the farthest search (px)
+uniform int u_reach_floor;  // the nearest reach every pixel searches (the segment's spacing), px
 uniform float u_grazing;
 uniform float u_span;  // the longest gap between the scan's neighbours, view units (0: unknown)
 uniform int u_splat_reach;  // the reach of the splat-width rule (below), px
@@ -241,7 +242,7 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
   Hit b0 = march(p, -D0, own), b1 = march(p, -D1, own), b2 = march(p, -D2, own), b3 = march(p, -D3, own);
   // The ends of a gap lie at most twice their points' spacing apart: the
   // search reaches that far (less a pixel) at the nearest depth met, and
-  // no less than the splat rule's reach.
+  // no less than the segment's spacing reaches at its nearest depth.
   float met = min(min(min(a0.depth, a1.depth), min(a2.depth, a3.depth)),
                   min(min(b0.depth, b1.depth), min(b2.depth, b3.depth)));
   float span = max(max(max(spacing_of(p, D0, a0), spacing_of(p, D1, a1)),
@@ -249,8 +250,7 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
                    max(max(spacing_of(p, -D0, b0), spacing_of(p, -D1, b1)),
                        max(spacing_of(p, -D2, b2), spacing_of(p, -D3, b3))));
   float size = pixel_size(met);
-  g_reach = span > 0.0 && size > 0.0 ? clamp(int(ceil(span / size)) - 1, min(u_splat_reach, u_reach), u_reach)
-                                     : u_reach;
+  g_reach = span > 0.0 && size > 0.0 ? clamp(int(ceil(span / size)) - 1, u_reach_floor, u_reach) : u_reach;
   a0 = within_reach(a0), a1 = within_reach(a1), a2 = within_reach(a2), a3 = within_reach(a3);
   b0 = within_reach(b0), b1 = within_reach(b1), b2 = within_reach(b2), b3 = within_reach(b3);
   if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) return;
@@ -263,7 +263,7 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
                    min(min(b0.depth, b1.depth), min(b2.depth, b3.depth)));
   // Hits beyond what the nearest surface reaches over the search (a back
   // surface seen through the same gap) are looked past.
-  float limit = near + 2.0 * float(u_reach) * pixel_size(near) * u_grazing;
+  float limit = near + 2.0 * float(g_reach) * pixel_size(near) * u_grazing;
   if (a0.depth > limit && a0.t > 0) a0 = march(p, D0, limit);
   if (a1.depth > limit && a1.t > 0) a1 = march(p, D1, limit);
   if (a2.depth > limit && a2.t > 0) a2 = march(p, D2, limit);
@@ -347,7 +347,7 @@ bool may_give_way(float own, float near) {
   if (isinf(own)) return true;
   float a = u_surface_x0.x + near * u_surface_x1.x, b = u_surface_x0.x + own * u_surface_x1.x;
   float size = a * b > 0.0 ? min(abs(a), abs(b)) : 0.0;
-  float bound = near + 2.0 * float(u_reach) * size * u_grazing;
+  float bound = near + 2.0 * float(u_reach_floor) * size * u_grazing;  // the least reach
   return own > bound - 1e-5 * abs(bound);  // a margin for rounding: only surely kept pixels skip
 }
 #ifdef PASS_SWEEP

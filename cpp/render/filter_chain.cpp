@@ -123,13 +123,14 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     const gl::Program& prog = images.shaders->compute(
         "gap_fill.comp", classify ? std::vector<std::string>{"PASS_CLASSIFY"} : std::vector<std::string>{});
     prog.use();
-    // With each pixel's own spacing the search may reach kGapReachMax; each
-    // pixel narrows it to twice the spacing of the points its lines meet, at
-    // their nearest depth (fill_pixel). The segment's 90th-percentile
-    // spacing at its nearest depth cut the sparse tenth's own gaps short
-    // (slivers between an aerial canopy's lone returns).
-    glUniform1i(prog.location("u_reach"),
-                images.raster_spacing ? kGapReachMax : gap_fill_reach(images.sampling, images.surface));
+    // With each pixel's own spacing the search may reach kGapReachMax where
+    // the points a pixel's lines meet are sparse enough to ask for it
+    // (fill_pixel), and everywhere the segment's reach: its 90th-percentile
+    // spacing at its nearest depth alone cut the sparse tenth's own gaps
+    // short (slivers between an aerial canopy's lone returns).
+    const int reach = gap_fill_reach(images.sampling, images.surface);
+    glUniform1i(prog.location("u_reach"), images.raster_spacing ? kGapReachMax : reach);
+    glUniform1i(prog.location("u_reach_floor"), reach);
     glUniform1f(prog.location("u_grazing"), kSteepestSurfaceSlope);
     glUniform1f(prog.location("u_span"), std::max(2.0f * images.sampling.spacing, 0.0f));
     glUniform1i(prog.location("u_splat_reach"), kGapSplatReach);
