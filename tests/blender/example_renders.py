@@ -13,7 +13,9 @@ Used two ways:
   floor and the gap fill's reach; and those two again when the gap fill
   began to close with the farther surface and each point's own spacing;
   urban_lidarhd and lion_benchmark again when the farther surface began to
-  fill a gap no wider than the depth step beside a nearer edge):
+  fill a gap no wider than the depth step beside a nearer edge; and
+  urban_lidarhd again when the gap fill's reach began to follow the
+  spacing of the points each pixel's lines meet):
 
       blender -b --factory-startup --python-exit-code 1 \
           --python tests/blender/example_renders.py -- <builddir> [names...]
