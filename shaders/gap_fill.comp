@@ -54,8 +54,8 @@ struct Hit {
   vec4 color;
 };
 
-// How far this pixel's search goes: u_reach, or less where the surfaces it
-// meets are farther or denser than the segment's nearest (set by
+// How far this pixel's search goes: the segment's reach (u_reach_floor),
+// or further, up to u_reach, where the points it meets are sparser (set by
 // fill_pixel from its own hits, so a tile of the frame finds the same).
 int g_reach = 0;
 
