@@ -158,7 +158,8 @@ def _cloud(pos, attrs, colors=None):
 def spacing_filled(renderer, spacing_cloud, scale, centre, mark, cam, base, base_depth):
     """The silhouette closed by the scan's own spacing: the covered pixels
     of the points whose spacing (mean distance to their SPACING_K nearest,
-    as the renderer's ScanSampling) spans at least k px at their depth,
+    as the renderer measures it, here not capped by the neighbours' but at
+    4x the scan's median) spans at least k px at their depth,
     closed by a disk of radius k, for every k up to OWN_CLOSE_MAX. So a gap
     is one between neighbouring samples wherever the scan is, and a gap
     wider than the samples' spacing (foliage's openings and the notches of
