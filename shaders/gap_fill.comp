@@ -2,7 +2,7 @@
 // (cpp/render/filter_chain.cpp). A pixel is a gap of a surface when that
 // surface's own pixels enclose it: along at least 2 of the 4 lines through
 // it (horizontal, vertical, both diagonals) the first pixel of the surface
-// lies within u_reach on both sides, and the two ends are one surface: their
+// lies within the pixel's reach on both sides (g_reach, below), and the two ends are one surface: their
 // depths differ by no more than a surface seen at the steepest angle
 // (u_grazing = tan of it) can change over the gap, the gap's length times
 // the pixel's footprint at that depth, and the gap is one between the
@@ -239,6 +239,7 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
   const ivec2 D0 = ivec2(1, 0), D1 = ivec2(0, 1), D2 = ivec2(1, 1), D3 = ivec2(1, -1);
   g_reach = u_reach;
   Hit a0 = march(p, D0, own), a1 = march(p, D1, own), a2 = march(p, D2, own), a3 = march(p, D3, own);
+  if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) return;  // fewer still within the reach
   Hit b0 = march(p, -D0, own), b1 = march(p, -D1, own), b2 = march(p, -D2, own), b3 = march(p, -D3, own);
   // The ends of a gap lie at most twice their points' spacing apart: the
   // search reaches that far (less a pixel) at the nearest depth met, and
@@ -250,7 +251,8 @@ void fill_pixel(ivec2 p, vec4 c, float own) {
                    max(max(spacing_of(p, -D0, b0), spacing_of(p, -D1, b1)),
                        max(spacing_of(p, -D2, b2), spacing_of(p, -D3, b3))));
   float size = pixel_size(met);
-  g_reach = span > 0.0 && size > 0.0 ? clamp(int(ceil(span / size)) - 1, u_reach_floor, u_reach) : u_reach;
+  g_reach = span > 0.0 && size > 0.0 ? int(clamp(ceil(span / size) - 1.0, float(u_reach_floor), float(u_reach)))
+                                     : u_reach_floor;
   a0 = within_reach(a0), a1 = within_reach(a1), a2 = within_reach(a2), a3 = within_reach(a3);
   b0 = within_reach(b0), b1 = within_reach(b1), b2 = within_reach(b2), b3 = within_reach(b3);
   if (int(a0.t > 0) + int(a1.t > 0) + int(a2.t > 0) + int(a3.t > 0) < 2) return;
@@ -339,7 +341,8 @@ uniform ivec2 u_groups;
 // depth around its tile is `near`: fill_pixel keeps a covered pixel unless
 // it lies beyond the limit of the surface enclosing it (that surface's
 // nearest hit plus its slope over the search), and that limit is at least
-// `near` plus the slope at the smallest pixel size between `near` and `own`.
+// `near` plus the slope over the least reach (u_reach_floor) at the
+// smallest pixel size between `near` and `own`.
 // So a covered pixel searches only behind a depth jump, not everywhere on a
 // surface with gaps (an aerial tile's scan lines), where its marches would
 // run the whole reach through its own surface.

@@ -87,32 +87,50 @@ def test_every_rasterizer_hands_the_fill_the_same_spacing(renderer, backend):
     assert np.array_equal(_render(renderer, cloud, **backend), _render(renderer, cloud, rasterizer="native"))
 
 
-def test_lone_returns_wider_apart_than_the_segments_reach_close_between_their_splats(renderer):
-    # A canopy of lone returns (1.5 % of the points, 0.16 apart, jittered)
-    # beside a dense part (0.01 apart) that sets the segment's spacing: a
-    # search reach of 8 px. The returns' splats are as wide as their own
-    # spacing (the looks' splats), so the gaps between them are slivers, but
-    # a sliver's ends lie up to 16 px apart along its lines: the search
-    # reaches as far as the sparsest points' own spacing asks, not only the
-    # segment's (0.8 % of the canopy stayed open then).
+def _canopy():
+    """A canopy of lone returns (1.5 % of the points, 0.16 apart, jittered)
+    beside a dense part (0.01 apart) that sets the segment's spacing: a
+    search reach of 8 px. Seen orthographically, 256 px over 2.2 units."""
     rng = np.random.default_rng(7)
     dense = np.stack(np.meshgrid(np.arange(-1.0, 0.0, 0.01), np.arange(-0.5, 0.5, 0.01)), -1).reshape(-1, 2)
     lattice = np.stack(np.meshgrid(np.arange(0.05, 1.0, 0.16), np.arange(-0.45, 0.5, 0.16)), -1).reshape(-1, 2)
     xy = np.vstack([dense, lattice + rng.uniform(-0.05, 0.05, lattice.shape)])
     pos = np.column_stack([xy, np.full(len(xy), -5.0)]).astype(np.float32)
     cloud = pointnpr.PointCloud(pos, colors=np.full((len(pos), 3), 0.5, np.float32))
+    scene = pointnpr.Scene()
+    mark = ("points", {"size_mode": "spacing", "point_size": 3.0})
+    scene.add_segment("s", pointnpr.Style(mark=mark, filters=FILL), [(cloud, np.eye(4))])
+    bare = pointnpr.Scene()
+    bare.add_segment("s", pointnpr.Style(mark=mark), [(cloud, np.eye(4))])
     cam = pointnpr.Camera.orthographic(np.eye(4), ortho_scale=2.2, clip_start=0.1, clip_end=100.0, width=256,
                                        height=256)
+    return scene, bare, cam
 
-    def alpha(filters):
-        scene = pointnpr.Scene()
-        mark = ("points", {"size_mode": "spacing", "point_size": 3.0})
-        scene.add_segment("s", pointnpr.Style(mark=mark, filters=filters), [(cloud, np.eye(4))])
-        return np.asarray(renderer.render(scene, cam, 256, 256, background=(0, 0, 0, 0)).color)[..., 3]
+
+def test_lone_returns_wider_apart_than_the_segments_reach_close_between_their_splats(renderer):
+    # The returns' splats are as wide as their own spacing (the looks'
+    # splats), so the gaps between them are slivers, but a sliver's ends
+    # lie up to 16 px apart along its lines: the search reaches as far as
+    # the sparsest points' own spacing asks, not only the segment's (0.8 %
+    # of the canopy stayed open then).
+    scene, bare, cam = _canopy()
+
+    def alpha(s):
+        return np.asarray(renderer.render(s, cam, 256, 256, background=(0, 0, 0, 0)).color)[..., 3]
 
     def px(v):
         return int((v + 1.1) / 2.2 * 256)
 
     canopy = (slice(px(-0.35), px(0.35)), slice(px(0.15), px(0.85)))  # away from its border
-    assert (alpha([])[canopy] < 0.5).mean() > 0.05, "the splats leave slivers"
-    assert (alpha(FILL)[canopy] < 0.5).mean() < 0.003, "the slivers close"
+    assert (alpha(bare)[canopy] < 0.5).mean() > 0.05, "the splats leave slivers"
+    assert (alpha(scene)[canopy] < 0.5).mean() < 0.003, "the slivers close"
+
+
+def test_the_canopys_fill_drawn_in_tiles_is_the_bytes_of_the_whole_frame(renderer):
+    # Each pixel's reach comes from the points its own lines meet, not from
+    # the dispatch's 16 px tiles, whose grid moves with a tile's region.
+    scene, _, cam = _canopy()
+    whole = renderer.render(scene, cam, 256, 256)
+    tiled = renderer.render(scene, cam, 256, 256, tile_size=48)
+    assert tiled.stats["tiles"] > 1
+    assert np.asarray(whole.color).tobytes() == np.asarray(tiled.color).tobytes()
