@@ -155,6 +155,12 @@ def _cloud(pos, attrs, colors=None):
     return pointnpr.PointCloud((pos - centre).astype(np.float32), **kw), centre
 
 
+def srgb_encode(linear):
+    """Display sRGB of linear values: what a point colour must be for the
+    linear render to read `linear` (point colours are display sRGB)."""
+    return np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
+
+
 def spacing_filled(renderer, spacing_cloud, scale, centre, mark, cam, base, base_depth):
     """The silhouette closed by the scan's own spacing: the covered pixels
     of the points whose spacing (mean distance to their SPACING_K nearest,
@@ -168,8 +174,7 @@ def spacing_filled(renderer, spacing_cloud, scale, centre, mark, cam, base, base
     sp = _render(renderer, spacing_cloud, centre, (mark[0], plain), [], cam)
     cov = base[..., 3] >= 0.5
     pixel = np.where(cov, base_depth, np.inf) * (36.0 / 35.0 / W)
-    lin = np.clip(sp[..., 0], 0.0, 1.0)  # the renderer reads colours as sRGB: encode back
-    encoded = np.where(lin <= 0.0031308, 12.92 * lin, 1.055 * lin ** (1 / 2.4) - 0.055)
+    encoded = srgb_encode(np.clip(sp[..., 0], 0.0, 1.0))  # the renderer reads colours as sRGB: encode back
     radius_px = np.where(cov, encoded * scale / pixel, 0.0)
     out = cov.copy()
     for k in range(1, OWN_CLOSE_MAX + 1):

@@ -185,8 +185,7 @@ def light_world(light, world_from_camera):
 
 def grey_cloud(pos, grey):
     """The scan with `grey` (linear, per point) as its colour."""
-    # Point colours are display sRGB; the render is linear: encode, so it reads `grey`.
-    srgb = np.where(grey <= 0.0031308, 12.92 * grey, 1.055 * grey ** (1 / 2.4) - 0.055).astype(np.float32)
+    srgb = la.srgb_encode(grey).astype(np.float32)  # so the linear render reads `grey`
     return la._cloud(pos, {}, colors=np.repeat(srgb[:, None], 3, axis=1))[0]
 
 
