@@ -28,7 +28,9 @@ Measures, per scan and preset:
       scan is, however sparse (up to OWN_CLOSE_MAX px), and not an opening
       wider than them (foliage's gaps and the notches of their borders,
       which the fixed CLOSE_RADIUS counts on a dense scan). Judged against
-      the same 0.5 %.
+      the same 0.5 %; printed with the part of it at depth jumps (as above:
+      a laser's mixed returns strewn between an edge and what lies behind
+      it are no surface to close).
   (b) lines on planes: points whose surface variation (PCA of k = 64
       neighbours, lambda0 / sum) is below PLANAR_VARIATION are planar; the
       flag is rendered as the points' colour (same mark), made the majority
@@ -290,13 +292,14 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
         holes = filled & (img[..., 3] < 0.5)
         own_holes = own & (img[..., 3] < 0.5)
         own_pct = 100.0 * own_holes.sum() / max(own.sum(), 1)
+        own_jump_pct = 100.0 * (own_holes & jumps).sum() / max(own.sum(), 1)
         grey = _render(renderer, grey_cloud, centre, (mark[0], dict(mark[1], color_source="rgb")), spec["filters"],
                        cam)
         lines = region & line_pixels(grey)
         hole_pct = 100.0 * holes.sum() / max(filled.sum(), 1)
         line_pct = 100.0 * lines.sum() / max(region.sum(), 1)
         jump_pct = 100.0 * (holes & jumps).sum() / max(filled.sum(), 1)
-        rows.append((name, preset, hole_pct, jump_pct, own_pct, line_pct, int(filled.sum()), int(region.sum())))
+        rows.append((name, preset, hole_pct, jump_pct, own_pct, own_jump_pct, line_pct, int(filled.sum()), int(region.sum())))
         tiles.append(img)
         mk = img.copy()
         mk[own_holes & ~holes] = (1.0, 0.0, 1.0, 1.0)  # a hole at the scan's spacing only: magenta
@@ -350,7 +353,7 @@ def main():
             continue
         rows, tiles, marked = audit_scan(renderer, name, pos, attrs, cam, clip, presets_run,
                                          out_dir if "--tiles" in sys.argv else None)
-        for scan, preset, hole_pct, jump_pct, own_pct, line_pct, nf, npl in rows:
+        for scan, preset, hole_pct, jump_pct, own_pct, own_jump_pct, line_pct, nf, npl in rows:
             flag_h = "" if hole_pct <= HOLE_LIMIT else " ✗"
             flag_l = "" if line_pct <= LINE_LIMIT else " ✗"
             # The holes a depth-aware fill may close: those not between two surfaces.
@@ -360,7 +363,8 @@ def main():
             fails_elsewhere += bool(flag_e) + bool(flag_l)
             fails_own += bool(flag_o) + bool(flag_l)
             print(f"| {scan} | {preset} | {hole_pct:.2f}{flag_h} | {jump_pct:.2f} | "
-                  f"{hole_pct - jump_pct:.2f}{flag_e} | {own_pct:.2f}{flag_o} | {line_pct:.2f}{flag_l} | {nf:,} | "
+                  f"{hole_pct - jump_pct:.2f}{flag_e} | {own_pct:.2f}{flag_o} ({own_jump_pct:.2f} at jumps) | "
+                  f"{line_pct:.2f}{flag_l} | {nf:,} | "
                   f"{npl:,} |", flush=True)
         all_tiles.append(tiles)
         all_marked.append(marked)

@@ -57,6 +57,69 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
   gl::check_gl(("filter " + f.info->schema.id).c_str());
 }
 
+// The gap fill's second stage (shaders/gap_fill_pyramid.comp): gaps among
+// lone splats, which no line meets on both sides, closed from cells of 2, 4
+// and 8 px pooled from `image` and `depth` (the line fill's), in place over
+// `write`. Its atlases are kept like the line fill's buffers below.
+void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& image, const gl::Texture& depth,
+                            const Rect& covered, const Rect& write) {
+  if (covered.empty() || write.empty()) return;
+  static GLuint atlas[3] = {0, 0, 0};
+  static glm::ivec2 atlas_size{0, 0};
+  int level_x[3];
+  glm::ivec2 need{0, (images.image_size.y >> 1) + 4};
+  for (int level = 1; level <= 3; ++level) {
+    level_x[level - 1] = need.x;
+    need.x += (images.image_size.x >> level) + 4;  // the frame's cells, and one to spare either side
+  }
+  if (glm::any(glm::greaterThan(need, atlas_size))) {
+    atlas_size = glm::max(need, atlas_size);
+    const GLenum formats[3] = {GL_RGBA32F, GL_RGBA32F, GL_RG32F};
+    for (int i = 0; i < 3; ++i) {
+      if (atlas[i]) glDeleteTextures(1, &atlas[i]);
+      glCreateTextures(GL_TEXTURE_2D, 1, &atlas[i]);
+      glTextureStorage2D(atlas[i], 1, formats[i], atlas_size.x, atlas_size.y);
+    }
+  }
+  glBindImageTexture(0, image.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(1, depth.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
+  const gl::Texture& spacing = images.raster_spacing ? *images.raster_spacing : *images.raster_depth;
+  glBindImageTexture(2, spacing.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  glBindImageTexture(3, atlas[0], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(4, atlas[1], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(5, atlas[2], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
+  const glm::ivec2 origin = pixel_origin();
+  auto set_common = [&](const gl::Program& prog) {
+    prog.use();
+    glUniform1i(prog.location("u_pixel_spacing"), images.raster_spacing ? 1 : 0);
+    glUniform1f(prog.location("u_span"), std::max(2.0f * images.sampling.spacing, 0.0f));
+    glUniform1f(prog.location("u_grazing"), kSteepestSurfaceSlope);
+    glUniform1iv(prog.location("u_level_x"), 3, level_x);
+    glUniform2i(prog.location("u_write_min"), write.min.x, write.min.y);
+    glUniform2i(prog.location("u_write_max"), write.max.x, write.max.y);
+    glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
+    glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);
+    set_surface_uniforms(prog, images.surface);
+  };
+  const gl::Program& pull = images.shaders->compute("gap_fill_pyramid.comp", {"PASS_PULL"});
+  set_common(pull);
+  for (int level = 1; level <= 3; ++level) {
+    // The frame cells over the written pixels, and one either side (the
+    // push reads the 4 cells around a pixel).
+    const auto cell = [&](glm::ivec2 p) {
+      return glm::ivec2(glm::floor(glm::vec2(p + origin) / float(1 << level)));
+    };
+    Rect cells;
+    cells.min = cell(write.min) - 1;
+    cells.max = cell(write.max - 1) + 2;
+    glUniform1i(pull.location("u_level"), level);
+    dispatch_rect(pull, cells);
+  }
+  const gl::Program& push = images.shaders->compute("gap_fill_pyramid.comp", {});
+  set_common(push);
+  dispatch_rect(push, write);
+}
+
 // The gap fill (shaders/gap_fill.comp) of the image `in` whose covered
 // pixels lie within `covered`, written over `write` of the chain's gap image.
 // Returns the filled image, which holds it over `write`: the gap image or
@@ -151,6 +214,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
   }
+  if (images.sampling.spacing > 0.0f || images.raster_spacing) fill_among_lone_splats(images, out, depth_out, covered, write);
   // Pinholes the lines missed (PASS_SPECK): the fill's colours copied into
   // the other image, closed there; the depths in place. Twice, from one
   // image into the other (`pinholes`: the chain's input, no longer read,

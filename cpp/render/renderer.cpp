@@ -468,7 +468,7 @@ TilePlan plan_frame_tiles(const Scene& scene, const RenderSettings& s, std::vect
     // reads up to its reach around a gap pixel (render/filter_chain.h).
     const bool gap_fill = seg.style.fills_gaps();
     const int reach = int(std::ceil(m.mark->extent(m.params).pixels)) + m.mark->screen_reach(m.params) +
-                      (gap_fill ? kGapReachMax : 0) + total_footprint(seg.style.filters) +
+                      (gap_fill ? kGapReachMax + kGapPushReach : 0) + total_footprint(seg.style.filters) +
                       seg.style.inpaint.get_int("radius") + 1;
     halo = std::max(halo, reach);
     if (!m.mark->draws_tiles(m.params) && whole.empty()) whole = m.info->schema.id;

@@ -89,7 +89,7 @@ def test_flow_guided_lines_tiled_are_the_bytes_of_the_whole_frame(renderer, clou
 def test_every_filter_in_one_chain_tiled_is_the_bytes_of_the_whole_frame(renderer, clouds):
     # The chain's halo is the sum of every filter's footprint (140 px with
     # flow_oil's flow field): the frame stays larger than a tile's region.
-    whole, tiled = render_both(renderer, two_segments(clouds, FILTERS), 460, 360, 64)
+    whole, tiled = render_both(renderer, two_segments(clouds, FILTERS), 520, 420, 64)
     assert tiled.stats["tile_halo"] > 50  # the chain's footprints, not just the splats'
     assert_same_bytes(whole, tiled)
 
