@@ -2,7 +2,7 @@
 // search of gap_fill.comp): gaps among lone splats, which no line through
 // the gap meets on both sides (a field of small dots on a sparse canopy, a
 // range scan's lattice seen obliquely). The surface's pixels are pooled into
-// cells of 2, 4 and 8 px (PASS_PULL, a level from the one below; each cell
+// cells of 2 to 2^GAP_LEVELS px (16; PASS_PULL, a level from the one below; each cell
 // keeps only its nearest surface: children farther than that surface's
 // steepest slope over the cell lie behind it). A pixel is enclosed at a
 // level when a square of 2x2 cells about its own holds the surface, their
@@ -18,7 +18,7 @@
 // point seen through the front surface's gaps.
 //
 // Cells sit on the frame's grid (pixel + u_origin), so a tile of the frame
-// pools the same cells; the push reads pixels at most 2 cells (16 px)
+// pools the same cells; the push reads pixels at most 2 coarsest cells
 // away (kGapPushReach). Cell c of level L (side 2^L) is stored at
 // u_level_x[L - 1] + c - floor(u_origin / 2^L) + 1 of an atlas row per
 // level: one column and row to spare on either side.
@@ -32,14 +32,17 @@ layout(rg32f, binding = 5) uniform image2D u_front;     // per cell: nearest dep
 uniform int u_pixel_spacing;  // 1: u_spacing holds the points' spacing
 uniform float u_span;         // twice the segment's spacing, view units (0: unknown)
 uniform float u_grazing;      // tan of the steepest surface angle (kSteepestSurfaceSlope)
-uniform int u_level_x[3];     // each level's first atlas column
+uniform int u_level_x[GAP_LEVELS];  // each level's first atlas column
+// Each level's pooled cells (frame cells, max exclusive): others are empty
+// (the atlas holds earlier frames' there).
+uniform ivec2 u_cells_min[GAP_LEVELS], u_cells_max[GAP_LEVELS];
 uniform ivec2 u_write_min, u_write_max;  // the pixels the fill wrote: the only ones pooled or changed
 uniform ivec2 u_cover_min, u_cover_max;  // covered pixels lie within
 
 float pixel_size(float d) { return abs(u_surface_x0.x + d * u_surface_x1.x); }
 
 ivec2 floor_div(ivec2 a, int s) { return ivec2(floor(vec2(a) / float(s))); }
-// Atlas texel of frame cell c at level L (1..3).
+// Atlas texel of frame cell c at level L (1..GAP_LEVELS).
 ivec2 slot(int level, ivec2 c) {
   return ivec2(u_level_x[level - 1], 0) + c - floor_div(u_origin, 1 << level) + 1;
 }
@@ -64,6 +67,7 @@ Cell read_cell(int level, ivec2 c) {
     if (!covered(color) || isinf(d)) return cell;  // background, or a filter's paint with no surface
     return Cell(color, 1.0, d, d, u_pixel_spacing != 0 ? imageLoad(u_spacing, p).r : 0.0, vec2(c) + 0.5);
   }
+  if (any(lessThan(c, u_cells_min[level - 1])) || any(greaterThanEqual(c, u_cells_max[level - 1]))) return empty_cell();
   ivec2 q = slot(level, c);
   vec4 stats = imageLoad(u_stats, q);
   if (stats.x == 0.0) return empty_cell();
@@ -72,7 +76,7 @@ Cell read_cell(int level, ivec2 c) {
 }
 
 #ifdef PASS_PULL
-uniform int u_level;  // the level written, 1..3; u_rect_min/max: its frame cells
+uniform int u_level;  // the level written, 1..GAP_LEVELS; u_rect_min/max: its frame cells
 layout(local_size_x = 16, local_size_y = 16) in;
 void main() {
   ivec2 c = u_rect_min + ivec2(gl_GlobalInvocationID.xy);
@@ -128,13 +132,13 @@ void main() {
   // A covered pixel with no point nearer than it among the coarsest 3x3
   // cells (which hold every finer cell read below) is kept.
   if (!isinf(own)) {
-    ivec2 c = floor_div(frame_p, 8);
+    ivec2 c = floor_div(frame_p, 1 << GAP_LEVELS);
     float near = INF;
-    for (int k = 0; k < 9; ++k) near = min(near, read_cell(3, c + ivec2(k % 3 - 1, k / 3 - 1)).front);
+    for (int k = 0; k < 9; ++k) near = min(near, read_cell(GAP_LEVELS, c + ivec2(k % 3 - 1, k / 3 - 1)).front);
     if (own <= near) return;
   }
   vec2 x = vec2(frame_p) + 0.5;
-  for (int level = 1; level <= 3; ++level) {
+  for (int level = 1; level <= GAP_LEVELS; ++level) {
     // The 3x3 cells around the pixel's own, row by row, and the 4 squares
     // of 2x2 cells among them that hold it: a cell's centroid need not lie
     // at its centre, so the pixel may lie among any 4 that meet at its cell.
@@ -142,8 +146,15 @@ void main() {
     ivec2 own_cell = floor_div(frame_p, 1 << level);
     Cell cells[9];
     for (int k = 0; k < 9; ++k) cells[k] = read_cell(level, own_cell + ivec2(k % 3 - 1, k / 3 - 1));
-    for (int square = 0; square < 4; ++square) {
-      int first = (square & 1) + 3 * (square >> 1);
+    // The square whose cell centres bracket the pixel first: its bilinear
+    // weights run on continuously into the next pixel's (no step in the
+    // filled depth for eye-dome lighting to draw).
+    ivec2 bracket = ivec2(floor(x / side - 0.5)) - (own_cell - 1);  // 0 or 1 each
+    int standard = bracket.x + 2 * bracket.y;
+    for (int n = 0; n < 4; ++n) {
+      int square = n ^ standard;
+      ivec2 corner = ivec2(square & 1, square >> 1);
+      int first = corner.x + 3 * corner.y;
       // Around the square in turn: (0,0), (1,0), (1,1), (0,1).
       int index[4] = int[4](first, first + 1, first + 4, first + 3);
       Cell cell[4];
@@ -172,19 +183,18 @@ void main() {
       // the points behind. A background pixel: the first square decides.
       if (!isinf(own) && (own <= hi + longest * size * u_grazing || own - hi <= 2.0 * (hi - lo) + size * u_grazing))
         continue;
+      // Bilinear between the cells' means by the pixel's place among their
+      // centres (clamped to the square's edge when it lies outside them).
+      vec2 f = clamp(x / side - 0.5 - vec2(own_cell - 1 + corner), 0.0, 1.0);
+      vec4 w = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), f.x * f.y, (1.0 - f.x) * f.y);
       vec4 sum = vec4(0.0);
-      float depth = 0.0, weight = 0.0;
+      float depth = 0.0;
       for (int k = 0; k < 4; ++k) {
-        // Inverse squared distance, softened by half a cell: smooth across
-        // the square (no cell's mean stands out as a block).
-        vec2 to = x - centre[k];
-        float w = 1.0 / (dot(to, to) + 0.25 * side * side);
-        sum += w * cell[k].sum / cell[k].n;
-        depth += w * cell[k].depth_sum / cell[k].n;
-        weight += w;
+        sum += w[k] * cell[k].sum / cell[k].n;
+        depth += w[k] * cell[k].depth_sum / cell[k].n;
       }
-      imageStore(u_image, p, sum / weight);
-      imageStore(u_depth, p, vec4(depth / weight));
+      imageStore(u_image, p, sum);
+      imageStore(u_depth, p, vec4(depth));
       return;
     }
   }

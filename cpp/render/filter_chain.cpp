@@ -58,17 +58,17 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
 }
 
 // The gap fill's second stage (shaders/gap_fill_pyramid.comp): gaps among
-// lone splats, which no line meets on both sides, closed from cells of 2, 4
-// and 8 px pooled from `image` and `depth` (the line fill's), in place over
-// `write`. Its atlases are kept like the line fill's buffers below.
+// lone splats, which no line meets on both sides, closed from cells of 2 to
+// 2^kGapLevels px pooled from `image` and `depth` (the line fill's), in
+// place over `write`. Its atlases are kept like the line fill's buffers below.
 void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& image, const gl::Texture& depth,
                             const Rect& covered, const Rect& write) {
   if (covered.empty() || write.empty()) return;
   static GLuint atlas[3] = {0, 0, 0};
   static glm::ivec2 atlas_size{0, 0};
-  int level_x[3];
+  int level_x[kGapLevels];
   glm::ivec2 need{0, (images.image_size.y >> 1) + 4};
-  for (int level = 1; level <= 3; ++level) {
+  for (int level = 1; level <= kGapLevels; ++level) {
     level_x[level - 1] = need.x;
     need.x += (images.image_size.x >> level) + 4;  // the frame's cells, and one to spare either side
   }
@@ -89,33 +89,38 @@ void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& 
   glBindImageTexture(4, atlas[1], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   glBindImageTexture(5, atlas[2], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
   const glm::ivec2 origin = pixel_origin();
+  // Each level's cells over the written pixels, and one either side (the
+  // push reads the 3x3 cells about a pixel's own).
+  glm::ivec2 cells_min[kGapLevels], cells_max[kGapLevels];
+  for (int level = 1; level <= kGapLevels; ++level) {
+    const auto cell = [&](glm::ivec2 p) {
+      return glm::ivec2(glm::floor(glm::vec2(p + origin) / float(1 << level)));
+    };
+    cells_min[level - 1] = cell(write.min) - 1;
+    cells_max[level - 1] = cell(write.max - 1) + 2;
+  }
   auto set_common = [&](const gl::Program& prog) {
     prog.use();
     glUniform1i(prog.location("u_pixel_spacing"), images.raster_spacing ? 1 : 0);
     glUniform1f(prog.location("u_span"), std::max(2.0f * images.sampling.spacing, 0.0f));
     glUniform1f(prog.location("u_grazing"), kSteepestSurfaceSlope);
-    glUniform1iv(prog.location("u_level_x"), 3, level_x);
+    glUniform1iv(prog.location("u_level_x"), kGapLevels, level_x);
+    glUniform2iv(prog.location("u_cells_min"), kGapLevels, &cells_min[0].x);
+    glUniform2iv(prog.location("u_cells_max"), kGapLevels, &cells_max[0].x);
     glUniform2i(prog.location("u_write_min"), write.min.x, write.min.y);
     glUniform2i(prog.location("u_write_max"), write.max.x, write.max.y);
     glUniform2i(prog.location("u_cover_min"), covered.min.x, covered.min.y);
     glUniform2i(prog.location("u_cover_max"), covered.max.x, covered.max.y);
     set_surface_uniforms(prog, images.surface);
   };
-  const gl::Program& pull = images.shaders->compute("gap_fill_pyramid.comp", {"PASS_PULL"});
+  const std::string levels = "GAP_LEVELS " + std::to_string(kGapLevels);
+  const gl::Program& pull = images.shaders->compute("gap_fill_pyramid.comp", {"PASS_PULL", levels});
   set_common(pull);
-  for (int level = 1; level <= 3; ++level) {
-    // The frame cells over the written pixels, and one either side (the
-    // push reads the 4 cells around a pixel).
-    const auto cell = [&](glm::ivec2 p) {
-      return glm::ivec2(glm::floor(glm::vec2(p + origin) / float(1 << level)));
-    };
-    Rect cells;
-    cells.min = cell(write.min) - 1;
-    cells.max = cell(write.max - 1) + 2;
+  for (int level = 1; level <= kGapLevels; ++level) {
     glUniform1i(pull.location("u_level"), level);
-    dispatch_rect(pull, cells);
+    dispatch_rect(pull, Rect{cells_min[level - 1], cells_max[level - 1]});
   }
-  const gl::Program& push = images.shaders->compute("gap_fill_pyramid.comp", {});
+  const gl::Program& push = images.shaders->compute("gap_fill_pyramid.comp", {levels});
   set_common(push);
   dispatch_rect(push, write);
 }

@@ -67,10 +67,12 @@ constexpr int kGapSplatReach = 8;
 // At most a 16x16 tile, so that a gap's ends lie in its tile or the 8
 // around it (shaders/gap_fill.comp bounds each tile's search by theirs).
 constexpr int kGapReachMax = 16;
-// How far the fill's second stage (gaps among lone splats, shaders/
-// gap_fill_pyramid.comp) reads around a pixel beyond the line search: the
-// 3x3 cells of 8 px around its own. The tiles' halo adds it.
-constexpr int kGapPushReach = 16;
+// The fill's second stage (gaps among lone splats, shaders/
+// gap_fill_pyramid.comp) pools cells of 2 to 2^kGapLevels px, and reads
+// around a pixel the 3x3 coarsest cells about its own: that far beyond
+// the line search. The tiles' halo adds it.
+constexpr int kGapLevels = 4;
+constexpr int kGapPushReach = 2 << kGapLevels;
 // The neighbours a point's spacing is the mean distance to (the segment's,
 // ScanSampling, and each point's, MarkTargets::spacing).
 constexpr int kGapSpacingNeighbours = 8;
