@@ -28,7 +28,9 @@ layout(r32f, binding = 1) uniform image2D u_depth;      // the fill's depths (+i
 layout(r32f, binding = 2) uniform readonly image2D u_spacing;  // each point's spacing, view units (0: unknown)
 layout(rgba32f, binding = 3) uniform image2D u_sum;     // per cell: colour sum
 layout(rgba32f, binding = 4) uniform image2D u_stats;   // per cell: count, depth sum, centroid x and y sums (frame px)
-layout(rg32f, binding = 5) uniform image2D u_front;     // per cell: nearest depth, largest spacing
+// Per cell: nearest depth, largest spacing; the nearest depth among the
+// 3x3 cells about it and whether any of them holds a point (PASS_NEAR).
+layout(rgba32f, binding = 5) uniform image2D u_front;
 uniform int u_pixel_spacing;  // 1: u_spacing holds the points' spacing
 uniform float u_span;         // twice the segment's spacing, view units (0: unknown)
 uniform float u_grazing;      // tan of the steepest surface angle (kSteepestSurfaceSlope)
@@ -47,44 +49,56 @@ ivec2 slot(int level, ivec2 c) {
   return ivec2(u_level_x[level - 1], 0) + c - floor_div(u_origin, 1 << level) + 1;
 }
 
+// A cell's colour sum is read apart (u_sum), where it is used.
 struct Cell {
-  vec4 sum;
   float n, depth_sum, front, spacing;
   vec2 xy_sum;
 };
 
-Cell empty_cell() { return Cell(vec4(0.0), 0.0, 0.0, INF, 0.0, vec2(0.0)); }
+Cell empty_cell() { return Cell(0.0, 0.0, INF, 0.0, vec2(0.0)); }
 
-// Frame cell c of `level`; level 0 is the pixel (local c - u_origin).
+// Frame pixel c as a cell of level 0, and its colour.
+Cell read_pixel(ivec2 c, out vec4 color) {
+  ivec2 p = c - u_origin;
+  color = vec4(0.0);
+  if (any(lessThan(p, max(u_write_min, u_cover_min))) || any(greaterThanEqual(p, min(u_write_max, u_cover_max))))
+    return empty_cell();
+  color = imageLoad(u_image, p);
+  float d = imageLoad(u_depth, p).r;
+  if (!covered(color) || isinf(d)) return empty_cell();  // background, or a filter's paint with no surface
+  return Cell(1.0, d, d, u_pixel_spacing != 0 ? imageLoad(u_spacing, p).r : 0.0, vec2(c) + 0.5);
+}
+
+// Frame cell c of `level` (1..GAP_LEVELS).
 Cell read_cell(int level, ivec2 c) {
-  if (level == 0) {
-    ivec2 p = c - u_origin;
-    Cell cell = empty_cell();
-    if (any(lessThan(p, max(u_write_min, u_cover_min))) || any(greaterThanEqual(p, min(u_write_max, u_cover_max))))
-      return cell;
-    vec4 color = imageLoad(u_image, p);
-    float d = imageLoad(u_depth, p).r;
-    if (!covered(color) || isinf(d)) return cell;  // background, or a filter's paint with no surface
-    return Cell(color, 1.0, d, d, u_pixel_spacing != 0 ? imageLoad(u_spacing, p).r : 0.0, vec2(c) + 0.5);
-  }
   if (any(lessThan(c, u_cells_min[level - 1])) || any(greaterThanEqual(c, u_cells_max[level - 1]))) return empty_cell();
   ivec2 q = slot(level, c);
   vec4 stats = imageLoad(u_stats, q);
   if (stats.x == 0.0) return empty_cell();
   vec2 front = imageLoad(u_front, q).rg;
-  return Cell(imageLoad(u_sum, q), stats.x, stats.y, front.x, front.y, stats.zw);
+  return Cell(stats.x, stats.y, front.x, front.y, stats.zw);
 }
+// The colour sum of a cell read_cell found holding points.
+vec4 cell_sum(int level, ivec2 c) { return imageLoad(u_sum, slot(level, c)); }
 
 #ifdef PASS_PULL
-uniform int u_level;  // the level written, 1..GAP_LEVELS; u_rect_min/max: its frame cells
+// The level written, 1..GAP_LEVELS (PULL_PIXELS: 1, from the pixels);
+// u_rect_min/max: its frame cells.
+uniform int u_level;
 layout(local_size_x = 16, local_size_y = 16) in;
 void main() {
   ivec2 c = u_rect_min + ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(c, u_rect_max))) return;
   Cell child[4];
+  vec4 color[4];  // the pixels' colours (level 1), read once
   float near = INF;
   for (int k = 0; k < 4; ++k) {
-    child[k] = read_cell(u_level - 1, 2 * c + ivec2(k & 1, k >> 1));
+    ivec2 q = 2 * c + ivec2(k & 1, k >> 1);
+#ifdef PULL_PIXELS
+    child[k] = read_pixel(q, color[k]);
+#else
+    child[k] = read_cell(u_level - 1, q);
+#endif
     near = min(near, child[k].front);
   }
   // Children whose nearest point lies behind the nearest surface by more
@@ -92,9 +106,14 @@ void main() {
   // through it.
   float limit = near + float(1 << u_level) * pixel_size(near) * u_grazing;
   Cell cell = empty_cell();
+  vec4 sum = vec4(0.0);
   for (int k = 0; k < 4; ++k) {
     if (child[k].n == 0.0 || child[k].front > limit) continue;
-    cell.sum += child[k].sum;
+#ifdef PULL_PIXELS
+    sum += color[k];
+#else
+    sum += cell_sum(u_level - 1, 2 * c + ivec2(k & 1, k >> 1));
+#endif
     cell.n += child[k].n;
     cell.depth_sum += child[k].depth_sum;
     cell.xy_sum += child[k].xy_sum;
@@ -102,9 +121,97 @@ void main() {
     cell.spacing = max(cell.spacing, child[k].spacing);
   }
   ivec2 q = slot(u_level, c);
-  imageStore(u_sum, q, cell.sum);
+  imageStore(u_sum, q, sum);
   imageStore(u_stats, q, vec4(cell.n, cell.depth_sum, cell.xy_sum));
   imageStore(u_front, q, vec4(cell.front, cell.spacing, 0.0, 0.0));
+}
+#elif defined(PASS_NEAR)
+// Per cell of level u_level (u_rect_min/max): the nearest depth among the
+// 3x3 cells about it, and whether a square of 2x2 of them holding it holds
+// the surface where the scan's spacing asks for cells this large (the
+// push's first tests, below), beside its own nearest depth and spacing
+// (which its neighbours read, and which stay).
+uniform int u_level;
+layout(local_size_x = 16, local_size_y = 16) in;
+void main() {
+  ivec2 c = u_rect_min + ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(c, u_rect_max))) return;
+  float near = INF, side = float(1 << u_level);
+  // Per cell about this one: its nearest depth (+inf: empty) and the
+  // longest gap between the scan's neighbours there, view units.
+  vec2 met[9];
+  for (int k = 0; k < 9; ++k) {
+    Cell cell = read_cell(u_level, c + ivec2(k % 3 - 1, k / 3 - 1));
+    near = min(near, cell.front);
+    met[k] = vec2(cell.front, max(u_span, 2.0 * cell.spacing));
+  }
+  // As the push tests a square (its cells' side within that gap at their
+  // nearest depth: a pixel spans no less farther away).
+  float square_met = 0.0;
+  for (int square = 0; square < 4; ++square) {
+    int first = (square & 1) + 3 * (square >> 1);
+    vec2 a = met[first], b = met[first + 1], d = met[first + 3], e = met[first + 4];
+    float front = max(max(a.x, b.x), max(d.x, e.x)) < INF ? min(min(a.x, b.x), min(d.x, e.x)) : INF;
+    if (!isinf(front) && max(max(a.y, b.y), max(d.y, e.y)) >= side * pixel_size(front)) square_met = 1.0;
+  }
+  ivec2 q = slot(u_level, c);
+  imageStore(u_front, q, vec4(imageLoad(u_front, q).rg, near, square_met));
+}
+#else
+// The pixels the push may change, listed (PASS_LIST) and searched (the
+// push, dispatched indirectly from the list's count, 64 to a group):
+// llvmpipe runs the search's loads for every lane of a group where any
+// lane needs them, so only listed pixels share groups.
+layout(std430, binding = 3) buffer Work {
+  uint groups_x, groups_y, groups_z, count;
+  uint pixels[];  // x | y << 16
+};
+
+// How far the points of the 3x3 cells about a pixel's own lie from it, at
+// most, in cell sides: a covered pixel behind the nearest of them by no
+// more than the steepest slope over that may lie on their surface.
+const float BLOCK_REACH = 2.0 * 1.41421356;
+
+// Whether a pixel at depth `own` (+inf: background) in `cell` of `level`
+// may change there (PASS_NEAR's summary of the 3x3 cells about it).
+bool level_may_change(int level, ivec2 cell, float own) {
+  vec2 around = imageLoad(u_front, slot(level, cell)).ba;
+  return isinf(own) ? around.y > 0.0
+                    : own > around.x + BLOCK_REACH * float(1 << level) * pixel_size(around.x) * u_grazing;
+}
+
+// Whether pixel p may change: a background pixel whose cell at some level
+// lies in a square of cells holding the surface (PASS_NEAR), or a covered
+// one behind the nearest
+// point among a level's 3x3 cells about its own by more than the steepest
+// slope over them (the push's rule, below). Paint without depth is kept.
+bool may_change(ivec2 p) {
+  if (any(lessThan(p, u_cover_min)) || any(greaterThanEqual(p, u_cover_max))) return false;
+  vec4 color = imageLoad(u_image, p);
+  float own = covered(color) ? imageLoad(u_depth, p).r : INF;
+  if (covered(color) && isinf(own)) return false;
+  ivec2 frame_p = p + u_origin;
+  for (int level = 1; level <= GAP_LEVELS; ++level)
+    if (level_may_change(level, floor_div(frame_p, 1 << level), own)) return true;
+  return false;
+}
+
+#ifdef PASS_LIST
+layout(local_size_x = 16, local_size_y = 16) in;
+shared uint s_count, s_base;
+void main() {
+  if (gl_LocalInvocationIndex == 0u) s_count = 0u;
+  barrier();
+  ivec2 p;
+  bool work = rect_pixel(p) && may_change(p);
+  uint slot_in_group = work ? atomicAdd(s_count, 1u) : 0u;
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) {
+    s_base = atomicAdd(count, s_count);
+    atomicMax(groups_x, (s_base + s_count + 63u) / 64u);
+  }
+  barrier();
+  if (work) pixels[s_base + slot_in_group] = uint(p.x) | (uint(p.y) << 16);
 }
 #else
 // Whether x lies in triangle (a, b, c), edges included.
@@ -121,31 +228,19 @@ bool in_hull(vec2 x, vec2 c[4]) {
          in_triangle(x, c[1], c[2], c[3]);
 }
 
-layout(local_size_x = 16, local_size_y = 16) in;
-void main() {
-  ivec2 p;
-  if (!rect_pixel(p) || any(lessThan(p, u_cover_min)) || any(greaterThanEqual(p, u_cover_max))) return;
+void push(ivec2 p) {
   vec4 color = imageLoad(u_image, p);
   float own = covered(color) ? imageLoad(u_depth, p).r : INF;
-  if (covered(color) && isinf(own)) return;  // a filter's paint: kept
   ivec2 frame_p = p + u_origin;
-  // A covered pixel with no point nearer than it among the coarsest 3x3
-  // cells (which hold every finer cell read below) is kept.
-  if (!isinf(own)) {
-    ivec2 c = floor_div(frame_p, 1 << GAP_LEVELS);
-    float near = INF;
-    for (int k = 0; k < 9; ++k) near = min(near, read_cell(GAP_LEVELS, c + ivec2(k % 3 - 1, k / 3 - 1)).front);
-    if (own <= near) return;
-  }
   vec2 x = vec2(frame_p) + 0.5;
   for (int level = 1; level <= GAP_LEVELS; ++level) {
-    // The 3x3 cells around the pixel's own, row by row, and the 4 squares
-    // of 2x2 cells among them that hold it: a cell's centroid need not lie
-    // at its centre, so the pixel may lie among any 4 that meet at its cell.
+    // The 4 squares of 2x2 cells among the 3x3 about the pixel's own that
+    // hold it: a cell's centroid need not lie at its centre, so the pixel
+    // may lie among any 4 that meet at its cell. Cells are read as a
+    // square needs them (llvmpipe pays every load for the whole group).
     float side = float(1 << level);
     ivec2 own_cell = floor_div(frame_p, 1 << level);
-    Cell cells[9];
-    for (int k = 0; k < 9; ++k) cells[k] = read_cell(level, own_cell + ivec2(k % 3 - 1, k / 3 - 1));
+    if (!level_may_change(level, own_cell, own)) continue;
     // The square whose cell centres bracket the pixel first: its bilinear
     // weights run on continuously into the next pixel's (no step in the
     // filled depth for eye-dome lighting to draw).
@@ -153,16 +248,14 @@ void main() {
     int standard = bracket.x + 2 * bracket.y;
     for (int n = 0; n < 4; ++n) {
       int square = n ^ standard;
-      ivec2 corner = ivec2(square & 1, square >> 1);
-      int first = corner.x + 3 * corner.y;
-      // Around the square in turn: (0,0), (1,0), (1,1), (0,1).
-      int index[4] = int[4](first, first + 1, first + 4, first + 3);
+      ivec2 corner = own_cell - 1 + ivec2(square & 1, square >> 1);
       Cell cell[4];
       vec2 centre[4];
       float lo = INF, hi = 0.0, spacing = 0.0;
       bool all_met = true;
       for (int k = 0; k < 4; ++k) {
-        cell[k] = cells[index[k]];
+        // Around the square in turn: (0,0), (1,0), (1,1), (0,1).
+        cell[k] = read_cell(level, corner + ivec2(k == 1 || k == 2 ? 1 : 0, k >= 2 ? 1 : 0));
         all_met = all_met && cell[k].n > 0.0;
         centre[k] = cell[k].xy_sum / max(cell[k].n, 1.0);
         float d = cell[k].depth_sum / max(cell[k].n, 1.0);
@@ -174,23 +267,28 @@ void main() {
       float longest = 0.0;  // px
       for (int k = 0; k < 4; ++k) longest = max(longest, distance(centre[k], centre[(k + 1) & 3]));
       float size = pixel_size(lo);
-      float span = max(u_span, 2.0 * spacing);  // the longest gap between the scan's neighbours
-      if (!(size > 0.0) || longest * size > span || hi - lo > longest * size * u_grazing) continue;
+      // The longest gap between the scan's neighbours: the cells' side and
+      // their centroids' distance within it (cells wider than the scan's
+      // gaps there would close holes in it).
+      float span = max(u_span, 2.0 * spacing);
+      if (!(size > 0.0) || max(longest, side) * size > span || hi - lo > longest * size * u_grazing) continue;
       // A covered pixel gives way only to a surface it cannot belong to
-      // (nearer than it by more than that surface's slope over the square,
-      // and than twice the square's depth spread: the scan's noise); its
+      // (nearer than it by more than that surface's slope over the square
+      // and the 3x3 cells about its own, and than twice the square's depth
+      // spread: the scan's noise); its
       // own surface's squares are looked past, the finer ones may hold only
       // the points behind. A background pixel: the first square decides.
-      if (!isinf(own) && (own <= hi + longest * size * u_grazing || own - hi <= 2.0 * (hi - lo) + size * u_grazing))
+      if (!isinf(own) && (own <= hi + max(longest, BLOCK_REACH * side) * size * u_grazing ||
+                          own - hi <= 2.0 * (hi - lo) + size * u_grazing))
         continue;
       // Bilinear between the cells' means by the pixel's place among their
       // centres (clamped to the square's edge when it lies outside them).
-      vec2 f = clamp(x / side - 0.5 - vec2(own_cell - 1 + corner), 0.0, 1.0);
+      vec2 f = clamp(x / side - 0.5 - vec2(corner), 0.0, 1.0);
       vec4 w = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), f.x * f.y, (1.0 - f.x) * f.y);
       vec4 sum = vec4(0.0);
       float depth = 0.0;
       for (int k = 0; k < 4; ++k) {
-        sum += w[k] * cell[k].sum / cell[k].n;
+        sum += w[k] * cell_sum(level, corner + ivec2(k == 1 || k == 2 ? 1 : 0, k >= 2 ? 1 : 0)) / cell[k].n;
         depth += w[k] * cell[k].depth_sum / cell[k].n;
       }
       imageStore(u_image, p, sum);
@@ -199,4 +297,11 @@ void main() {
     }
   }
 }
+
+layout(local_size_x = 64) in;
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i < count) push(ivec2(pixels[i] & 0xffffu, pixels[i] >> 16));
+}
+#endif
 #endif

@@ -74,7 +74,7 @@ void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& 
   }
   if (glm::any(glm::greaterThan(need, atlas_size))) {
     atlas_size = glm::max(need, atlas_size);
-    const GLenum formats[3] = {GL_RGBA32F, GL_RGBA32F, GL_RG32F};
+    const GLenum formats[3] = {GL_RGBA32F, GL_RGBA32F, GL_RGBA32F};
     for (int i = 0; i < 3; ++i) {
       if (atlas[i]) glDeleteTextures(1, &atlas[i]);
       glCreateTextures(GL_TEXTURE_2D, 1, &atlas[i]);
@@ -87,7 +87,7 @@ void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& 
   glBindImageTexture(2, spacing.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   glBindImageTexture(3, atlas[0], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   glBindImageTexture(4, atlas[1], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-  glBindImageTexture(5, atlas[2], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
+  glBindImageTexture(5, atlas[2], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   const glm::ivec2 origin = pixel_origin();
   // Each level's cells over the written pixels, and one either side (the
   // push reads the 3x3 cells about a pixel's own).
@@ -114,15 +114,43 @@ void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& 
     set_surface_uniforms(prog, images.surface);
   };
   const std::string levels = "GAP_LEVELS " + std::to_string(kGapLevels);
-  const gl::Program& pull = images.shaders->compute("gap_fill_pyramid.comp", {"PASS_PULL", levels});
-  set_common(pull);
   for (int level = 1; level <= kGapLevels; ++level) {
+    const gl::Program& pull = images.shaders->compute(
+        "gap_fill_pyramid.comp", level == 1 ? std::vector<std::string>{"PASS_PULL", "PULL_PIXELS", levels}
+                                            : std::vector<std::string>{"PASS_PULL", levels});
+    set_common(pull);
     glUniform1i(pull.location("u_level"), level);
     dispatch_rect(pull, Rect{cells_min[level - 1], cells_max[level - 1]});
   }
+  const gl::Program& near = images.shaders->compute("gap_fill_pyramid.comp", {"PASS_NEAR", levels});
+  set_common(near);
+  for (int level = 1; level <= kGapLevels; ++level) {
+    glUniform1i(near.location("u_level"), level);
+    dispatch_rect(near, Rect{cells_min[level - 1], cells_max[level - 1]});
+  }
+  // The pixels the push may change, listed (3 uints of indirect dispatch
+  // arguments, the count, a uint per pixel), then searched.
+  static gl::Buffer* list = new gl::Buffer();
+  static size_t list_bytes = 0;
+  const size_t bytes = 16 + 4 * size_t(write.size().x) * size_t(write.size().y);
+  if (bytes > list_bytes) {
+    *list = gl::make_buffer(bytes, nullptr);
+    list_bytes = bytes;
+  }
+  const GLuint args[4] = {0, 1, 1, 0};
+  glNamedBufferSubData(list->id(), 0, sizeof(args), args);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, list->id());
+  const gl::Program& classify = images.shaders->compute("gap_fill_pyramid.comp", {"PASS_LIST", levels});
+  set_common(classify);
+  dispatch_rect(classify, write);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   const gl::Program& push = images.shaders->compute("gap_fill_pyramid.comp", {levels});
   set_common(push);
-  dispatch_rect(push, write);
+  glUniform2i(push.location("u_origin"), origin.x, origin.y);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, list->id());
+  glDispatchComputeIndirect(0);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 
 // The gap fill (shaders/gap_fill.comp) of the image `in` whose covered
