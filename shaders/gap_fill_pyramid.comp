@@ -28,8 +28,8 @@ layout(r32f, binding = 1) uniform image2D u_depth;      // the fill's depths (+i
 layout(r32f, binding = 2) uniform readonly image2D u_spacing;  // each point's spacing, view units (0: unknown)
 layout(rgba32f, binding = 3) uniform image2D u_sum;     // per cell: colour sum
 layout(rgba32f, binding = 4) uniform image2D u_stats;   // per cell: count, depth sum, centroid x and y sums (frame px)
-// Per cell: nearest depth, largest spacing; the nearest depth among the
-// 3x3 cells about it and whether any of them holds a point (PASS_NEAR).
+// Per cell: nearest depth, largest spacing; then PASS_NEAR's summary of
+// the squares of cells about it.
 layout(rgba32f, binding = 5) uniform image2D u_front;
 uniform int u_pixel_spacing;  // 1: u_spacing holds the points' spacing
 uniform float u_span;         // twice the segment's spacing, view units (0: unknown)
@@ -126,36 +126,45 @@ void main() {
   imageStore(u_front, q, vec4(cell.front, cell.spacing, 0.0, 0.0));
 }
 #elif defined(PASS_NEAR)
-// Per cell of level u_level (u_rect_min/max): the nearest depth among the
-// 3x3 cells about it, and whether a square of 2x2 of them holding it holds
-// the surface where the scan's spacing asks for cells this large (the
-// push's first tests, below), beside its own nearest depth and spacing
-// (which its neighbours read, and which stay).
+// Per cell of level u_level (u_rect_min/max), what the push asks first of
+// the 4 squares of 2x2 cells about it that hold it, beside the cell's own
+// nearest depth and spacing (which its neighbours read, and which stay):
+// whether one holds the surface where the scan's spacing asks for cells
+// this large (their side within that gap at their nearest depth: a pixel
+// spans no less farther away), and the least depth a covered pixel must
+// lie behind to give way to one (its deepest cell's mean depth and the
+// steepest slope over a cell).
 uniform int u_level;
 layout(local_size_x = 16, local_size_y = 16) in;
+// The group's cells and one around them, each read once: per cell its
+// nearest and mean depth (+inf: empty) and the longest gap between the
+// scan's neighbours there, view units.
+shared vec3 s_cells[18 * 18];
 void main() {
+  ivec2 group_min = u_rect_min + ivec2(gl_WorkGroupID.xy) * 16 - 1;
+  for (uint i = gl_LocalInvocationIndex; i < 18u * 18u; i += 256u) {
+    Cell cell = read_cell(u_level, group_min + ivec2(int(i % 18u), int(i / 18u)));
+    s_cells[i] = vec3(cell.front, cell.n > 0.0 ? cell.depth_sum / cell.n : INF, max(u_span, 2.0 * cell.spacing));
+  }
+  barrier();
   ivec2 c = u_rect_min + ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(c, u_rect_max))) return;
-  float near = INF, side = float(1 << u_level);
-  // Per cell about this one: its nearest depth (+inf: empty) and the
-  // longest gap between the scan's neighbours there, view units.
-  vec2 met[9];
-  for (int k = 0; k < 9; ++k) {
-    Cell cell = read_cell(u_level, c + ivec2(k % 3 - 1, k / 3 - 1));
-    near = min(near, cell.front);
-    met[k] = vec2(cell.front, max(u_span, 2.0 * cell.spacing));
-  }
-  // As the push tests a square (its cells' side within that gap at their
-  // nearest depth: a pixel spans no less farther away).
-  float square_met = 0.0;
+  float side = float(1 << u_level);
+  vec3 met[9];  // the 3x3 cells about this one, row by row
+  ivec2 l = ivec2(gl_LocalInvocationID.xy);
+  for (int k = 0; k < 9; ++k) met[k] = s_cells[(l.y + k / 3) * 18 + l.x + k % 3];
+  float square_met = 0.0, behind = INF;
   for (int square = 0; square < 4; ++square) {
     int first = (square & 1) + 3 * (square >> 1);
-    vec2 a = met[first], b = met[first + 1], d = met[first + 3], e = met[first + 4];
-    float front = max(max(a.x, b.x), max(d.x, e.x)) < INF ? min(min(a.x, b.x), min(d.x, e.x)) : INF;
-    if (!isinf(front) && max(max(a.y, b.y), max(d.y, e.y)) >= side * pixel_size(front)) square_met = 1.0;
+    vec3 a = met[first], b = met[first + 1], d = met[first + 3], e = met[first + 4];
+    if (isinf(max(max(a.x, b.x), max(d.x, e.x)))) continue;  // a cell without points
+    float front = min(min(a.x, b.x), min(d.x, e.x));
+    float lo = min(min(a.y, b.y), min(d.y, e.y)), hi = max(max(a.y, b.y), max(d.y, e.y));
+    if (max(max(a.z, b.z), max(d.z, e.z)) >= side * pixel_size(front)) square_met = 1.0;
+    behind = min(behind, hi + side * pixel_size(lo) * u_grazing);
   }
   ivec2 q = slot(u_level, c);
-  imageStore(u_front, q, vec4(imageLoad(u_front, q).rg, near, square_met));
+  imageStore(u_front, q, vec4(imageLoad(u_front, q).rg, behind, square_met));
 }
 #else
 // The pixels the push may change, listed (PASS_LIST) and searched (the
@@ -167,24 +176,17 @@ layout(std430, binding = 3) buffer Work {
   uint pixels[];  // x | y << 16
 };
 
-// How far the points of the 3x3 cells about a pixel's own lie from it, at
-// most, in cell sides: a covered pixel behind the nearest of them by no
-// more than the steepest slope over that may lie on their surface.
-const float BLOCK_REACH = 2.0 * 1.41421356;
-
 // Whether a pixel at depth `own` (+inf: background) in `cell` of `level`
 // may change there (PASS_NEAR's summary of the 3x3 cells about it).
 bool level_may_change(int level, ivec2 cell, float own) {
   vec2 around = imageLoad(u_front, slot(level, cell)).ba;
-  return isinf(own) ? around.y > 0.0
-                    : own > around.x + BLOCK_REACH * float(1 << level) * pixel_size(around.x) * u_grazing;
+  return isinf(own) ? around.y > 0.0 : own > around.x;
 }
 
 // Whether pixel p may change: a background pixel whose cell at some level
-// lies in a square of cells holding the surface (PASS_NEAR), or a covered
-// one behind the nearest
-// point among a level's 3x3 cells about its own by more than the steepest
-// slope over them (the push's rule, below). Paint without depth is kept.
+// lies in a square of cells holding the surface, or a covered one behind
+// such a square by more than the push's rule (below) asks at least
+// (PASS_NEAR). Paint without depth is kept.
 bool may_change(ivec2 p) {
   if (any(lessThan(p, u_cover_min)) || any(greaterThanEqual(p, u_cover_max))) return false;
   vec4 color = imageLoad(u_image, p);
@@ -273,12 +275,12 @@ void push(ivec2 p) {
       float span = max(u_span, 2.0 * spacing);
       if (!(size > 0.0) || max(longest, side) * size > span || hi - lo > longest * size * u_grazing) continue;
       // A covered pixel gives way only to a surface it cannot belong to
-      // (nearer than it by more than that surface's slope over the square
-      // and the 3x3 cells about its own, and than twice the square's depth
-      // spread: the scan's noise); its
-      // own surface's squares are looked past, the finer ones may hold only
-      // the points behind. A background pixel: the first square decides.
-      if (!isinf(own) && (own <= hi + max(longest, BLOCK_REACH * side) * size * u_grazing ||
+      // (nearer than it by more than that surface's slope over the square,
+      // at least a cell, and than twice the square's depth spread: the
+      // scan's noise); its own surface's squares are looked past, the finer
+      // ones may hold only the points behind. A background pixel: the first
+      // square decides.
+      if (!isinf(own) && (own <= hi + max(longest, side) * size * u_grazing ||
                           own - hi <= 2.0 * (hi - lo) + size * u_grazing))
         continue;
       // Bilinear between the cells' means by the pixel's place among their
