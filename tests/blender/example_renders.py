@@ -15,7 +15,9 @@ Used two ways:
   urban_lidarhd and lion_benchmark again when the farther surface began to
   fill a gap no wider than the depth step beside a nearer edge; and
   urban_lidarhd again when the gap fill's reach began to follow the
-  spacing of the points each pixel's lines meet):
+  spacing of the points each pixel's lines meet; urban_lidarhd and
+  warsaw_styles again when the gap fill began to close the gaps among lone
+  splats from cells of 2 to 16 px):
 
       blender -b --factory-startup --python-exit-code 1 \
           --python tests/blender/example_renders.py -- <builddir> [names...]
