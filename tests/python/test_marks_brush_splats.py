@@ -528,8 +528,8 @@ def test_brush_splats_over_the_budget_tile_by_the_exact_path_without_being_asked
         return s
 
     cam = pointnpr.Camera.perspective(np.eye(4), lens=50.0, width=200, height=150)
-    # (7 MB: under the whole frame's 7.7 MB, over a tile with the halo of the rims and the blur.)
-    tight = renderer.render(scene({}), cam, 200, 150, memory_budget_gb=0.007)
+    # (8.4 MB: under the whole frame's 8.6 MB, over a tile with the halo of the rims and the blur.)
+    tight = renderer.render(scene({}), cam, 200, 150, memory_budget_gb=0.0078)
     assert tight.stats["tiles"] > 1 and not tight.warnings, tight.warnings
     exact = renderer.render(scene({"tile_invariant": True}), cam, 200, 150)
     assert exact.stats["tiles"] == 1
