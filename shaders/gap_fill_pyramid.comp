@@ -1,21 +1,29 @@
 // The gap fill's second stage (cpp/render/filter_chain.cpp, after the line
 // search of gap_fill.comp): gaps among lone splats, which no line through
-// the gap meets on both sides (a field of small dots on a sparse canopy, a
-// range scan's lattice seen obliquely). The surface's pixels are pooled into
-// cells of 2 to 2^GAP_LEVELS px (16; PASS_PULL, a level from the one below; each cell
-// keeps only its nearest surface: children farther than that surface's
-// steepest slope over the cell lie behind it). A pixel is enclosed at a
-// level when a square of 2x2 cells about its own holds the surface, their
-// centroids lie
-// around it (it is inside their convex hull: a silhouette never grows, a
-// thin object in front keeps its edges), no two of them farther apart than
-// twice the scan's spacing there (a gap between neighbouring samples, not a
-// hole in the scan nor an opening in foliage), and their depths one surface
-// (within its steepest slope over their distance). The finest such square
-// fills the pixel with the cells' inverse-distance mean (PASS_PUSH): a
-// background pixel, or a covered one lying behind that surface by more than
-// its slope and twice the cells' depth spread (the scan's noise): a back
-// point seen through the front surface's gaps.
+// the gap meets on both sides (small dots scattered over a sparse canopy or
+// river; the ground seen through a roof's scan lines).
+//
+// PASS_PULL pools the line-filled pixels into cells of 2 to 2^GAP_LEVELS px
+// (16), a level from the one below. A cell keeps only its nearest surface:
+// children whose nearest point lies behind it by more than its steepest
+// slope over a cell side are another surface seen through it.
+//
+// A pixel is enclosed at a level by a square of 2x2 cells among the 3x3
+// about its own when the four hold the surface, the pixel lies in the
+// convex hull of their centroids (a silhouette never grows, a thin object
+// in front keeps its edges), their side and their centroids' distances are
+// within twice the scan's spacing there (a gap between neighbouring
+// samples, not a hole in the scan nor an opening in foliage), and their
+// depths are one surface (within its steepest slope over their distance).
+// The finest such square fills a background pixel bilinearly between its
+// cells' means; a covered pixel gives way to one nearer than it by more
+// than its slope over the square and twice its depth spread (a back point
+// seen through the front surface's gaps).
+//
+// PASS_NEAR sums up per cell what its squares allow, PASS_LIST lists the
+// pixels that may change, and the push (no pass define) runs on the list.
+// GAP_LEVELS is kGapLevels (cpp/render/filter_chain.h).
+// variants: PASS_PULL PULL_PIXELS GAP_LEVELS=4 | PASS_PULL GAP_LEVELS=4 | PASS_NEAR GAP_LEVELS=4 | PASS_LIST GAP_LEVELS=4 | GAP_LEVELS=4
 //
 // Cells sit on the frame's grid (pixel + u_origin), so a tile of the frame
 // pools the same cells; the push reads pixels at most 2 coarsest cells
@@ -177,7 +185,7 @@ layout(std430, binding = 3) buffer Work {
 };
 
 // Whether a pixel at depth `own` (+inf: background) in `cell` of `level`
-// may change there (PASS_NEAR's summary of the 3x3 cells about it).
+// may change there (PASS_NEAR's summary of the squares about that cell).
 bool level_may_change(int level, ivec2 cell, float own) {
   vec2 around = imageLoad(u_front, slot(level, cell)).ba;
   return isinf(own) ? around.y > 0.0 : own > around.x;

@@ -64,6 +64,8 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
 void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& image, const gl::Texture& depth,
                             const Rect& covered, const Rect& write) {
   if (covered.empty() || write.empty()) return;
+  // Per cell: colour sum; count, depth sum, centroid sums; nearest depth,
+  // spacing and the squares' summary (the shader's u_sum, u_stats, u_front).
   static GLuint atlas[3] = {0, 0, 0};
   static glm::ivec2 atlas_size{0, 0};
   int level_x[kGapLevels];
@@ -74,11 +76,10 @@ void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& 
   }
   if (glm::any(glm::greaterThan(need, atlas_size))) {
     atlas_size = glm::max(need, atlas_size);
-    const GLenum formats[3] = {GL_RGBA32F, GL_RGBA32F, GL_RGBA32F};
-    for (int i = 0; i < 3; ++i) {
-      if (atlas[i]) glDeleteTextures(1, &atlas[i]);
-      glCreateTextures(GL_TEXTURE_2D, 1, &atlas[i]);
-      glTextureStorage2D(atlas[i], 1, formats[i], atlas_size.x, atlas_size.y);
+    for (GLuint& texture : atlas) {
+      if (texture) glDeleteTextures(1, &texture);
+      glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+      glTextureStorage2D(texture, 1, GL_RGBA32F, atlas_size.x, atlas_size.y);
     }
   }
   glBindImageTexture(0, image.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);

@@ -28,7 +28,7 @@ def expand(name, seen=None):
 
 def variants(name):
     text = expand(name)
-    # A shader may list its variants: "// variants: A B | C | ..." (defines per variant).
+    # A shader may list its variants: "// variants: A B | C | ..." (defines per variant; N=V defines N as V).
     declared = re.search(r"^// variants: (.+)$", text, re.M)
     if declared:
         return [v.split() for v in declared.group(1).split("|")]
@@ -51,7 +51,7 @@ def test_every_stage_file_is_covered():
 
 @pytest.mark.parametrize("name,defines", CASES, ids=[f"{f}[{','.join(d)}]" for f, d in CASES])
 def test_shader_compiles_with_strict_glsl(tmp_path, name, defines):
-    src = "#version 450 core\n" + "".join(f"#define {d}\n" for d in defines) + expand(name)
+    src = "#version 450 core\n" + "".join(f"#define {d.replace('=', ' ')}\n" for d in defines) + expand(name)
     path = tmp_path / ("shader" + os.path.splitext(name)[1])
     path.write_text(src)
     r = subprocess.run(["glslangValidator", str(path)], capture_output=True, text=True)
