@@ -299,7 +299,8 @@ def audit_scan(renderer, name, pos, attrs, world_from_camera, clip, preset_names
         hole_pct = 100.0 * holes.sum() / max(filled.sum(), 1)
         line_pct = 100.0 * lines.sum() / max(region.sum(), 1)
         jump_pct = 100.0 * (holes & jumps).sum() / max(filled.sum(), 1)
-        rows.append((name, preset, hole_pct, jump_pct, own_pct, own_jump_pct, line_pct, int(filled.sum()), int(region.sum())))
+        rows.append((name, preset, hole_pct, jump_pct, own_pct, own_jump_pct, line_pct, int(filled.sum()),
+                     int(region.sum())))
         tiles.append(img)
         mk = img.copy()
         mk[own_holes & ~holes] = (1.0, 0.0, 1.0, 1.0)  # a hole at the scan's spacing only: magenta

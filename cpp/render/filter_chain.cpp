@@ -248,7 +248,9 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
   }
-  if (images.sampling.spacing > 0.0f || images.raster_spacing) fill_among_lone_splats(images, out, depth_out, covered, write);
+  // Gaps among lone splats, where the scan's spacing bounds them.
+  if (images.sampling.spacing > 0.0f || images.raster_spacing)
+    fill_among_lone_splats(images, out, depth_out, covered, write);
   // Pinholes the lines missed (PASS_SPECK): the fill's colours copied into
   // the other image, closed there; the depths in place. Twice, from one
   // image into the other (`pinholes`: the chain's input, no longer read,
