@@ -56,9 +56,10 @@ TEST(Tiling, TheBudgetBoundsEveryTilesImages) {
 }
 
 TEST(Tiling, TilesFromTheBudgetAreEvenedOutOverTheFrame) {
-  // 3840x2160 with regions of at most 1448 px (0.5 GiB): 3 x 2 tiles, the
-  // rows as tall as they need to be rather than one full row and a sliver.
-  const TilePlan plan = plan_tiles({3840, 2160}, 60, size_t(1) << 29, 0, 16384);
+  // 3840x2160 with regions of at most 1448 px (576 MiB at kBytesPerTilePixel
+  // 288): 3 x 2 tiles, the rows as tall as they need to be rather than one
+  // full row and a sliver.
+  const TilePlan plan = plan_tiles({3840, 2160}, 60, size_t(576) << 20, 0, 16384);
   ASSERT_EQ(plan.tiles.size(), 6u);
   EXPECT_EQ(plan.interior, glm::ivec2(1280, 1088));
   EXPECT_EQ(plan.region_size, glm::ivec2(1400, 1208));
