@@ -469,7 +469,9 @@ void main() {
   if (gl_LocalInvocationIndex == 0u) {
     tile_depth[gl_WorkGroupID.y * uint(u_groups.x) + gl_WorkGroupID.x] = uintBitsToFloat(s_near);
     s_base = atomicAdd(count, s_count);
-    atomicMax(groups_x, (s_base + s_count + 63u) / 64u);
+    // At most 65535 groups (GL's least limit): the search strides over a
+    // longer list.
+    atomicMax(groups_x, min((s_base + s_count + 63u) / 64u, 65535u));
   }
   barrier();
   if (work) pixels[s_base + slot] = uint(p.x) | (uint(p.y) << 16);
@@ -477,10 +479,9 @@ void main() {
 #else
 layout(local_size_x = 64) in;
 void main() {
-  uint i = gl_GlobalInvocationID.x;
-  // One branch around the search, no early returns: llvmpipe runs code
+  // One loop around the search, no early returns: llvmpipe runs code
   // after a return masked, but skips a branch no lane takes.
-  if (i < count) {
+  for (uint i = gl_GlobalInvocationID.x; i < count; i += gl_NumWorkGroups.x * 64u) {
     ivec2 p = ivec2(pixels[i] & 0xffffu, pixels[i] >> 16);
     vec4 c = imageLoad(u_in, p);
     float own = covered(c) ? imageLoad(u_depth, p).r : INF;  // as needs_work found it

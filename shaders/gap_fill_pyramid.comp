@@ -218,7 +218,7 @@ void main() {
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
     s_base = atomicAdd(count, s_count);
-    atomicMax(groups_x, (s_base + s_count + 63u) / 64u);
+    atomicMax(groups_x, min((s_base + s_count + 63u) / 64u, 65535u));  // the push strides over a longer list
   }
   barrier();
   if (work) pixels[s_base + slot_in_group] = uint(p.x) | (uint(p.y) << 16);
@@ -310,8 +310,8 @@ void push(ivec2 p) {
 
 layout(local_size_x = 64) in;
 void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i < count) push(ivec2(pixels[i] & 0xffffu, pixels[i] >> 16));
+  for (uint i = gl_GlobalInvocationID.x; i < count; i += gl_NumWorkGroups.x * 64u)
+    push(ivec2(pixels[i] & 0xffffu, pixels[i] >> 16));
 }
 #endif
 #endif

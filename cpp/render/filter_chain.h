@@ -70,7 +70,10 @@ constexpr int kGapReachMax = 16;
 // The fill's second stage (gaps among lone splats, shaders/
 // gap_fill_pyramid.comp) pools cells of 2 to 2^kGapLevels px, and reads
 // around a pixel the 3x3 coarsest cells about its own: that far beyond
-// the line search. The tiles' halo adds it.
+// the line search. The tiles' halo adds it: kGapReachMax + kGapPushReach
+// + 1 (render/renderer.cpp) is what a pixel's fill depends on (the cells,
+// the line search behind their pixels, and the pinholes' two passes after
+// within a pixel), to the pixel; a larger reach must grow it.
 constexpr int kGapLevels = 4;
 constexpr int kGapPushReach = 2 << kGapLevels;
 // The neighbours a point's spacing is the mean distance to (the segment's,

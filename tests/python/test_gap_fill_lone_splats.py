@@ -1,6 +1,6 @@
 """The gap fill's second stage (issue 40, shaders/gap_fill_pyramid.comp):
 gaps among lone splats that no line through the gap meets on both sides
-close from cells of 2 to 8 px, while a hole in the scan, the background
+close from cells of 2 to 16 px, while a hole in the scan, the background
 beside a silhouette and a surface in front stay as they are; back points
 seen through a front surface's gaps give way to it."""
 import numpy as np
