@@ -164,6 +164,8 @@ vec3 surface_point(vec2 q, float d) {
   return (u_object_from_view * vec4(view, 1.0)).xyz;
 }
 
-// Object units one pixel spans at depth d (the view-space x of pixel q at
-// depth d is dot(x0, q) + d dot(x1, q)), times the anchor frame's scale.
-float surface_pixel(float d) { return abs(u_surface_x0.x + d * u_surface_x1.x) * length(u_object_from_view[0].xyz); }
+// View units one pixel spans at depth d (the view-space x of pixel q at
+// depth d is dot(x0, q) + d dot(x1, q)).
+float pixel_size(float d) { return abs(u_surface_x0.x + d * u_surface_x1.x); }
+// The same in object units: times the anchor frame's scale.
+float surface_pixel(float d) { return pixel_size(d) * length(u_object_from_view[0].xyz); }

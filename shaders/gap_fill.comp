@@ -44,10 +44,6 @@ float span_at(ivec2 q) { return u_pixel_spacing != 0 ? max(u_span, 2.0 * imageLo
 uniform ivec2 u_cover_min;  // covered pixels lie within [u_cover_min, u_cover_max)
 uniform ivec2 u_cover_max;
 
-// Scene units one pixel spans at depth d (the view-space x of pixel q at
-// depth d is dot(x0, q) + d dot(x1, q): filter_common.glsl).
-float pixel_size(float d) { return abs(u_surface_x0.x + d * u_surface_x1.x); }
-
 struct Hit {
   int t;  // 0: none within reach
   float depth;

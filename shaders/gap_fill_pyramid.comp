@@ -49,8 +49,6 @@ uniform ivec2 u_cells_min[GAP_LEVELS], u_cells_max[GAP_LEVELS];
 uniform ivec2 u_write_min, u_write_max;  // the pixels the fill wrote: the only ones pooled or changed
 uniform ivec2 u_cover_min, u_cover_max;  // covered pixels lie within
 
-float pixel_size(float d) { return abs(u_surface_x0.x + d * u_surface_x1.x); }
-
 ivec2 floor_div(ivec2 a, int s) { return ivec2(floor(vec2(a) / float(s))); }
 // Atlas texel of frame cell c at level L (1..GAP_LEVELS).
 ivec2 slot(int level, ivec2 c) {

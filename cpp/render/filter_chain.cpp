@@ -57,6 +57,33 @@ void run_step(const FilterStep& f, const FilterChainImages& in, const gl::Textur
   gl::check_gl(("filter " + f.info->schema.id).c_str());
 }
 
+// The gap fill's lists of pixels to search (gap_fill.comp's, then
+// gap_fill_pyramid.comp's, in turn): 3 uints of indirect dispatch
+// arguments, the list's length, then a uint per pixel. One buffer, kept for
+// the GL context's life (like the shader library) and grown as frames need;
+// returned empty and bound to storage binding 3 for `pixels` at most.
+const gl::Buffer& empty_pixel_list(size_t pixels) {
+  static gl::Buffer* list = new gl::Buffer();
+  static size_t list_bytes = 0;
+  const size_t bytes = 16 + 4 * pixels;
+  if (bytes > list_bytes) {
+    *list = gl::make_buffer(bytes, nullptr);
+    list_bytes = bytes;
+  }
+  const GLuint args[4] = {0, 1, 1, 0};
+  glNamedBufferSubData(list->id(), 0, sizeof(args), args);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, list->id());
+  return *list;
+}
+
+// The program in use over the pixels `list` holds (its own groups count).
+void dispatch_listed(const gl::Buffer& list) {
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, list.id());
+  glDispatchComputeIndirect(0);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
 // The gap fill's second stage (shaders/gap_fill_pyramid.comp): gaps among
 // lone splats, which no line meets on both sides, closed from cells of 2 to
 // 2^kGapLevels px pooled from `image` and `depth` (the line fill's), in
@@ -129,18 +156,8 @@ void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& 
     glUniform1i(near.location("u_level"), level);
     dispatch_rect(near, Rect{cells_min[level - 1], cells_max[level - 1]});
   }
-  // The pixels the push may change, listed (3 uints of indirect dispatch
-  // arguments, the count, a uint per pixel), then searched.
-  static gl::Buffer* list = new gl::Buffer();
-  static size_t list_bytes = 0;
-  const size_t bytes = 16 + 4 * size_t(write.size().x) * size_t(write.size().y);
-  if (bytes > list_bytes) {
-    *list = gl::make_buffer(bytes, nullptr);
-    list_bytes = bytes;
-  }
-  const GLuint args[4] = {0, 1, 1, 0};
-  glNamedBufferSubData(list->id(), 0, sizeof(args), args);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, list->id());
+  // The pixels the push may change, listed, then searched.
+  const gl::Buffer& list = empty_pixel_list(size_t(write.size().x) * size_t(write.size().y));
   const gl::Program& classify = images.shaders->compute("gap_fill_pyramid.comp", {"PASS_LIST", levels});
   set_common(classify);
   dispatch_rect(classify, write);
@@ -148,10 +165,7 @@ void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& 
   const gl::Program& push = images.shaders->compute("gap_fill_pyramid.comp", {levels});
   set_common(push);
   glUniform2i(push.location("u_origin"), origin.x, origin.y);
-  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, list->id());
-  glDispatchComputeIndirect(0);
-  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  dispatch_listed(list);
 }
 
 // The gap fill (shaders/gap_fill.comp) of the image `in` whose covered
@@ -161,20 +175,11 @@ void fill_among_lone_splats(const FilterChainImages& images, const gl::Texture& 
 const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture& in, const Rect& covered,
                              const Rect& write, const gl::Texture& depth_out, const gl::Texture& pinholes) {
   const gl::Texture& out = images.gap_image();
-  // The list of pixels that need the search: 3 uints of indirect dispatch
-  // arguments, the list's length, then a uint per pixel. Kept for the GL
-  // context's life (like the shader library), grown as frames need.
-  // Then each 16x16 tile's nearest depth (a float).
-  static gl::Buffer* work = new gl::Buffer();
+  // Each 16x16 tile's nearest depth (a float), kept like the pixel list.
   static gl::Buffer* tile_depth = new gl::Buffer();
-  static size_t work_bytes = 0, depth_bytes = 0;
+  static size_t depth_bytes = 0;
   const glm::ivec2 groups = glm::max((write.size() + 15) / 16, glm::ivec2(1));
   const size_t n_tiles = size_t(groups.x) * size_t(groups.y);
-  const size_t bytes = 16 + 4 * n_tiles * 256;
-  if (bytes > work_bytes) {
-    *work = gl::make_buffer(bytes, nullptr);
-    work_bytes = bytes;
-  }
   if (4 * n_tiles > depth_bytes) {
     *tile_depth = gl::make_buffer(4 * n_tiles, nullptr);
     depth_bytes = 4 * n_tiles;
@@ -192,9 +197,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
   }
   glBindImageTexture(5, runs, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RG8UI);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, tile_depth->id());
-  const GLuint args[4] = {0, 1, 1, 0};
-  glNamedBufferSubData(work->id(), 0, sizeof(args), args);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, work->id());
+  const gl::Buffer& work = empty_pixel_list(n_tiles * 256);  // the classify pass lists the search's pixels
   glBindImageTexture(0, in.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
   glBindImageTexture(1, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(2, images.raster_depth->id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
@@ -242,10 +245,7 @@ const gl::Texture& fill_gaps(const FilterChainImages& images, const gl::Texture&
     } else {
       glUniform2i(prog.location("u_rect_min"), write.min.x, write.min.y);
       glUniform2i(prog.location("u_rect_max"), write.max.x, write.max.y);
-      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, work->id());
-      glDispatchComputeIndirect(0);
-      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+      dispatch_listed(work);
     }
   }
   // Gaps among lone splats, where the scan's spacing bounds them.

@@ -18,7 +18,7 @@ namespace pointnpr {
 // GL memory a frame pixel costs (frame targets, filter and mark scratch);
 // the issue measured ~120 B for plain points and ~220 B with a cartoon
 // (the gap fill's per-pixel spacing and depths add 8 B since, its cells
-// of 2 to 16 px and their list about 28 B: filter_chain.cpp).
+// of 2 to 16 px about 24 B: filter_chain.cpp, rounded up).
 constexpr size_t kBytesPerTilePixel = 288;
 constexpr size_t kDefaultMemoryBudget = size_t(2) << 30;  // 2 GiB
 // Tiles' interiors are at least this per side (and multiples of 16, the
